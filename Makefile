@@ -1,0 +1,48 @@
+# The two set-up commands of the README:
+#   make run   installs what is missing, builds in Release, runs the default scene and plots it
+#   make test  installs what is missing, builds, runs the whole test suite (Release, then ASan+UBSan)
+BUILD_DIR ?= build
+ASAN_DIR  ?= build-asan
+SCENE     ?= scenes/vein-indent.json
+OUT       ?= out/vein-indent
+PYTHON    ?= /usr/bin/python3
+JOBS      ?= $(shell nproc)
+
+.PHONY: deps build run test test-release test-sanitize bench cantilever-table format clean
+
+deps:
+	@scripts/install-deps.sh
+
+build: deps
+	cmake -S . -B $(BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Release -DVASCSIM_WERROR=ON
+	cmake --build $(BUILD_DIR) -j $(JOBS)
+
+run: build
+	$(BUILD_DIR)/vascsim run $(SCENE) --out $(OUT)
+	$(PYTHON) scripts/plot_probes.py $(OUT)
+
+test: test-release test-sanitize
+
+test-release: build
+	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
+
+# The unit tests again under AddressSanitizer + UndefinedBehaviorSanitizer (-O1, asserts on).
+test-sanitize: deps
+	cmake -S . -B $(ASAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" \
+	  -DVASCSIM_SANITIZE=address,undefined -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_WERROR=ON
+	cmake --build $(ASAN_DIR) -j $(JOBS)
+	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -L unit
+
+bench: build
+	$(BUILD_DIR)/bench/vascsim_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+
+# docs/validation.md's cantilever convergence table (MODEL.md T9).
+cantilever-table: build
+	$(BUILD_DIR)/vascsim validate cantilever --out out/cantilever-table
+
+format:
+	clang-format -i $$(git ls-files '*.cpp' '*.hpp')
+
+clean:
+	rm -rf $(BUILD_DIR) $(ASAN_DIR)

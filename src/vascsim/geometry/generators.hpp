@@ -1,0 +1,36 @@
+#pragma once
+// Procedural node clouds: a box lattice (beams, cantilever) and a straight hollow tube (vessel wall).
+
+#include <cstdint>
+
+#include "vascsim/geometry/node_cloud.hpp"
+
+namespace vascsim {
+
+struct BoxSpec {
+  Vec3 min_m = Vec3::Zero();
+  Vec3 max_m = Vec3::Ones();
+  Eigen::Vector3i cells = Eigen::Vector3i::Constant(4);  ///< lattice cells per axis (>= 1)
+  double jitter = 0.0;          ///< random offset of every node, fraction of the cell edge (0 <= j < 0.3)
+  std::uint64_t seed = 1;       ///< jitter random seed
+};
+
+/// Regular (optionally jittered) lattice of (cells+1) nodes per axis; every cell is split into 6
+/// tetrahedra around its main diagonal (Kuhn split), which is conforming across cells.
+NodeCloud make_box(const BoxSpec& spec);
+
+struct TubeSpec {
+  double outer_radius_m = 1.5e-3;
+  double wall_thickness_m = 0.3e-3;
+  double length_m = 20e-3;
+  double node_spacing_m = 0.15e-3;  ///< target spacing Delta along all three directions
+  int min_layers = 3;               ///< minimum node layers through the wall (MODEL.md decision 2)
+};
+
+/// Hollow cylinder wall along +z from z = 0 to z = length, centred on the z axis. Node layers at the
+/// inner and outer surface (so boundary conditions can act on surface nodes), max(min_layers,
+/// ceil(t/Delta)+1) layers through the wall, round(2 pi r_mid / Delta) nodes around, round(L/Delta)+1
+/// along. Every (r, theta, z) cell is split into 6 tetrahedra.
+NodeCloud make_tube(const TubeSpec& spec);
+
+}  // namespace vascsim

@@ -1,0 +1,221 @@
+#include "vascsim/model/discretization.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <numeric>
+#include <spdlog/spdlog.h>
+
+#include "vascsim/core/error.hpp"
+#include "vascsim/core/kernels.hpp"
+#include "vascsim/core/spatial_grid.hpp"
+
+namespace vascsim {
+
+namespace {
+
+// Neighbourhood of one node at a trial radius: weights, A_i and the conditioning verdict.
+struct Trial {
+  std::vector<Index> nbr;
+  std::vector<double> w;
+  Mat3 A = Mat3::Zero();
+  double eigen_ratio = 0.0;
+};
+
+Trial evaluate(const Vec3Array& X, Index i, double h, const SpatialGrid& grid) {
+  Trial t;
+  grid.for_each_within(X[i], h, [&](Index j, double) {
+    if (j != i) t.nbr.push_back(j);
+  });
+  std::sort(t.nbr.begin(), t.nbr.end());
+  for (Index j : t.nbr) {
+    const Vec3 Xij = X[j] - X[i];
+    const double w = kernels::poly6(Xij.norm(), h);
+    t.w.push_back(w);
+    t.A += w * Xij * Xij.transpose();
+  }
+  const double tr = t.A.trace();
+  if (tr > 0.0) {
+    // Dimensionless A / tr(A): eigenvalues in (0, 1]; never test det(A) != 0 (MODEL.md 1.5).
+    Eigen::SelfAdjointEigenSolver<Mat3> es(t.A / tr, Eigen::EigenvaluesOnly);
+    const Vec3 ev = es.eigenvalues();
+    t.eigen_ratio = ev.maxCoeff() > 0.0 ? ev.minCoeff() / ev.maxCoeff() : 0.0;
+  }
+  return t;
+}
+
+PairTable transpose(const PairTable& p, Index n) {
+  PairTable t;
+  t.row_start.assign(static_cast<std::size_t>(n) + 1, 0);
+  for (Index j : p.col) ++t.row_start[j + 1];
+  std::partial_sum(t.row_start.begin(), t.row_start.end(), t.row_start.begin());
+  t.col.resize(p.col.size());
+  t.d.resize(p.col.size());
+  t.w.resize(p.col.size());
+  std::vector<Index> fill(t.row_start.begin(), t.row_start.end() - 1);
+  for (Index i = 0; i < n; ++i)
+    for (Index e = p.row_start[i]; e < p.row_start[i + 1]; ++e) {
+      const Index k = p.col[e];
+      const Index slot = fill[k]++;
+      t.col[slot] = i;  // rows i are visited in order, so every transposed row is sorted
+      t.d[slot] = p.d[e];
+      t.w[slot] = p.w[e];
+    }
+  return t;
+}
+
+}  // namespace
+
+Discretization::Discretization(const NodeCloud& cloud, const Material& material,
+                               const DiscretizationOptions& options)
+    : cloud_(cloud), material_(material), X_(cloud.positions), tets_(cloud.tets) {
+  if (X_.size() < 5) throw InputError(fmt::format("discretization: {} nodes; at least 5 are needed", X_.size()));
+  if (!(options.support_radius_factor > 0.0)) throw InputError("discretization: support radius factor must be > 0");
+  for (std::size_t i = 0; i < X_.size(); ++i)
+    if (!X_[i].allFinite()) throw InputError(fmt::format("discretization: node {} has a non-finite position", i));
+  for (const Tet& t : tets_)
+    for (Index v : t)
+      if (v < 0 || v >= num_nodes()) throw InputError("discretization: a tetrahedron references a missing node");
+  mean_spacing_ = mean_nearest_spacing(X_);
+  min_spacing_ = min_nearest_spacing(X_);
+  if (!(min_spacing_ > 1e-9 * mean_spacing_))
+    throw InputError("discretization: two nodes coincide (nearest-neighbour distance is zero)");
+  build_neighbourhoods(options);
+  compute_volumes(options);
+}
+
+void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
+  const Index n = num_nodes();
+  const double h0 = opt.support_radius_factor * mean_spacing_;
+  const double hmax = h0 * std::pow(opt.growth_factor, opt.max_growths);
+  SpatialGrid grid(X_, hmax);
+  h_.assign(n, h0);
+  std::vector<Trial> trials(n);
+  std::vector<int> failed(n, 0);
+#pragma omp parallel for schedule(dynamic, 256)
+  for (Index i = 0; i < n; ++i) {
+    double h = h0;
+    for (int g = 0;; ++g) {
+      trials[i] = evaluate(X_, i, h, grid);
+      const bool ok = static_cast<int>(trials[i].nbr.size()) >= opt.min_neighbours &&
+                      trials[i].eigen_ratio >= opt.min_eigen_ratio;
+      if (ok) break;
+      if (g == opt.max_growths) {
+        failed[i] = 1;
+        break;
+      }
+      h *= opt.growth_factor;
+    }
+    h_[i] = h;
+  }
+  for (Index i = 0; i < n; ++i) {
+    if (failed[i]) {
+      const Vec3& p = X_[i];
+      throw NumericalError(fmt::format(
+          "discretization: node {} at ({:.6g}, {:.6g}, {:.6g}) m has {} neighbours and eigenvalue ratio {:.3g} "
+          "of A_i/tr(A_i) even at support radius {:.4g} m (need >= {} neighbours and ratio >= {:.1g}); its "
+          "neighbourhood is too sparse or coplanar: use a finer node spacing or more layers through the wall",
+          i, p.x(), p.y(), p.z(), trials[i].nbr.size(), trials[i].eigen_ratio, h_[i], opt.min_neighbours,
+          opt.min_eigen_ratio));
+    }
+    if (h_[i] > h0) ++grown_nodes_;
+  }
+  if (grown_nodes_ > 0)
+    spdlog::info("discretization: support radius grown for {} of {} nodes (K_min / conditioning guard)",
+                 grown_nodes_, n);
+
+  pairs_.row_start.assign(static_cast<std::size_t>(n) + 1, 0);
+  for (Index i = 0; i < n; ++i) pairs_.row_start[i + 1] = pairs_.row_start[i] + static_cast<Index>(trials[i].nbr.size());
+  const std::size_t npairs = static_cast<std::size_t>(pairs_.row_start[n]);
+  pairs_.col.resize(npairs);
+  pairs_.d.resize(npairs);
+  pairs_.w.resize(npairs);
+  self_d_.assign(n, Vec3::Zero());
+  moment_trace_.assign(n, 0.0);
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    const Trial& t = trials[i];
+    const Mat3 Ainv = t.A.inverse();  // well conditioned by the guard above (double precision)
+    moment_trace_[i] = t.A.trace();
+    Vec3 dsum = Vec3::Zero();
+    for (std::size_t a = 0; a < t.nbr.size(); ++a) {
+      const Index e = pairs_.row_start[i] + static_cast<Index>(a);
+      const Vec3 Xij = X_[t.nbr[a]] - X_[i];
+      pairs_.col[e] = t.nbr[a];
+      pairs_.w[e] = t.w[a];
+      pairs_.d[e] = t.w[a] * (Ainv * Xij);
+      dsum += pairs_.d[e];
+    }
+    self_d_[i] = -dsum;
+  }
+  transposed_ = transpose(pairs_, n);
+}
+
+void Discretization::compute_volumes(const DiscretizationOptions& opt) {
+  const Index n = num_nodes();
+  const double rho = material_.density_kg_m3;
+  V_.assign(n, 0.0);
+  tet_volume_ = 0.0;
+  for (std::size_t t = 0; t < tets_.size(); ++t) {
+    const Tet& T = tets_[t];
+    const double v = signed_volume(X_[T[0]], X_[T[1]], X_[T[2]], X_[T[3]]);
+    if (!(v > 0.0)) throw InputError(fmt::format("discretization: virtual tetrahedron {} is inverted or flat", t));
+    tet_volume_ += v;
+    if (opt.volume == VolumeRule::TetPartition)
+      for (Index a : T) V_[a] += 0.25 * v;
+  }
+  if (opt.volume == VolumeRule::TetPartition) {
+    for (Index i = 0; i < n; ++i)
+      if (!(V_[i] > 0.0))
+        throw InputError(fmt::format(
+            "discretization: node {} belongs to no virtual tetrahedron, so it has no volume (tet-partition rule)", i));
+  } else {
+    // Mueller et al. 2004 (MODEL.md 1.4): rbar_i = mean distance to the 10 nearest neighbours,
+    // m_i = s rbar_i^3 rho with s normalising the density estimate, V_i = m_i / rho_i.
+    std::vector<double> rbar3(n);
+    for (Index i = 0; i < n; ++i) {
+      std::vector<double> dist;
+      for (Index e = pairs_.row_start[i]; e < pairs_.row_start[i + 1]; ++e) dist.push_back((X_[pairs_.col[e]] - X_[i]).norm());
+      const std::size_t k = std::min<std::size_t>(10, dist.size());
+      std::partial_sort(dist.begin(), dist.begin() + static_cast<std::ptrdiff_t>(k), dist.end());
+      const double r = std::accumulate(dist.begin(), dist.begin() + static_cast<std::ptrdiff_t>(k), 0.0) / static_cast<double>(k);
+      rbar3[i] = r * r * r;
+    }
+    auto kernel_sum = [&](Index i, const std::vector<double>& q) {
+      double s = q[i] * kernels::poly6(0.0, h_[i]);
+      for (Index e = pairs_.row_start[i]; e < pairs_.row_start[i + 1]; ++e) s += q[pairs_.col[e]] * pairs_.w[e];
+      return s;
+    };
+    double s = 0.0;
+    for (Index i = 0; i < n; ++i) s += 1.0 / kernel_sum(i, rbar3);
+    s /= n;
+    std::vector<double> mass(n);
+    for (Index i = 0; i < n; ++i) mass[i] = s * rbar3[i] * rho;
+    for (Index i = 0; i < n; ++i) V_[i] = mass[i] / kernel_sum(i, mass);
+  }
+  m_.resize(n);
+  for (Index i = 0; i < n; ++i) m_[i] = rho * V_[i];
+}
+
+double Discretization::total_volume() const { return std::accumulate(V_.begin(), V_.end(), 0.0); }
+
+double Discretization::mean_neighbours() const {
+  return static_cast<double>(pairs_.col.size()) / static_cast<double>(num_nodes());
+}
+
+Mat3 Discretization::displacement_gradient(Index i, const Vec3Array& u, bool eq3_literal_sign) const {
+  Mat3 G = Mat3::Zero();
+  for (Index e = pairs_.row_start[i]; e < pairs_.row_start[i + 1]; ++e)
+    G += (u[pairs_.col[e]] - u[i]) * pairs_.d[e].transpose();
+  return eq3_literal_sign ? Mat3(-G) : G;
+}
+
+Mat3 Discretization::deformation_gradient(Index i, const Vec3Array& x) const {
+  Mat3 F = Mat3::Zero();
+  for (Index e = pairs_.row_start[i]; e < pairs_.row_start[i + 1]; ++e)
+    F += (x[pairs_.col[e]] - x[i]) * pairs_.d[e].transpose();
+  return F;
+}
+
+}  // namespace vascsim

@@ -1,0 +1,88 @@
+#pragma once
+// Rest-state discretisation of the point-primitive model (MODEL.md 1.3-1.5): per-node support radii,
+// neighbour lists, the precomputed gradient vectors d_ij in CSR form with a transposed copy for
+// gather-form assembly, nodal volumes and masses. Immutable during a run (total Lagrangian).
+
+#include <string>
+#include <vector>
+
+#include "vascsim/geometry/node_cloud.hpp"
+#include "vascsim/model/material.hpp"
+
+namespace vascsim {
+
+enum class VolumeRule {
+  TetPartition,  ///< V_i = 1/4 sum_{T containing i} |T| (sound default, MODEL.md decision 3)
+  MuellerKernel  ///< Mueller 2004 kernel density estimate V_i = m_i / rho_i (paper-literal option)
+};
+
+struct DiscretizationOptions {
+  double support_radius_factor = 2.0;  ///< h = factor * mean nearest spacing (MODEL.md decision 7)
+  int min_neighbours = 12;             ///< K_min
+  double min_eigen_ratio = 1e-3;       ///< lambda_min / lambda_max of A_i / tr(A_i) (cond <= 1e3)
+  double growth_factor = 1.2;          ///< h_i <- 1.2 h_i when a node fails the guard
+  int max_growths = 3;                 ///< then fail loudly
+  VolumeRule volume = VolumeRule::TetPartition;
+};
+
+/// One compressed-sparse-row table of pair data: row r lists (col, d, w).
+struct PairTable {
+  std::vector<Index> row_start;  ///< #rows + 1
+  std::vector<Index> col;        ///< the other node
+  Vec3Array d;                   ///< gradient vector, 1/m
+  std::vector<double> w;         ///< kernel weight, 1/m^3
+  Index row_size(Index r) const { return row_start[r + 1] - row_start[r]; }
+};
+
+class Discretization {
+ public:
+  Discretization(const NodeCloud& cloud, const Material& material, const DiscretizationOptions& options = {});
+
+  Index num_nodes() const { return static_cast<Index>(X_.size()); }
+  const Vec3Array& rest_positions() const { return X_; }
+  const std::vector<Tet>& tets() const { return tets_; }
+
+  /// Row i: j in N_i with d_ij = w_ij A_i^{-1} (X_j - X_i) and w_ij (Eq. 4 with the E1 sign fix).
+  const PairTable& pairs() const { return pairs_; }
+  /// Row k: the nodes i with k in N_i, each with d_ik and w_ik (for the gather-form force).
+  const PairTable& transposed() const { return transposed_; }
+  /// d_ii = -sum_j d_ij, 1/m.
+  const Vec3Array& self_d() const { return self_d_; }
+  /// tr(A_i), 1/m (used by the stabiliser's c_i).
+  const std::vector<double>& moment_trace() const { return moment_trace_; }
+
+  const std::vector<double>& volumes() const { return V_; }  ///< V_i, m^3
+  const std::vector<double>& masses() const { return m_; }   ///< m_i = rho V_i, kg
+  const std::vector<double>& support_radius() const { return h_; }  ///< h_i, m
+
+  double mean_spacing() const { return mean_spacing_; }  ///< Delta-bar, m
+  double min_spacing() const { return min_spacing_; }    ///< smallest nearest-neighbour distance, m
+  double total_volume() const;                          ///< sum V_i, m^3
+  double tet_volume() const { return tet_volume_; }     ///< sum |T|, m^3
+  double mean_neighbours() const;
+  int grown_nodes() const { return grown_nodes_; }      ///< nodes whose h_i had to grow
+  const Material& material() const { return material_; }
+  const NodeCloud& cloud() const { return cloud_; }
+
+  /// G_i = sum_j (u_j - u_i) d_ij^T (Eq. 2-3, MODEL.md 1.6). With eq3_literal_sign the paper's printed
+  /// x_ij = x_i - x_j is used, which returns -G (negative test E1 only).
+  Mat3 displacement_gradient(Index i, const Vec3Array& u, bool eq3_literal_sign = false) const;
+  /// F_i = sum_j (x_j - x_i) d_ij^T.
+  Mat3 deformation_gradient(Index i, const Vec3Array& x) const;
+
+ private:
+  void build_neighbourhoods(const DiscretizationOptions& opt);
+  void compute_volumes(const DiscretizationOptions& opt);
+
+  NodeCloud cloud_;
+  Material material_;
+  Vec3Array X_;
+  std::vector<Tet> tets_;
+  PairTable pairs_, transposed_;
+  Vec3Array self_d_;
+  std::vector<double> moment_trace_, V_, m_, h_;
+  double mean_spacing_ = 0.0, min_spacing_ = 0.0, tet_volume_ = 0.0;
+  int grown_nodes_ = 0;
+};
+
+}  // namespace vascsim

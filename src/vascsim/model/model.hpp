@@ -1,0 +1,39 @@
+#pragma once
+// The Model interface: a solver that advances a Problem through a sequence of output points
+// (load steps or output times). Models are chosen by name in the scene (registry.hpp).
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "vascsim/model/problem.hpp"
+
+namespace vascsim {
+
+/// What one advance() did.
+struct StepReport {
+  double time_s = 0.0;       ///< simulated time at the output point (0 for quasi-static)
+  double load_factor = 0.0;  ///< s in [0, 1]
+  int iterations = 0;        ///< Newton iterations (quasi_static) or substeps (explicit)
+  int inner_iterations = 0;  ///< conjugate-gradient iterations (quasi_static)
+  double residual = 0.0;     ///< relative force residual (quasi_static); 0 otherwise
+  bool converged = true;
+};
+
+class Model {
+ public:
+  virtual ~Model() = default;
+  virtual std::string name() const = 0;
+  /// Number of output points the run produces.
+  virtual int num_steps() const = 0;
+  /// Advances to output point k (1-based, called in order).
+  virtual StepReport advance(int k) = 0;
+  /// Current node positions, m.
+  virtual const Vec3Array& positions() const = 0;
+  /// Load factor at the last output point.
+  virtual double load_factor() const = 0;
+  /// Solver parameters as used (dt, tolerances, stability limits), for summary.json.
+  virtual nlohmann::json info() const = 0;
+};
+
+}  // namespace vascsim

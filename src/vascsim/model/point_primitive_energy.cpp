@@ -1,0 +1,189 @@
+#include "vascsim/model/point_primitive_energy.hpp"
+
+#include <fmt/format.h>
+
+#include "vascsim/core/error.hpp"
+
+namespace vascsim {
+
+Mat3 cofactor(const Mat3& F) {
+  Mat3 C;
+  C.col(0) = F.col(1).cross(F.col(2));
+  C.col(1) = F.col(2).cross(F.col(0));
+  C.col(2) = F.col(0).cross(F.col(1));
+  return C;
+}
+
+namespace {
+// d cof(F) along dF: product rule on the column cross products.
+Mat3 cofactor_derivative(const Mat3& F, const Mat3& dF) {
+  Mat3 C;
+  C.col(0) = dF.col(1).cross(F.col(2)) + F.col(1).cross(dF.col(2));
+  C.col(1) = dF.col(2).cross(F.col(0)) + F.col(2).cross(dF.col(0));
+  C.col(2) = dF.col(0).cross(F.col(1)) + F.col(0).cross(dF.col(1));
+  return C;
+}
+}  // namespace
+
+PointPrimitiveEnergy::PointPrimitiveEnergy(const Discretization& disc, const EnergyOptions& options)
+    : disc_(disc), opt_(options) {
+  const Material& m = disc.material();
+  mu_ = m.shear_modulus();
+  lambda_ = m.lame_lambda() - opt_.volume_stiffness_pa;
+  if (opt_.volume_stiffness_pa < 0.0 || lambda_ < 0.0)
+    throw InputError(fmt::format("energy: volume stiffness k_v = {} Pa must lie in [0, lambda = {} Pa]",
+                                 opt_.volume_stiffness_pa, m.lame_lambda()));
+  if (opt_.stabilizer_alpha < 0.0) throw InputError("energy: stabiliser alpha must be >= 0");
+  const Index n = disc.num_nodes();
+  stab_c_.resize(n);
+  for (Index i = 0; i < n; ++i)
+    stab_c_[i] = opt_.stabilizer_alpha * mu_ * disc.volumes()[i] / disc.moment_trace()[i];
+}
+
+Mat3 PointPrimitiveEnergy::weighted_stress(Index i, const Mat3& F, EnergyBreakdown* e) const {
+  const double V = disc_.volumes()[i];
+  const Mat3 I = Mat3::Identity();
+  Mat3 Pt;
+  if (opt_.strain == StrainMeasure::GreenHalf) {
+    const Mat3 E = 0.5 * (F.transpose() * F - I);  // Green-Lagrange strain (Eq. 5 with the 1/2)
+    const double trE = E.trace();
+    const Mat3 S = lambda_ * trE * I + 2.0 * mu_ * E;  // SVK 2nd Piola-Kirchhoff (Eq. 6, tensor form)
+    Pt = V * (F * S);
+    if (e) e->strain += V * (mu_ * E.squaredNorm() + 0.5 * lambda_ * trE * trE);
+  } else {
+    const Mat3 eps = F.transpose() * F - I;  // Eq. 5 as printed (no 1/2)
+    const double tr = eps.trace();
+    const Mat3 sigma = lambda_ * tr * I + 2.0 * mu_ * eps;
+    Pt = 2.0 * V * (F * sigma);  // Mueller's F_e = -2 v J sigma (MODEL.md 1.8)
+    if (e) e->strain += 0.5 * V * (eps.cwiseProduct(sigma)).sum();
+  }
+  if (opt_.volume_stiffness_pa > 0.0) {
+    const double J = F.determinant();
+    Pt += opt_.volume_stiffness_pa * V * (J - 1.0) * cofactor(F);
+    if (e) e->volume += 0.5 * opt_.volume_stiffness_pa * V * (J - 1.0) * (J - 1.0);
+  }
+  return Pt;
+}
+
+Mat3 PointPrimitiveEnergy::weighted_stress_derivative(Index i, const Mat3& F, const Mat3& dF) const {
+  const double V = disc_.volumes()[i];
+  const Mat3 I = Mat3::Identity();
+  Mat3 dPt;
+  const Mat3 dC = dF.transpose() * F + F.transpose() * dF;  // d(F^T F)
+  if (opt_.strain == StrainMeasure::GreenHalf) {
+    const Mat3 E = 0.5 * (F.transpose() * F - I);
+    const Mat3 S = lambda_ * E.trace() * I + 2.0 * mu_ * E;
+    const Mat3 dE = 0.5 * dC;
+    const Mat3 dS = lambda_ * dE.trace() * I + 2.0 * mu_ * dE;
+    dPt = V * (dF * S + F * dS);
+  } else {
+    const Mat3 eps = F.transpose() * F - I;
+    const Mat3 sigma = lambda_ * eps.trace() * I + 2.0 * mu_ * eps;
+    const Mat3 dsigma = lambda_ * dC.trace() * I + 2.0 * mu_ * dC;
+    dPt = 2.0 * V * (dF * sigma + F * dsigma);
+  }
+  if (opt_.volume_stiffness_pa > 0.0) {
+    const double J = F.determinant();
+    const Mat3 cof = cofactor(F);
+    const double dJ = cof.cwiseProduct(dF).sum();
+    dPt += opt_.volume_stiffness_pa * V * (dJ * cof + (J - 1.0) * cofactor_derivative(F, dF));
+  }
+  return dPt;
+}
+
+void PointPrimitiveEnergy::gather(const std::vector<Mat3>& Ptilde, const std::vector<Mat3>& F_fit,
+                                  const Vec3Array& y, Vec3Array& out) const {
+  const Index n = disc_.num_nodes();
+  const PairTable& P = disc_.pairs();
+  const PairTable& T = disc_.transposed();
+  const Vec3Array& X = disc_.rest_positions();
+  const bool stab = opt_.stabilizer_alpha > 0.0;
+  out.resize(n);
+#pragma omp parallel for schedule(static)
+  for (Index k = 0; k < n; ++k) {
+    Vec3 f = -(Ptilde[k] * disc_.self_d()[k]);
+    for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e) f -= Ptilde[T.col[e]] * T.d[e];
+    if (stab) {
+      // Own fit: f_k += c_k sum_j w_kj r_kj; fits of others: f_k -= c_i w_ik r_ik (MODEL.md 1.9b).
+      Vec3 own = Vec3::Zero();
+      for (Index e = P.row_start[k]; e < P.row_start[k + 1]; ++e) {
+        const Index j = P.col[e];
+        own += P.w[e] * ((y[j] - y[k]) - F_fit[k] * (X[j] - X[k]));
+      }
+      f += stab_c_[k] * own;
+      for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e) {
+        const Index i = T.col[e];
+        f -= stab_c_[i] * T.w[e] * ((y[k] - y[i]) - F_fit[i] * (X[k] - X[i]));
+      }
+    }
+    out[k] = f;
+  }
+}
+
+double PointPrimitiveEnergy::stabilizer_energy(const std::vector<Mat3>& F, const Vec3Array& x) const {
+  if (opt_.stabilizer_alpha <= 0.0) return 0.0;
+  const PairTable& P = disc_.pairs();
+  const Vec3Array& X = disc_.rest_positions();
+  double U = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : U)
+  for (Index i = 0; i < disc_.num_nodes(); ++i) {
+    double s = 0.0;
+    for (Index e = P.row_start[i]; e < P.row_start[i + 1]; ++e) {
+      const Index j = P.col[e];
+      s += P.w[e] * ((x[j] - x[i]) - F[i] * (X[j] - X[i])).squaredNorm();
+    }
+    U += 0.5 * stab_c_[i] * s;
+  }
+  return U;
+}
+
+EnergyBreakdown PointPrimitiveEnergy::energy(const Vec3Array& x) const {
+  const Index n = disc_.num_nodes();
+  std::vector<Mat3> F(n);
+  double strain = 0.0, volume = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : strain, volume)
+  for (Index i = 0; i < n; ++i) {
+    F[i] = disc_.deformation_gradient(i, x);
+    EnergyBreakdown e;
+    weighted_stress(i, F[i], &e);
+    strain += e.strain;
+    volume += e.volume;
+  }
+  EnergyBreakdown out;
+  out.strain = strain;
+  out.volume = volume;
+  out.stabilizer = stabilizer_energy(F, x);
+  return out;
+}
+
+double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f) const {
+  const Index n = disc_.num_nodes();
+  std::vector<Mat3> F(n), Pt(n);
+  double strain = 0.0, volume = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : strain, volume)
+  for (Index i = 0; i < n; ++i) {
+    F[i] = disc_.deformation_gradient(i, x);
+    EnergyBreakdown e;
+    Pt[i] = weighted_stress(i, F[i], &e);
+    strain += e.strain;
+    volume += e.volume;
+  }
+  gather(Pt, F, x, f);
+  return strain + volume + stabilizer_energy(F, x);
+}
+
+void PointPrimitiveEnergy::hessian_product(const Vec3Array& x, const Vec3Array& v, Vec3Array& out) const {
+  const Index n = disc_.num_nodes();
+  std::vector<Mat3> dPt(n), dF(n);
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    const Mat3 F = disc_.deformation_gradient(i, x);
+    dF[i] = disc_.deformation_gradient(i, v);  // F is linear in positions
+    dPt[i] = weighted_stress_derivative(i, F, dF[i]);
+  }
+  // The stabiliser force is linear in the positions, so its Hessian applied to v is minus its force at v.
+  gather(dPt, dF, v, out);
+  for (auto& o : out) o = -o;
+}
+
+}  // namespace vascsim

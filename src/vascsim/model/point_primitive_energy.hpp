@@ -1,0 +1,71 @@
+#pragma once
+// Elastic energy, forces and Hessian-vector products of the point-primitive (meshless) model,
+// MODEL.md 1.6-1.9: SVK strain energy per node (sound) or Mueller's no-1/2 strain (paper literal),
+// Mueller's volume term k_v and the zero-energy-mode stabiliser alpha_hg. Forces are assembled in the
+// gather form of MODEL.md 1.8 (two passes over nodes, no atomics), parallel over nodes with OpenMP.
+
+#include <vector>
+
+#include "vascsim/model/discretization.hpp"
+
+namespace vascsim {
+
+enum class StrainMeasure {
+  GreenHalf,     ///< E = 1/2 (F^T F - I): SVK, sound (default)
+  MuellerNoHalf  ///< eps = F^T F - I (Eq. 5 as printed): 4x stiffer than the E entered (paper literal)
+};
+
+struct EnergyOptions {
+  StrainMeasure strain = StrainMeasure::GreenHalf;
+  double volume_stiffness_pa = 0.0;  ///< k_v of MODEL.md 1.9a (0 <= k_v; lambda is reduced by k_v to keep E, nu)
+  double stabilizer_alpha = 0.1;     ///< alpha_hg of MODEL.md 1.9b (0 disables)
+};
+
+/// Energy terms, J.
+struct EnergyBreakdown {
+  double strain = 0.0;      ///< sum_i V_i psi_i
+  double volume = 0.0;      ///< sum_i 1/2 k_v V_i (det F_i - 1)^2
+  double stabilizer = 0.0;  ///< sum_i c_i/2 sum_j w_ij |r_ij|^2
+  double total() const { return strain + volume + stabilizer; }
+};
+
+class PointPrimitiveEnergy {
+ public:
+  PointPrimitiveEnergy(const Discretization& disc, const EnergyOptions& options);
+
+  const Discretization& discretization() const { return disc_; }
+  const EnergyOptions& options() const { return opt_; }
+  /// Lame lambda used by the strain term (lambda - k_v), Pa.
+  double strain_lambda() const { return lambda_; }
+  double shear_modulus() const { return mu_; }
+
+  /// Elastic energy of configuration x (#N positions, m), J.
+  EnergyBreakdown energy(const Vec3Array& x) const;
+
+  /// Internal elastic forces f = -dU/dx (N) into `forces` (resized). Returns the total energy, J.
+  double forces(const Vec3Array& x, Vec3Array& forces) const;
+
+  /// Hessian-vector product: out = (d^2 U / dx^2)(x) v, N per m of v. Exact (analytic) for every term.
+  void hessian_product(const Vec3Array& x, const Vec3Array& v, Vec3Array& out) const;
+
+ private:
+  // Pass 1 of MODEL.md 1.8 for one node: V_i P_i (+ volume term), and the energy.
+  Mat3 weighted_stress(Index i, const Mat3& F, EnergyBreakdown* e) const;
+  // Directional derivative of weighted_stress at F along dF.
+  Mat3 weighted_stress_derivative(Index i, const Mat3& F, const Mat3& dF) const;
+  // Pass 2: f_k = -Ptilde_k d_kk - sum_{i: k in N_i} Ptilde_i d_ik, plus the stabiliser forces built from
+  // the per-node fit F_fit and positions y (the stabiliser is linear in y).
+  void gather(const std::vector<Mat3>& Ptilde, const std::vector<Mat3>& F_fit, const Vec3Array& y,
+              Vec3Array& out) const;
+  double stabilizer_energy(const std::vector<Mat3>& F, const Vec3Array& x) const;
+
+  const Discretization& disc_;
+  EnergyOptions opt_;
+  double lambda_, mu_;
+  std::vector<double> stab_c_;  // c_i = alpha_hg mu V_i / tr(A_i), N/m * m^3
+};
+
+/// Cofactor matrix cof(F) = det(F) F^{-T}, columns [F_1 x F_2, F_2 x F_0, F_0 x F_1] (MODEL.md 1.9a).
+Mat3 cofactor(const Mat3& F);
+
+}  // namespace vascsim

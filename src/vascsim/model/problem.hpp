@@ -1,0 +1,72 @@
+#pragma once
+// A boundary-value problem on a discretised body: the elastic energy, named node regions with their
+// boundary conditions (fixed, prescribed displacement, applied force), gravity, and the reaction
+// forces that the supports exert on the tissue. All loads scale with one load factor s in [0, 1]
+// (load steps for quasi_static, a time ramp for explicit).
+
+#include <string>
+#include <vector>
+
+#include "vascsim/model/point_primitive_energy.hpp"
+
+namespace vascsim {
+
+enum class RegionBcType {
+  Probe,         ///< no boundary condition; only reported
+  Fixed,         ///< x = X
+  Displacement,  ///< x = X + s * displacement (all three components prescribed, rigid translation)
+  Force          ///< total force s * force spread over the nodes by the weights
+};
+
+struct Region {
+  std::string name;
+  std::vector<Index> nodes;
+  RegionBcType bc = RegionBcType::Probe;
+  Vec3 displacement_m = Vec3::Zero();  ///< Displacement: the full displacement at s = 1, m
+  Vec3 force_n = Vec3::Zero();         ///< Force: the total force at s = 1, N
+  std::vector<double> force_weights;   ///< Force: per node share of force_n, sums to 1
+  Vec3 direction = Vec3::Zero();       ///< unit direction for scalar probes (zero: use magnitudes)
+};
+
+/// What a region reports at one output point.
+struct RegionMeasure {
+  double displacement_m = 0.0;  ///< mean displacement projected on the direction (or its magnitude)
+  Vec3 force_n = Vec3::Zero();  ///< reaction: force the supports exert on the tissue (constrained) or
+                                ///< the applied force (Force), summed over the region, N
+  double force_projected_n = 0.0;  ///< force_n projected on the direction (or its magnitude)
+};
+
+class Problem {
+ public:
+  Problem(const PointPrimitiveEnergy& energy, std::vector<Region> regions, const Vec3& gravity_m_s2);
+
+  const PointPrimitiveEnergy& energy() const { return energy_; }
+  const Discretization& discretization() const { return energy_.discretization(); }
+  const std::vector<Region>& regions() const { return regions_; }
+  const Vec3& gravity() const { return gravity_; }
+
+  /// Per node: true when its position is prescribed (fixed or displacement region).
+  const std::vector<char>& constrained() const { return constrained_; }
+  Index num_constrained() const { return num_constrained_; }
+
+  /// Prescribed position of constrained node i at load factor s (m). Only for constrained nodes.
+  Vec3 prescribed_position(Index i, double s) const;
+  /// Sets every constrained node of x to its prescribed position at load factor s.
+  void apply_constraints(double s, Vec3Array& x) const;
+  /// External forces at load factor s: gravity m_i g and region forces (N), into f (resized).
+  void external_forces(double s, Vec3Array& f) const;
+
+  /// Measures every region at load factor s, configuration x, internal forces f_int and external forces f_ext.
+  std::vector<RegionMeasure> measure(double s, const Vec3Array& x, const Vec3Array& f_int,
+                                     const Vec3Array& f_ext) const;
+
+ private:
+  const PointPrimitiveEnergy& energy_;
+  std::vector<Region> regions_;
+  Vec3 gravity_;
+  std::vector<char> constrained_;
+  std::vector<int> constraint_region_;  // region index per constrained node, -1 otherwise
+  Index num_constrained_ = 0;
+};
+
+}  // namespace vascsim

@@ -1,0 +1,223 @@
+#include "vascsim/model/quasi_static_model.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "vascsim/core/error.hpp"
+#include "vascsim/model/tet_stiffness.hpp"
+
+namespace vascsim {
+
+namespace {
+double dot(const Vec3Array& a, const Vec3Array& b) {
+  double s = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) s += a[i].dot(b[i]);
+  return s;
+}
+}  // namespace
+
+QuasiStaticModel::QuasiStaticModel(const Problem& problem, const QuasiStaticSettings& settings)
+    : problem_(problem), settings_(settings), x_(problem.discretization().rest_positions()) {
+  if (settings.load_steps < 1) throw InputError("quasi_static: load_steps must be >= 1");
+  if (!(settings.rel_tolerance > 0.0)) throw InputError("quasi_static: rel_tolerance must be > 0");
+  const auto& disc = problem.discretization();
+  if (problem.num_constrained() == 0)
+    throw InputError("quasi_static: no fixed or displacement region; a static solution needs supports");
+  const Index n = disc.num_nodes();
+  free_slot_.assign(n, -1);
+  for (Index i = 0; i < n; ++i)
+    if (!problem.constrained()[i]) {
+      free_slot_[i] = static_cast<Eigen::Index>(free_.size());
+      free_.push_back(i);
+    }
+  // Preconditioner: the tets' linear stiffness restricted to the free dofs.
+  const auto& E = problem.energy();
+  const Eigen::SparseMatrix<double> K = linear_tet_stiffness(disc.rest_positions(), disc.tets(),
+                                                             E.strain_lambda() + E.options().volume_stiffness_pa,
+                                                             E.shear_modulus());
+  std::vector<Eigen::Triplet<double>> trip;
+  for (int c = 0; c < K.outerSize(); ++c)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(K, c); it; ++it) {
+      const Eigen::Index a = free_slot_[it.row() / 3], b = free_slot_[it.col() / 3];
+      if (a >= 0 && b >= 0) trip.emplace_back(3 * a + it.row() % 3, 3 * b + it.col() % 3, it.value());
+    }
+  const Eigen::Index nf = static_cast<Eigen::Index>(free_.size()) * 3;
+  Eigen::SparseMatrix<double> Kff(nf, nf);
+  Kff.setFromTriplets(trip.begin(), trip.end());
+  if (nf > 0) {
+    precond_.compute(Kff);
+    have_precond_ = precond_.info() == Eigen::Success && (precond_.vectorD().array() > 0.0).all();
+    if (!have_precond_)
+      spdlog::warn("quasi_static: the tetrahedral preconditioner is singular (is every part of the body "
+                   "supported?); using no preconditioner");
+  }
+}
+
+void QuasiStaticModel::precondition(const Vec3Array& r, Vec3Array& z) const {
+  z.assign(r.size(), Vec3::Zero());
+  if (!have_precond_) {
+    for (Index i : free_) z[i] = r[i];
+    return;
+  }
+  Eigen::VectorXd b(static_cast<Eigen::Index>(free_.size()) * 3);
+  for (std::size_t a = 0; a < free_.size(); ++a) b.segment<3>(3 * static_cast<Eigen::Index>(a)) = r[free_[a]];
+  const Eigen::VectorXd y = precond_.solve(b);
+  for (std::size_t a = 0; a < free_.size(); ++a) z[free_[a]] = y.segment<3>(3 * static_cast<Eigen::Index>(a));
+}
+
+double QuasiStaticModel::residual_norm(const Vec3Array& r) const {
+  double s = 0.0;
+  for (Index i : free_) s += r[i].squaredNorm();
+  return std::sqrt(s);
+}
+
+double QuasiStaticModel::potential(const Vec3Array& x, const Vec3Array& f_ext) const {
+  return problem_.energy().energy(x).total() - dot(f_ext, x);
+}
+
+int QuasiStaticModel::conjugate_gradients(const Vec3Array& x, const Vec3Array& rhs, double eta,
+                                          Vec3Array& dx) const {
+  const std::size_t n = x.size();
+  dx.assign(n, Vec3::Zero());
+  Vec3Array r(n, Vec3::Zero()), z, p, Hp;
+  for (Index i : free_) r[i] = rhs[i];
+  const double target = eta * residual_norm(r);
+  precondition(r, z);
+  p = z;
+  double rz = dot(r, z);
+  int it = 0;
+  for (; it < settings_.max_cg_iterations; ++it) {
+    problem_.energy().hessian_product(x, p, Hp);
+    for (std::size_t i = 0; i < n; ++i)
+      if (problem_.constrained()[i]) Hp[i].setZero();
+    const double pHp = dot(p, Hp);
+    if (!(pHp > 0.0)) {
+      // Negative curvature (SVK under compression): keep what we have, or the preconditioned gradient.
+      if (it == 0) dx = z;
+      break;
+    }
+    const double alpha = rz / pHp;
+    for (std::size_t i = 0; i < n; ++i) {
+      dx[i] += alpha * p[i];
+      r[i] -= alpha * Hp[i];
+    }
+    if (residual_norm(r) <= target) {
+      ++it;
+      break;
+    }
+    precondition(r, z);
+    const double rz_next = dot(r, z);
+    const double beta = rz_next / rz;
+    rz = rz_next;
+    for (std::size_t i = 0; i < n; ++i) p[i] = z[i] + beta * p[i];
+  }
+  return it;
+}
+
+StepReport QuasiStaticModel::solve(double s) {
+  const auto& E = problem_.energy();
+  const Index n = problem_.discretization().num_nodes();
+  StepReport rep;
+  rep.load_factor = s;
+  Vec3Array f_ext, f_int, r(n), dx, Hd;
+  problem_.external_forces(s, f_ext);
+
+  // Linear predictor: move the constrained nodes by their increment and the free nodes by the linear
+  // response to it, H_ff dx_f = r_f - H_fc dp_c (avoids crushing the layer next to a driven region).
+  Vec3Array dp(n, Vec3::Zero());
+  bool moved = false;
+  for (Index i = 0; i < n; ++i)
+    if (problem_.constrained()[i]) {
+      dp[i] = problem_.prescribed_position(i, s) - x_[i];
+      moved = moved || dp[i].squaredNorm() > 0.0;
+    }
+  E.forces(x_, f_int);
+  for (Index i = 0; i < n; ++i) r[i] = f_int[i] + f_ext[i];
+  if (moved) {
+    E.hessian_product(x_, dp, Hd);
+    for (Index i = 0; i < n; ++i) r[i] -= Hd[i];
+  }
+  rep.inner_iterations += conjugate_gradients(x_, r, 1e-3, dx);
+  Vec3Array trial = x_;
+  for (Index i = 0; i < n; ++i) trial[i] += problem_.constrained()[i] ? dp[i] : dx[i];
+  Vec3Array base = x_;
+  for (Index i = 0; i < n; ++i)
+    if (problem_.constrained()[i]) base[i] += dp[i];
+  x_ = potential(trial, f_ext) <= potential(base, f_ext) ? trial : base;
+
+  // Newton iterations.
+  double res = 0.0;
+  for (int it = 0;; ++it) {
+    E.forces(x_, f_int);
+    double reaction2 = 0.0, ext2 = 0.0;
+    for (Index i = 0; i < n; ++i) {
+      r[i] = f_int[i] + f_ext[i];
+      ext2 += f_ext[i].squaredNorm();
+      if (problem_.constrained()[i]) reaction2 += r[i].squaredNorm();
+    }
+    const double scale = std::max(std::sqrt(std::max(reaction2, ext2)), 1e-300);
+    res = residual_norm(r) / scale;
+    if (!std::isfinite(res)) throw NumericalError(fmt::format("quasi_static: non-finite residual at s = {:.4g}", s));
+    if (res <= settings_.rel_tolerance) break;
+    if (it == settings_.max_newton_iterations) {
+      rep.converged = false;
+      break;
+    }
+    ++rep.iterations;
+    const double eta = std::clamp(std::sqrt(res), 1e-6, 0.1);  // Eisenstat-Walker-style forcing
+    rep.inner_iterations += conjugate_gradients(x_, r, eta, dx);
+    // Backtracking Armijo line search on Pi: the directional derivative is -r . dx.
+    const double slope = -dot(r, dx);
+    if (!(slope < 0.0)) {
+      for (Index i : free_) dx[i] = r[i];  // not a descent direction: fall back to the gradient
+    }
+    const double pi0 = potential(x_, f_ext);
+    const double g = std::min(-dot(r, dx), 0.0);
+    double step = 1.0;
+    bool accepted = false;
+    for (int ls = 0; ls < 40; ++ls, step *= 0.5) {
+      for (Index i = 0; i < n; ++i) trial[i] = x_[i] + step * dx[i];
+      const double pi = potential(trial, f_ext);
+      if (std::isfinite(pi) && pi <= pi0 + 1e-4 * step * g + 1e-14 * std::abs(pi0)) {
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) {
+      rep.converged = false;
+      break;
+    }
+    x_.swap(trial);
+  }
+  rep.residual = res;
+  s_ = s;
+  total_newton_ += rep.iterations;
+  total_cg_ += rep.inner_iterations;
+  if (!rep.converged) {
+    ++unconverged_steps_;
+    const std::string msg = fmt::format(
+        "quasi_static: load factor {:.4g} did not converge (relative residual {:.3g} > {:.1g} after {} Newton "
+        "iterations)",
+        s, res, settings_.rel_tolerance, rep.iterations);
+    if (settings_.fail_on_divergence) throw NumericalError(msg);
+    spdlog::warn("{}", msg);
+  }
+  return rep;
+}
+
+StepReport QuasiStaticModel::advance(int k) {
+  return solve(static_cast<double>(k) / settings_.load_steps);
+}
+
+nlohmann::json QuasiStaticModel::info() const {
+  return {{"model", "quasi_static"},
+          {"load_steps", settings_.load_steps},
+          {"rel_tolerance", settings_.rel_tolerance},
+          {"preconditioner", have_precond_ ? "tet_linear_stiffness_ldlt" : "none"},
+          {"newton_iterations", total_newton_},
+          {"cg_iterations", total_cg_},
+          {"unconverged_steps", unconverged_steps_}};
+}
+
+}  // namespace vascsim

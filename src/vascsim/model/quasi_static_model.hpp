@@ -1,0 +1,56 @@
+#pragma once
+// `quasi_static`: static equilibrium at each load step by minimising the total potential
+// Pi(x) = U(x) - f_ext . x over the free nodes (MODEL.md decision 4). Truncated Newton: the Newton system
+// H dx = r is solved by preconditioned conjugate gradients on analytic Hessian-vector products, with the
+// linear-elastic stiffness of the virtual tetrahedra (sparse Cholesky, factorised once) as the
+// preconditioner; negative curvature stops CG early; a backtracking Armijo line search on Pi
+// globalises. A load step starts from a linear predictor that carries the prescribed increment into the
+// free nodes. Converged when |r_free| <= tol * max(|reactions|, |f_ext|).
+
+#include <Eigen/SparseCholesky>
+
+#include "vascsim/model/model.hpp"
+
+namespace vascsim {
+
+struct QuasiStaticSettings {
+  int load_steps = 10;              ///< equal load increments to s = 1
+  double rel_tolerance = 1e-8;      ///< relative force residual at convergence
+  int max_newton_iterations = 60;   ///< per load step
+  int max_cg_iterations = 2000;     ///< per Newton iteration
+  bool fail_on_divergence = false;  ///< throw instead of reporting a load step that did not converge
+};
+
+class QuasiStaticModel final : public Model {
+ public:
+  QuasiStaticModel(const Problem& problem, const QuasiStaticSettings& settings);
+  std::string name() const override { return "quasi_static"; }
+  int num_steps() const override { return settings_.load_steps; }
+  StepReport advance(int k) override;
+  const Vec3Array& positions() const override { return x_; }
+  double load_factor() const override { return s_; }
+  nlohmann::json info() const override;
+
+  /// Solves for equilibrium at load factor s starting from the current state (also used by experiments).
+  StepReport solve(double s);
+
+ private:
+  double residual_norm(const Vec3Array& r) const;  // |r| over free nodes
+  double potential(const Vec3Array& x, const Vec3Array& f_ext) const;
+  // PCG on H_ff dx = rhs (free nodes); returns iterations. Stops at |res| <= eta |rhs| or negative curvature.
+  int conjugate_gradients(const Vec3Array& x, const Vec3Array& rhs, double eta, Vec3Array& dx) const;
+  void precondition(const Vec3Array& r, Vec3Array& z) const;
+
+  const Problem& problem_;
+  QuasiStaticSettings settings_;
+  Vec3Array x_;
+  double s_ = 0.0;
+  std::vector<Index> free_;               // free node ids
+  std::vector<Eigen::Index> free_slot_;   // node -> position in the reduced vector (-1 constrained)
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> precond_;
+  bool have_precond_ = false;
+  long long total_newton_ = 0, total_cg_ = 0;
+  int unconverged_steps_ = 0;
+};
+
+}  // namespace vascsim

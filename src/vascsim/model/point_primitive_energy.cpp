@@ -15,6 +15,9 @@ Mat3 cofactor(const Mat3& F) {
 }
 
 namespace {
+// Below this size a parallel region costs more than it saves (and on a loaded 2-core machine, much more).
+constexpr Index kParallelMinNodes = 2048;
+
 // d cof(F) along dF: product rule on the column cross products.
 Mat3 cofactor_derivative(const Mat3& F, const Mat3& dF) {
   Mat3 C;
@@ -65,23 +68,22 @@ Mat3 PointPrimitiveEnergy::weighted_stress(Index i, const Mat3& F, EnergyBreakdo
   return Pt;
 }
 
-Mat3 PointPrimitiveEnergy::weighted_stress_derivative(Index i, const Mat3& F, const Mat3& dF) const {
+Mat3 PointPrimitiveEnergy::stress(const Mat3& F) const {
+  const Mat3 I = Mat3::Identity();
+  const double half = opt_.strain == StrainMeasure::GreenHalf ? 0.5 : 1.0;
+  const Mat3 E = half * (F.transpose() * F - I);
+  return lambda_ * E.trace() * I + 2.0 * mu_ * E;
+}
+
+Mat3 PointPrimitiveEnergy::weighted_stress_derivative(Index i, const Mat3& F, const Mat3& S, const Mat3& dF) const {
   const double V = disc_.volumes()[i];
   const Mat3 I = Mat3::Identity();
-  Mat3 dPt;
-  const Mat3 dC = dF.transpose() * F + F.transpose() * dF;  // d(F^T F)
-  if (opt_.strain == StrainMeasure::GreenHalf) {
-    const Mat3 E = 0.5 * (F.transpose() * F - I);
-    const Mat3 S = lambda_ * E.trace() * I + 2.0 * mu_ * E;
-    const Mat3 dE = 0.5 * dC;
-    const Mat3 dS = lambda_ * dE.trace() * I + 2.0 * mu_ * dE;
-    dPt = V * (dF * S + F * dS);
-  } else {
-    const Mat3 eps = F.transpose() * F - I;
-    const Mat3 sigma = lambda_ * eps.trace() * I + 2.0 * mu_ * eps;
-    const Mat3 dsigma = lambda_ * dC.trace() * I + 2.0 * mu_ * dC;
-    dPt = 2.0 * V * (dF * sigma + F * dsigma);
-  }
+  // SVK: P = F S, S = lambda tr(E) I + 2 mu E, E = 1/2 (F^T F - I).
+  // Literal: Ptilde = 2 V F sigma with sigma of eps = F^T F - I, i.e. "half" = 1 and a factor 2.
+  const bool svk = opt_.strain == StrainMeasure::GreenHalf;
+  const Mat3 dE = (svk ? 0.5 : 1.0) * (dF.transpose() * F + F.transpose() * dF);
+  const Mat3 dS = lambda_ * dE.trace() * I + 2.0 * mu_ * dE;
+  Mat3 dPt = (svk ? V : 2.0 * V) * (dF * S + F * dS);
   if (opt_.volume_stiffness_pa > 0.0) {
     const double J = F.determinant();
     const Mat3 cof = cofactor(F);
@@ -99,7 +101,7 @@ void PointPrimitiveEnergy::gather(const std::vector<Mat3>& Ptilde, const std::ve
   const Vec3Array& X = disc_.rest_positions();
   const bool stab = opt_.stabilizer_alpha > 0.0;
   out.resize(n);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
   for (Index k = 0; k < n; ++k) {
     Vec3 f = -(Ptilde[k] * disc_.self_d()[k]);
     for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e) f -= Ptilde[T.col[e]] * T.d[e];
@@ -125,7 +127,7 @@ double PointPrimitiveEnergy::stabilizer_energy(const std::vector<Mat3>& F, const
   const PairTable& P = disc_.pairs();
   const Vec3Array& X = disc_.rest_positions();
   double U = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : U)
+#pragma omp parallel for schedule(static) reduction(+ : U) if (disc_.num_nodes() >= kParallelMinNodes)
   for (Index i = 0; i < disc_.num_nodes(); ++i) {
     double s = 0.0;
     for (Index e = P.row_start[i]; e < P.row_start[i + 1]; ++e) {
@@ -141,7 +143,7 @@ EnergyBreakdown PointPrimitiveEnergy::energy(const Vec3Array& x) const {
   const Index n = disc_.num_nodes();
   std::vector<Mat3> F(n);
   double strain = 0.0, volume = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : strain, volume)
+#pragma omp parallel for schedule(static) reduction(+ : strain, volume) if (n >= kParallelMinNodes)
   for (Index i = 0; i < n; ++i) {
     F[i] = disc_.deformation_gradient(i, x);
     EnergyBreakdown e;
@@ -160,7 +162,7 @@ double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f) const {
   const Index n = disc_.num_nodes();
   std::vector<Mat3> F(n), Pt(n);
   double strain = 0.0, volume = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : strain, volume)
+#pragma omp parallel for schedule(static) reduction(+ : strain, volume) if (n >= kParallelMinNodes)
   for (Index i = 0; i < n; ++i) {
     F[i] = disc_.deformation_gradient(i, x);
     EnergyBreakdown e;
@@ -172,14 +174,30 @@ double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f) const {
   return strain + volume + stabilizer_energy(F, x);
 }
 
+PointPrimitiveEnergy::Linearization PointPrimitiveEnergy::linearize(const Vec3Array& x) const {
+  const Index n = disc_.num_nodes();
+  Linearization lin;
+  lin.F.resize(n);
+  lin.S.resize(n);
+#pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
+  for (Index i = 0; i < n; ++i) {
+    lin.F[i] = disc_.deformation_gradient(i, x);
+    lin.S[i] = stress(lin.F[i]);
+  }
+  return lin;
+}
+
 void PointPrimitiveEnergy::hessian_product(const Vec3Array& x, const Vec3Array& v, Vec3Array& out) const {
+  hessian_product(linearize(x), v, out);
+}
+
+void PointPrimitiveEnergy::hessian_product(const Linearization& lin, const Vec3Array& v, Vec3Array& out) const {
   const Index n = disc_.num_nodes();
   std::vector<Mat3> dPt(n), dF(n);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
   for (Index i = 0; i < n; ++i) {
-    const Mat3 F = disc_.deformation_gradient(i, x);
     dF[i] = disc_.deformation_gradient(i, v);  // F is linear in positions
-    dPt[i] = weighted_stress_derivative(i, F, dF[i]);
+    dPt[i] = weighted_stress_derivative(i, lin.F[i], lin.S[i], dF[i]);
   }
   // The stabiliser force is linear in the positions, so its Hessian applied to v is minus its force at v.
   gather(dPt, dF, v, out);

@@ -45,14 +45,24 @@ class PointPrimitiveEnergy {
   /// Internal elastic forces f = -dU/dx (N) into `forces` (resized). Returns the total energy, J.
   double forces(const Vec3Array& x, Vec3Array& forces) const;
 
+  /// Per-node state a Hessian-vector product needs at a fixed configuration: F_i and the stress
+  /// S_i (SVK) or sigma_i (literal). Built once per Newton iteration, reused by every CG iteration.
+  struct Linearization {
+    std::vector<Mat3> F, S;
+  };
+  Linearization linearize(const Vec3Array& x) const;
+
   /// Hessian-vector product: out = (d^2 U / dx^2)(x) v, N per m of v. Exact (analytic) for every term.
   void hessian_product(const Vec3Array& x, const Vec3Array& v, Vec3Array& out) const;
+  void hessian_product(const Linearization& lin, const Vec3Array& v, Vec3Array& out) const;
 
  private:
   // Pass 1 of MODEL.md 1.8 for one node: V_i P_i (+ volume term), and the energy.
   Mat3 weighted_stress(Index i, const Mat3& F, EnergyBreakdown* e) const;
-  // Directional derivative of weighted_stress at F along dF.
-  Mat3 weighted_stress_derivative(Index i, const Mat3& F, const Mat3& dF) const;
+  // Stress S (SVK) or sigma (literal) of F, Pa.
+  Mat3 stress(const Mat3& F) const;
+  // Directional derivative of weighted_stress at F (with stress S) along dF.
+  Mat3 weighted_stress_derivative(Index i, const Mat3& F, const Mat3& S, const Mat3& dF) const;
   // Pass 2: f_k = -Ptilde_k d_kk - sum_{i: k in N_i} Ptilde_i d_ik, plus the stabiliser forces built from
   // the per-node fit F_fit and positions y (the stabiliser is linear in y).
   void gather(const std::vector<Mat3>& Ptilde, const std::vector<Mat3>& F_fit, const Vec3Array& y,

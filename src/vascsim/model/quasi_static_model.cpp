@@ -45,9 +45,17 @@ QuasiStaticModel::QuasiStaticModel(const Problem& problem, const QuasiStaticSett
   const Eigen::Index nf = static_cast<Eigen::Index>(free_.size()) * 3;
   Eigen::SparseMatrix<double> Kff(nf, nf);
   Kff.setFromTriplets(trip.begin(), trip.end());
-  if (nf > 0) {
-    precond_.compute(Kff);
-    have_precond_ = precond_.info() == Eigen::Success && (precond_.vectorD().array() > 0.0).all();
+  if (settings.preconditioner != "incomplete_cholesky" && settings.preconditioner != "cholesky" &&
+      settings.preconditioner != "none")
+    throw InputError("quasi_static: preconditioner must be incomplete_cholesky, cholesky or none");
+  if (nf > 0 && settings.preconditioner == "cholesky") {
+    cholesky_.compute(Kff);
+    have_precond_ = cholesky_.info() == Eigen::Success && (cholesky_.vectorD().array() > 0.0).all();
+  } else if (nf > 0 && settings.preconditioner == "incomplete_cholesky") {
+    incomplete_.compute(Kff);
+    have_precond_ = incomplete_.info() == Eigen::Success;
+  }
+  if (nf > 0 && settings.preconditioner != "none") {
     if (!have_precond_)
       spdlog::warn("quasi_static: the tetrahedral preconditioner is singular (is every part of the body "
                    "supported?); using no preconditioner");
@@ -62,7 +70,8 @@ void QuasiStaticModel::precondition(const Vec3Array& r, Vec3Array& z) const {
   }
   Eigen::VectorXd b(static_cast<Eigen::Index>(free_.size()) * 3);
   for (std::size_t a = 0; a < free_.size(); ++a) b.segment<3>(3 * static_cast<Eigen::Index>(a)) = r[free_[a]];
-  const Eigen::VectorXd y = precond_.solve(b);
+  const Eigen::VectorXd y = settings_.preconditioner == "cholesky" ? Eigen::VectorXd(cholesky_.solve(b))
+                                                                    : Eigen::VectorXd(incomplete_.solve(b));
   for (std::size_t a = 0; a < free_.size(); ++a) z[free_[a]] = y.segment<3>(3 * static_cast<Eigen::Index>(a));
 }
 
@@ -73,7 +82,12 @@ double QuasiStaticModel::residual_norm(const Vec3Array& r) const {
 }
 
 double QuasiStaticModel::potential(const Vec3Array& x, const Vec3Array& f_ext) const {
-  return problem_.energy().energy(x).total() - dot(f_ext, x);
+  // The work term uses displacements, not positions: f . X is a constant that would swamp the
+  // differences the line search compares.
+  const Vec3Array& X = problem_.discretization().rest_positions();
+  double work = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) work += f_ext[i].dot(x[i] - X[i]);
+  return problem_.energy().energy(x).total() - work;
 }
 
 int QuasiStaticModel::conjugate_gradients(const Vec3Array& x, const Vec3Array& rhs, double eta,
@@ -81,6 +95,7 @@ int QuasiStaticModel::conjugate_gradients(const Vec3Array& x, const Vec3Array& r
   const std::size_t n = x.size();
   dx.assign(n, Vec3::Zero());
   Vec3Array r(n, Vec3::Zero()), z, p, Hp;
+  const auto lin = problem_.energy().linearize(x);
   for (Index i : free_) r[i] = rhs[i];
   const double target = eta * residual_norm(r);
   precondition(r, z);
@@ -88,7 +103,7 @@ int QuasiStaticModel::conjugate_gradients(const Vec3Array& x, const Vec3Array& r
   double rz = dot(r, z);
   int it = 0;
   for (; it < settings_.max_cg_iterations; ++it) {
-    problem_.energy().hessian_product(x, p, Hp);
+    problem_.energy().hessian_product(lin, p, Hp);
     for (std::size_t i = 0; i < n; ++i)
       if (problem_.constrained()[i]) Hp[i].setZero();
     const double pHp = dot(p, Hp);
@@ -123,8 +138,10 @@ StepReport QuasiStaticModel::solve(double s) {
   Vec3Array f_ext, f_int, r(n), dx, Hd;
   problem_.external_forces(s, f_ext);
 
-  // Linear predictor: move the constrained nodes by their increment and the free nodes by the linear
-  // response to it, H_ff dx_f = r_f - H_fc dp_c (avoids crushing the layer next to a driven region).
+  // Predictor. After two solved steps: secant extrapolation along the load path (nearly exact for a
+  // smooth path, and free). Otherwise the linear one: move the constrained nodes by their increment
+  // and the free nodes by the linear response to it, H_ff dx_f = r_f - H_fc dp_c (this avoids crushing
+  // the layer next to a driven region).
   Vec3Array dp(n, Vec3::Zero());
   bool moved = false;
   for (Index i = 0; i < n; ++i)
@@ -132,22 +149,32 @@ StepReport QuasiStaticModel::solve(double s) {
       dp[i] = problem_.prescribed_position(i, s) - x_[i];
       moved = moved || dp[i].squaredNorm() > 0.0;
     }
-  E.forces(x_, f_int);
-  for (Index i = 0; i < n; ++i) r[i] = f_int[i] + f_ext[i];
-  if (moved) {
-    E.hessian_product(x_, dp, Hd);
-    for (Index i = 0; i < n; ++i) r[i] -= Hd[i];
-  }
-  rep.inner_iterations += conjugate_gradients(x_, r, 1e-3, dx);
-  Vec3Array trial = x_;
-  for (Index i = 0; i < n; ++i) trial[i] += problem_.constrained()[i] ? dp[i] : dx[i];
   Vec3Array base = x_;
   for (Index i = 0; i < n; ++i)
     if (problem_.constrained()[i]) base[i] += dp[i];
+  Vec3Array trial = base;
+  if (!x_prev_.empty() && s_ != s_prev_) {
+    const double q = (s - s_) / (s_ - s_prev_);
+    for (Index i = 0; i < n; ++i)
+      if (!problem_.constrained()[i]) trial[i] = x_[i] + q * (x_[i] - x_prev_[i]);
+  } else {
+    E.forces(x_, f_int);
+    for (Index i = 0; i < n; ++i) r[i] = f_int[i] + f_ext[i];
+    if (moved) {
+      E.hessian_product(x_, dp, Hd);
+      for (Index i = 0; i < n; ++i) r[i] -= Hd[i];
+    }
+    rep.inner_iterations += conjugate_gradients(x_, r, 1e-2, dx);
+    for (Index i = 0; i < n; ++i)
+      if (!problem_.constrained()[i]) trial[i] += dx[i];
+  }
+  x_prev_ = x_;
+  s_prev_ = s_;
   x_ = potential(trial, f_ext) <= potential(base, f_ext) ? trial : base;
 
   // Newton iterations.
-  double res = 0.0;
+  double res = 0.0, best = INFINITY;
+  int stalled = 0;
   for (int it = 0;; ++it) {
     E.forces(x_, f_int);
     double reaction2 = 0.0, ext2 = 0.0;
@@ -159,14 +186,23 @@ StepReport QuasiStaticModel::solve(double s) {
     const double scale = std::max(std::sqrt(std::max(reaction2, ext2)), 1e-300);
     res = residual_norm(r) / scale;
     if (!std::isfinite(res)) throw NumericalError(fmt::format("quasi_static: non-finite residual at s = {:.4g}", s));
+    spdlog::debug("quasi_static: s = {:.4g}, Newton {}: relative residual {:.3e}", s, it, res);
     if (res <= settings_.rel_tolerance) break;
-    if (it == settings_.max_newton_iterations) {
+    // Positions carry about 1e-16 relative precision, which floors the attainable residual; stop
+    // when three Newton steps in a row gain less than 10 %.
+    stalled = res < 0.9 * best ? 0 : stalled + 1;
+    best = std::min(best, res);
+    if (it == settings_.max_newton_iterations || stalled >= 3) {
       rep.converged = false;
       break;
     }
     ++rep.iterations;
-    const double eta = std::clamp(std::sqrt(res), 1e-6, 0.1);  // Eisenstat-Walker-style forcing
-    rep.inner_iterations += conjugate_gradients(x_, r, eta, dx);
+    // Forcing term: Eisenstat-Walker-style sqrt(res), but no tighter than the step needs to reach the
+    // tolerance (the last Newton step would otherwise overshoot it by orders of magnitude).
+    const double eta = std::clamp(std::max(std::sqrt(res), 0.3 * settings_.rel_tolerance / res), 1e-6, 0.1);
+    const int cg = conjugate_gradients(x_, r, eta, dx);
+    rep.inner_iterations += cg;
+    spdlog::debug("quasi_static:   CG {} iterations (eta {:.1e})", cg, eta);
     // Backtracking Armijo line search on Pi: the directional derivative is -r . dx.
     const double slope = -dot(r, dx);
     if (!(slope < 0.0)) {
@@ -179,9 +215,21 @@ StepReport QuasiStaticModel::solve(double s) {
     for (int ls = 0; ls < 40; ++ls, step *= 0.5) {
       for (Index i = 0; i < n; ++i) trial[i] = x_[i] + step * dx[i];
       const double pi = potential(trial, f_ext);
-      if (std::isfinite(pi) && pi <= pi0 + 1e-4 * step * g + 1e-14 * std::abs(pi0)) {
+      if (std::isfinite(pi) && pi <= pi0 + 1e-4 * step * g) {
         accepted = true;
         break;
+      }
+      if (ls == 0) {
+        // Near the solution the energy decrease falls below round-off; accept the full step when
+        // it reduces the force residual instead.
+        Vec3Array f_trial;
+        E.forces(trial, f_trial);
+        double r2 = 0.0;
+        for (Index i : free_) r2 += (f_trial[i] + f_ext[i]).squaredNorm();
+        if (std::isfinite(r2) && std::sqrt(r2) < 0.9 * residual_norm(r)) {
+          accepted = true;
+          break;
+        }
       }
     }
     if (!accepted) {
@@ -214,7 +262,7 @@ nlohmann::json QuasiStaticModel::info() const {
   return {{"model", "quasi_static"},
           {"load_steps", settings_.load_steps},
           {"rel_tolerance", settings_.rel_tolerance},
-          {"preconditioner", have_precond_ ? "tet_linear_stiffness_ldlt" : "none"},
+          {"preconditioner", have_precond_ ? settings_.preconditioner + " of the tet linear stiffness" : "none"},
           {"newton_iterations", total_newton_},
           {"cg_iterations", total_cg_},
           {"unconverged_steps", unconverged_steps_}};

@@ -4,9 +4,10 @@
 // H dx = r is solved by preconditioned conjugate gradients on analytic Hessian-vector products, with the
 // linear-elastic stiffness of the virtual tetrahedra (sparse Cholesky, factorised once) as the
 // preconditioner; negative curvature stops CG early; a backtracking Armijo line search on Pi
-// globalises. A load step starts from a linear predictor that carries the prescribed increment into the
-// free nodes. Converged when |r_free| <= tol * max(|reactions|, |f_ext|).
+// globalises (an incomplete Cholesky factor by default, see QuasiStaticSettings). A load step starts from a linear predictor that carries the prescribed increment into the
+// free nodes, then a secant extrapolation along the load path. Converged when |r_free| <= tol * max(|reactions|, |f_ext|).
 
+#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 
 #include "vascsim/model/model.hpp"
@@ -19,6 +20,9 @@ struct QuasiStaticSettings {
   int max_newton_iterations = 60;   ///< per load step
   int max_cg_iterations = 2000;     ///< per Newton iteration
   bool fail_on_divergence = false;  ///< throw instead of reporting a load step that did not converge
+  /// "incomplete_cholesky" (default: cheap to factor and apply at any size) or "cholesky" (exact
+  /// factor of the tet stiffness: fewest CG iterations, but its fill grows fast) or "none".
+  std::string preconditioner = "incomplete_cholesky";
 };
 
 class QuasiStaticModel final : public Model {
@@ -43,11 +47,12 @@ class QuasiStaticModel final : public Model {
 
   const Problem& problem_;
   QuasiStaticSettings settings_;
-  Vec3Array x_;
-  double s_ = 0.0;
+  Vec3Array x_, x_prev_;  // current and previous converged states (secant predictor)
+  double s_ = 0.0, s_prev_ = 0.0;
   std::vector<Index> free_;               // free node ids
   std::vector<Eigen::Index> free_slot_;   // node -> position in the reduced vector (-1 constrained)
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> precond_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> cholesky_;
+  Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> incomplete_;
   bool have_precond_ = false;
   long long total_newton_ = 0, total_cg_ = 0;
   int unconverged_steps_ = 0;

@@ -1,0 +1,172 @@
+#include "vascsim/app/cli.hpp"
+
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <iostream>
+#include <omp.h>
+#include <spdlog/sinks/ostream_sink.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include "vascsim/app/progress.hpp"
+#include "vascsim/core/error.hpp"
+#include "vascsim/experiments/cantilever.hpp"
+#include "vascsim/scene/runner.hpp"
+
+namespace vascsim {
+
+namespace {
+
+bool is_terminal(const std::ostream& s) { return &s == &std::cerr && isatty(STDERR_FILENO); }
+
+void setup_logging(std::ostream& err, bool quiet, bool verbose) {
+  auto sink = std::make_shared<spdlog::sinks::ostream_sink_mt>(err);
+  auto logger = std::make_shared<spdlog::logger>("vascsim", sink);
+  logger->set_pattern("[%l] %v");
+  logger->set_level(quiet ? spdlog::level::warn : verbose ? spdlog::level::debug : spdlog::level::info);
+  spdlog::set_default_logger(logger);
+}
+
+std::string step_status(const std::string& model, const StepRecord& r) {
+  if (r.step == 0) return "rest state";
+  if (model == "quasi_static")
+    return fmt::format("load {:.3f}: {} Newton / {} CG it., residual {:.1e}{}", r.report.load_factor,
+                       r.report.iterations, r.report.inner_iterations, r.report.residual,
+                       r.report.converged ? "" : " NOT CONVERGED");
+  return fmt::format("t = {:.4g} s, {} substeps", r.report.time_s, r.report.iterations);
+}
+
+int command_run(const std::string& scene_path, const std::vector<std::string>& sets, const std::string& out_opt,
+                std::ostream& out, std::ostream& err) {
+  const Scene scene = load_scene(scene_path, sets);
+  const std::filesystem::path out_dir = out_opt.empty() ? std::filesystem::path("out") / scene.name : std::filesystem::path(out_opt);
+  spdlog::info("scene '{}' ({}), model {}, output {}", scene.name, scene.file, scene.model, out_dir.string());
+  Progress progress(err, is_terminal(err), scene.name);
+  RunOptions opt;
+  opt.out_dir = out_dir;
+  opt.on_step = [&](const StepRecord& r, int total) { progress.update(r.step, total, step_status(scene.model, r)); };
+  const nlohmann::json summary = run_scene(scene, opt);
+  progress.finish();
+  out << fmt::format("{}: {} nodes, {} steps in {:.2f} s (setup {:.2f} s); wrote {}\n", scene.name,
+                     summary["nodes"].get<int>(), summary["steps"].size() - 1,
+                     summary["timings_s"]["total"].get<double>(), summary["timings_s"]["setup"].get<double>(),
+                     (out_dir / "summary.json").string());
+  if (summary.contains("reference")) {
+    const auto& ref = summary["reference"];
+    out << fmt::format("tip deflection {:.6g} m, Timoshenko reference {:.6g} m, ratio {:.4f}\n",
+                       ref["tip_deflection_m"].get<double>(), ref["reference_deflection_m"].get<double>(),
+                       ref["ratio"].get<double>());
+  }
+  if (summary["unconverged_steps"].get<int>() > 0)
+    out << fmt::format("warning: {} load steps did not converge (see summary.json)\n",
+                       summary["unconverged_steps"].get<int>());
+  return 0;
+}
+
+int command_validate_cantilever(const std::string& out_opt, const std::vector<int>& sizes, std::ostream& out,
+                                std::ostream& err) {
+  struct Row {
+    std::string label;
+    CantileverCase base;
+    bool relative_to_sound = false;
+  };
+  CantileverCase sound;
+  std::vector<Row> rows = {{"sound, nu = 0.3", [&] { auto c = sound; c.poisson_ratio = 0.3; return c; }()},
+                           {"sound, nu = 0.45", sound},
+                           {"sound without stabiliser (alpha_hg = 0), nu = 0.45", [&] { auto c = sound; c.stabilizer_alpha = 0.0; return c; }()},
+                           {"h = 1.5 Delta, nu = 0.45", [&] { auto c = sound; c.support_radius_factor = 1.5; return c; }()},
+                           {"alpha_hg = 0.5, nu = 0.45", [&] { auto c = sound; c.stabilizer_alpha = 0.5; return c; }()},
+                           {"Mueller-kernel volumes, nu = 0.45", [&] { auto c = sound; c.volume = "mueller_kernel"; return c; }()},
+                           {"literal strain (no 1/2), nu = 0.45", [&] { auto c = sound; c.strain = "mueller_no_half"; return c; }()}};
+  const std::filesystem::path dir = out_opt.empty() ? std::filesystem::path("out/cantilever-table") : std::filesystem::path(out_opt);
+  std::filesystem::create_directories(dir);
+  std::ofstream csv(dir / "cantilever-table.csv");
+  csv << "configuration,n,nodes,tip_deflection_m,reference_m,ratio,newton_iterations,residual,seconds\n";
+  std::string md = "| configuration |";
+  for (int n : sizes) md += fmt::format(" n = {} |", n);
+  md += "\n|---|";
+  for (std::size_t i = 0; i < sizes.size(); ++i) md += "---|";
+  md += "\n";
+  Progress progress(err, is_terminal(err), "cantilever");
+  const int total = static_cast<int>(rows.size() * sizes.size());
+  int done = 0;
+  for (const Row& row : rows) {
+    md += "| " + row.label + " |";
+    for (int n : sizes) {
+      CantileverCase c = row.base;
+      c.cells_across = n;
+      const CantileverResult r = run_cantilever(c);
+      csv << fmt::format("\"{}\",{},{},{:.9g},{:.9g},{:.6f},{},{:.3g},{:.3f}\n", row.label, n, r.nodes,
+                         r.tip_deflection_m, r.reference_m, r.ratio, r.newton_iterations, r.residual, r.seconds);
+      csv.flush();
+      md += fmt::format(" {:.3f} |", r.ratio);
+      progress.update(++done, total, fmt::format("{} n={}: ratio {:.4f}", row.label, n, r.ratio));
+    }
+    md += "\n";
+  }
+  progress.finish();
+  std::ofstream(dir / "cantilever-table.md") << md;
+  out << "delta / delta_Timoshenko (tip load, L/b = 10, clamp = 3 node layers, quasi-static):\n\n" << md;
+  out << fmt::format("\nwrote {} and {}\n", (dir / "cantilever-table.csv").string(), (dir / "cantilever-table.md").string());
+  return 0;
+}
+
+}  // namespace
+
+int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+  CLI::App app{"vascsim: point-primitive vascular tissue simulation (Zhang et al. 2021, with the fixes of MODEL.md)"};
+  app.require_subcommand(1);
+  bool quiet = false, verbose = false;
+  int threads = 0;
+  app.add_flag("-q,--quiet", quiet, "Only warnings and errors on stderr");
+  app.add_flag("-v,--verbose", verbose, "Debug logging");
+  app.add_option("-j,--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::Range(1, 1024));
+
+  auto* run = app.add_subcommand("run", "Run a scene headless and write summary.json, probes.csv (and VTK)");
+  std::string scene_path, out_dir;
+  std::vector<std::string> sets;
+  run->add_option("scene", scene_path, "Scene JSON file (docs/scene-format.md)")->required();
+  run->add_option("--set", sets, "Override a scene key: path.to.key=value (repeatable)");
+  run->add_option("--out", out_dir, "Output folder (default: out/<scene name>)");
+
+  auto* validate = app.add_subcommand("validate", "Validation studies against analytic references");
+  validate->require_subcommand(1);
+  auto* cant = validate->add_subcommand("cantilever", "MODEL.md T9: cantilever convergence table");
+  std::vector<int> sizes = {2, 3, 4, 6};
+  cant->add_option("--out", out_dir, "Output folder (default: out/cantilever-table)");
+  cant->add_option("--sizes", sizes, "Cells across the beam, n = b / Delta")->delimiter(',')->check(CLI::Range(1, 16));
+
+  std::vector<std::string> rev(args.rbegin(), args.rend());
+  try {
+    app.parse(rev);
+  } catch (const CLI::CallForHelp&) {
+    out << app.help();
+    return 0;
+  } catch (const CLI::CallForAllHelp&) {
+    out << app.help("", CLI::AppFormatMode::All);
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    err << "vascsim: " << e.what() << " (see vascsim --help)\n";
+    return 2;
+  }
+  setup_logging(err, quiet, verbose);
+  if (threads > 0) omp_set_num_threads(threads);
+  try {
+    if (run->parsed()) return command_run(scene_path, sets, out_dir, out, err);
+    if (cant->parsed()) return command_validate_cantilever(out_dir, sizes, out, err);
+  } catch (const InputError& e) {
+    err << "vascsim: error: " << e.what() << "\n";
+    return 2;
+  } catch (const NumericalError& e) {
+    err << "vascsim: numerical error: " << e.what() << "\n";
+    return 3;
+  } catch (const std::exception& e) {
+    err << "vascsim: internal error (please report): " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace vascsim

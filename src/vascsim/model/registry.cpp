@@ -1,0 +1,13 @@
+#include "vascsim/model/registry.hpp"
+
+#include "vascsim/core/error.hpp"
+
+namespace vascsim {
+
+std::unique_ptr<Model> make_model(const std::string& name, const Problem& problem, const ModelSettings& settings) {
+  if (name == "explicit") return std::make_unique<ExplicitModel>(problem, settings.explicit_settings);
+  if (name == "quasi_static") return std::make_unique<QuasiStaticModel>(problem, settings.quasi_static);
+  throw InputError("unknown model '" + name + "'; allowed: quasi_static, explicit");
+}
+
+}  // namespace vascsim

@@ -1,0 +1,151 @@
+#include "vascsim/scene/json_reader.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "vascsim/core/error.hpp"
+
+namespace vascsim {
+
+namespace {
+const nlohmann::json& empty_object() {
+  static const nlohmann::json e = nlohmann::json::object();
+  return e;
+}
+
+std::string type_name(const nlohmann::json& v) {
+  if (v.is_number()) return "a number";
+  if (v.is_string()) return "a string";
+  if (v.is_boolean()) return "a boolean";
+  if (v.is_array()) return "an array";
+  if (v.is_object()) return "an object";
+  return "null";
+}
+}  // namespace
+
+JsonReader::JsonReader(const nlohmann::json& object, std::string path, std::string file)
+    : object_(object), path_(std::move(path)), file_(std::move(file)) {
+  if (!object_.is_object())
+    throw InputError(fmt::format("{}: key '{}': expected an object, found {}", file_, path_.empty() ? "(root)" : path_,
+                                 type_name(object_)));
+}
+
+std::string JsonReader::key_path(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+
+void JsonReader::fail(const std::string& key, const std::string& message) const {
+  throw InputError(fmt::format("{}: key '{}': {}", file_, key_path(key), message));
+}
+
+bool JsonReader::has(const std::string& key) const { return object_.contains(key); }
+
+const nlohmann::json* JsonReader::find(const std::string& key) {
+  read_.insert(key);
+  auto it = object_.find(key);
+  return it == object_.end() ? nullptr : &*it;
+}
+
+const nlohmann::json* JsonReader::raw(const std::string& key) { return find(key); }
+
+double JsonReader::number(const std::string& key, double fallback, double lo, double hi) {
+  const auto* v = find(key);
+  if (!v) return fallback;
+  if (!v->is_number()) fail(key, fmt::format("expected a number in [{}, {}], found {}", lo, hi, type_name(*v)));
+  const double x = v->get<double>();
+  if (!std::isfinite(x) || x < lo || x > hi) fail(key, fmt::format("value {} is out of range; allowed [{}, {}]", x, lo, hi));
+  return x;
+}
+
+double JsonReader::required_number(const std::string& key, double lo, double hi) {
+  if (!has(key)) fail(key, fmt::format("missing; a number in [{}, {}] is required", lo, hi));
+  return number(key, 0.0, lo, hi);
+}
+
+int JsonReader::integer(const std::string& key, int fallback, int lo, int hi) {
+  const auto* v = find(key);
+  if (!v) return fallback;
+  if (!v->is_number_integer() && !(v->is_number() && std::floor(v->get<double>()) == v->get<double>()))
+    fail(key, fmt::format("expected an integer in [{}, {}], found {}", lo, hi,
+                          v->is_number() ? fmt::format("{}", v->get<double>()) : type_name(*v)));
+  const double x = v->get<double>();
+  if (x < lo || x > hi) fail(key, fmt::format("value {} is out of range; allowed [{}, {}]", x, lo, hi));
+  return static_cast<int>(x);
+}
+
+bool JsonReader::boolean(const std::string& key, bool fallback) {
+  const auto* v = find(key);
+  if (!v) return fallback;
+  if (!v->is_boolean()) fail(key, fmt::format("expected true or false, found {}", type_name(*v)));
+  return v->get<bool>();
+}
+
+std::string JsonReader::string(const std::string& key, const std::string& fallback,
+                               const std::vector<std::string>& allowed) {
+  const auto* v = find(key);
+  if (!v) return fallback;
+  const std::string choices = allowed.empty() ? "" : fmt::format("; allowed: {}", fmt::join(allowed, ", "));
+  if (!v->is_string()) fail(key, fmt::format("expected a string, found {}{}", type_name(*v), choices));
+  const std::string s = v->get<std::string>();
+  if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), s) == allowed.end())
+    fail(key, fmt::format("unknown value '{}'{}", s, choices));
+  return s;
+}
+
+std::string JsonReader::required_string(const std::string& key, const std::vector<std::string>& allowed) {
+  if (!has(key))
+    fail(key, allowed.empty() ? "missing; a string is required"
+                              : fmt::format("missing; one of: {}", fmt::join(allowed, ", ")));
+  return string(key, "", allowed);
+}
+
+Vec3 JsonReader::vec3(const std::string& key, const Vec3& fallback) {
+  const auto* v = find(key);
+  if (!v) return fallback;
+  if (!v->is_array() || v->size() != 3) fail(key, "expected an array of 3 numbers [x, y, z]");
+  Vec3 out;
+  for (int a = 0; a < 3; ++a) {
+    const auto& e = (*v)[static_cast<std::size_t>(a)];
+    if (!e.is_number() || !std::isfinite(e.get<double>())) fail(key, "expected an array of 3 finite numbers [x, y, z]");
+    out[a] = e.get<double>();
+  }
+  return out;
+}
+
+Vec3 JsonReader::required_vec3(const std::string& key) {
+  if (!has(key)) fail(key, "missing; an array of 3 numbers [x, y, z] is required");
+  return vec3(key, Vec3::Zero());
+}
+
+JsonReader JsonReader::object(const std::string& key) {
+  const auto* v = find(key);
+  if (!v) return JsonReader(empty_object(), key_path(key), file_);
+  if (!v->is_object()) fail(key, fmt::format("expected an object, found {}", type_name(*v)));
+  return JsonReader(*v, key_path(key), file_);
+}
+
+std::vector<JsonReader> JsonReader::array_of_objects(const std::string& key, bool required) {
+  const auto* v = find(key);
+  std::vector<JsonReader> out;
+  if (!v) {
+    if (required) fail(key, "missing; an array of objects is required");
+    return out;
+  }
+  if (!v->is_array()) fail(key, fmt::format("expected an array of objects, found {}", type_name(*v)));
+  for (std::size_t i = 0; i < v->size(); ++i) {
+    const auto& e = (*v)[i];
+    const std::string p = fmt::format("{}.{}", key_path(key), i);
+    if (!e.is_object()) throw InputError(fmt::format("{}: key '{}': expected an object, found {}", file_, p, type_name(e)));
+    out.emplace_back(e, p, file_);
+  }
+  return out;
+}
+
+void JsonReader::finish() const {
+  std::vector<std::string> known(read_.begin(), read_.end());
+  for (const auto& [k, v] : object_.items())
+    if (!read_.count(k))
+      throw InputError(fmt::format("{}: key '{}': unknown key{}", file_, key_path(k),
+                                   known.empty() ? "" : fmt::format("; allowed here: {}", fmt::join(known, ", "))));
+}
+
+}  // namespace vascsim

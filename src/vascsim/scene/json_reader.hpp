@@ -1,0 +1,55 @@
+#pragma once
+// Validated reading of one JSON object of a scene file. Every access names the key, its unit and its
+// allowed range; finish() rejects keys that were never read (unknown keys, typos). All problems are
+// InputError messages of the form "<file>: key '<path>': <what is wrong>; <what is allowed>".
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "vascsim/core/types.hpp"
+
+namespace vascsim {
+
+class JsonReader {
+ public:
+  /// `object` must outlive the reader. `path` is the key path of the object ("" for the root).
+  JsonReader(const nlohmann::json& object, std::string path, std::string file);
+
+  bool has(const std::string& key) const;
+  /// A number in [lo, hi] (inclusive), default when absent.
+  double number(const std::string& key, double fallback, double lo, double hi);
+  /// A number that must be present.
+  double required_number(const std::string& key, double lo, double hi);
+  int integer(const std::string& key, int fallback, int lo, int hi);
+  bool boolean(const std::string& key, bool fallback);
+  std::string string(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed = {});
+  std::string required_string(const std::string& key, const std::vector<std::string>& allowed = {});
+  /// Three finite numbers [x, y, z].
+  Vec3 vec3(const std::string& key, const Vec3& fallback);
+  Vec3 required_vec3(const std::string& key);
+  /// A nested object (must be an object if present); absent: an empty object.
+  JsonReader object(const std::string& key);
+  /// A required array of objects.
+  std::vector<JsonReader> array_of_objects(const std::string& key, bool required);
+  /// The raw value (marks the key as read).
+  const nlohmann::json* raw(const std::string& key);
+
+  /// Throws for keys present in the object that were never read.
+  void finish() const;
+
+  [[noreturn]] void fail(const std::string& key, const std::string& message) const;
+  std::string key_path(const std::string& key) const;
+  const std::string& file() const { return file_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  const nlohmann::json* find(const std::string& key);
+  const nlohmann::json& object_;
+  std::string path_, file_;
+  std::set<std::string> read_;
+};
+
+}  // namespace vascsim

@@ -1,0 +1,132 @@
+#include "vascsim/scene/runner.hpp"
+
+#include <chrono>
+#include <fmt/format.h>
+#include <fstream>
+#include <omp.h>
+
+#include "vascsim/core/error.hpp"
+#include "vascsim/io/vtk_writer.hpp"
+
+namespace vascsim {
+
+namespace {
+
+std::string csv_row(const StepRecord& r) {
+  std::string s = fmt::format("{},{:.9g},{:.9g}", r.step, r.report.time_s, r.report.load_factor);
+  for (const auto& m : r.regions) s += fmt::format(",{:.9g},{:.9g}", m.displacement_m, m.force_projected_n);
+  for (double p : r.probes) s += fmt::format(",{:.9g}", p);
+  s += fmt::format(",{},{},{:.3g},{}\n", r.report.iterations, r.report.inner_iterations, r.report.residual,
+                   r.report.converged ? 1 : 0);
+  return s;
+}
+
+nlohmann::json step_json(const Scene& scene, const StepRecord& r) {
+  nlohmann::json regions = nlohmann::json::object();
+  for (std::size_t i = 0; i < r.regions.size(); ++i)
+    regions[scene.regions[i].name] = {{"displacement_m", r.regions[i].displacement_m},
+                                      {"force_n", r.regions[i].force_projected_n},
+                                      {"force_vector_n", {r.regions[i].force_n.x(), r.regions[i].force_n.y(),
+                                                          r.regions[i].force_n.z()}}};
+  return {{"step", r.step},
+          {"time_s", r.report.time_s},
+          {"load_factor", r.report.load_factor},
+          {"iterations", r.report.iterations},
+          {"inner_iterations", r.report.inner_iterations},
+          {"residual", r.report.residual},
+          {"converged", r.report.converged},
+          {"wall_s", r.wall_s},
+          {"regions", regions}};
+}
+
+}  // namespace
+
+std::vector<std::string> probe_columns(const Scene& scene) {
+  std::vector<std::string> c = {"step", "time_s", "load_factor"};
+  for (const auto& r : scene.regions) {
+    c.push_back(r.name + "_displacement_m");
+    c.push_back(r.name + "_force_n");
+  }
+  for (const auto& p : scene.probes) c.push_back(p.name + "_displacement_m");
+  for (const char* s : {"iterations", "inner_iterations", "residual", "converged"}) c.emplace_back(s);
+  return c;
+}
+
+nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(options.out_dir, ec);
+  if (ec) throw InputError(fmt::format("{}: cannot create the output folder: {}", options.out_dir.string(), ec.message()));
+  const auto t0 = std::chrono::steady_clock::now();
+  Simulation sim(scene);
+  Model& model = sim.model();
+
+  const fs::path csv_path = options.out_dir / "probes.csv";
+  std::ofstream csv(csv_path);
+  if (!csv) throw InputError(fmt::format("{}: cannot write", csv_path.string()));
+  const auto cols = probe_columns(scene);
+  for (std::size_t i = 0; i < cols.size(); ++i) csv << (i ? "," : "") << cols[i];
+  csv << "\n";
+
+  std::vector<PvdEntry> pvd;
+  const fs::path vtk_dir = options.out_dir / "vtk";
+  auto write_vtk = [&](const StepRecord& r) {
+    if (!scene.output.vtk || r.step % scene.output.vtk_every != 0) return;
+    fs::create_directories(vtk_dir, ec);
+    const std::string name = fmt::format("nodes_{:04d}.vtu", r.step);
+    write_vtu(vtk_dir / name, sim.discretization().rest_positions(), model.positions(), sim.discretization().tets());
+    pvd.push_back({model.name() == "explicit" ? r.report.time_s : r.report.load_factor, name});
+    write_pvd(vtk_dir / "nodes.pvd", pvd);
+  };
+
+  nlohmann::json steps = nlohmann::json::array();
+  StepRecord last = sim.initial_record();
+  csv << csv_row(last) << std::flush;
+  steps.push_back(step_json(scene, last));
+  write_vtk(last);
+  if (options.on_step) options.on_step(last, model.num_steps());
+  double solve_s = 0.0;
+  int unconverged = 0;
+  for (int k = 1; k <= model.num_steps(); ++k) {
+    last = sim.advance(k);
+    solve_s += last.wall_s;
+    unconverged += last.report.converged ? 0 : 1;
+    csv << csv_row(last) << std::flush;
+    steps.push_back(step_json(scene, last));
+    write_vtk(last);
+    if (options.on_step) options.on_step(last, model.num_steps());
+  }
+
+  const auto& disc = sim.discretization();
+  nlohmann::json summary = {
+      {"scene", scene.name},
+      {"scene_file", scene.file},
+      {"model", model.name()},
+      {"parameters", scene.resolved},
+      {"nodes", disc.num_nodes()},
+      {"virtual_tetrahedra", disc.tets().size()},
+      {"neighbour_pairs", disc.pairs().col.size()},
+      {"mean_neighbours", disc.mean_neighbours()},
+      {"mean_spacing_m", disc.mean_spacing()},
+      {"support_radius_m", disc.support_radius().empty() ? 0.0 : disc.support_radius()[0]},
+      {"nodes_with_grown_support", disc.grown_nodes()},
+      {"volume_m3", disc.total_volume()},
+      {"mass_kg", disc.total_volume() * scene.material.density_kg_m3},
+      {"solver", model.info()},
+      {"threads", omp_get_max_threads()},
+      {"timings_s",
+       {{"setup", sim.setup_seconds()},
+        {"solve", solve_s},
+        {"total", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}}},
+      {"unconverged_steps", unconverged},
+      {"steps", steps},
+      {"outputs", {{"probes_csv", "probes.csv"}, {"vtk", scene.output.vtk ? "vtk/nodes.pvd" : ""}}}};
+  const auto ref = sim.reference(last);
+  if (!ref.is_null()) summary["reference"] = ref;
+  std::ofstream js(options.out_dir / "summary.json");
+  js << summary.dump(2) << "\n";
+  if (!js) throw InputError(fmt::format("{}: cannot write summary.json", options.out_dir.string()));
+  return summary;
+}
+
+}  // namespace vascsim

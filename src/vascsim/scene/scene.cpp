@@ -1,0 +1,290 @@
+#include "vascsim/scene/scene.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <algorithm>
+#include <cctype>
+
+#include "vascsim/core/error.hpp"
+#include "vascsim/scene/json_reader.hpp"
+
+namespace vascsim {
+
+namespace {
+
+constexpr double kBig = 1e30;
+
+GeometrySpec read_geometry(JsonReader g) {
+  GeometrySpec s;
+  s.type = g.required_string("type", {"tube", "box", "beam"});
+  if (s.type == "tube") {
+    s.tube.outer_radius_m = g.required_number("outer_radius_m", 1e-7, 10.0);
+    s.tube.wall_thickness_m = g.required_number("wall_thickness_m", 1e-8, 10.0);
+    if (s.tube.wall_thickness_m >= s.tube.outer_radius_m)
+      g.fail("wall_thickness_m", fmt::format("value {} must be smaller than outer_radius_m = {}",
+                                             s.tube.wall_thickness_m, s.tube.outer_radius_m));
+    s.tube.length_m = g.required_number("length_m", 1e-7, 100.0);
+    s.tube.node_spacing_m = g.required_number("node_spacing_m", 1e-8, 10.0);
+    s.tube.min_layers = g.integer("min_layers", 3, 2, 100);
+  } else if (s.type == "box") {
+    s.box.min_m = g.required_vec3("min_m");
+    s.box.max_m = g.required_vec3("max_m");
+    if (!((s.box.max_m - s.box.min_m).array() > 0.0).all()) g.fail("max_m", "must exceed min_m along every axis");
+    const double spacing = g.required_number("node_spacing_m", 1e-8, 10.0);
+    const Vec3 ext = s.box.max_m - s.box.min_m;
+    for (int a = 0; a < 3; ++a) s.box.cells[a] = std::max(1, static_cast<int>(std::lround(ext[a] / spacing)));
+    s.box.jitter = g.number("jitter", 0.0, 0.0, 0.29);
+    s.box.seed = static_cast<std::uint64_t>(g.integer("seed", 1, 0, 1 << 30));
+  } else {
+    s.beam_length_m = g.required_number("length_m", 1e-7, 100.0);
+    s.beam_width_m = g.required_number("width_m", 1e-8, 100.0);
+    s.beam_height_m = g.required_number("height_m", 1e-8, 100.0);
+    const double spacing = g.required_number("node_spacing_m", 1e-8, 10.0);
+    s.beam_clamp_layers = g.integer("clamp_layers", 3, 1, 20);
+    // Cells of equal edge Delta across the width (the cross-section sets Delta); length rounded to it.
+    const int nw = std::max(1, static_cast<int>(std::lround(s.beam_width_m / spacing)));
+    const double delta = s.beam_width_m / nw;
+    const int nh = std::max(1, static_cast<int>(std::lround(s.beam_height_m / delta)));
+    const int nl = std::max(1, static_cast<int>(std::lround(s.beam_length_m / delta)));
+    s.box.min_m = Vec3(-(s.beam_clamp_layers - 1) * delta, 0.0, 0.0);
+    s.box.max_m = Vec3(nl * delta, s.beam_width_m, s.beam_height_m);
+    s.box.cells = Eigen::Vector3i(nl + s.beam_clamp_layers - 1, nw, nh);
+    s.beam_length_m = nl * delta;
+  }
+  g.finish();
+  return s;
+}
+
+SelectorSpec read_selector(JsonReader r) {
+  SelectorSpec s;
+  s.type = r.required_string("type", {"box", "cylinder_end", "wall_patch", "all"});
+  if (s.type == "box") {
+    s.min_m = r.vec3("min_m", Vec3::Constant(-kBig));
+    s.max_m = r.vec3("max_m", Vec3::Constant(kBig));
+  } else if (s.type == "cylinder_end") {
+    s.end = r.required_string("end", {"start", "end"});
+    s.depth_m = r.number("depth_m", 0.0, 0.0, 100.0);
+  } else if (s.type == "wall_patch") {
+    s.surface = r.string("surface", "outer", {"outer", "inner"});
+    s.angle_center_deg = r.number("angle_center_deg", 0.0, -360.0, 360.0);
+    s.angle_half_width_deg = r.required_number("angle_half_width_deg", 0.0, 180.0);
+    s.z_center_m = r.required_number("z_center_m", -100.0, 100.0);
+    s.z_half_length_m = r.required_number("z_half_length_m", 0.0, 100.0);
+  }
+  r.finish();
+  return s;
+}
+
+// A direction: an array of three numbers (normalised) or the word "inward" (wall patches).
+void read_direction(JsonReader& r, const std::string& key, RegionSpec& reg) {
+  const auto* v = r.raw(key);
+  if (!v) return;
+  if (v->is_string()) {
+    if (v->get<std::string>() != "inward") r.fail(key, "expected [x, y, z] or \"inward\"");
+    if (reg.select.type != "wall_patch") r.fail(key, "\"inward\" is only defined for a wall_patch selector");
+    reg.direction_inward = true;
+    return;
+  }
+  const Vec3 d = r.vec3(key, Vec3::Zero());
+  if (!(d.norm() > 0.0)) r.fail(key, "the direction must not be the zero vector");
+  reg.direction = d.normalized();
+}
+
+RegionSpec read_region(JsonReader r) {
+  RegionSpec reg;
+  reg.name = r.required_string("name");
+  const bool valid_name = !reg.name.empty() && std::isalpha(static_cast<unsigned char>(reg.name[0])) &&
+                          std::all_of(reg.name.begin(), reg.name.end(), [](char c) {
+                            return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+                          });
+  if (!valid_name)
+    r.fail("name", fmt::format("'{}' is not allowed; use letters, digits and '_' (it names CSV columns)", reg.name));
+  reg.select = read_selector(r.object("select"));
+  if (!r.has("select")) r.fail("select", "missing; a selector object is required");
+  JsonReader bc = r.object("bc");
+  const std::string type = bc.string("type", "probe", {"fixed", "displacement", "force", "probe"});
+  const bool is_disp = type == "displacement", is_force = type == "force";
+  reg.bc = type == "fixed" ? RegionBcType::Fixed
+           : is_disp       ? RegionBcType::Displacement
+           : is_force      ? RegionBcType::Force
+                           : RegionBcType::Probe;
+  if (is_disp || is_force) {
+    const std::string vkey = is_disp ? "vector_m" : "vector_n";
+    const std::string mkey = is_disp ? "magnitude_m" : "magnitude_n";
+    if (bc.has(vkey)) {
+      if (bc.has(mkey) || bc.has("direction"))
+        bc.fail(vkey, fmt::format("give either {} or direction + {}, not both", vkey, mkey));
+      reg.vector = bc.vec3(vkey, Vec3::Zero());
+      reg.has_vector = true;
+      if (reg.vector.norm() > 0.0) reg.direction = reg.vector.normalized();
+    } else {
+      if (!bc.has("direction")) bc.fail("direction", fmt::format("missing; give {} or direction + {}", vkey, mkey));
+      read_direction(bc, "direction", reg);
+      reg.magnitude = bc.required_number(mkey, -kBig, kBig);
+    }
+  }
+  bc.finish();
+  if (!is_disp && !is_force) read_direction(r, "direction", reg);
+  r.finish();
+  return reg;
+}
+
+}  // namespace
+
+const std::vector<std::string>& model_names() {
+  static const std::vector<std::string> names = {"quasi_static", "explicit"};
+  return names;
+}
+
+void apply_override(nlohmann::json& doc, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError(fmt::format("--set '{}': expected path.to.key=value", assignment));
+  const std::string path = assignment.substr(0, eq), text = assignment.substr(eq + 1);
+  nlohmann::json value;
+  try {
+    value = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception&) {
+    value = text;  // a bare word: a string
+  }
+  nlohmann::json* node = &doc;
+  std::size_t start = 0;
+  while (true) {
+    const auto dot = path.find('.', start);
+    const std::string part = path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    if (part.empty()) throw InputError(fmt::format("--set '{}': empty key in the path", assignment));
+    nlohmann::json* next = nullptr;
+    if (node->is_array()) {
+      if (part.find_first_not_of("0123456789") != std::string::npos)
+        throw InputError(fmt::format("--set '{}': '{}' indexes an array; use a number", assignment, part));
+      const std::size_t idx = std::stoul(part);
+      if (idx >= node->size())
+        throw InputError(fmt::format("--set '{}': index {} is past the end of an array of {}", assignment, idx,
+                                     node->size()));
+      next = &(*node)[idx];
+    } else {
+      if (node->is_null()) *node = nlohmann::json::object();
+      if (!node->is_object())
+        throw InputError(fmt::format("--set '{}': '{}' is inside a value that is not an object", assignment, part));
+      next = &(*node)[part];
+    }
+    if (dot == std::string::npos) {
+      *next = value;
+      return;
+    }
+    node = next;
+    start = dot + 1;
+  }
+}
+
+Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
+  Scene sc;
+  sc.file = file;
+  sc.resolved = doc;
+  JsonReader root(doc, "", file);
+  sc.name = root.string("name", std::filesystem::path(file).stem().string());
+  sc.description = root.string("description", "");
+  sc.model = root.string("model", "quasi_static", model_names());
+  const std::string formulation = root.string("formulation", "sound", {"sound", "paper_literal"});
+  const bool literal = formulation == "paper_literal";
+  sc.geometry = read_geometry(root.object("geometry"));
+  if (!root.has("geometry")) root.fail("geometry", "missing; a geometry object is required");
+
+  JsonReader mat = root.object("material");
+  sc.material.youngs_modulus_pa = mat.number("youngs_modulus_pa", 0.5e6, 1e-6, 1e12);
+  sc.material.poisson_ratio = mat.number("poisson_ratio", 0.45, -0.99, 0.499);
+  sc.material.density_kg_m3 = mat.number("density_kg_m3", 1060.0, 1e-3, 1e5);
+  mat.finish();
+
+  JsonReader disc = root.object("discretization");
+  sc.discretization.support_radius_factor = disc.number("support_radius_factor", 2.0, 1.01, 5.0);
+  sc.discretization.min_neighbours = disc.integer("min_neighbours", 12, 4, 200);
+  sc.discretization.min_eigen_ratio = disc.number("min_eigen_ratio", 1e-3, 1e-12, 1.0);
+  sc.discretization.max_growths = disc.integer("max_growths", 3, 0, 10);
+  sc.discretization.volume =
+      disc.string("volume", literal ? "mueller_kernel" : "tet_partition", {"tet_partition", "mueller_kernel"}) ==
+              "tet_partition"
+          ? VolumeRule::TetPartition
+          : VolumeRule::MuellerKernel;
+  disc.finish();
+
+  JsonReader en = root.object("energy");
+  sc.energy.strain = en.string("strain", literal ? "mueller_no_half" : "green", {"green", "mueller_no_half"}) == "green"
+                         ? StrainMeasure::GreenHalf
+                         : StrainMeasure::MuellerNoHalf;
+  sc.energy.stabilizer_alpha = en.number("stabilizer_alpha", literal ? 0.0 : 0.1, 0.0, 10.0);
+  const double lambda = sc.material.lame_lambda();
+  sc.energy.volume_stiffness_pa = en.number("volume_stiffness_pa", 0.0, 0.0, lambda);
+  en.finish();
+
+  for (auto& r : root.array_of_objects("regions", false)) sc.regions.push_back(read_region(r));
+  for (std::size_t a = 0; a < sc.regions.size(); ++a)
+    for (std::size_t b = 0; b < a; ++b)
+      if (sc.regions[a].name == sc.regions[b].name)
+        root.fail(fmt::format("regions.{}.name", a), fmt::format("duplicate region name '{}'", sc.regions[a].name));
+
+  for (auto& p : root.array_of_objects("probes", false)) {
+    PointProbeSpec ps;
+    ps.name = p.required_string("name");
+    ps.position_m = p.required_vec3("position_m");
+    ps.component = p.string("component", "magnitude", {"x", "y", "z", "magnitude"});
+    p.finish();
+    sc.probes.push_back(ps);
+  }
+  sc.gravity_m_s2 = root.vec3("gravity_m_s2", Vec3::Zero());
+
+  JsonReader qs = root.object("quasi_static");
+  sc.quasi_static.load_steps = qs.integer("load_steps", 10, 1, 100000);
+  sc.quasi_static.rel_tolerance = qs.number("rel_tolerance", 1e-8, 1e-14, 0.1);
+  sc.quasi_static.max_newton_iterations = qs.integer("max_newton_iterations", 60, 1, 10000);
+  sc.quasi_static.max_cg_iterations = qs.integer("max_cg_iterations", 2000, 1, 1000000);
+  sc.quasi_static.preconditioner =
+      qs.string("preconditioner", "incomplete_cholesky", {"incomplete_cholesky", "cholesky", "none"});
+  qs.finish();
+
+  JsonReader ex = root.object("explicit");
+  sc.explicit_settings.duration_s = ex.number("duration_s", 0.02, 1e-9, 1e4);
+  sc.explicit_settings.ramp_time_s = ex.number("ramp_time_s", 0.01, 0.0, 1e4);
+  sc.explicit_settings.output_interval_s = ex.number("output_interval_s", 1e-3, 1e-9, 1e4);
+  sc.explicit_settings.damping_per_s = ex.number("damping_per_s", 10.0, 0.0, 1e6);
+  sc.explicit_settings.dt_s = ex.number("dt_s", 0.0, 0.0, 1.0);
+  sc.explicit_settings.safety = ex.number("safety", 0.5, 0.01, 0.95);
+  sc.explicit_settings.cfl_coefficient = ex.number("cfl_coefficient", 0.4, 0.01, 2.0);
+  sc.explicit_settings.power_iterations = ex.integer("power_iterations", 60, 1, 100000);
+  ex.finish();
+
+  JsonReader ref = root.object("reference");
+  sc.reference.type = ref.string("type", "", {"timoshenko_cantilever"});
+  if (!sc.reference.type.empty()) {
+    if (sc.geometry.type != "beam") ref.fail("type", "timoshenko_cantilever needs geometry.type = \"beam\"");
+    sc.reference.region = ref.required_string("region");
+    bool found = false;
+    for (const auto& r : sc.regions) found = found || (r.name == sc.reference.region && r.bc == RegionBcType::Force);
+    if (!found) ref.fail("region", fmt::format("no force region named '{}'", sc.reference.region));
+  }
+  ref.finish();
+
+  JsonReader out = root.object("output");
+  sc.output.vtk = out.boolean("vtk", false);
+  sc.output.vtk_every = out.integer("vtk_every", 1, 1, 1000000);
+  out.finish();
+  root.finish();
+  return sc;
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("{}: cannot open the scene file (missing or unreadable)", path));
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(fmt::format("{}: not valid JSON at byte {}: {}", path, e.byte, e.what()));
+  }
+  for (const auto& o : overrides) apply_override(doc, o);
+  return parse_scene(doc, path);
+}
+
+}  // namespace vascsim

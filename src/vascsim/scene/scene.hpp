@@ -1,0 +1,97 @@
+#pragma once
+// A scene: everything one run needs, read and validated from a JSON file (docs/scene-format.md).
+// Loading applies command-line overrides (--set path.to.key=value) before validation, so an override
+// is checked exactly like a key in the file.
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "vascsim/geometry/generators.hpp"
+#include "vascsim/model/discretization.hpp"
+#include "vascsim/model/explicit_model.hpp"
+#include "vascsim/model/point_primitive_energy.hpp"
+#include "vascsim/model/quasi_static_model.hpp"
+
+namespace vascsim {
+
+struct GeometrySpec {
+  std::string type;  ///< "tube", "box" or "beam"
+  TubeSpec tube;
+  BoxSpec box;
+  // beam: a box from x = -(clamp_layers - 1) Delta to length, cross-section width x height
+  double beam_length_m = 0.0, beam_width_m = 0.0, beam_height_m = 0.0;
+  int beam_clamp_layers = 3;
+};
+
+struct SelectorSpec {
+  std::string type;  ///< "box", "cylinder_end", "wall_patch", "all"
+  Vec3 min_m = Vec3::Zero(), max_m = Vec3::Zero();  // box
+  std::string end = "start";                        // cylinder_end: "start" (z = 0) or "end" (z = L)
+  double depth_m = 0.0;                             // cylinder_end: nodes within this distance of the end plane
+  std::string surface = "outer";                    // wall_patch: "outer" or "inner"
+  double angle_center_deg = 0.0, angle_half_width_deg = 15.0;
+  double z_center_m = 0.0, z_half_length_m = 0.0;
+};
+
+struct RegionSpec {
+  std::string name;
+  SelectorSpec select;
+  RegionBcType bc = RegionBcType::Probe;
+  Vec3 vector = Vec3::Zero();  ///< displacement (m) or total force (N) at load factor 1
+  Vec3 direction = Vec3::Zero();
+  bool direction_inward = false;  ///< direction "inward": minus the radial unit vector at the patch centre
+  double magnitude = 0.0;
+  bool has_vector = false;
+};
+
+struct PointProbeSpec {
+  std::string name;
+  Vec3 position_m = Vec3::Zero();
+  std::string component = "magnitude";  ///< "x", "y", "z" or "magnitude"
+};
+
+struct ReferenceSpec {
+  std::string type;    ///< "" (none) or "timoshenko_cantilever"
+  std::string region;  ///< the loaded region whose deflection is compared
+};
+
+struct OutputSpec {
+  bool vtk = false;
+  int vtk_every = 1;
+};
+
+struct Scene {
+  std::string file;  ///< path it was read from
+  std::string name;
+  std::string description;
+  std::string model = "quasi_static";
+  GeometrySpec geometry;
+  Material material;
+  DiscretizationOptions discretization;
+  EnergyOptions energy;
+  std::vector<RegionSpec> regions;
+  std::vector<PointProbeSpec> probes;
+  Vec3 gravity_m_s2 = Vec3::Zero();
+  ExplicitSettings explicit_settings;
+  QuasiStaticSettings quasi_static;
+  ReferenceSpec reference;
+  OutputSpec output;
+  nlohmann::json resolved;  ///< the JSON after overrides (for summary.json)
+};
+
+/// The model names the scene's top-level key `model` accepts.
+const std::vector<std::string>& model_names();
+
+/// Applies one override "path.to.key=value" to a JSON document. The value is parsed as JSON when it
+/// can be (numbers, true/false, arrays), else taken as a string. Array elements are addressed by
+/// index ("regions.2.bc.type"). Throws InputError for a malformed override.
+void apply_override(nlohmann::json& doc, const std::string& assignment);
+
+/// Reads, overrides and validates a scene file. Throws InputError naming the file and key.
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+/// Validates an in-memory scene document (`file` is used in messages).
+Scene parse_scene(const nlohmann::json& doc, const std::string& file);
+
+}  // namespace vascsim

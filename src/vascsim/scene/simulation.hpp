@@ -1,0 +1,59 @@
+#pragma once
+// A Simulation assembles a validated Scene into geometry -> discretisation -> energy -> problem ->
+// model, and measures the named regions and probes at every output point. It knows nothing of files
+// or terminals (see runner.hpp).
+
+#include <chrono>
+#include <memory>
+
+#include "vascsim/model/model.hpp"
+#include "vascsim/scene/scene.hpp"
+
+namespace vascsim {
+
+/// Everything measured at one output point.
+struct StepRecord {
+  int step = 0;  ///< 0 is the rest state
+  StepReport report;
+  std::vector<RegionMeasure> regions;  ///< in scene order
+  std::vector<double> probes;          ///< point probe displacements, m, in scene order
+  double wall_s = 0.0;                 ///< wall-clock time of this step, s
+};
+
+/// Builds a node cloud from a geometry block.
+NodeCloud build_geometry(const GeometrySpec& spec);
+
+/// Selects the nodes of every region and turns the scene's boundary conditions into Regions.
+std::vector<Region> build_regions(const Scene& scene, const Discretization& disc);
+
+class Simulation {
+ public:
+  explicit Simulation(const Scene& scene);
+
+  const Scene& scene() const { return scene_; }
+  const Discretization& discretization() const { return *disc_; }
+  const PointPrimitiveEnergy& energy() const { return *energy_; }
+  const Problem& problem() const { return *problem_; }
+  Model& model() { return *model_; }
+  double setup_seconds() const { return setup_s_; }
+
+  /// The rest state (step 0).
+  StepRecord initial_record() const;
+  /// Advances the model to output point k (1..num_steps) and measures it.
+  StepRecord advance(int k);
+  /// Reference values of the scene (e.g. the Timoshenko deflection), for summary.json; null if none.
+  nlohmann::json reference(const StepRecord& last) const;
+
+ private:
+  StepRecord measure(int step, const StepReport& report) const;
+
+  Scene scene_;
+  std::unique_ptr<Discretization> disc_;
+  std::unique_ptr<PointPrimitiveEnergy> energy_;
+  std::unique_ptr<Problem> problem_;
+  std::unique_ptr<Model> model_;
+  std::vector<Index> probe_nodes_;
+  double setup_s_ = 0.0;
+};
+
+}  // namespace vascsim

@@ -70,16 +70,25 @@ int command_validate_cantilever(const std::string& out_opt, const std::vector<in
   struct Row {
     std::string label;
     CantileverCase base;
-    bool relative_to_sound = false;
   };
   CantileverCase sound;
-  std::vector<Row> rows = {{"sound, nu = 0.3", [&] { auto c = sound; c.poisson_ratio = 0.3; return c; }()},
-                           {"sound, nu = 0.45", sound},
-                           {"sound without stabiliser (alpha_hg = 0), nu = 0.45", [&] { auto c = sound; c.stabilizer_alpha = 0.0; return c; }()},
-                           {"h = 1.5 Delta, nu = 0.45", [&] { auto c = sound; c.support_radius_factor = 1.5; return c; }()},
-                           {"alpha_hg = 0.5, nu = 0.45", [&] { auto c = sound; c.stabilizer_alpha = 0.5; return c; }()},
-                           {"Mueller-kernel volumes, nu = 0.45", [&] { auto c = sound; c.volume = "mueller_kernel"; return c; }()},
-                           {"literal strain (no 1/2), nu = 0.45", [&] { auto c = sound; c.strain = "mueller_no_half"; return c; }()}};
+  auto with = [&](auto change) {
+    CantileverCase c = sound;
+    change(c);
+    return c;
+  };
+  const std::vector<Row> rows = {
+      {"sound, nu = 0.3", with([](auto& c) { c.poisson_ratio = 0.3; })},
+      {"sound, nu = 0.45", sound},
+      {"sound, K_min = 4 (no support growth at edges), nu = 0.3",
+       with([](auto& c) { c.poisson_ratio = 0.3; c.min_neighbours = 4; })},
+      {"sound, K_min = 4 (no support growth at edges), nu = 0.45", with([](auto& c) { c.min_neighbours = 4; })},
+      {"sound without stabiliser (alpha_hg = 0), nu = 0.45", with([](auto& c) { c.stabilizer_alpha = 0.0; })},
+      {"h = 1.5 Delta, nu = 0.45", with([](auto& c) { c.support_radius_factor = 1.5; })},
+      {"alpha_hg = 0.5, nu = 0.45", with([](auto& c) { c.stabilizer_alpha = 0.5; })},
+      {"Mueller-kernel volumes, nu = 0.45", with([](auto& c) { c.volume = "mueller_kernel"; })},
+      {"literal strain (no 1/2), alpha_hg = 0, nu = 0.45",
+       with([](auto& c) { c.strain = "mueller_no_half"; c.stabilizer_alpha = 0.0; })}};
   const std::filesystem::path dir = out_opt.empty() ? std::filesystem::path("out/cantilever-table") : std::filesystem::path(out_opt);
   std::filesystem::create_directories(dir);
   std::ofstream csv(dir / "cantilever-table.csv");

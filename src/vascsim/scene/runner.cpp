@@ -12,10 +12,13 @@ namespace vascsim {
 
 namespace {
 
+// Prints -0 as 0.
+double clean(double x) { return x == 0.0 ? 0.0 : x; }
+
 std::string csv_row(const StepRecord& r) {
   std::string s = fmt::format("{},{:.9g},{:.9g}", r.step, r.report.time_s, r.report.load_factor);
-  for (const auto& m : r.regions) s += fmt::format(",{:.9g},{:.9g}", m.displacement_m, m.force_projected_n);
-  for (double p : r.probes) s += fmt::format(",{:.9g}", p);
+  for (const auto& m : r.regions) s += fmt::format(",{:.9g},{:.9g}", clean(m.displacement_m), clean(m.force_projected_n));
+  for (double p : r.probes) s += fmt::format(",{:.9g}", clean(p));
   s += fmt::format(",{},{},{:.3g},{}\n", r.report.iterations, r.report.inner_iterations, r.report.residual,
                    r.report.converged ? 1 : 0);
   return s;

@@ -120,14 +120,14 @@ TEST(Discretization, TetPartitionVolumesSumToTheBodyAndSupportIsTwiceTheSpacing)
 TEST(QuasiStatic, ReactionsBalanceOnAnIndentedTube) {
   nlohmann::json doc = {
       {"name", "small-indent"},
-      {"geometry", {{"type", "tube"}, {"outer_radius_m", 1.5e-3}, {"wall_thickness_m", 0.5e-3}, {"length_m", 6e-3},
+      {"geometry", {{"type", "tube"}, {"outer_radius_m", 1.5e-3}, {"wall_thickness_m", 0.5e-3}, {"length_m", 4e-3},
                     {"node_spacing_m", 0.25e-3}}},
       {"regions",
        {{{"name", "a"}, {"select", {{"type", "cylinder_end"}, {"end", "start"}}}, {"bc", {{"type", "fixed"}}}},
         {{"name", "b"}, {"select", {{"type", "cylinder_end"}, {"end", "end"}}}, {"bc", {{"type", "fixed"}}}},
         {{"name", "indenter"},
          {"select", {{"type", "wall_patch"}, {"angle_center_deg", 90}, {"angle_half_width_deg", 20},
-                     {"z_center_m", 3e-3}, {"z_half_length_m", 0.6e-3}}},
+                     {"z_center_m", 2e-3}, {"z_half_length_m", 0.6e-3}}},
          {"bc", {{"type", "displacement"}, {"direction", "inward"}, {"magnitude_m", 0.3e-3}}}}}},
       {"gravity_m_s2", {0.0, 0.0, -9.81}},
       {"quasi_static", {{"load_steps", 2}, {"rel_tolerance", 1e-8}}}};
@@ -146,7 +146,7 @@ TEST(QuasiStatic, ReactionsBalanceOnAnIndentedTube) {
 // The explicit integrator relaxed to rest (mass-proportional damping) and the quasi-static solver
 // find the same static tip deflection of a coarse cantilever. 1 %: the explicit run ends after
 // ~15 damped first-mode periods, leaving < 0.1 % of the transient.
-TEST(Explicit, DampedDynamicsSettlesOnTheQuasiStaticSolution) {
+TEST(Explicit, DampedDynamicsSettlesOnTheQuasiStaticSolutionSlow) {
   CantileverCase c;
   c.cells_across = 2;
   nlohmann::json doc = cantilever_scene(c);

@@ -47,9 +47,9 @@ TEST(StiffnessT6, UniaxialStrainEnergyMatchesLinearElasticity) {
   const double e = 1e-4;
   for (double nu : {0.3, 0.45}) {
     const Material mat = tissue(nu);
-    const Discretization disc(regular_lattice(4), mat);  // 5^3 lattice; tet volumes = trapezoid rule
+    const Discretization disc(regular_lattice(4), mat);  // 5^3 lattice, tet-partition volumes
     const double V = std::pow(4 * kDelta, 3);
-    // Trapezoid volumes partition the box exactly (so U_lin below uses the true volume).
+    // Tet-partition volumes sum to the box volume exactly (so U_lin below uses the true volume).
     ASSERT_NEAR(disc.total_volume(), V, 1e-12 * V);
     const PointPrimitiveEnergy svk(disc, {StrainMeasure::GreenHalf, 0.0, 0.1});
     const PointPrimitiveEnergy literal(disc, {StrainMeasure::MuellerNoHalf, 0.0, 0.0});

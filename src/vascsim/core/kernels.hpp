@@ -40,7 +40,7 @@ inline double cubic_spline_derivative(double s) {
   return 0.0;
 }
 
-/// Eq. 37 normalised in 3-D: (12/pi) / r^3 * W_cs(r / r_support) integrates to one, since
+/// Eq. 37 normalised in 3-D: (12/pi) / r_support^3 * W_cs(r / r_support) integrates to one, since
 /// int_0^1 W_cs(s) s^2 ds = 1/48 [derived in docs/model.md].
 inline double cubic_spline_3d(double r, double support) {
   const double c = 12.0 / std::numbers::pi / (support * support * support);

@@ -46,11 +46,9 @@ NodeCloud make_box(const BoxSpec& spec) {
   cloud.positions.reserve(static_cast<std::size_t>(n.prod()));
   for (int k = 0; k < n[2]; ++k)
     for (int j = 0; j < n[1]; ++j)
-      for (int i = 0; i < n[0]; ++i) {
-        Vec3 p = spec.min_m + Vec3(i * step[0], j * step[1], k * step[2]);
-        if (spec.jitter > 0.0) p += spec.jitter * step.cwiseProduct(Vec3(uni(rng), uni(rng), uni(rng)));
-        cloud.positions.push_back(p);
-      }
+      for (int i = 0; i < n[0]; ++i) cloud.positions.push_back(spec.min_m + Vec3(i * step[0], j * step[1], k * step[2]));
+  // Tets are oriented on the regular lattice, then the nodes are jittered: a jitter that inverts a
+  // tet is an error, never silently "fixed" by re-orienting it (that would overlap its neighbours).
   for (int k = 0; k + 1 < n[2]; ++k)
     for (int j = 0; j + 1 < n[1]; ++j)
       for (int i = 0; i + 1 < n[0]; ++i) {
@@ -58,6 +56,14 @@ NodeCloud make_box(const BoxSpec& spec) {
         for (int m = 0; m < 8; ++m) c[m] = id(i + (m & 1), j + ((m >> 1) & 1), k + ((m >> 2) & 1));
         add_cell_tets(c, cloud.positions, cloud.tets);
       }
+  if (spec.jitter > 0.0) {
+    for (auto& p : cloud.positions) p += spec.jitter * step.cwiseProduct(Vec3(uni(rng), uni(rng), uni(rng)));
+    for (const Tet& t : cloud.tets)
+      if (!(signed_volume(cloud.positions[t[0]], cloud.positions[t[1]], cloud.positions[t[2]], cloud.positions[t[3]]) > 0.0))
+        throw InputError(fmt::format("box: jitter {} inverts a virtual tetrahedron (seed {}); use a smaller jitter "
+                                     "(<= 0.2 is always safe in practice) or another seed",
+                                     spec.jitter, spec.seed));
+  }
   return cloud;
 }
 

@@ -190,9 +190,10 @@ void Discretization::compute_volumes(const DiscretizationOptions& opt) {
     double s = 0.0;
     for (Index i = 0; i < n; ++i) s += 1.0 / kernel_sum(i, rbar3);
     s /= n;
-    std::vector<double> mass(n);
-    for (Index i = 0; i < n; ++i) mass[i] = s * rbar3[i] * rho;
-    for (Index i = 0; i < n; ++i) V_[i] = mass[i] / kernel_sum(i, mass);
+    m_.resize(n);
+    for (Index i = 0; i < n; ++i) m_[i] = s * rbar3[i] * rho;
+    for (Index i = 0; i < n; ++i) V_[i] = m_[i] / kernel_sum(i, m_);
+    return;
   }
   m_.resize(n);
   for (Index i = 0; i < n; ++i) m_[i] = rho * V_[i];

@@ -1,7 +1,7 @@
 #pragma once
 // `explicit`: symplectic Euler on the point-primitive forces (MODEL.md 3.2), the verification
 // reference. The substep is chosen automatically below the stability limit of MODEL.md 1.11:
-// dt = min(safety * 2 / omega_max, C * Delta_min / c_p), with mass-proportional damping
+// dt = min(safety * 2 / (1.05 omega_max), C * Delta_min / c_p), with mass-proportional damping
 // v <- v exp(-c dt). Paper Eq. 10 with the sign fixed (E6): a = (f_ext + f_int) / m.
 
 #include "vascsim/model/model.hpp"
@@ -13,7 +13,7 @@ struct ExplicitSettings {
   double ramp_time_s = 0.01;        ///< loads ramp linearly to full over this time, then hold (0: at once), s
   double output_interval_s = 1e-3;  ///< time between output points, s
   double damping_per_s = 10.0;      ///< mass-proportional damping c, 1/s (MODEL.md 3.2: 5-20)
-  double dt_s = 0.0;                ///< substep; 0 = automatic. Must not exceed 2/omega_max
+  double dt_s = 0.0;                ///< substep; 0 = automatic. Must not exceed 2/(1.05 omega_max)
   double safety = 0.5;              ///< automatic dt = safety * 2/omega_max (MODEL.md 1.11 rule)
   double cfl_coefficient = 0.4;     ///< and dt <= C Delta_min / c_p (halved with the literal strain)
   int power_iterations = 60;        ///< power iterations for omega_max

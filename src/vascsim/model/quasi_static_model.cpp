@@ -138,7 +138,7 @@ StepReport QuasiStaticModel::solve(double s) {
   Vec3Array f_ext, f_int, r(n), dx, Hd;
   problem_.external_forces(s, f_ext);
 
-  // Predictor. After two solved steps: secant extrapolation along the load path (nearly exact for a
+  // Predictor. From the second load step on: secant extrapolation along the load path (nearly exact for a
   // smooth path, and free). Otherwise the linear one: move the constrained nodes by their increment
   // and the free nodes by the linear response to it, H_ff dx_f = r_f - H_fc dp_c (this avoids crushing
   // the layer next to a driven region).

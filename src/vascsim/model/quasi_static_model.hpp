@@ -2,8 +2,8 @@
 // `quasi_static`: static equilibrium at each load step by minimising the total potential
 // Pi(x) = U(x) - f_ext . x over the free nodes (MODEL.md decision 4). Truncated Newton: the Newton system
 // H dx = r is solved by preconditioned conjugate gradients on analytic Hessian-vector products, with the
-// linear-elastic stiffness of the virtual tetrahedra (sparse Cholesky, factorised once) as the
-// preconditioner; negative curvature stops CG early; a backtracking Armijo line search on Pi
+// linear-elastic stiffness of the virtual tetrahedra (incomplete or exact Cholesky, factorised once)
+// as the preconditioner; negative curvature stops CG early; a backtracking Armijo line search on Pi
 // globalises (an incomplete Cholesky factor by default, see QuasiStaticSettings). A load step starts from a linear predictor that carries the prescribed increment into the
 // free nodes, then a secant extrapolation along the load path. Converged when |r_free| <= tol * max(|reactions|, |f_ext|).
 

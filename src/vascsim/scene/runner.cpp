@@ -1,5 +1,6 @@
 #include "vascsim/scene/runner.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <fmt/format.h>
 #include <fstream>
@@ -111,7 +112,8 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
       {"neighbour_pairs", disc.pairs().col.size()},
       {"mean_neighbours", disc.mean_neighbours()},
       {"mean_spacing_m", disc.mean_spacing()},
-      {"support_radius_m", disc.support_radius().empty() ? 0.0 : disc.support_radius()[0]},
+      {"support_radius_min_m", *std::min_element(disc.support_radius().begin(), disc.support_radius().end())},
+      {"support_radius_max_m", *std::max_element(disc.support_radius().begin(), disc.support_radius().end())},
       {"nodes_with_grown_support", disc.grown_nodes()},
       {"volume_m3", disc.total_volume()},
       {"mass_kg", disc.total_volume() * scene.material.density_kg_m3},

@@ -35,7 +35,7 @@ GeometrySpec read_geometry(JsonReader g) {
     const double spacing = g.required_number("node_spacing_m", 1e-8, 10.0);
     const Vec3 ext = s.box.max_m - s.box.min_m;
     for (int a = 0; a < 3; ++a) s.box.cells[a] = std::max(1, static_cast<int>(std::lround(ext[a] / spacing)));
-    s.box.jitter = g.number("jitter", 0.0, 0.0, 0.29);
+    s.box.jitter = g.number("jitter", 0.0, 0.0, 0.25);
     s.box.seed = static_cast<std::uint64_t>(g.integer("seed", 1, 0, 1 << 30));
   } else {
     s.beam_length_m = g.required_number("length_m", 1e-7, 100.0);

@@ -160,6 +160,11 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
     err << "vascsim: " << e.what() << " (see vascsim --help)\n";
     return 2;
   }
+  // The logger writes to `err`, which may not outlive this call: restore the previous one on return.
+  struct RestoreLogger {
+    std::shared_ptr<spdlog::logger> previous = spdlog::default_logger();
+    ~RestoreLogger() { spdlog::set_default_logger(previous); }
+  } restore_logger;
   setup_logging(err, quiet, verbose);
   if (threads > 0) omp_set_num_threads(threads);
   try {

@@ -59,7 +59,7 @@ ExplicitModel::ExplicitModel(const Problem& problem, const ExplicitSettings& s) 
   const double dt_auto = std::min(s.safety * dt_stability_, dt_cfl_);
   if (s.dt_s > 0.0) {
     if (s.dt_s > dt_stability_)
-      throw InputError(fmt::format("explicit: dt_s = {:.3g} s exceeds the stability limit 2/omega_max = {:.3g} s; "
+      throw InputError(fmt::format("key 'explicit.dt_s': {:.3g} s exceeds the stability limit 2/(1.05 omega_max) = {:.3g} s; "
                                    "use dt_s <= {:.3g} s or 0 (automatic)",
                                    s.dt_s, dt_stability_, dt_auto));
     if (s.dt_s > dt_auto)

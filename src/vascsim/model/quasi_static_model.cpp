@@ -23,7 +23,7 @@ QuasiStaticModel::QuasiStaticModel(const Problem& problem, const QuasiStaticSett
   if (!(settings.rel_tolerance > 0.0)) throw InputError("quasi_static: rel_tolerance must be > 0");
   const auto& disc = problem.discretization();
   if (problem.num_constrained() == 0)
-    throw InputError("quasi_static: no fixed or displacement region; a static solution needs supports");
+    throw InputError("key 'regions': quasi_static needs a fixed or displacement region; a static solution needs supports");
   const Index n = disc.num_nodes();
   free_slot_.assign(n, -1);
   for (Index i = 0; i < n; ++i)

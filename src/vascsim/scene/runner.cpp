@@ -4,6 +4,7 @@
 #include <chrono>
 #include <fmt/format.h>
 #include <fstream>
+#include <numeric>
 #include <omp.h>
 
 #include "vascsim/core/error.hpp"
@@ -32,6 +33,8 @@ nlohmann::json step_json(const Scene& scene, const StepRecord& r) {
                                       {"force_n", r.regions[i].force_projected_n},
                                       {"force_vector_n", {r.regions[i].force_n.x(), r.regions[i].force_n.y(),
                                                           r.regions[i].force_n.z()}}};
+  nlohmann::json probes = nlohmann::json::object();
+  for (std::size_t i = 0; i < r.probes.size(); ++i) probes[scene.probes[i].name + "_displacement_m"] = r.probes[i];
   return {{"step", r.step},
           {"time_s", r.report.time_s},
           {"load_factor", r.report.load_factor},
@@ -40,7 +43,8 @@ nlohmann::json step_json(const Scene& scene, const StepRecord& r) {
           {"residual", r.report.residual},
           {"converged", r.report.converged},
           {"wall_s", r.wall_s},
-          {"regions", regions}};
+          {"regions", regions},
+          {"probes", probes}};
 }
 
 }  // namespace
@@ -116,7 +120,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
       {"support_radius_max_m", *std::max_element(disc.support_radius().begin(), disc.support_radius().end())},
       {"nodes_with_grown_support", disc.grown_nodes()},
       {"volume_m3", disc.total_volume()},
-      {"mass_kg", disc.total_volume() * scene.material.density_kg_m3},
+      {"mass_kg", std::accumulate(disc.masses().begin(), disc.masses().end(), 0.0)},
       {"solver", model.info()},
       {"threads", omp_get_max_threads()},
       {"timings_s",

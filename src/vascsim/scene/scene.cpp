@@ -16,6 +16,14 @@ namespace {
 
 constexpr double kBig = 1e30;
 
+// Names that become CSV column prefixes or folder names: a letter, then letters, digits, '_' or '-'.
+bool is_identifier(const std::string& name, bool allow_dash = false) {
+  return !name.empty() && std::isalpha(static_cast<unsigned char>(name[0])) &&
+         std::all_of(name.begin(), name.end(), [&](char c) {
+           return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || (allow_dash && c == '-');
+         });
+}
+
 GeometrySpec read_geometry(JsonReader g) {
   GeometrySpec s;
   s.type = g.required_string("type", {"tube", "box", "beam"});
@@ -34,7 +42,11 @@ GeometrySpec read_geometry(JsonReader g) {
     if (!((s.box.max_m - s.box.min_m).array() > 0.0).all()) g.fail("max_m", "must exceed min_m along every axis");
     const double spacing = g.required_number("node_spacing_m", 1e-8, 10.0);
     const Vec3 ext = s.box.max_m - s.box.min_m;
-    for (int a = 0; a < 3; ++a) s.box.cells[a] = std::max(1, static_cast<int>(std::lround(ext[a] / spacing)));
+    for (int a = 0; a < 3; ++a) {
+      const double cells = std::round(ext[a] / spacing);
+      if (cells > 1e6) g.fail("node_spacing_m", fmt::format("gives {:.3g} cells along an axis; the limit is 1e6", cells));
+      s.box.cells[a] = std::max(1, static_cast<int>(cells));
+    }
     s.box.jitter = g.number("jitter", 0.0, 0.0, 0.25);
     s.box.seed = static_cast<std::uint64_t>(g.integer("seed", 1, 0, 1 << 30));
   } else {
@@ -43,6 +55,8 @@ GeometrySpec read_geometry(JsonReader g) {
     s.beam_height_m = g.required_number("height_m", 1e-8, 100.0);
     const double spacing = g.required_number("node_spacing_m", 1e-8, 10.0);
     s.beam_clamp_layers = g.integer("clamp_layers", 3, 1, 20);
+    for (double extent : {s.beam_width_m, s.beam_height_m, s.beam_length_m})
+      if (extent / spacing > 1e6) g.fail("node_spacing_m", "gives more than 1e6 cells along an axis");
     // Cells of equal edge Delta across the width (the cross-section sets Delta); length rounded to it.
     const int nw = std::max(1, static_cast<int>(std::lround(s.beam_width_m / spacing)));
     const double delta = s.beam_width_m / nw;
@@ -52,6 +66,10 @@ GeometrySpec read_geometry(JsonReader g) {
     s.box.max_m = Vec3(nl * delta, s.beam_width_m, s.beam_height_m);
     s.box.cells = Eigen::Vector3i(nl + s.beam_clamp_layers - 1, nw, nh);
     s.beam_length_m = nl * delta;
+  }
+  if (s.type != "tube") {
+    const double nodes = (s.box.cells.cast<double>() + Vec3::Ones()).prod();
+    if (nodes > 5e7) g.fail("node_spacing_m", fmt::format("gives {:.3g} nodes; the limit is 5e7", nodes));
   }
   g.finish();
   return s;
@@ -95,14 +113,10 @@ void read_direction(JsonReader& r, const std::string& key, RegionSpec& reg) {
 RegionSpec read_region(JsonReader r) {
   RegionSpec reg;
   reg.name = r.required_string("name");
-  const bool valid_name = !reg.name.empty() && std::isalpha(static_cast<unsigned char>(reg.name[0])) &&
-                          std::all_of(reg.name.begin(), reg.name.end(), [](char c) {
-                            return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
-                          });
-  if (!valid_name)
+  if (!is_identifier(reg.name))
     r.fail("name", fmt::format("'{}' is not allowed; use letters, digits and '_' (it names CSV columns)", reg.name));
-  reg.select = read_selector(r.object("select"));
   if (!r.has("select")) r.fail("select", "missing; a selector object is required");
+  reg.select = read_selector(r.object("select"));
   JsonReader bc = r.object("bc");
   const std::string type = bc.string("type", "probe", {"fixed", "displacement", "force", "probe"});
   const bool is_disp = type == "displacement", is_force = type == "force";
@@ -157,7 +171,7 @@ void apply_override(nlohmann::json& doc, const std::string& assignment) {
     if (part.empty()) throw InputError(fmt::format("--set '{}': empty key in the path", assignment));
     nlohmann::json* next = nullptr;
     if (node->is_array()) {
-      if (part.find_first_not_of("0123456789") != std::string::npos)
+      if (part.find_first_not_of("0123456789") != std::string::npos || part.size() > 9)
         throw InputError(fmt::format("--set '{}': '{}' indexes an array; use a number", assignment, part));
       const std::size_t idx = std::stoul(part);
       if (idx >= node->size())
@@ -185,12 +199,15 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   sc.resolved = doc;
   JsonReader root(doc, "", file);
   sc.name = root.string("name", std::filesystem::path(file).stem().string());
+  if (!is_identifier(sc.name, true))
+    root.fail("name", fmt::format("'{}' is not allowed; use letters, digits, '_' and '-' (it names the output folder)",
+                                  sc.name));
   sc.description = root.string("description", "");
   sc.model = root.string("model", "quasi_static", model_names());
   const std::string formulation = root.string("formulation", "sound", {"sound", "paper_literal"});
   const bool literal = formulation == "paper_literal";
-  sc.geometry = read_geometry(root.object("geometry"));
   if (!root.has("geometry")) root.fail("geometry", "missing; a geometry object is required");
+  sc.geometry = read_geometry(root.object("geometry"));
 
   JsonReader mat = root.object("material");
   sc.material.youngs_modulus_pa = mat.number("youngs_modulus_pa", 0.5e6, 1e-6, 1e12);
@@ -216,7 +233,7 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
                          : StrainMeasure::MuellerNoHalf;
   sc.energy.stabilizer_alpha = en.number("stabilizer_alpha", literal ? 0.0 : 0.1, 0.0, 10.0);
   const double lambda = sc.material.lame_lambda();
-  sc.energy.volume_stiffness_pa = en.number("volume_stiffness_pa", 0.0, 0.0, lambda);
+  sc.energy.volume_stiffness_pa = en.number("volume_stiffness_pa", 0.0, 0.0, std::max(lambda, 0.0));
   en.finish();
 
   for (auto& r : root.array_of_objects("regions", false)) sc.regions.push_back(read_region(r));
@@ -228,6 +245,12 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   for (auto& p : root.array_of_objects("probes", false)) {
     PointProbeSpec ps;
     ps.name = p.required_string("name");
+    if (!is_identifier(ps.name))
+      p.fail("name", fmt::format("'{}' is not allowed; use letters, digits and '_' (it names a CSV column)", ps.name));
+    for (const auto& r : sc.regions)
+      if (r.name == ps.name) p.fail("name", fmt::format("'{}' is already a region name", ps.name));
+    for (const auto& q : sc.probes)
+      if (q.name == ps.name) p.fail("name", fmt::format("duplicate probe name '{}'", ps.name));
     ps.position_m = p.required_vec3("position_m");
     ps.component = p.string("component", "magnitude", {"x", "y", "z", "magnitude"});
     p.finish();

@@ -69,7 +69,8 @@ std::vector<Region> build_regions(const Scene& scene, const Discretization& disc
     for (std::size_t i = 0; i < in.size(); ++i)
       if (in[i]) r.nodes.push_back(static_cast<Index>(i));
     if (r.nodes.empty())
-      throw InputError(fmt::format("{}: region '{}' selects no nodes; check its 'select' block", scene.file, rs.name));
+      throw InputError(fmt::format("{}: key 'regions.{}.select': region '{}' selects no nodes", scene.file,
+                                   &rs - scene.regions.data(), rs.name));
     Vec3 dir = rs.direction;
     if (rs.direction_inward) {
       const double th = rs.select.angle_center_deg * std::numbers::pi / 180.0;
@@ -97,6 +98,18 @@ std::vector<Region> build_regions(const Scene& scene, const Discretization& disc
 }
 
 Simulation::Simulation(const Scene& scene) : scene_(scene) {
+  try {
+    build();
+  } catch (const InputError& e) {
+    // Errors found while assembling (overlapping regions, no supports, ...) name the scene file too.
+    const std::string msg = e.what();
+    if (msg.rfind(scene.file, 0) == 0) throw;
+    throw InputError(scene.file + ": " + msg);
+  }
+}
+
+void Simulation::build() {
+  const Scene& scene = scene_;
   const auto t0 = std::chrono::steady_clock::now();
   const NodeCloud cloud = build_geometry(scene.geometry);
   spdlog::info("geometry: {} with {} nodes and {} virtual tetrahedra", cloud.kind, cloud.positions.size(),

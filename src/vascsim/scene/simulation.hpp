@@ -45,6 +45,7 @@ class Simulation {
   nlohmann::json reference(const StepRecord& last) const;
 
  private:
+  void build();
   StepRecord measure(int step, const StepReport& report) const;
 
   Scene scene_;

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.hpp"
+
 #include <omp.h>
 #include <algorithm>
 #include <cmath>
@@ -20,33 +22,13 @@
 namespace {
 
 using namespace vascsim;
+using test::kDelta;
+using test::record;
 
-constexpr double kDelta = 1e-3;  // node spacing, m
+// MODEL.md section 6 default: jittered (+-0.2 Delta) 7^3 cloud, h = 2 Delta.
+NodeCloud jittered_cloud() { return test::lattice(6, 0.2, 11); }
 
-// Records a measured value in the test report (--gtest_output=xml), 6 significant digits.
-void record(const std::string& key, double value) {
-  std::ostringstream s;
-  s << std::setprecision(6) << value;
-  ::testing::Test::RecordProperty(key, s.str());
-}
-
-NodeCloud jittered_cloud() {  // MODEL.md section 6 default: jittered (+-0.2 Delta) 7^3 cloud, h = 2 Delta
-  BoxSpec spec;
-  spec.min_m = Vec3::Zero();
-  spec.max_m = Vec3::Constant(6 * kDelta);
-  spec.cells = Eigen::Vector3i::Constant(6);
-  spec.jitter = 0.2;
-  spec.seed = 11;
-  return make_box(spec);
-}
-
-Material tissue() {
-  Material m;
-  m.youngs_modulus_pa = 1e5;
-  m.poisson_ratio = 0.45;
-  m.density_kg_m3 = 1060.0;
-  return m;
-}
+Material tissue() { return test::tissue(1e5); }
 
 // MODEL.md T4/T5 deformation: x = R (I + 0.1 rand) X plus 0.05 Delta noise (rand, noise uniform in [-1, 1]).
 Vec3Array large_deformation(const Vec3Array& X, std::uint64_t seed) {

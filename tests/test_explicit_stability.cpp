@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.hpp"
+
 #include <omp.h>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -21,15 +23,8 @@
 namespace {
 
 using namespace vascsim;
-
-constexpr double kDelta = 1e-3;  // node spacing, m
-
-// Records a measured value in the test report (--gtest_output=xml), 6 significant digits.
-void record(const std::string& key, double value) {
-  std::ostringstream s;
-  s << std::setprecision(6) << value;
-  ::testing::Test::RecordProperty(key, s.str());
-}
+using test::kDelta;
+using test::record;
 
 // The dynamics below take ~10^4 steps on 125 nodes: far too little work per OpenMP region to pay for a
 // fork/join, and on a loaded 2-core machine two threads were measured 5-16x slower than one. These tests

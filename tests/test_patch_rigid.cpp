@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -18,34 +20,13 @@
 namespace {
 
 using namespace vascsim;
-
-constexpr double kDelta = 1e-3;  // node spacing, m
-
-// Records a measured value in the test report (--gtest_output=xml), 6 significant digits.
-void record(const std::string& key, double value) {
-  std::ostringstream s;
-  s << std::setprecision(6) << value;
-  ::testing::Test::RecordProperty(key, s.str());
-}
+using test::kDelta;
+using test::record;
 
 // The MODEL.md section 6 default: jittered (+-0.2 Delta) 7^3 cloud; h = 2 Delta-bar by default.
-NodeCloud jittered_cloud() {
-  BoxSpec spec;
-  spec.min_m = Vec3::Zero();
-  spec.max_m = Vec3::Constant(6 * kDelta);
-  spec.cells = Eigen::Vector3i::Constant(6);
-  spec.jitter = 0.2;
-  spec.seed = 7;
-  return make_box(spec);
-}
+NodeCloud jittered_cloud() { return test::lattice(6, 0.2, 7); }
 
-Material tissue() {
-  Material m;
-  m.youngs_modulus_pa = 3e5;
-  m.poisson_ratio = 0.45;
-  m.density_kg_m3 = 1060.0;
-  return m;
-}
+Material tissue() { return test::tissue(3e5); }
 
 Vec3Array affine(const Vec3Array& X, const Mat3& A, const Vec3& t) {
   Vec3Array x(X.size());

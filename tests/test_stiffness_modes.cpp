@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -17,31 +19,12 @@
 namespace {
 
 using namespace vascsim;
+using test::kDelta;
+using test::record;
 
-constexpr double kDelta = 1e-3;  // node spacing, m
+NodeCloud regular_lattice(int cells) { return test::lattice(cells); }
 
-// Records a measured value in the test report (--gtest_output=xml), 6 significant digits.
-void record(const std::string& key, double value) {
-  std::ostringstream s;
-  s << std::setprecision(6) << value;
-  ::testing::Test::RecordProperty(key, s.str());
-}
-
-NodeCloud regular_lattice(int cells) {
-  BoxSpec spec;
-  spec.min_m = Vec3::Zero();
-  spec.max_m = Vec3::Constant(cells * kDelta);
-  spec.cells = Eigen::Vector3i::Constant(cells);
-  return make_box(spec);
-}
-
-Material tissue(double nu) {
-  Material m;
-  m.youngs_modulus_pa = 5e5;
-  m.poisson_ratio = nu;
-  m.density_kg_m3 = 1060.0;
-  return m;
-}
+Material tissue(double nu) { return test::tissue(5e5, nu); }
 
 TEST(StiffnessT6, UniaxialStrainEnergyMatchesLinearElasticity) {
   const double e = 1e-4;

@@ -445,7 +445,7 @@ TEST(SceneFiles, Defaults) {
   EXPECT_DOUBLE_EQ(sc.discretization.support_radius_factor, 2.0);
   EXPECT_EQ(sc.discretization.min_neighbours, 12);
   EXPECT_DOUBLE_EQ(sc.explicit_settings.duration_s, 0.02);
-  EXPECT_EQ(sc.quasi_static.preconditioner, "incomplete_cholesky");
+  EXPECT_EQ(sc.quasi_static.preconditioner, "auto");
   EXPECT_FALSE(sc.output.vtk);
   EXPECT_EQ(sc.output.vtk_every, 1);
   ASSERT_EQ(sc.regions.size(), 2u);

@@ -45,17 +45,19 @@ QuasiStaticModel::QuasiStaticModel(const Problem& problem, const QuasiStaticSett
   const Eigen::Index nf = static_cast<Eigen::Index>(free_.size()) * 3;
   Eigen::SparseMatrix<double> Kff(nf, nf);
   Kff.setFromTriplets(trip.begin(), trip.end());
-  if (settings.preconditioner != "incomplete_cholesky" && settings.preconditioner != "cholesky" &&
-      settings.preconditioner != "none")
-    throw InputError("quasi_static: preconditioner must be incomplete_cholesky, cholesky or none");
-  if (nf > 0 && settings.preconditioner == "cholesky") {
+  if (settings_.preconditioner == "auto")
+    settings_.preconditioner = free_.size() <= 10000 ? "cholesky" : "incomplete_cholesky";
+  if (settings_.preconditioner != "incomplete_cholesky" && settings_.preconditioner != "cholesky" &&
+      settings_.preconditioner != "none")
+    throw InputError("quasi_static: preconditioner must be auto, incomplete_cholesky, cholesky or none");
+  if (nf > 0 && settings_.preconditioner == "cholesky") {
     cholesky_.compute(Kff);
     have_precond_ = cholesky_.info() == Eigen::Success && (cholesky_.vectorD().array() > 0.0).all();
-  } else if (nf > 0 && settings.preconditioner == "incomplete_cholesky") {
+  } else if (nf > 0 && settings_.preconditioner == "incomplete_cholesky") {
     incomplete_.compute(Kff);
     have_precond_ = incomplete_.info() == Eigen::Success;
   }
-  if (nf > 0 && settings.preconditioner != "none") {
+  if (nf > 0 && settings_.preconditioner != "none") {
     if (!have_precond_)
       spdlog::warn("quasi_static: the tetrahedral preconditioner is singular (is every part of the body "
                    "supported?); using no preconditioner");

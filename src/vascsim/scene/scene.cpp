@@ -264,7 +264,7 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   sc.quasi_static.max_newton_iterations = qs.integer("max_newton_iterations", 60, 1, 10000);
   sc.quasi_static.max_cg_iterations = qs.integer("max_cg_iterations", 2000, 1, 1000000);
   sc.quasi_static.preconditioner =
-      qs.string("preconditioner", "incomplete_cholesky", {"incomplete_cholesky", "cholesky", "none"});
+      qs.string("preconditioner", "auto", {"auto", "incomplete_cholesky", "cholesky", "none"});
   qs.finish();
 
   JsonReader ex = root.object("explicit");

@@ -1,0 +1,55 @@
+#pragma once
+// Meshless strain constraint per node (MODEL.md 3.3 (A)): the point-primitive SVK strain energy of node
+// i, U_i = V_i [mu E_i:E_i + lambda/2 tr(E_i)^2] (MODEL.md 1.7, the paper's Eqs. 2-7 with the E1/E2
+// fixes), written as one 6-component XPBD constraint so the real-time model is still the paper's energy:
+//   c_i = Mandel(E_i) = (E_00, E_11, E_22, sqrt2 E_12, sqrt2 E_02, sqrt2 E_01)      (dimensionless)
+//   E_i = 1/2 (F_i^T F_i - I),  F_i = sum_{k in N_i u {i}} x_k d_ik^T   (MODEL.md 1.6, d_ii = -sum_j d_ij)
+//   U_i = 1/2 c_i^T (V_i C^) c_i,  C^ = lambda e e^T + 2 mu I_6,  e = (1,1,1,0,0,0)^T   (exact, Pa)
+//   compliance alpha_i = (V_i C^)^{-1}  (1/J)
+//   J_ik = dc_i/dx_k (6x3),  dE_pq/dx_k = 1/2 (d_ik,q F_:,p + d_ik,p F_:,q)  (sqrt2 on the shear rows)
+// Projection (xpbd_block_project): Delta lambda = -(J W J^T + alpha~)^{-1} (c + alpha~ lambda),
+// Delta p_k = w_k J_ik^T Delta lambda, alpha~ = alpha_i / h^2 (Macklin et al. 2016 in block form).
+// Because sum_k d_ik = 0, sum_k J_ik = 0 and the correction conserves momentum.
+//
+// The zero-energy-mode stabiliser (MODEL.md 1.9b) is not part of this constraint.
+
+#include <span>
+#include <vector>
+
+#include "vascsim/constraints/xpbd_projection.hpp"
+#include "vascsim/model/discretization.hpp"
+
+namespace vascsim::constraints {
+
+/// Evaluation of the constraint of one node. Buffers are reused across calls (no allocation once grown).
+struct MeshlessStrainEval {
+  Mat3 F = Mat3::Identity();  ///< F_i
+  Vec6 c = Vec6::Zero();      ///< Mandel(E_i)
+  std::vector<Index> nodes;   ///< the stencil: nodes[0] = i, then the neighbours in pair-table order
+  std::vector<Mat63> J;       ///< J[s] = dc_i / dx_{nodes[s]}, 1/m
+};
+
+/// Mandel vector of a symmetric 3x3 tensor: (A_00, A_11, A_22, sqrt2 A_12, sqrt2 A_02, sqrt2 A_01), so that
+/// A:B = mandel(A) . mandel(B).
+Vec6 mandel(const Mat3& A);
+
+/// C^ = lambda e e^T + 2 mu I_6 (Pa): psi = 1/2 c^T C^ c for c = mandel(E).
+Mat6 svk_mandel_stiffness(double lame_lambda_pa, double shear_modulus_pa);
+
+/// alpha_i = (V_i C^)^{-1} = 1/(2 mu V_i) (I - lambda/(3 lambda + 2 mu) e e^T), 1/J.
+Mat6 meshless_strain_compliance(double lame_lambda_pa, double shear_modulus_pa, double volume_m3);
+
+/// U_i = 1/2 V_i c^T C^ c, J.
+double meshless_strain_energy(const Vec6& c, double lame_lambda_pa, double shear_modulus_pa,
+                              double volume_m3);
+
+/// Value c_i and Jacobian J_ik of node i's strain constraint. `neighbours` and `d` are row i of
+/// Discretization::pairs() (col and d, same length), `d_self` = self_d()[i], `x` the current positions.
+void meshless_strain_constraint(Index i, std::span<const Index> neighbours, std::span<const Vec3> d,
+                                const Vec3& d_self, const Vec3Array& x, MeshlessStrainEval& out);
+
+/// The same, reading row i of disc.pairs() and disc.self_d()[i].
+void meshless_strain_constraint(const Discretization& disc, Index i, const Vec3Array& x,
+                                MeshlessStrainEval& out);
+
+}  // namespace vascsim::constraints

@@ -93,26 +93,32 @@ Mat3 PointPrimitiveEnergy::weighted_stress_derivative(Index i, const Mat3& F, co
   return dPt;
 }
 
-void PointPrimitiveEnergy::gather(const std::vector<Mat3>& Ptilde, const std::vector<Mat3>& F_fit,
-                                  const Vec3Array& y, Vec3Array& out) const {
+double PointPrimitiveEnergy::gather(const std::vector<Mat3>& Ptilde, const std::vector<Mat3>& F_fit,
+                                    const Vec3Array& y, Vec3Array& out) const {
   const Index n = disc_.num_nodes();
   const PairTable& P = disc_.pairs();
   const PairTable& T = disc_.transposed();
   const Vec3Array& X = disc_.rest_positions();
   const bool stab = opt_.stabilizer_alpha > 0.0;
   out.resize(n);
-#pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
+  double stab_energy = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : stab_energy) if (n >= kParallelMinNodes)
   for (Index k = 0; k < n; ++k) {
     Vec3 f = -(Ptilde[k] * disc_.self_d()[k]);
     for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e) f -= Ptilde[T.col[e]] * T.d[e];
     if (stab) {
       // Own fit: f_k += c_k sum_j w_kj r_kj; fits of others: f_k -= c_i w_ik r_ik (MODEL.md 1.9b).
+      // The same residuals give node k's stabiliser energy (c_k/2) sum_j w_kj |r_kj|^2.
       Vec3 own = Vec3::Zero();
+      double own_energy = 0.0;
       for (Index e = P.row_start[k]; e < P.row_start[k + 1]; ++e) {
         const Index j = P.col[e];
-        own += P.w[e] * ((y[j] - y[k]) - F_fit[k] * (X[j] - X[k]));
+        const Vec3 r = (y[j] - y[k]) - F_fit[k] * (X[j] - X[k]);
+        own += P.w[e] * r;
+        own_energy += P.w[e] * r.squaredNorm();
       }
       f += stab_c_[k] * own;
+      stab_energy += 0.5 * stab_c_[k] * own_energy;
       for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e) {
         const Index i = T.col[e];
         f -= stab_c_[i] * T.w[e] * ((y[k] - y[i]) - F_fit[i] * (X[k] - X[i]));
@@ -120,6 +126,7 @@ void PointPrimitiveEnergy::gather(const std::vector<Mat3>& Ptilde, const std::ve
     }
     out[k] = f;
   }
+  return stab_energy;
 }
 
 double PointPrimitiveEnergy::stabilizer_energy(const std::vector<Mat3>& F, const Vec3Array& x) const {
@@ -170,8 +177,7 @@ double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f) const {
     strain += e.strain;
     volume += e.volume;
   }
-  gather(Pt, F, x, f);
-  return strain + volume + stabilizer_energy(F, x);
+  return strain + volume + gather(Pt, F, x, f);
 }
 
 PointPrimitiveEnergy::Linearization PointPrimitiveEnergy::linearize(const Vec3Array& x) const {

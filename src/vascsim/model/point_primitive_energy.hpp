@@ -65,7 +65,8 @@ class PointPrimitiveEnergy {
   Mat3 weighted_stress_derivative(Index i, const Mat3& F, const Mat3& S, const Mat3& dF) const;
   // Pass 2: f_k = -Ptilde_k d_kk - sum_{i: k in N_i} Ptilde_i d_ik, plus the stabiliser forces built from
   // the per-node fit F_fit and positions y (the stabiliser is linear in y).
-  void gather(const std::vector<Mat3>& Ptilde, const std::vector<Mat3>& F_fit, const Vec3Array& y,
+  // Returns the stabiliser energy of (F_fit, y), J, computed from the same residuals.
+  double gather(const std::vector<Mat3>& Ptilde, const std::vector<Mat3>& F_fit, const Vec3Array& y,
               Vec3Array& out) const;
   double stabilizer_energy(const std::vector<Mat3>& F, const Vec3Array& x) const;
 

@@ -7,7 +7,8 @@ namespace vascsim {
 std::unique_ptr<Model> make_model(const std::string& name, const Problem& problem, const ModelSettings& settings) {
   if (name == "explicit") return std::make_unique<ExplicitModel>(problem, settings.explicit_settings);
   if (name == "quasi_static") return std::make_unique<QuasiStaticModel>(problem, settings.quasi_static);
-  throw InputError("unknown model '" + name + "'; allowed: quasi_static, explicit");
+  if (name == "xpbd") return std::make_unique<XpbdModel>(problem, settings.xpbd);
+  throw InputError("unknown model '" + name + "'; allowed: quasi_static, explicit, xpbd");
 }
 
 }  // namespace vascsim

@@ -7,12 +7,14 @@
 
 #include "vascsim/model/explicit_model.hpp"
 #include "vascsim/model/quasi_static_model.hpp"
+#include "vascsim/model/xpbd_model.hpp"
 
 namespace vascsim {
 
 struct ModelSettings {
   ExplicitSettings explicit_settings;
   QuasiStaticSettings quasi_static;
+  XpbdSettings xpbd;
 };
 
 /// Throws InputError for an unknown name.

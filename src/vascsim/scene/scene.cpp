@@ -148,7 +148,7 @@ RegionSpec read_region(JsonReader r) {
 }  // namespace
 
 const std::vector<std::string>& model_names() {
-  static const std::vector<std::string> names = {"quasi_static", "explicit"};
+  static const std::vector<std::string> names = {"quasi_static", "explicit", "xpbd"};
   return names;
 }
 
@@ -277,6 +277,16 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   sc.explicit_settings.cfl_coefficient = ex.number("cfl_coefficient", 0.4, 0.01, 2.0);
   sc.explicit_settings.power_iterations = ex.integer("power_iterations", 60, 1, 100000);
   ex.finish();
+
+  JsonReader xp = root.object("xpbd");
+  sc.xpbd.duration_s = xp.number("duration_s", 0.02, 1e-9, 1e4);
+  sc.xpbd.ramp_time_s = xp.number("ramp_time_s", 0.01, 0.0, 1e4);
+  sc.xpbd.output_interval_s = xp.number("output_interval_s", 1e-3, 1e-9, 1e4);
+  sc.xpbd.step_s = xp.number("step_s", 1e-3, 1e-9, 1.0);
+  sc.xpbd.substeps = xp.integer("substeps", 8, 1, 10000);
+  sc.xpbd.iterations = xp.integer("iterations", 1, 1, 1000);
+  sc.xpbd.damping_per_s = xp.number("damping_per_s", 10.0, 0.0, 1e6);
+  xp.finish();
 
   JsonReader ref = root.object("reference");
   sc.reference.type = ref.string("type", "", {"timoshenko_cantilever"});

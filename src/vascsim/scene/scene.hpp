@@ -12,6 +12,7 @@
 #include "vascsim/model/explicit_model.hpp"
 #include "vascsim/model/point_primitive_energy.hpp"
 #include "vascsim/model/quasi_static_model.hpp"
+#include "vascsim/model/xpbd_model.hpp"
 
 namespace vascsim {
 
@@ -75,6 +76,7 @@ struct Scene {
   Vec3 gravity_m_s2 = Vec3::Zero();
   ExplicitSettings explicit_settings;
   QuasiStaticSettings quasi_static;
+  XpbdSettings xpbd;
   ReferenceSpec reference;
   OutputSpec output;
   nlohmann::json resolved;  ///< the JSON after overrides (for summary.json)

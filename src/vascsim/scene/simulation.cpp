@@ -128,7 +128,7 @@ void Simulation::build() {
     }
     probe_nodes_.push_back(best);
   }
-  model_ = make_model(scene.model, *problem_, ModelSettings{scene.explicit_settings, scene.quasi_static});
+  model_ = make_model(scene.model, *problem_, ModelSettings{scene.explicit_settings, scene.quasi_static, scene.xpbd});
   setup_s_ = seconds_since(t0);
 }
 

@@ -147,6 +147,8 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   cant->add_option("--out", out_dir, "Output folder (default: out/cantilever-table)");
   cant->add_option("--sizes", sizes, "Cells across the beam, n = b / Delta")->delimiter(',')->check(CLI::Range(1, 16));
 
+  // Global options (-q, -v, -j) are accepted after the subcommand too.
+  for (auto* sub : {run, validate, cant}) sub->fallthrough();
   std::vector<std::string> rev(args.rbegin(), args.rend());
   try {
     app.parse(rev);

@@ -1,6 +1,7 @@
 #pragma once
 // The `vascsim` command line, callable in-process (tests) with its own output streams.
-//   vascsim [-q|-v] [-j THREADS] run SCENE.json [--set key=value ...] [--out DIR]
+//   vascsim [-q|-v] [-j THREADS] run SCENE.json [--set key=value ...] [--out DIR]   (global options may
+//   also follow the subcommand)
 //   vascsim [-q|-v] [-j THREADS] validate cantilever [--out DIR] [--sizes 2,3,4,6]
 // Exit codes: 0 success, 1 internal error (a bug), 2 bad input (scene, key, value, file),
 // 3 numerical failure (ill-conditioned discretisation, unstable or non-finite solution).

@@ -82,21 +82,6 @@ double SpatialGrid::nearest_distance(Index i, double max_search) const {
   }
 }
 
-std::vector<std::vector<Index>> neighbours_within(const Vec3Array& points, const std::vector<double>& radius) {
-  const double rmax = radius.empty() ? 1.0 : *std::max_element(radius.begin(), radius.end());
-  SpatialGrid grid(points, rmax);
-  std::vector<std::vector<Index>> out(points.size());
-#pragma omp parallel for schedule(dynamic, 256)
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    auto& row = out[i];
-    grid.for_each_within(points[i], radius[i], [&](Index j, double) {
-      if (j != static_cast<Index>(i)) row.push_back(j);
-    });
-    std::sort(row.begin(), row.end());
-  }
-  return out;
-}
-
 namespace {
 std::vector<double> nearest_spacings(const Vec3Array& points) {
   if (points.size() < 2) throw InputError("node cloud: at least 2 nodes are needed");

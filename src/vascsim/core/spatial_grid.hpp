@@ -33,9 +33,6 @@ class SpatialGrid {
   std::vector<Index> cell_items_;
 };
 
-/// All pairs within per-point radii: row i holds every j != i with |X_j - X_i| < radius[i], sorted by j.
-std::vector<std::vector<Index>> neighbours_within(const Vec3Array& points, const std::vector<double>& radius);
-
 /// Mean nearest-neighbour spacing (the Delta-bar of MODEL.md 1.3), m. Requires >= 2 points.
 double mean_nearest_spacing(const Vec3Array& points);
 

@@ -8,7 +8,7 @@ OUT       ?= out/vein-indent
 PYTHON    ?= /usr/bin/python3
 JOBS      ?= $(shell nproc)
 
-.PHONY: deps build run test test-release test-sanitize bench cantilever-table format clean
+.PHONY: deps build run test test-release test-sanitize bench bench-realtime cantilever-table format clean
 
 deps:
 	@scripts/install-deps.sh
@@ -36,6 +36,11 @@ test-sanitize: deps
 
 bench: build
 	$(BUILD_DIR)/bench/vascsim_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+
+# docs/performance.md's real-time benchmark: xpbd on the vein at ~1k-30k nodes, 1 and 2 threads (minutes;
+# run it on an otherwise idle machine).
+bench-realtime: build
+	$(BUILD_DIR)/vascsim bench scenes/vein-indent.json --out out/bench/realtime.json --out out/bench/realtime.csv
 
 # docs/validation.md's cantilever convergence table (MODEL.md T9).
 cantilever-table: build

@@ -1,4 +1,4 @@
-// The real-time `xpbd` model (MODEL.md 3.3 (B), T13 in spirit): steady state approaches the quasi-static
+// The real-time `xpbd` model with elastic option (B), tet neo-Hookean (MODEL.md 3.3 (B), T13 in spirit): steady state approaches the quasi-static
 // solution as the substep shrinks, stays bounded under a fast large prescribed motion, and is selectable
 // by name from a scene.
 #include <gtest/gtest.h>
@@ -55,7 +55,7 @@ XpbdRun run_xpbd_cantilever(int substeps) {
   doc["model"] = "xpbd";
   doc["xpbd"] = {{"duration_s", 0.3},   {"ramp_time_s", 0.05}, {"output_interval_s", 0.025},
                  {"step_s", 5e-4},      {"substeps", substeps}, {"iterations", 1},
-                 {"damping_per_s", 60.0}};
+                 {"damping_per_s", 60.0}, {"elastic", "tet_neo_hookean"}};
   const auto t0 = std::chrono::steady_clock::now();
   Simulation sim(parse_scene(doc, "cantilever-xpbd (generated)"));
   XpbdRun out;
@@ -112,7 +112,7 @@ double p1_tip_deflection(const Simulation& sim) {
 
 // "Slow": 1.5 s in Release but ~40 s under ASan+UBSan (36k substeps); the sanitizer build covers the same
 // substep path through FastLargePrescribedMotionStaysBounded.
-TEST(XpbdModel, CantileverSteadyStateConvergesAsSubstepsGrowSlow) {
+TEST(XpbdTetModel, CantileverSteadyStateConvergesToP1AsSubstepsGrowSlow) {
   const json doc = cantilever_scene(small_cantilever());
   Simulation qs(parse_scene(doc, "cantilever-qs (generated)"));
   const double meshless = tip_deflection(qs, qs.advance(1));
@@ -144,14 +144,14 @@ TEST(XpbdModel, CantileverSteadyStateConvergesAsSubstepsGrowSlow) {
 // matrices of C_H and C_D are parallel at rest), so shear is integrated explicitly: above
 // h ~ Delta / c_s an unloaded body leaves its rest state from round-off. Pins the limit on this mesh
 // (Delta = 5 mm, c_s = 18 m/s: h = 0.17 ms stays at rest, h = 0.5 ms does not).
-TEST(XpbdModel, ShearIsExplicitAboveTheStabilityLimit) {
+TEST(XpbdTetModel, ShearIsExplicitAboveTheStabilityLimit) {
   const auto drift = [](int substeps) {
     CantileverCase c = small_cantilever();
     c.deflection_fraction = 0.0;
     json doc = cantilever_scene(c);
     doc["model"] = "xpbd";
     doc["xpbd"] = {{"duration_s", 0.05}, {"output_interval_s", 0.05}, {"step_s", 1e-3}, {"substeps", substeps},
-                   {"damping_per_s", 10.0}};
+                   {"damping_per_s", 10.0}, {"elastic", "tet_neo_hookean"}};
     Simulation sim(parse_scene(doc, "cantilever-rest (generated)"));
     try {
       sim.advance(1);

@@ -13,6 +13,7 @@
 #include "vascsim/app/progress.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/experiments/cantilever.hpp"
+#include "vascsim/experiments/realtime_bench.hpp"
 #include "vascsim/scene/runner.hpp"
 
 namespace vascsim {
@@ -122,6 +123,33 @@ int command_validate_cantilever(const std::string& out_opt, const std::vector<in
   return 0;
 }
 
+int command_bench(RealtimeBenchOptions opt, const std::vector<std::string>& outs, bool quiet, bool verbose,
+                  std::ostream& out, std::ostream& err) {
+  // Check the output names before minutes of timing.
+  for (const auto& f : outs) {
+    const auto ext = std::filesystem::path(f).extension();
+    if (ext != ".csv" && ext != ".json")
+      throw InputError(fmt::format("bench: --out '{}' must end in .csv or .json (give --out twice for both)", f));
+  }
+  // Every configuration builds a Simulation, whose set-up log lines would bury the results.
+  if (!verbose) spdlog::default_logger()->set_level(spdlog::level::warn);
+  if (!quiet) opt.progress = [&err](const std::string& line) { err << line << std::endl; };
+  const RealtimeBenchReport report = run_realtime_bench(opt);
+  out << realtime_bench_table(report);
+  for (const auto& f : outs) {
+    const std::filesystem::path path(f);
+    if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+    std::ofstream file(path);
+    if (path.extension() == ".csv")
+      file << realtime_bench_csv(report);
+    else
+      file << realtime_bench_json(report).dump(2) << "\n";
+    if (!file) throw InputError(fmt::format("bench: cannot write {}", f));
+    out << "wrote " << f << "\n";
+  }
+  return 0;
+}
+
 }  // namespace
 
 int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
@@ -147,8 +175,25 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   cant->add_option("--out", out_dir, "Output folder (default: out/cantilever-table)");
   cant->add_option("--sizes", sizes, "Cells across the beam, n = b / Delta")->delimiter(',')->check(CLI::Range(1, 16));
 
+  auto* bench = app.add_subcommand("bench", "Real-time benchmark: wall time per 1 ms step at several resolutions "
+                                            "(docs/performance.md section 9)");
+  RealtimeBenchOptions bench_opt;
+  bench_opt.scene_path = "scenes/vein-indent.json";
+  std::vector<std::string> bench_out;
+  bench->add_option("scene", bench_opt.scene_path, "Scene JSON file with a tube geometry")->capture_default_str();
+  bench->add_option("--model", bench_opt.model, "Model to time (xpbd or explicit)")->capture_default_str();
+  bench->add_option("--nodes", bench_opt.target_nodes, "Target node counts (the nearest tube resolution is used)")
+      ->delimiter(',')
+      ->capture_default_str();
+  auto* bench_threads =
+      bench->add_option("--threads", bench_opt.threads, "OpenMP thread counts (default 1,2; or -j N)")->delimiter(',');
+  bench->add_option("--steps", bench_opt.steps, "Timed 1 ms steps per configuration")->capture_default_str();
+  bench->add_option("--warmup", bench_opt.warmup_steps, "Untimed steps before them")->capture_default_str();
+  bench->add_option("--set", bench_opt.overrides, "Override a scene key: path.to.key=value (repeatable)");
+  bench->add_option("--out", bench_out, "Write FILE.csv or FILE.json (repeatable: --out a.csv --out a.json)");
+
   // Global options (-q, -v, -j) are accepted after the subcommand too.
-  for (auto* sub : {run, validate, cant}) sub->fallthrough();
+  for (auto* sub : {run, validate, cant, bench}) sub->fallthrough();
   std::vector<std::string> rev(args.rbegin(), args.rend());
   try {
     app.parse(rev);
@@ -172,6 +217,10 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   try {
     if (run->parsed()) return command_run(scene_path, sets, out_dir, out, err);
     if (cant->parsed()) return command_validate_cantilever(out_dir, sizes, out, err);
+    if (bench->parsed()) {
+      if (bench_threads->count() == 0 && threads > 0) bench_opt.threads = {threads};
+      return command_bench(bench_opt, bench_out, quiet, verbose, out, err);
+    }
   } catch (const InputError& e) {
     err << "vascsim: error: " << e.what() << "\n";
     return 2;

@@ -1,5 +1,7 @@
 #include "vascsim/constraints/energy_constraint.hpp"
 
+#include <cmath>
+
 #include <stdexcept>
 
 namespace vascsim::constraints {
@@ -46,6 +48,14 @@ double barycentre_spring_stiffness(double bulk_modulus_pa, double rest_volume_m3
   double sum_d2 = 0.0;
   for (double d : rest_distances) sum_d2 += d * d;
   return 9.0 * bulk_modulus_pa * rest_volume_m3 / sum_d2;
+}
+
+BarycentreSprings barycentre_springs(const TetPositions& X, const TetMasses& m, double bulk_modulus_pa) {
+  BarycentreSprings s;
+  s.rest_distances = barycentre_rest_distances(X, m);
+  const double volume = std::abs((X[1] - X[0]).dot((X[2] - X[0]).cross(X[3] - X[0]))) / 6.0;
+  s.stiffness = barycentre_spring_stiffness(bulk_modulus_pa, volume, s.rest_distances);
+  return s;
 }
 
 ScalarConstraint<4> literal_energy_constraint(const TetPositions& x, const TetMasses& m,

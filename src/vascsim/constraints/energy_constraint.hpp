@@ -49,6 +49,14 @@ double barycentre_spring_denominator(const TetMasses& m, int a);
 double barycentre_spring_stiffness(double bulk_modulus_pa, double rest_volume_m3,
                                    const std::array<double, 4>& rest_distances);
 
+/// Rest data of the four barycentre springs of one tet: rest distances (m) and the equal stiffness calibrated
+/// on dilation with barycentre_spring_stiffness (N/m).
+struct BarycentreSprings {
+  std::array<double, 4> rest_distances{};
+  double stiffness = 0.0;
+};
+BarycentreSprings barycentre_springs(const TetPositions& X, const TetMasses& m, double bulk_modulus_pa);
+
 /// LITERAL energy constraint as printed, KNOWN DEFECTIVE (MODEL.md E11):
 ///   Eq. 18:    C = 1/2 sum_a k_a (|x_a - x0| - d_a0)^2      (J when k_a is in N/m)
 ///   Eq. 19:    x0 = sum_b m_b x_b / M

@@ -33,6 +33,17 @@ struct MeshlessStrainEval {
 /// A:B = mandel(A) . mandel(B).
 Vec6 mandel(const Mat3& A);
 
+/// Inverse of mandel(): the symmetric tensor L with mandel(L) = v.
+Mat3 unmandel(const Vec6& v);
+
+/// The 6x6 matrix J W J^T = sum_k w_k J_ik J_ik^T of node i's constraint in closed form, from C = F_i^T F_i and
+/// D_i = sum_k w_k d_ik d_ik^T (k over the stencil {i} u N_i; D is constant during a run):
+///   J_ik^T e_r = F L_r d_ik (L_r = unmandel(e_r), from d(E:L)/dx_k = F L d_k), so
+///   (J W J^T)_rs = sum_k w_k d_k^T L_r C L_s d_k = tr(L_r C L_s D)                     [derived]
+/// This replaces K+1 products of 6x3 blocks per projection by twelve 3x3 products. Units 1/(kg m^2), those of
+/// sum_k w_k |grad_k c|^2 (d in 1/m, w in 1/kg).
+Mat6 meshless_strain_block(const Mat3& C, const Mat3& D);
+
 /// C^ = lambda e e^T + 2 mu I_6 (Pa): psi = 1/2 c^T C^ c for c = mandel(E).
 Mat6 svk_mandel_stiffness(double lame_lambda_pa, double shear_modulus_pa);
 

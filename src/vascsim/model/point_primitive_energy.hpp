@@ -38,6 +38,10 @@ class PointPrimitiveEnergy {
   /// Lame lambda used by the strain term (lambda - k_v), Pa.
   double strain_lambda() const { return lambda_; }
   double shear_modulus() const { return mu_; }
+  /// Stabiliser coefficient per node, c_i = alpha_hg mu V_i / tr(A_i), N m^2 (c_i w_ij is a pair stiffness in N/m;
+  /// MODEL.md 1.9b): node i's
+  /// stabiliser energy is c_i/2 sum_j w_ij |r_ij|^2. All zero when alpha_hg = 0.
+  const std::vector<double>& stabilizer_coefficients() const { return stab_c_; }
 
   /// Elastic energy of configuration x (#N positions, m), J.
   EnergyBreakdown energy(const Vec3Array& x) const;

@@ -4,6 +4,7 @@
 // forces that the supports exert on the tissue. All loads scale with one load factor s in [0, 1]
 // (load steps for quasi_static, a time ramp for explicit).
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,9 @@ struct Region {
   Vec3 force_n = Vec3::Zero();         ///< Force: the total force at s = 1, N
   std::vector<double> force_weights;   ///< Force: per node share of force_n, sums to 1
   Vec3 direction = Vec3::Zero();       ///< unit direction for scalar probes (zero: use magnitudes)
+  /// Fixed/Displacement: time at which the boundary condition is removed and the nodes move freely
+  /// (time-stepping models that support it; infinity: never), s.
+  double release_time_s = std::numeric_limits<double>::infinity();
 };
 
 /// What a region reports at one output point.

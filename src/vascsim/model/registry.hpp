@@ -6,6 +6,7 @@
 #include <string>
 
 #include "vascsim/model/explicit_model.hpp"
+#include "vascsim/model/paper_literal_model.hpp"
 #include "vascsim/model/quasi_static_model.hpp"
 #include "vascsim/model/xpbd_model.hpp"
 
@@ -15,6 +16,7 @@ struct ModelSettings {
   ExplicitSettings explicit_settings;
   QuasiStaticSettings quasi_static;
   XpbdSettings xpbd;
+  PaperLiteralSettings paper_literal;
 };
 
 /// Throws InputError for an unknown name.

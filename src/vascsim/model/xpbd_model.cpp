@@ -2,57 +2,48 @@
 
 #include <algorithm>
 #include <cmath>
+#include <Eigen/Cholesky>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "vascsim/constraints/distance_constraint.hpp"
+#include "vascsim/constraints/energy_constraint.hpp"
+#include "vascsim/constraints/meshless_strain_constraint.hpp"
 #include "vascsim/constraints/tet_neo_hookean_constraint.hpp"
-#include "vascsim/constraints/xpbd_projection.hpp"  // kDenominatorEpsilon
+#include "vascsim/constraints/xpbd_projection.hpp"
 #include "vascsim/core/error.hpp"
 
 namespace vascsim {
 
 namespace {
 
-// Parallel loops over the tets of one colour only pay off above this size (as in point_primitive_energy.cpp).
-constexpr Index kParallelThreshold = 2048;
+using constraints::Mat6;
+using constraints::Vec6;
 
-// Greedy colouring of tets that share a node (computed once). Returns the tets sorted by colour and the
-// start offset of every colour (size = colours + 1).
-void colour_tets(const std::vector<Tet>& tets, Index num_nodes, std::vector<Index>& order,
-                 std::vector<Index>& start) {
-  const Index nt = static_cast<Index>(tets.size());
-  // Node -> tets (CSR).
-  std::vector<Index> node_start(static_cast<std::size_t>(num_nodes) + 1, 0), node_tets(4 * tets.size());
+// Below this many nodes one thread is faster: every colour ends in a barrier, and on a loaded 2-core
+// machine OpenMP regions on small clouds cost more than they save (as in point_primitive_energy.cpp).
+constexpr Index kParallelMinNodes = 2048;
+
+// Unique edges of the tets, each as (lo, hi).
+std::vector<std::array<Index, 2>> tet_edges(const std::vector<Tet>& tets) {
+  std::vector<std::array<Index, 2>> e;
+  e.reserve(6 * tets.size());
   for (const Tet& t : tets)
-    for (Index n : t) ++node_start[n + 1];
-  for (Index i = 0; i < num_nodes; ++i) node_start[i + 1] += node_start[i];
-  std::vector<Index> fill(node_start.begin(), node_start.end() - 1);
-  for (Index t = 0; t < nt; ++t)
-    for (Index n : tets[t]) node_tets[fill[n]++] = t;
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) e.push_back({std::min(t[a], t[b]), std::max(t[a], t[b])});
+  std::sort(e.begin(), e.end());
+  e.erase(std::unique(e.begin(), e.end()), e.end());
+  return e;
+}
 
-  std::vector<int> colour(tets.size(), -1);
-  std::vector<Index> stamp;  // stamp[c] == t + 1: colour c is taken by a neighbour of tet t
-  int num_colours = 0;
-  for (Index t = 0; t < nt; ++t) {
-    for (Index n : tets[t])
-      for (Index k = node_start[n]; k < node_start[n + 1]; ++k) {
-        const int c = colour[node_tets[k]];
-        if (c >= 0) stamp[c] = t + 1;
-      }
-    int c = 0;
-    while (c < num_colours && stamp[c] == t + 1) ++c;
-    if (c == num_colours) {
-      ++num_colours;
-      stamp.push_back(0);
-    }
-    colour[t] = c;
+template <class Stencils>
+Colouring colour(const Stencils& stencils, Index num_nodes) {
+  std::vector<Index> start{0}, nodes;
+  for (const auto& s : stencils) {
+    nodes.insert(nodes.end(), s.begin(), s.end());
+    start.push_back(static_cast<Index>(nodes.size()));
   }
-  start.assign(static_cast<std::size_t>(num_colours) + 1, 0);
-  for (int c : colour) ++start[c + 1];
-  for (int c = 0; c < num_colours; ++c) start[c + 1] += start[c];
-  order.resize(tets.size());
-  std::vector<Index> pos(start.begin(), start.end() - 1);
-  for (Index t = 0; t < nt; ++t) order[pos[colour[t]]++] = t;
+  return colour_stencils(start, nodes, num_nodes);
 }
 
 }  // namespace
@@ -64,6 +55,8 @@ XpbdModel::XpbdModel(const Problem& problem, const XpbdSettings& s) : problem_(p
   if (s.substeps < 1) throw InputError("xpbd: substeps must be >= 1");
   if (s.iterations < 1) throw InputError("xpbd: iterations must be >= 1");
   if (s.damping_per_s < 0.0) throw InputError("xpbd: damping_per_s must be >= 0");
+  if (s.stretch_modulus_pa < 0.0 || s.energy_modulus_pa < 0.0)
+    throw InputError("xpbd: stretch_modulus_pa and energy_modulus_pa must be >= 0");
 
   const Discretization& disc = problem.discretization();
   const Index n = disc.num_nodes();
@@ -71,9 +64,101 @@ XpbdModel::XpbdModel(const Problem& problem, const XpbdSettings& s) : problem_(p
   v_.assign(x_.size(), Vec3::Zero());
   x_prev_ = x_;
   p_ = x_;
+  f_constraint_.assign(x_.size(), Vec3::Zero());
   inv_mass_.resize(x_.size());
   for (Index i = 0; i < n; ++i) inv_mass_[i] = problem.constrained()[i] ? 0.0 : 1.0 / disc.masses()[i];
+  prescribed_ = problem.constrained();
+  released_.assign(problem.regions().size(), 0);
+  parallel_ = n >= kParallelMinNodes;
 
+  // Whole steps per output interval, so output times are exact; then n_sub substeps per step.
+  const long long per_output = static_cast<long long>(std::ceil(s.output_interval_s / s.step_s - 1e-9));
+  step_ = s.output_interval_s / static_cast<double>(per_output);
+  h_ = step_ / s.substeps;
+  inv_h2_ = 1.0 / (h_ * h_);
+  num_steps_ = static_cast<int>(std::ceil(s.duration_s / s.output_interval_s - 1e-9));
+
+  if (s.elastic == XpbdElastic::MeshlessStrain)
+    setup_meshless();
+  else
+    setup_tets();
+  if (s.stretch_modulus_pa > 0.0) setup_edges();
+  if (s.energy_modulus_pa > 0.0) setup_barycentre();
+  spdlog::info("xpbd: {} elastic constraints in {} colours; step {:.4g} s = {} substeps of {:.4g} s, {} "
+               "iteration(s); {} steps per output, {} outputs",
+               s.elastic == XpbdElastic::MeshlessStrain ? "meshless strain" : "tet neo-Hookean", num_colours(), step_,
+               s.substeps, h_, s.iterations, per_output, num_steps_);
+}
+
+void XpbdModel::setup_meshless() {
+  const Discretization& disc = problem_.discretization();
+  const PointPrimitiveEnergy& energy = problem_.energy();
+  if (energy.options().volume_stiffness_pa > 0.0)
+    throw InputError("xpbd: the meshless strain constraint does not include the volume term k_v; set "
+                     "energy.volume_stiffness_pa = 0 or use the explicit/quasi_static model");
+  lame_lambda_ = energy.strain_lambda();
+  shear_modulus_ = energy.shear_modulus();
+  if (!(shear_modulus_ > 0.0 && lame_lambda_ >= 0.0))
+    throw InputError(fmt::format("xpbd: the meshless strain constraint needs mu > 0 and lambda >= 0 (got lambda = "
+                                 "{:.4g} Pa, mu = {:.4g} Pa; Poisson ratio must be in [0, 0.5))",
+                                 lame_lambda_, shear_modulus_));
+  // The literal strain eps = F^T F - I = 2E with the same C^ is the constraint 2 Mandel(E).
+  strain_scale_ = energy.options().strain == StrainMeasure::MuellerNoHalf ? 2.0 : 1.0;
+  stabilise_ = energy.options().stabilizer_alpha > 0.0;
+
+  const Index n = disc.num_nodes();
+  const PairTable& P = disc.pairs();
+  std::vector<Index> start{0}, nodes;
+  nodes.reserve(P.col.size() + n);
+  for (Index i = 0; i < n; ++i) {
+    nodes.push_back(i);
+    nodes.insert(nodes.end(), P.col.begin() + P.row_start[i], P.col.begin() + P.row_start[i + 1]);
+    start.push_back(static_cast<Index>(nodes.size()));
+  }
+  update_node_weights();
+  node_lambda_.assign(6 * static_cast<std::size_t>(n), 0.0);
+  if (stabilise_) pair_lambda_.assign(3 * P.col.size(), 0.0);
+  elastic_colours_ = colour_stencils(start, nodes, n);
+}
+
+void XpbdModel::update_node_weights() {
+  if (settings_.elastic != XpbdElastic::MeshlessStrain) return;
+  const Discretization& disc = problem_.discretization();
+  const Index n = disc.num_nodes();
+  const PairTable& P = disc.pairs();
+  weighted_d_.resize(n);
+  node_active_.resize(n);
+  for (Index i = 0; i < n; ++i) {
+    Mat3 D = inv_mass_[i] * disc.self_d()[i] * disc.self_d()[i].transpose();
+    bool active = inv_mass_[i] > 0.0;
+    for (Index e = P.row_start[i]; e < P.row_start[i + 1]; ++e) {
+      D.noalias() += inv_mass_[P.col[e]] * P.d[e] * P.d[e].transpose();
+      active = active || inv_mass_[P.col[e]] > 0.0;
+    }
+    weighted_d_[i] = D;
+    node_active_[i] = active ? 1 : 0;
+  }
+}
+
+void XpbdModel::apply_releases(double t) {
+  bool changed = false;
+  const auto& regions = problem_.regions();
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    if (released_[r] || !(regions[r].release_time_s <= t + 1e-12 * step_)) continue;
+    released_[r] = 1;
+    changed = true;
+    // The nodes keep the velocity of their last prescribed motion (v was updated for all nodes).
+    for (Index i : regions[r].nodes) {
+      prescribed_[i] = 0;
+      inv_mass_[i] = 1.0 / problem_.discretization().masses()[i];
+    }
+    spdlog::info("xpbd: region '{}' released at t = {:.6g} s", regions[r].name, t);
+  }
+  if (changed) update_node_weights();
+}
+
+void XpbdModel::setup_tets() {
+  const Discretization& disc = problem_.discretization();
   // Lame reparametrisation: the linearisation of lambda'/2 (J - 1 - mu/lambda')^2 + mu/2 tr F^T F at F = I
   // is mu |eps|^2 + (lambda' - mu)/2 (tr eps)^2, so lambda' = lambda + mu reproduces linear elasticity
   // (and the P1 tet stiffness, model/tet_stiffness.hpp) at small strain [derived; the XPBD steady state
@@ -97,32 +182,117 @@ XpbdModel::XpbdModel(const Problem& problem, const XpbdSettings& s) : problem_(p
     alpha_h_[t] = constraints::tet_hydrostatic_compliance(lame_lambda_, rest.volume);
     alpha_d_[t] = constraints::tet_deviatoric_compliance(shear_modulus_, rest.volume);
   }
-  lambda_.assign(2 * tets.size(), 0.0);
-  colour_tets(tets, n, colour_order_, colour_start_);
-
-  // Whole steps per output interval, so output times are exact; then n_sub substeps per step.
-  const long long per_output = static_cast<long long>(std::ceil(s.output_interval_s / s.step_s - 1e-9));
-  step_ = s.output_interval_s / static_cast<double>(per_output);
-  h_ = step_ / s.substeps;
-  num_steps_ = static_cast<int>(std::ceil(s.duration_s / s.output_interval_s - 1e-9));
+  tet_lambda_.assign(2 * tets.size(), 0.0);
+  if (tet_colours_.num_colours() == 0) tet_colours_ = colour(tets, disc.num_nodes());
+  elastic_colours_ = tet_colours_;
   // Shear enters the (C_H, C_D) pair only through the curvature of C_D = |F| (at F = I the two gradients
   // are parallel, so the Gauss-Newton system has no shear stiffness): shear is integrated explicitly and
   // an unloaded body leaves its rest state once h exceeds ~0.6-0.9 Delta_min / c_s (measured on the
   // cantilever, 207 nodes, and the vein, 22914 nodes; tests/test_xpbd_model.cpp). Warn above half of it.
   const double c_s = std::sqrt(shear_modulus_ / disc.material().density_kg_m3);
   h_shear_limit_ = 0.5 * disc.min_spacing() / c_s;
-  spdlog::info("xpbd: {} tets in {} colours; step {:.4g} s = {} substeps of {:.4g} s, {} iteration(s); "
-               "{} steps per output, {} outputs",
-               tets.size(), num_colours(), step_, s.substeps, h_, s.iterations, per_output, num_steps_);
   if (h_ > h_shear_limit_)
     spdlog::warn("xpbd: substep {:.3g} s exceeds the shear stability estimate 0.5 Delta_min / c_s = {:.3g} s "
                  "(the tet neo-Hookean pair integrates shear explicitly); use substeps >= {} per {:.3g} s step",
                  h_, h_shear_limit_, static_cast<long long>(std::ceil(step_ / h_shear_limit_)), step_);
 }
 
+void XpbdModel::setup_edges() {
+  const Discretization& disc = problem_.discretization();
+  edges_ = tet_edges(disc.tets());
+  edge_rest_.resize(edges_.size());
+  edge_compliance_.resize(edges_.size());
+  for (std::size_t e = 0; e < edges_.size(); ++e) {
+    edge_rest_[e] = (x_[edges_[e][0]] - x_[edges_[e][1]]).norm();
+    edge_compliance_[e] = 1.0 / (settings_.stretch_modulus_pa * edge_rest_[e]);  // k_e = E_s l0, N/m
+  }
+  edge_lambda_.assign(edges_.size(), 0.0);
+  edge_colours_ = colour(edges_, disc.num_nodes());
+}
+
+void XpbdModel::setup_barycentre() {
+  const Discretization& disc = problem_.discretization();
+  const auto& tets = disc.tets();
+  bary_rest_.resize(tets.size());
+  bary_compliance_.resize(tets.size());
+  for (std::size_t t = 0; t < tets.size(); ++t) {
+    constraints::TetPositions X;
+    constraints::TetMasses m;
+    for (int a = 0; a < 4; ++a) {
+      X[a] = x_[tets[t][a]];
+      m[a] = disc.masses()[tets[t][a]];
+    }
+    const auto springs = constraints::barycentre_springs(X, m, settings_.energy_modulus_pa);
+    bary_rest_[t] = springs.rest_distances;
+    bary_compliance_[t] = 1.0 / springs.stiffness;
+  }
+  bary_lambda_.assign(4 * tets.size(), 0.0);
+  if (tet_colours_.num_colours() == 0) tet_colours_ = colour(tets, disc.num_nodes());
+}
+
 double XpbdModel::load_factor_at(double t) const {
   if (settings_.ramp_time_s <= 0.0) return 1.0;
   return std::min(t / settings_.ramp_time_s, 1.0);
+}
+
+void XpbdModel::project_node(Index i) {
+  if (!node_active_[i]) return;
+  const Discretization& disc = problem_.discretization();
+  const PairTable& P = disc.pairs();
+  const Index begin = P.row_start[i], end = P.row_start[i + 1];
+  const Vec3& d_self = disc.self_d()[i];
+  // Strain block: c = s Mandel(E), E = 1/2 (F^T F - I), F = sum_j (p_j - p_i) d_ij^T (MODEL.md 1.6).
+  Mat3 F = Mat3::Zero();
+  for (Index e = begin; e < end; ++e) F.noalias() += (p_[P.col[e]] - p_[i]) * P.d[e].transpose();
+  const Mat3 C = F.transpose() * F;
+  const Vec6 c = strain_scale_ * constraints::mandel(0.5 * (C - Mat3::Identity()));
+  // alpha~ = (V C^)^{-1} / h^2 = (I - beta e e^T) / (2 mu V h^2), beta = lambda / (3 lambda + 2 mu).
+  const double a0 = inv_h2_ / (2.0 * shear_modulus_ * disc.volumes()[i]);
+  const double beta = lame_lambda_ / (3.0 * lame_lambda_ + 2.0 * shear_modulus_);
+  Mat6 A = (strain_scale_ * strain_scale_) * constraints::meshless_strain_block(C, weighted_d_[i]);
+  A.diagonal().array() += a0;
+  A.topLeftCorner<3, 3>().array() -= a0 * beta;
+  Eigen::Map<Vec6> lambda(node_lambda_.data() + 6 * static_cast<std::size_t>(i));
+  Vec6 alpha_lambda = a0 * lambda;
+  alpha_lambda.head<3>().array() -= a0 * beta * lambda.head<3>().sum();
+  const Vec6 dlambda = A.llt().solve(-c - alpha_lambda);
+  lambda += dlambda;
+  // Delta p_k = w_k J_k^T Delta lambda = w_k G d_k with G = s F L(Delta lambda); force G d_k / h^2.
+  const Mat3 G = strain_scale_ * F * constraints::unmandel(dlambda);
+  {
+    const Vec3 g = G * d_self;
+    p_[i] += inv_mass_[i] * g;
+    f_constraint_[i] += inv_h2_ * g;
+  }
+  for (Index e = begin; e < end; ++e) {
+    const Index j = P.col[e];
+    const Vec3 g = G * P.d[e];
+    p_[j] += inv_mass_[j] * g;
+    f_constraint_[j] += inv_h2_ * g;
+  }
+  if (!stabilise_) return;
+  // Stabiliser (MODEL.md 1.9b): U_i = c_i/2 sum_j w_ij |r_ij|^2, r_ij = p_j - p_i - F_i X_ij. F_i is the
+  // weighted least-squares fit of the neighbourhood, so dU_i/dF_i = (sum_j w_ij r_ij X_ij^T) A_i^{-1} = 0 and
+  // the gradients with F_i frozen are exact: each pair is a 3-vector constraint with grad_j = I,
+  // grad_i = -I and compliance 1/(c_i w_ij).
+  // F after the strain correction without a second gather: Delta F = sum_k Delta p_k d_k^T = G D_i.
+  F.noalias() += G * weighted_d_[i];
+  const Vec3Array& X = disc.rest_positions();
+  const double ci = problem_.energy().stabilizer_coefficients()[i];
+  for (Index e = begin; e < end; ++e) {
+    const Index j = P.col[e];
+    const double w_sum = inv_mass_[i] + inv_mass_[j];
+    if (w_sum == 0.0) continue;
+    const Vec3 r = (p_[j] - p_[i]) - F * (X[j] - X[i]);
+    const double alpha = inv_h2_ / (ci * P.w[e]);
+    Eigen::Map<Vec3> lam(pair_lambda_.data() + 3 * static_cast<std::size_t>(e));
+    const Vec3 dl = (-r - alpha * lam) / (w_sum + alpha);
+    lam += dl;
+    p_[j] += inv_mass_[j] * dl;
+    p_[i] -= inv_mass_[i] * dl;
+    f_constraint_[j] += inv_h2_ * dl;
+    f_constraint_[i] -= inv_h2_ * dl;
+  }
 }
 
 void XpbdModel::project_tet(Index t) {
@@ -145,16 +315,15 @@ void XpbdModel::project_tet(Index t) {
   // (the gradients are parallel at rest and the alpha~ terms balance exactly).
   const auto ch = constraints::tet_hydrostatic_constraint(x, dm_inv_[t], lame_lambda_, shear_modulus_);
   const auto cd = constraints::tet_deviatoric_constraint(x, dm_inv_[t]);
-  const double inv_h2 = 1.0 / (h_ * h_);
-  const double ah = alpha_h_[t] * inv_h2, ad = alpha_d_[t] * inv_h2;
+  const double ah = alpha_h_[t] * inv_h2_, ad = alpha_d_[t] * inv_h2_;
   double hh = 0.0, hd = 0.0, dd = 0.0;
   for (int a = 0; a < 4; ++a) {
     hh += w[a] * ch.grad[a].squaredNorm();
     hd += w[a] * ch.grad[a].dot(cd.grad[a]);
     dd += w[a] * cd.grad[a].squaredNorm();
   }
-  double& lh = lambda_[2 * static_cast<std::size_t>(t)];
-  double& ld = lambda_[2 * static_cast<std::size_t>(t) + 1];
+  double& lh = tet_lambda_[2 * static_cast<std::size_t>(t)];
+  double& ld = tet_lambda_[2 * static_cast<std::size_t>(t) + 1];
   const double a11 = hh + ah, a12 = hd, a22 = dd + ad;
   const double det = a11 * a22 - a12 * a12;
   if (!(det > constraints::kDenominatorEpsilon * (a11 * a22 + constraints::kDenominatorEpsilon))) return;
@@ -162,18 +331,74 @@ void XpbdModel::project_tet(Index t) {
   const double dlh = (a22 * b1 - a12 * b2) / det, dld = (a11 * b2 - a12 * b1) / det;
   lh += dlh;
   ld += dld;
-  for (int a = 0; a < 4; ++a) p_[tet[a]] = x[a] + w[a] * (dlh * ch.grad[a] + dld * cd.grad[a]);
+  for (int a = 0; a < 4; ++a) {
+    const Vec3 g = dlh * ch.grad[a] + dld * cd.grad[a];
+    p_[tet[a]] = x[a] + w[a] * g;
+    f_constraint_[tet[a]] += inv_h2_ * g;
+  }
+}
+
+void XpbdModel::project_edge(Index e) {
+  const auto [a, b] = edges_[e];
+  const auto c = constraints::distance_constraint(p_[a], p_[b], edge_rest_[e]);
+  const std::array<double, 2> w{inv_mass_[a], inv_mass_[b]};
+  constraints::XpbdParameters par;
+  par.compliance = edge_compliance_[e];
+  par.dt = h_;
+  std::array<Vec3, 2> dp;
+  const double dl = constraints::xpbd_project(c, w, {}, par, edge_lambda_[e], dp);
+  p_[a] += dp[0];
+  p_[b] += dp[1];
+  f_constraint_[a] += (dl * inv_h2_) * c.grad[0];
+  f_constraint_[b] += (dl * inv_h2_) * c.grad[1];
+}
+
+void XpbdModel::project_barycentre(Index t) {
+  const Discretization& disc = problem_.discretization();
+  const Tet& tet = disc.tets()[t];
+  constraints::TetMasses m;
+  std::array<double, 4> w;
+  for (int a = 0; a < 4; ++a) {
+    m[a] = disc.masses()[tet[a]];
+    w[a] = inv_mass_[tet[a]];
+  }
+  constraints::XpbdParameters par;
+  par.compliance = bary_compliance_[t];
+  par.dt = h_;
+  for (int a = 0; a < 4; ++a) {
+    constraints::TetPositions x;
+    for (int b = 0; b < 4; ++b) x[b] = p_[tet[b]];
+    const auto c = constraints::barycentre_spring_constraint(x, m, a, bary_rest_[t][a]);
+    std::array<Vec3, 4> dp;
+    const double dl = constraints::xpbd_project(c, w, {}, par, bary_lambda_[4 * static_cast<std::size_t>(t) + a], dp);
+    for (int b = 0; b < 4; ++b) {
+      p_[tet[b]] += dp[b];
+      f_constraint_[tet[b]] += (dl * inv_h2_) * c.grad[b];
+    }
+  }
+}
+
+template <class Project>
+void XpbdModel::sweep(const Colouring& colours, Project&& project) {
+  // One parallel region per sweep, a barrier per colour (the implicit one of `omp for`).
+#pragma omp parallel if (parallel_)
+  for (int c = 0; c < colours.num_colours(); ++c) {
+    const Index begin = colours.start[c], end = colours.start[c + 1];
+#pragma omp for schedule(static)
+    for (Index k = begin; k < end; ++k) project(colours.order[k]);
+  }
 }
 
 void XpbdModel::substep(double s_next) {
   const Index n = static_cast<Index>(x_.size());
   const auto& m = problem_.discretization().masses();
-  const auto& fixed = problem_.constrained();
+  const auto& fixed = prescribed_;
   const double h = h_;
   problem_.external_forces(s_next, f_ext_);
-#pragma omp parallel for schedule(static) if (n >= kParallelThreshold)
+#pragma omp parallel for schedule(static) if (parallel_)
   for (Index i = 0; i < n; ++i) {
     x_prev_[i] = x_[i];
+    f_constraint_[i].setZero();
     if (fixed[i]) {
       p_[i] = problem_.prescribed_position(i, s_next);
     } else {
@@ -181,16 +406,19 @@ void XpbdModel::substep(double s_next) {
       p_[i] = x_[i] + h * v_[i];
     }
   }
-  std::fill(lambda_.begin(), lambda_.end(), 0.0);  // once per substep (XPBD: once per solve)
-  const Index num_colours = static_cast<Index>(colour_start_.size()) - 1;
-  for (int it = 0; it < settings_.iterations; ++it)
-    for (Index c = 0; c < num_colours; ++c) {
-      const Index begin = colour_start_[c], end = colour_start_[c + 1];
-#pragma omp parallel for schedule(static) if (end - begin >= kParallelThreshold)
-      for (Index k = begin; k < end; ++k) project_tet(colour_order_[k]);
-    }
+  // Multipliers reset once per substep (XPBD: once per solve, never per iteration).
+  for (auto* l : {&node_lambda_, &pair_lambda_, &tet_lambda_, &edge_lambda_, &bary_lambda_})
+    std::fill(l->begin(), l->end(), 0.0);
+  for (int it = 0; it < settings_.iterations; ++it) {
+    if (settings_.elastic == XpbdElastic::MeshlessStrain)
+      sweep(elastic_colours_, [this](Index i) { project_node(i); });
+    else
+      sweep(elastic_colours_, [this](Index t) { project_tet(t); });
+    if (!edges_.empty()) sweep(edge_colours_, [this](Index e) { project_edge(e); });
+    if (!bary_rest_.empty()) sweep(tet_colours_, [this](Index t) { project_barycentre(t); });
+  }
   const double decay = std::exp(-settings_.damping_per_s * h);
-#pragma omp parallel for schedule(static) if (n >= kParallelThreshold)
+#pragma omp parallel for schedule(static) if (parallel_)
   for (Index i = 0; i < n; ++i) {
     v_[i] = (p_[i] - x_prev_[i]) * (decay / h);
     x_[i] = p_[i];
@@ -202,7 +430,10 @@ StepReport XpbdModel::advance(int k) {
   StepReport r;
   while (t_ < t_end - 0.5 * step_) {
     const double t0 = t_;
-    for (int j = 1; j <= settings_.substeps; ++j) substep(load_factor_at(t0 + j * h_));
+    for (int j = 1; j <= settings_.substeps; ++j) {
+      apply_releases(t0 + (j - 1) * h_);
+      substep(load_factor_at(t0 + j * h_));
+    }
     t_ = t0 + step_;
     r.iterations += settings_.substeps;
   }
@@ -217,19 +448,24 @@ StepReport XpbdModel::advance(int k) {
 }
 
 nlohmann::json XpbdModel::info() const {
-  return {{"model", "xpbd"},
-          {"elastic_constraints", "tet_neo_hookean"},
-          {"step_s", step_},
-          {"substep_s", h_},
-          {"shear_stability_estimate_s", h_shear_limit_},
-          {"substeps_per_step", settings_.substeps},
-          {"iterations", settings_.iterations},
-          {"colours", num_colours()},
-          {"damping_per_s", settings_.damping_per_s},
-          {"substeps", substeps_done_},
-          {"duration_s", settings_.duration_s},
-          {"ramp_time_s", settings_.ramp_time_s},
-          {"output_interval_s", settings_.output_interval_s}};
+  nlohmann::json j = {
+      {"model", "xpbd"},
+      {"elastic_constraints",
+       settings_.elastic == XpbdElastic::MeshlessStrain ? "meshless_strain" : "tet_neo_hookean"},
+      {"step_s", step_},
+      {"substep_s", h_},
+      {"substeps_per_step", settings_.substeps},
+      {"iterations", settings_.iterations},
+      {"colours", num_colours()},
+      {"damping_per_s", settings_.damping_per_s},
+      {"stretch_modulus_pa", settings_.stretch_modulus_pa},
+      {"energy_modulus_pa", settings_.energy_modulus_pa},
+      {"substeps", substeps_done_},
+      {"duration_s", settings_.duration_s},
+      {"ramp_time_s", settings_.ramp_time_s},
+      {"output_interval_s", settings_.output_interval_s}};
+  if (settings_.elastic == XpbdElastic::TetNeoHookean) j["shear_stability_estimate_s"] = h_shear_limit_;
+  return j;
 }
 
 }  // namespace vascsim

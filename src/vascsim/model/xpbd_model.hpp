@@ -1,27 +1,42 @@
 #pragma once
-// `xpbd`: the real-time pipeline of MODEL.md 3.3 (first cut, elastic option (B)). Per step of length
-// step_s, n_sub substeps of length h = step_s / n_sub (Macklin et al. 2019, "Small Steps in Physics
-// Simulation"), each:
+// `xpbd`: the real-time pipeline of MODEL.md 3.3. Per step of length step_s (the haptic tick), n_sub
+// substeps of length h = step_s / n_sub (Macklin et al. 2019, "Small Steps in Physics Simulation"), each:
 //   free nodes:        v <- v + h f_ext/m ;  x_prev <- x ;  p <- x + h v
 //   constrained nodes: p <- prescribed position (w = 0)
 //   lambda <- 0 (once per substep: XPBD semantics, Macklin, Mueller, Chentanez 2016)
-//   n_it times: the stable neo-Hookean pair (C_H, C_D) of every virtual tetrahedron (Macklin & Mueller
-//     2021; constraints/tet_neo_hookean_constraint.hpp), projected Gauss-Seidel in graph-colour order
-//     (tets of one colour share no node and run in parallel)
+//   n_it times, projected Gauss-Seidel in graph-colour order (constraint_colouring.hpp; one colour's
+//   constraints share no node and run in parallel):
+//     elastic constraints, one of
+//       (A) meshless_strain (default): the point-primitive SVK energy of every node as one 6-component
+//           constraint c_i = Mandel(E_i) with compliance (V_i C^)^{-1} (constraints/meshless_strain_constraint.hpp),
+//           solved as a 6x6 block, followed by the zero-energy-mode stabiliser of node i (MODEL.md 1.9b) as
+//           K pair constraints r_ij = x_j - x_i - F_i X_ij with compliance 1/(c_i w_ij). The real-time model is
+//           then the same energy as quasi_static and explicit, so its steady state converges to theirs.
+//       (B) tet_neo_hookean: the stable neo-Hookean pair (C_H, C_D) of every virtual tetrahedron (Macklin &
+//           Mueller 2021), converging to the P1 tet solution instead (see docs/model.md).
+//     optional, with physical compliance: tet-edge stretching constraints (paper Eqs. 13-17, stiffness
+//       k_e = E_s l0) and per-spring barycentre energy constraints (MODEL.md E11, calibrated to a bulk modulus
+//       kappa_e). Both add stiffness on top of the elastic energy; off by default.
 //   v <- (p - x_prev)/h, v <- v exp(-c h) (mass-proportional damping), x <- p.
 // External loads (gravity, region forces) and prescribed displacements scale with the load factor,
-// ramped linearly in time like ExplicitModel. The elastic energy is the tet neo-Hookean energy on the
-// virtual tetrahedra, not the point-primitive energy of quasi_static/explicit (MODEL.md 3.3 (B)); its
-// steady state converges to the P1 tet solution, not to quasi_static's meshless one.
-// Deviations from the textbook pair: (C_H, C_D) are solved as one coupled 2x2 system per tet (sequential
-// projection is not rest-stable), lambda' = lambda + mu (matches linear elasticity at small strain), and
-// shear is only conditionally stable: h must stay below ~0.6 Delta_min / c_s (shear_stability_estimate()).
+// ramped linearly in time like ExplicitModel. A fixed/displacement region with a release time is let go
+// then: its nodes become free and keep the velocity of their prescribed motion.
+//
+// The force every constraint exerted over the last substep, sum_c lambda_c grad C_c / h^2 (N per node,
+// MODEL.md 3.3), is kept per node (constraint_forces()), so supports and tools feel what the solver applied.
 
+#include <array>
 #include <vector>
 
+#include "vascsim/model/constraint_colouring.hpp"
 #include "vascsim/model/model.hpp"
 
 namespace vascsim {
+
+enum class XpbdElastic {
+  MeshlessStrain,  ///< MODEL.md 3.3 (A): the point-primitive energy (default)
+  TetNeoHookean    ///< MODEL.md 3.3 (B): the virtual tetrahedra's neo-Hookean pair
+};
 
 struct XpbdSettings {
   double duration_s = 0.02;         ///< simulated time, s
@@ -31,6 +46,9 @@ struct XpbdSettings {
   int substeps = 8;                 ///< n_sub per step
   int iterations = 1;               ///< n_it Gauss-Seidel sweeps per substep
   double damping_per_s = 10.0;      ///< mass-proportional damping c, 1/s (MODEL.md 3.4: 5-20)
+  XpbdElastic elastic = XpbdElastic::MeshlessStrain;
+  double stretch_modulus_pa = 0.0;  ///< E_s of the tet-edge stretching constraints, k_e = E_s l0 (0: off), Pa
+  double energy_modulus_pa = 0.0;   ///< kappa_e of the per-spring barycentre constraints (0: off), Pa
 };
 
 class XpbdModel final : public Model {
@@ -42,39 +60,69 @@ class XpbdModel final : public Model {
   const Vec3Array& positions() const override { return x_; }
   double load_factor() const override { return s_; }
   nlohmann::json info() const override;
+  /// sum_c lambda_c grad C_c / h^2 per node over the last substep, N (also on prescribed nodes).
+  const Vec3Array* constraint_forces() const override { return &f_constraint_; }
 
   const Vec3Array& velocities() const { return v_; }
-  /// Multipliers accumulated over the last substep, two per tet: [2T] = C_H, [2T+1] = C_D (kg m^2 for a
-  /// dimensionless C; lambda/h^2 is the generalised constraint force).
-  const std::vector<double>& multipliers() const { return lambda_; }
   double substep_length() const { return h_; }
-  /// 0.5 Delta_min / c_s: above it the substep risks the shear instability (see the .cpp), s.
+  /// Tet option only: 0.5 Delta_min / c_s, above which the substep risks the shear instability, s.
   double shear_stability_estimate() const { return h_shear_limit_; }
-  int num_colours() const { return static_cast<int>(colour_start_.size()) - 1; }
+  /// Colours of the elastic constraints (nodes for (A), tets for (B)).
+  int num_colours() const { return elastic_colours_.num_colours(); }
+  const Colouring& elastic_colouring() const { return elastic_colours_; }
   /// One substep to load factor s_next (public for tests and experiments).
   void substep(double s_next);
 
  private:
   double load_factor_at(double t) const;
-  void project_tet(Index t);
+  void setup_meshless();
+  void update_node_weights();      // D_i and node_active_ from the current inverse masses
+  void apply_releases(double t);   // frees the nodes of regions whose release time has come
+  void setup_tets();
+  void setup_edges();
+  void setup_barycentre();
+  void project_node(Index i);       // (A) strain block + stabiliser pairs of node i
+  void project_tet(Index t);        // (B)
+  void project_edge(Index e);       // stretching
+  void project_barycentre(Index t);  // four per-spring barycentre constraints of tet t
+  template <class Project>
+  void sweep(const Colouring& colours, Project&& project);
 
   const Problem& problem_;
   XpbdSettings settings_;
-  double step_ = 0.0, h_ = 0.0, h_shear_limit_ = 0.0;
+  double step_ = 0.0, h_ = 0.0, inv_h2_ = 0.0, h_shear_limit_ = 0.0;
   int num_steps_ = 0;
   long long substeps_done_ = 0;
   double t_ = 0.0, s_ = 0.0;
-  double lame_lambda_ = 0.0;  ///< lambda' = lambda + mu of the hydrostatic constraint, Pa
-  double shear_modulus_ = 0.0;
+  double lame_lambda_ = 0.0, shear_modulus_ = 0.0;
+  bool parallel_ = false;
 
-  Vec3Array x_, v_, x_prev_, p_, f_ext_;
+  Vec3Array x_, v_, x_prev_, p_, f_ext_, f_constraint_;
   std::vector<double> inv_mass_;
-  // Per tet: rest D_m^{-1}, compliances (1/J).
+  std::vector<char> prescribed_, released_;  // per node; per region
+  Colouring elastic_colours_;
+
+  // (A) meshless strain: per node D_i = sum_k w_k d_ik d_ik^T (1/(kg m^2)), multipliers (6 per node),
+  // strain scale (1: Green strain, 2: the literal eps = F^T F - I), stabiliser multipliers (3 per pair).
+  std::vector<Mat3> weighted_d_;
+  std::vector<char> node_active_;  // false when the whole stencil is prescribed
+  std::vector<double> node_lambda_, pair_lambda_;
+  double strain_scale_ = 1.0;
+  bool stabilise_ = false;
+
+  // (B) tets: rest D_m^{-1}, compliances (1/J), multipliers (C_H, C_D).
   std::vector<Mat3> dm_inv_;
-  std::vector<double> alpha_h_, alpha_d_;
-  std::vector<double> lambda_;
-  // Tets sorted by colour: colour c holds colour_order_[colour_start_[c] .. colour_start_[c+1]).
-  std::vector<Index> colour_order_, colour_start_;
+  std::vector<double> alpha_h_, alpha_d_, tet_lambda_;
+
+  // Stretching constraints on the tet edges.
+  std::vector<std::array<Index, 2>> edges_;
+  std::vector<double> edge_rest_, edge_compliance_, edge_lambda_;
+  Colouring edge_colours_;
+
+  // Per-spring barycentre constraints (4 per tet).
+  std::vector<std::array<double, 4>> bary_rest_;
+  std::vector<double> bary_compliance_, bary_lambda_;
+  Colouring tet_colours_;
 };
 
 }  // namespace vascsim

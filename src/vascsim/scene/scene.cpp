@@ -139,6 +139,11 @@ RegionSpec read_region(JsonReader r) {
       reg.magnitude = bc.required_number(mkey, -kBig, kBig);
     }
   }
+  if (bc.has("release_time_s")) {
+    if (reg.bc != RegionBcType::Fixed && reg.bc != RegionBcType::Displacement)
+      bc.fail("release_time_s", "only a fixed or displacement region can be released");
+    reg.release_time_s = bc.required_number("release_time_s", 0.0, 1e4);
+  }
   bc.finish();
   if (!is_disp && !is_force) read_direction(r, "direction", reg);
   r.finish();
@@ -148,7 +153,7 @@ RegionSpec read_region(JsonReader r) {
 }  // namespace
 
 const std::vector<std::string>& model_names() {
-  static const std::vector<std::string> names = {"quasi_static", "explicit", "xpbd"};
+  static const std::vector<std::string> names = {"quasi_static", "explicit", "xpbd", "paper_literal"};
   return names;
 }
 
@@ -286,7 +291,27 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   sc.xpbd.substeps = xp.integer("substeps", 8, 1, 10000);
   sc.xpbd.iterations = xp.integer("iterations", 1, 1, 1000);
   sc.xpbd.damping_per_s = xp.number("damping_per_s", 10.0, 0.0, 1e6);
+  sc.xpbd.elastic = xp.string("elastic", "meshless_strain", {"meshless_strain", "tet_neo_hookean"}) == "meshless_strain"
+                        ? XpbdElastic::MeshlessStrain
+                        : XpbdElastic::TetNeoHookean;
+  sc.xpbd.stretch_modulus_pa = xp.number("stretch_modulus_pa", 0.0, 0.0, 1e12);
+  sc.xpbd.energy_modulus_pa = xp.number("energy_modulus_pa", 0.0, 0.0, 1e12);
   xp.finish();
+
+  JsonReader pl = root.object("paper_literal");
+  const PaperLiteralSettings pl_default;  // the defaults live in one place (paper_literal_model.hpp)
+  sc.paper_literal.duration_s = pl.number("duration_s", pl_default.duration_s, 1e-9, 1e4);
+  sc.paper_literal.ramp_time_s = pl.number("ramp_time_s", pl_default.ramp_time_s, 0.0, 1e4);
+  sc.paper_literal.output_interval_s = pl.number("output_interval_s", pl_default.output_interval_s, 1e-9, 1e4);
+  sc.paper_literal.step_s = pl.number("step_s", pl_default.step_s, 1e-9, 1.0);
+  sc.paper_literal.iterations = pl.integer("iterations", pl_default.iterations, 1, 1000);
+  sc.paper_literal.stretch_stiffness = pl.number("stretch_stiffness", pl_default.stretch_stiffness, 0.0, 1.0);
+  sc.paper_literal.energy_stiffness = pl.number("energy_stiffness", pl_default.energy_stiffness, 0.0, 1.0);
+  sc.paper_literal.stretch_pairs =
+      pl.string("stretch_pairs", "tet_edges", {"tet_edges", "neighbours"}) == "tet_edges" ? StretchPairs::TetEdges
+                                                                                           : StretchPairs::Neighbours;
+  sc.paper_literal.damping_per_s = pl.number("damping_per_s", pl_default.damping_per_s, 0.0, 1e6);
+  pl.finish();
 
   JsonReader ref = root.object("reference");
   sc.reference.type = ref.string("type", "", {"timoshenko_cantilever"});

@@ -4,12 +4,14 @@
 // is checked exactly like a key in the file.
 
 #include <nlohmann/json.hpp>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "vascsim/geometry/generators.hpp"
 #include "vascsim/model/discretization.hpp"
 #include "vascsim/model/explicit_model.hpp"
+#include "vascsim/model/paper_literal_model.hpp"
 #include "vascsim/model/point_primitive_energy.hpp"
 #include "vascsim/model/quasi_static_model.hpp"
 #include "vascsim/model/xpbd_model.hpp"
@@ -44,6 +46,7 @@ struct RegionSpec {
   bool direction_inward = false;  ///< direction "inward": minus the radial unit vector at the patch centre
   double magnitude = 0.0;
   bool has_vector = false;
+  double release_time_s = std::numeric_limits<double>::infinity();  ///< fixed/displacement: let go at this time
 };
 
 struct PointProbeSpec {
@@ -77,6 +80,7 @@ struct Scene {
   ExplicitSettings explicit_settings;
   QuasiStaticSettings quasi_static;
   XpbdSettings xpbd;
+  PaperLiteralSettings paper_literal;
   ReferenceSpec reference;
   OutputSpec output;
   nlohmann::json resolved;  ///< the JSON after overrides (for summary.json)

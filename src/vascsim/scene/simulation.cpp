@@ -77,6 +77,11 @@ std::vector<Region> build_regions(const Scene& scene, const Discretization& disc
       dir = -Vec3(std::cos(th), std::sin(th), 0.0);
     }
     r.direction = dir;
+    r.release_time_s = rs.release_time_s;
+    if (std::isfinite(r.release_time_s) && scene.model != "xpbd")
+      throw InputError(fmt::format("{}: key 'regions.{}.bc.release_time_s': releasing a region is supported by the "
+                                   "xpbd model only (model is '{}')",
+                                   scene.file, &rs - scene.regions.data(), scene.model));
     const Vec3 vec = rs.has_vector ? rs.vector : Vec3(rs.magnitude * dir);
     if (r.bc == RegionBcType::Displacement) r.displacement_m = vec;
     if (r.bc == RegionBcType::Force) {
@@ -128,7 +133,8 @@ void Simulation::build() {
     }
     probe_nodes_.push_back(best);
   }
-  model_ = make_model(scene.model, *problem_, ModelSettings{scene.explicit_settings, scene.quasi_static, scene.xpbd});
+  model_ = make_model(scene.model, *problem_,
+                      ModelSettings{scene.explicit_settings, scene.quasi_static, scene.xpbd, scene.paper_literal});
   setup_s_ = seconds_since(t0);
 }
 
@@ -138,7 +144,10 @@ StepRecord Simulation::measure(int step, const StepReport& report) const {
   rec.report = report;
   const Vec3Array& x = model_->positions();
   Vec3Array f_int, f_ext;
-  energy_->forces(x, f_int);
+  if (const Vec3Array* fc = model_->constraint_forces(); fc && step > 0)
+    f_int = *fc;
+  else
+    energy_->forces(x, f_int);
   problem_->external_forces(report.load_factor, f_ext);
   rec.regions = problem_->measure(report.load_factor, x, f_int, f_ext);
   for (std::size_t p = 0; p < probe_nodes_.size(); ++p) {

@@ -8,7 +8,8 @@ OUT       ?= out/vein-indent
 PYTHON    ?= /usr/bin/python3
 JOBS      ?= $(shell nproc)
 
-.PHONY: deps build run test test-release test-sanitize bench bench-realtime cantilever-table format clean
+.PHONY: deps build run test test-release test-sanitize bench bench-realtime compare-models xpbd-convergence \
+  cantilever-table format clean
 
 deps:
 	@scripts/install-deps.sh
@@ -41,6 +42,17 @@ bench: build
 # run it on an otherwise idle machine).
 bench-realtime: build
 	$(BUILD_DIR)/vascsim bench scenes/vein-indent.json --out out/bench/realtime.json --out out/bench/realtime.csv
+
+# vein-indent with quasi_static, explicit, xpbd and paper_literal on one force-displacement figure
+# (docs/validation.md; about 25 minutes on 2 cores).
+compare-models: build
+	$(PYTHON) scripts/compare_models.py --vascsim $(BUILD_DIR)/vascsim --out out/compare-models
+
+# docs/validation.md's xpbd-vs-quasi_static table on the cantilever (a few minutes).
+xpbd-convergence: build
+	$(PYTHON) scripts/xpbd_convergence.py --vascsim $(BUILD_DIR)/vascsim --scene scenes/cantilever.json \
+	  --configs 1x1,2x1,4x1,8x1,16x1,32x1,1x8,2x4,4x2,8x2,8x4,8x8 --duration 0.6 --ramp 0.1 --damping 60 \
+	  --output-interval 0.05 --force-region clamp --displacement-region tip --out out/xpbd-convergence/cantilever
 
 # docs/validation.md's cantilever convergence table (MODEL.md T9).
 cantilever-table: build

@@ -238,7 +238,7 @@ TEST(XpbdModel, SelectableByNameAndValidated) {
   plain.erase("xpbd");
   const Scene def = parse_scene(plain, "s.json");
   EXPECT_EQ(def.xpbd.substeps, 8);
-  EXPECT_EQ(def.xpbd.iterations, 1);
+  EXPECT_EQ(def.xpbd.iterations, 2);
   EXPECT_DOUBLE_EQ(def.xpbd.step_s, 1e-3);
 
   // Validation: ranges and unknown keys name the key.

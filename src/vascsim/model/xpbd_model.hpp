@@ -44,7 +44,7 @@ struct XpbdSettings {
   double output_interval_s = 1e-3;  ///< time between output points, s (rounded to whole steps)
   double step_s = 1e-3;             ///< step (haptic tick), s; split into `substeps`
   int substeps = 8;                 ///< n_sub per step
-  int iterations = 1;               ///< n_it Gauss-Seidel sweeps per substep
+  int iterations = 2;               ///< n_it Gauss-Seidel sweeps per substep (docs/validation.md, xpbd table)
   double damping_per_s = 10.0;      ///< mass-proportional damping c, 1/s (MODEL.md 3.4: 5-20)
   XpbdElastic elastic = XpbdElastic::MeshlessStrain;
   double stretch_modulus_pa = 0.0;  ///< E_s of the tet-edge stretching constraints, k_e = E_s l0 (0: off), Pa

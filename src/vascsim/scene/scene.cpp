@@ -288,8 +288,8 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   sc.xpbd.ramp_time_s = xp.number("ramp_time_s", 0.01, 0.0, 1e4);
   sc.xpbd.output_interval_s = xp.number("output_interval_s", 1e-3, 1e-9, 1e4);
   sc.xpbd.step_s = xp.number("step_s", 1e-3, 1e-9, 1.0);
-  sc.xpbd.substeps = xp.integer("substeps", 8, 1, 10000);
-  sc.xpbd.iterations = xp.integer("iterations", 1, 1, 1000);
+  sc.xpbd.substeps = xp.integer("substeps", XpbdSettings{}.substeps, 1, 10000);
+  sc.xpbd.iterations = xp.integer("iterations", XpbdSettings{}.iterations, 1, 1000);
   sc.xpbd.damping_per_s = xp.number("damping_per_s", 10.0, 0.0, 1e6);
   sc.xpbd.elastic = xp.string("elastic", "meshless_strain", {"meshless_strain", "tet_neo_hookean"}) == "meshless_strain"
                         ? XpbdElastic::MeshlessStrain

@@ -87,7 +87,8 @@ def main():
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.4), dpi=120)
     for ax, log in zip(axes, (False, True)):
         for m, c in curves.items():
-            pts = [(1e3 * d, 1e3 * fo) for d, fo in zip(c["d"], c["f"]) if not log or fo > 0]
+            # The rest state (zero displacement, round-off force) has no place on a log axis.
+            pts = [(1e3 * d, 1e3 * fo) for d, fo in zip(c["d"], c["f"]) if not log or (fo > 0 and d > 0)]
             if not pts:
                 continue
             ax.plot(*zip(*pts), "o-", ms=3, color=COLOURS.get(m), label=f"{m} ({c['wall']:.0f} s)")

@@ -272,3 +272,63 @@ TEST(XpbdMeshless, ReleaseIsValidated) {
 }
 
 }  // namespace
+
+namespace {
+
+// MODEL.md T14 in its quasi-static form: a rigid sphere pressed 1.5 mm into the top of a 10 mm block whose
+// base is fixed. At steady state the force the sphere exerts on the tissue (sum lambda n / h^2) balances
+// the base reaction (1 %: the steady state is reached to ~0.1 %, the rest is MODEL's bound), no node is
+// inside the sphere, and the force pushes along the motion.
+TEST(XpbdMeshless, SphereContactForceBalancesTheSupports) {
+  json doc = json::parse(R"({
+    "name": "xpbd-sphere",
+    "model": "xpbd",
+    "geometry": { "type": "box", "min_m": [0, 0, 0], "max_m": [0.01, 0.01, 0.01], "node_spacing_m": 0.0025 },
+    "material": { "youngs_modulus_pa": 3e5, "poisson_ratio": 0.45, "density_kg_m3": 1060 },
+    "regions": [ { "name": "base", "select": { "type": "box", "max_m": [1, 1, 0] }, "bc": { "type": "fixed" } } ],
+    "obstacles": [ { "name": "ball", "shape": "sphere", "radius_m": 0.004, "centre_m": [0.005, 0.005, 0.014],
+                     "motion_m": [0, 0, -0.0015] } ],
+    "xpbd": { "duration_s": 0.5, "ramp_time_s": 0.05, "output_interval_s": 0.05, "damping_per_s": 60 }
+  })");
+  Simulation sim(parse_scene(doc, "xpbd-sphere (generated)"));
+  StepRecord rec, previous;
+  for (int k = 1; k <= sim.model().num_steps(); ++k) {
+    previous = rec;
+    rec = sim.advance(k);
+  }
+  ASSERT_EQ(rec.obstacles.size(), 1u);
+  const Vec3 tool = rec.obstacles[0].force_n, base = region_force(sim, rec, "base");
+  std::printf("[ xpbd     ] sphere 1.5 mm into a block: tool force on tissue (%.4g, %.4g, %.4g) N, base reaction "
+              "(%.4g, %.4g, %.4g) N\n",
+              tool.x(), tool.y(), tool.z(), base.x(), base.y(), base.z());
+  EXPECT_GT(rec.obstacles[0].force_projected_n, 0.0);  // pushes along its motion
+  EXPECT_NEAR(rec.obstacles[0].displacement_m, 0.0015, 1e-12);
+  EXPECT_LT((tool + base).norm(), 1e-2 * tool.norm());
+  EXPECT_LT(std::abs(rec.obstacles[0].force_projected_n - previous.obstacles[0].force_projected_n),
+            2e-3 * tool.norm());  // steady
+  const Vec3 centre(0.005, 0.005, 0.014 - 0.0015);
+  double deepest = 0.0;
+  for (const auto& x : sim.model().positions()) deepest = std::max(deepest, 0.004 - (x - centre).norm());
+  EXPECT_LT(deepest, 1e-9);  // rigid contact (alpha = 0): projected out exactly at the last iteration
+}
+
+TEST(XpbdMeshless, ObstaclesAreValidated) {
+  json doc = pushed_tube();
+  doc["obstacles"] = json::array({{{"name", "ball"}, {"radius_m", 0.001}, {"centre_m", {0, 0, 0}}}});
+  EXPECT_NO_THROW(parse_scene(doc, "ok.json"));
+  json bad = doc;
+  bad["obstacles"][0]["name"] = "patch";  // a region's name
+  EXPECT_THROW(parse_scene(bad, "b.json"), InputError);
+  bad = doc;
+  bad["obstacles"][0]["radius_m"] = 0.0;
+  EXPECT_THROW(parse_scene(bad, "b.json"), InputError);
+  bad = doc;
+  bad["obstacles"][0]["shape"] = "capsule";  // needs a_m and b_m
+  EXPECT_THROW(parse_scene(bad, "b.json"), InputError);
+  bad = doc;
+  bad["model"] = "explicit";
+  bad["regions"][2]["bc"].erase("release_time_s");
+  EXPECT_THROW(Simulation(parse_scene(bad, "b.json")), InputError);
+}
+
+}  // namespace

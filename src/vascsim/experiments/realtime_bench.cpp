@@ -144,6 +144,7 @@ RealtimeBenchRow time_configuration(const RealtimeBenchOptions& o, const Scene& 
   r.target_nodes = target;
   r.nodes = static_cast<int>(sim.discretization().num_nodes());
   r.node_spacing_m = spacing_m;
+  r.mean_neighbours = sim.discretization().mean_neighbours();
   r.threads = threads;
   r.warmup_steps = o.warmup_steps;
   r.steps = o.steps;
@@ -307,6 +308,7 @@ nlohmann::json realtime_bench_json(const RealtimeBenchReport& report) {
     rows.push_back({{"target_nodes", r.target_nodes},
                     {"nodes", r.nodes},
                     {"node_spacing_m", r.node_spacing_m},
+                    {"mean_neighbours", r.mean_neighbours},
                     {"threads", r.threads},
                     {"substeps", r.substeps},
                     {"iterations", r.iterations ? nlohmann::json(*r.iterations) : nlohmann::json(nullptr)},
@@ -328,13 +330,12 @@ nlohmann::json realtime_bench_json(const RealtimeBenchReport& report) {
 
 std::string realtime_bench_csv(const RealtimeBenchReport& report) {
   std::string s =
-      "target_nodes,nodes,node_spacing_m,threads,substeps,iterations,warmup_steps,steps,median_ms,p10_ms,p90_"
-      "ms,"
-      "mean_ms,max_ms,steps_per_s,realtime_factor,meets_haptic,meets_visual,setup_s\n";
+      "target_nodes,nodes,node_spacing_m,mean_neighbours,threads,substeps,iterations,warmup_steps,steps,median_ms,"
+      "p10_ms,p90_ms,mean_ms,max_ms,steps_per_s,realtime_factor,meets_haptic,meets_visual,setup_s\n";
   for (const auto& r : report.rows)
     s += fmt::format(
-        "{},{},{:.9g},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{},{},{:.4g}\n",
-        r.target_nodes, r.nodes, r.node_spacing_m, r.threads, r.substeps,
+        "{},{},{:.9g},{:.4g},{},{},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{},{},{:.4g}\n",
+        r.target_nodes, r.nodes, r.node_spacing_m, r.mean_neighbours, r.threads, r.substeps,
         r.iterations ? std::to_string(*r.iterations) : "", r.warmup_steps, r.steps, r.median_ms, r.p10_ms,
         r.p90_ms, r.mean_ms, r.max_ms, r.steps_per_s, r.realtime_factor, r.meets_haptic ? "true" : "false",
         r.meets_visual ? "true" : "false", r.setup_s);

@@ -34,6 +34,7 @@ struct RealtimeBenchRow {
   int target_nodes = 0;
   int nodes = 0;
   double node_spacing_m = 0.0;
+  double mean_neighbours = 0.0;  ///< K, the stencil size of the meshless strain constraint minus one
   int threads = 0;
   int substeps = 0;               ///< per 1 ms step
   std::optional<int> iterations;  ///< solver sweeps per substep (xpbd); none for explicit

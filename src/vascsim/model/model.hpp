@@ -39,6 +39,9 @@ class Model {
   /// so a support or a tool feels exactly what the solver applied. nullptr (the default): the caller
   /// evaluates the point-primitive energy's forces at positions() instead (exact for force-based models).
   virtual const Vec3Array* constraint_forces() const { return nullptr; }
+  /// Per rigid obstacle of the scene (in scene order): the force it exerted on the tissue over the last
+  /// substep, N. Empty for models without obstacles.
+  virtual std::vector<Vec3> obstacle_forces() const { return {}; }
 };
 
 }  // namespace vascsim

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "vascsim/constraints/contact_constraint.hpp"
 #include "vascsim/constraints/distance_constraint.hpp"
 #include "vascsim/constraints/energy_constraint.hpp"
 #include "vascsim/constraints/meshless_strain_constraint.hpp"
@@ -34,6 +35,14 @@ std::vector<std::array<Index, 2>> tet_edges(const std::vector<Tet>& tets) {
   std::sort(e.begin(), e.end());
   e.erase(std::unique(e.begin(), e.end()), e.end());
   return e;
+}
+
+// Contact of a point p with obstacle ob at load factor s (the obstacle translated by s * motion).
+constraints::ContactConstraint obstacle_contact(const RigidObstacle& ob, double s, const Vec3& p) {
+  const Vec3 shift = s * ob.motion_m;
+  return ob.shape == RigidObstacle::Shape::Sphere
+             ? constraints::sphere_contact(p, 0.0, {ob.a_m + shift, ob.radius_m})
+             : constraints::capsule_contact(p, 0.0, {ob.a_m + shift, ob.b_m + shift, ob.radius_m});
 }
 
 template <class Stencils>
@@ -82,6 +91,10 @@ XpbdModel::XpbdModel(const Problem& problem, const XpbdSettings& s) : problem_(p
     setup_meshless();
   else
     setup_tets();
+  for (const auto& o : s.obstacles)
+    if (!(o.radius_m > 0.0)) throw InputError(fmt::format("xpbd: obstacle '{}': radius_m must be > 0", o.name));
+  contact_lambda_.assign(x_.size() * s.obstacles.size(), 0.0);
+  obstacle_force_.assign(s.obstacles.size(), Vec3::Zero());
   if (s.stretch_modulus_pa > 0.0) setup_edges();
   if (s.energy_modulus_pa > 0.0) setup_barycentre();
   spdlog::info("xpbd: {} elastic constraints in {} colours; step {:.4g} s = {} substeps of {:.4g} s, {} "
@@ -378,6 +391,27 @@ void XpbdModel::project_barycentre(Index t) {
   }
 }
 
+void XpbdModel::project_contacts(double s) {
+  const Index n = static_cast<Index>(x_.size());
+  const auto& obstacles = settings_.obstacles;
+  const std::size_t no = obstacles.size();
+  // One constraint per (node, obstacle), touching one node only: no colouring needed.
+#pragma omp parallel for schedule(static) if (parallel_)
+  for (Index i = 0; i < n; ++i) {
+    if (inv_mass_[i] == 0.0) continue;
+    for (std::size_t o = 0; o < no; ++o) {
+      const auto c = obstacle_contact(obstacles[o], s, p_[i]);
+      double& lambda = contact_lambda_[static_cast<std::size_t>(i) * no + o];
+      if (!c.active && lambda == 0.0) continue;
+      // Unilateral, rigid (alpha = 0): Delta lambda = -C / w, clamped so that lambda stays >= 0.
+      const double dl = std::max(-c.value / inv_mass_[i], -lambda);
+      lambda += dl;
+      p_[i] += (inv_mass_[i] * dl) * c.normal;
+      f_constraint_[i] += (dl * inv_h2_) * c.normal;
+    }
+  }
+}
+
 template <class Project>
 void XpbdModel::sweep(const Colouring& colours, Project&& project) {
   // One parallel region per sweep, a barrier per colour (the implicit one of `omp for`).
@@ -407,7 +441,7 @@ void XpbdModel::substep(double s_next) {
     }
   }
   // Multipliers reset once per substep (XPBD: once per solve, never per iteration).
-  for (auto* l : {&node_lambda_, &pair_lambda_, &tet_lambda_, &edge_lambda_, &bary_lambda_})
+  for (auto* l : {&node_lambda_, &pair_lambda_, &tet_lambda_, &edge_lambda_, &bary_lambda_, &contact_lambda_})
     std::fill(l->begin(), l->end(), 0.0);
   for (int it = 0; it < settings_.iterations; ++it) {
     if (settings_.elastic == XpbdElastic::MeshlessStrain)
@@ -416,6 +450,20 @@ void XpbdModel::substep(double s_next) {
       sweep(elastic_colours_, [this](Index t) { project_tet(t); });
     if (!edges_.empty()) sweep(edge_colours_, [this](Index e) { project_edge(e); });
     if (!bary_rest_.empty()) sweep(tet_colours_, [this](Index t) { project_barycentre(t); });
+    if (!settings_.obstacles.empty()) project_contacts(s_next);
+  }
+  if (!settings_.obstacles.empty()) {
+    // The force each obstacle exerted on the tissue: sum lambda n / h^2 with the final normals.
+    const std::size_t no = settings_.obstacles.size();
+    for (std::size_t o = 0; o < no; ++o) {
+      Vec3 f = Vec3::Zero();
+      for (Index i = 0; i < n; ++i) {
+        const double lambda = contact_lambda_[static_cast<std::size_t>(i) * no + o];
+        if (lambda == 0.0) continue;
+        f += (lambda * inv_h2_) * obstacle_contact(settings_.obstacles[o], s_next, p_[i]).normal;
+      }
+      obstacle_force_[o] = f;
+    }
   }
   const double decay = std::exp(-settings_.damping_per_s * h);
 #pragma omp parallel for schedule(static) if (parallel_)

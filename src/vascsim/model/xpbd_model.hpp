@@ -26,6 +26,7 @@
 // MODEL.md 3.3), is kept per node (constraint_forces()), so supports and tools feel what the solver applied.
 
 #include <array>
+#include <string>
 #include <vector>
 
 #include "vascsim/model/constraint_colouring.hpp"
@@ -36,6 +37,18 @@ namespace vascsim {
 enum class XpbdElastic {
   MeshlessStrain,  ///< MODEL.md 3.3 (A): the point-primitive energy (default)
   TetNeoHookean    ///< MODEL.md 3.3 (B): the virtual tetrahedra's neo-Hookean pair
+};
+
+/// A rigid body the tissue cannot enter (MODEL.md 3.3 contact), moved with the load factor s: its reference
+/// points are a + s motion (and b + s motion). Nodes are points; contact is one-sided, alpha = 0.
+struct RigidObstacle {
+  enum class Shape { Sphere, Capsule };
+  std::string name;
+  Shape shape = Shape::Sphere;
+  double radius_m = 0.0;
+  Vec3 a_m = Vec3::Zero();       ///< sphere centre, or capsule segment start, at s = 0 (m)
+  Vec3 b_m = Vec3::Zero();       ///< capsule segment end at s = 0 (m); unused for a sphere
+  Vec3 motion_m = Vec3::Zero();  ///< rigid translation at s = 1 (m)
 };
 
 struct XpbdSettings {
@@ -49,6 +62,7 @@ struct XpbdSettings {
   XpbdElastic elastic = XpbdElastic::MeshlessStrain;
   double stretch_modulus_pa = 0.0;  ///< E_s of the tet-edge stretching constraints, k_e = E_s l0 (0: off), Pa
   double energy_modulus_pa = 0.0;   ///< kappa_e of the per-spring barycentre constraints (0: off), Pa
+  std::vector<RigidObstacle> obstacles;  ///< rigid tools in contact with the tissue
 };
 
 class XpbdModel final : public Model {
@@ -62,6 +76,8 @@ class XpbdModel final : public Model {
   nlohmann::json info() const override;
   /// sum_c lambda_c grad C_c / h^2 per node over the last substep, N (also on prescribed nodes).
   const Vec3Array* constraint_forces() const override { return &f_constraint_; }
+  /// Per obstacle: the force it exerted on the tissue over the last substep, sum lambda n / h^2 (N).
+  std::vector<Vec3> obstacle_forces() const override { return obstacle_force_; }
 
   const Vec3Array& velocities() const { return v_; }
   double substep_length() const { return h_; }
@@ -85,6 +101,7 @@ class XpbdModel final : public Model {
   void project_tet(Index t);        // (B)
   void project_edge(Index e);       // stretching
   void project_barycentre(Index t);  // four per-spring barycentre constraints of tet t
+  void project_contacts(double s);   // every node against every obstacle at load factor s
   template <class Project>
   void sweep(const Colouring& colours, Project&& project);
 
@@ -118,6 +135,11 @@ class XpbdModel final : public Model {
   std::vector<std::array<Index, 2>> edges_;
   std::vector<double> edge_rest_, edge_compliance_, edge_lambda_;
   Colouring edge_colours_;
+
+  // Contact: multipliers per (node, obstacle) and the force on every obstacle's tissue side.
+  std::vector<double> contact_lambda_;
+  std::vector<Vec3> obstacle_force_;
+  double substep_load_ = 0.0;
 
   // Per-spring barycentre constraints (4 per tet).
   std::vector<std::array<double, 4>> bary_rest_;

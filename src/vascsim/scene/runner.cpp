@@ -21,6 +21,7 @@ std::string csv_row(const StepRecord& r) {
   std::string s = fmt::format("{},{:.9g},{:.9g}", r.step, r.report.time_s, r.report.load_factor);
   for (const auto& m : r.regions) s += fmt::format(",{:.9g},{:.9g}", clean(m.displacement_m), clean(m.force_projected_n));
   for (double p : r.probes) s += fmt::format(",{:.9g}", clean(p));
+  for (const auto& m : r.obstacles) s += fmt::format(",{:.9g},{:.9g}", clean(m.displacement_m), clean(m.force_projected_n));
   s += fmt::format(",{},{},{:.3g},{}\n", r.report.iterations, r.report.inner_iterations, r.report.residual,
                    r.report.converged ? 1 : 0);
   return s;
@@ -35,6 +36,11 @@ nlohmann::json step_json(const Scene& scene, const StepRecord& r) {
                                                           r.regions[i].force_n.z()}}};
   nlohmann::json probes = nlohmann::json::object();
   for (std::size_t i = 0; i < r.probes.size(); ++i) probes[scene.probes[i].name + "_displacement_m"] = r.probes[i];
+  for (std::size_t i = 0; i < r.obstacles.size(); ++i)
+    regions[scene.xpbd.obstacles[i].name] = {
+        {"displacement_m", r.obstacles[i].displacement_m},
+        {"force_n", r.obstacles[i].force_projected_n},
+        {"force_vector_n", {r.obstacles[i].force_n.x(), r.obstacles[i].force_n.y(), r.obstacles[i].force_n.z()}}};
   return {{"step", r.step},
           {"time_s", r.report.time_s},
           {"load_factor", r.report.load_factor},
@@ -56,6 +62,10 @@ std::vector<std::string> probe_columns(const Scene& scene) {
     c.push_back(r.name + "_force_n");
   }
   for (const auto& p : scene.probes) c.push_back(p.name + "_displacement_m");
+  for (const auto& o : scene.xpbd.obstacles) {
+    c.push_back(o.name + "_displacement_m");
+    c.push_back(o.name + "_force_n");
+  }
   for (const char* s : {"iterations", "inner_iterations", "residual", "converged"}) c.emplace_back(s);
   return c;
 }

@@ -263,6 +263,31 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   }
   sc.gravity_m_s2 = root.vec3("gravity_m_s2", Vec3::Zero());
 
+  for (auto& o : root.array_of_objects("obstacles", false)) {
+    RigidObstacle ob;
+    ob.name = o.required_string("name");
+    if (!is_identifier(ob.name))
+      o.fail("name", fmt::format("'{}' is not allowed; use letters, digits and '_' (it names CSV columns)", ob.name));
+    for (const auto& r : sc.regions)
+      if (r.name == ob.name) o.fail("name", fmt::format("'{}' is already a region name", ob.name));
+    for (const auto& p : sc.probes)
+      if (p.name == ob.name) o.fail("name", fmt::format("'{}' is already a probe name", ob.name));
+    for (const auto& q : sc.xpbd.obstacles)
+      if (q.name == ob.name) o.fail("name", fmt::format("duplicate obstacle name '{}'", ob.name));
+    const std::string shape = o.string("shape", "sphere", {"sphere", "capsule"});
+    ob.shape = shape == "sphere" ? RigidObstacle::Shape::Sphere : RigidObstacle::Shape::Capsule;
+    ob.radius_m = o.required_number("radius_m", 1e-12, 1e3);
+    if (ob.shape == RigidObstacle::Shape::Sphere) {
+      ob.a_m = o.required_vec3("centre_m");
+    } else {
+      ob.a_m = o.required_vec3("a_m");
+      ob.b_m = o.required_vec3("b_m");
+    }
+    ob.motion_m = o.vec3("motion_m", Vec3::Zero());
+    o.finish();
+    sc.xpbd.obstacles.push_back(ob);
+  }
+
   JsonReader qs = root.object("quasi_static");
   sc.quasi_static.load_steps = qs.integer("load_steps", 10, 1, 100000);
   sc.quasi_static.rel_tolerance = qs.number("rel_tolerance", 1e-8, 1e-14, 0.1);

@@ -133,6 +133,10 @@ void Simulation::build() {
     }
     probe_nodes_.push_back(best);
   }
+  if (!scene.xpbd.obstacles.empty() && scene.model != "xpbd")
+    throw InputError(fmt::format("{}: key 'obstacles': rigid obstacles are supported by the xpbd model only (model "
+                                 "is '{}')",
+                                 scene.file, scene.model));
   model_ = make_model(scene.model, *problem_,
                       ModelSettings{scene.explicit_settings, scene.quasi_static, scene.xpbd, scene.paper_literal});
   setup_s_ = seconds_since(t0);
@@ -150,6 +154,16 @@ StepRecord Simulation::measure(int step, const StepReport& report) const {
     energy_->forces(x, f_int);
   problem_->external_forces(report.load_factor, f_ext);
   rec.regions = problem_->measure(report.load_factor, x, f_int, f_ext);
+  const std::vector<Vec3> tool_forces = step > 0 ? model_->obstacle_forces() : std::vector<Vec3>{};
+  for (std::size_t o = 0; o < scene_.xpbd.obstacles.size(); ++o) {
+    const RigidObstacle& ob = scene_.xpbd.obstacles[o];
+    ObstacleMeasure m;
+    const double travel = ob.motion_m.norm();
+    m.displacement_m = report.load_factor * travel;
+    m.force_n = o < tool_forces.size() ? tool_forces[o] : Vec3::Zero();
+    m.force_projected_n = travel > 0.0 ? m.force_n.dot(ob.motion_m / travel) : m.force_n.norm();
+    rec.obstacles.push_back(m);
+  }
   for (std::size_t p = 0; p < probe_nodes_.size(); ++p) {
     const Vec3 u = x[probe_nodes_[p]] - disc_->rest_positions()[probe_nodes_[p]];
     const std::string& c = scene_.probes[p].component;

@@ -11,12 +11,20 @@
 
 namespace vascsim {
 
+/// A rigid obstacle at one output point.
+struct ObstacleMeasure {
+  double displacement_m = 0.0;     ///< s |motion|, m
+  Vec3 force_n = Vec3::Zero();     ///< force the obstacle exerts on the tissue, N
+  double force_projected_n = 0.0;  ///< force_n along the motion (its magnitude for a fixed obstacle), N
+};
+
 /// Everything measured at one output point.
 struct StepRecord {
   int step = 0;  ///< 0 is the rest state
   StepReport report;
   std::vector<RegionMeasure> regions;  ///< in scene order
   std::vector<double> probes;          ///< point probe displacements, m, in scene order
+  std::vector<ObstacleMeasure> obstacles;  ///< in scene order
   double wall_s = 0.0;                 ///< wall-clock time of this step, s
 };
 

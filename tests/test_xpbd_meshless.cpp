@@ -85,12 +85,8 @@ TEST(XpbdMeshless, NodeStencilColouringIsValid) {
   const NodeCloud cloud = test::lattice(6, 0.2);
   const Discretization disc(cloud, test::tissue(3e5));
   const PairTable& P = disc.pairs();
-  std::vector<Index> start{0}, nodes;
-  for (Index i = 0; i < disc.num_nodes(); ++i) {
-    nodes.push_back(i);
-    nodes.insert(nodes.end(), P.col.begin() + P.row_start[i], P.col.begin() + P.row_start[i + 1]);
-    start.push_back(static_cast<Index>(nodes.size()));
-  }
+  std::vector<Index> start, nodes;
+  node_stencils(P, start, nodes);
   Colouring c = colour_stencils(start, nodes, disc.num_nodes());
   EXPECT_TRUE(is_valid_colouring(c, start, nodes, disc.num_nodes()));
   std::printf("[ xpbd     ] %d nodes, mean %.1f neighbours: %d colours\n", static_cast<int>(disc.num_nodes()),

@@ -5,6 +5,17 @@
 
 namespace vascsim {
 
+std::vector<Edge> tet_edges(const std::vector<Tet>& tets) {
+  std::vector<Edge> e;
+  e.reserve(6 * tets.size());
+  for (const Tet& t : tets)
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) e.push_back({std::min(t[a], t[b]), std::max(t[a], t[b])});
+  std::sort(e.begin(), e.end());
+  e.erase(std::unique(e.begin(), e.end()), e.end());
+  return e;
+}
+
 std::vector<Triangle> boundary_faces(const std::vector<Tet>& tets) {
   // Faces opposite each vertex, ordered so that their normal points away from that vertex for a
   // positively oriented tet.

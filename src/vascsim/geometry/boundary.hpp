@@ -11,6 +11,11 @@ namespace vascsim {
 
 using Triangle = std::array<Index, 3>;
 
+using Edge = std::array<Index, 2>;
+
+/// The distinct edges of `tets`, each once as (lo, hi), sorted.
+std::vector<Edge> tet_edges(const std::vector<Tet>& tets);
+
 /// Faces of `tets` not shared by two tets, with outward orientation (#F by 3 node indices).
 std::vector<Triangle> boundary_faces(const std::vector<Tet>& tets);
 

@@ -56,6 +56,18 @@ Colouring colour_stencils(const std::vector<Index>& stencil_start, const std::ve
   return out;
 }
 
+void node_stencils(const PairTable& pairs, std::vector<Index>& stencil_start, std::vector<Index>& nodes) {
+  const Index n = static_cast<Index>(pairs.row_start.size()) - 1;
+  stencil_start.assign(1, 0);
+  nodes.clear();
+  nodes.reserve(pairs.col.size() + static_cast<std::size_t>(n));
+  for (Index i = 0; i < n; ++i) {
+    nodes.push_back(i);
+    nodes.insert(nodes.end(), pairs.col.begin() + pairs.row_start[i], pairs.col.begin() + pairs.row_start[i + 1]);
+    stencil_start.push_back(static_cast<Index>(nodes.size()));
+  }
+}
+
 bool is_valid_colouring(const Colouring& colouring, const std::vector<Index>& stencil_start,
                         const std::vector<Index>& nodes, Index num_nodes) {
   const Index ns = stencil_start.empty() ? 0 : static_cast<Index>(stencil_start.size()) - 1;

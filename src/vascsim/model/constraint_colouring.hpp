@@ -8,7 +8,7 @@
 
 #include <vector>
 
-#include "vascsim/core/types.hpp"
+#include "vascsim/model/discretization.hpp"
 
 namespace vascsim {
 
@@ -26,6 +26,10 @@ struct Colouring {
 /// Throws std::invalid_argument if a node index is outside [0, num_nodes).
 Colouring colour_stencils(const std::vector<Index>& stencil_start, const std::vector<Index>& nodes,
                           Index num_nodes);
+
+/// The meshless strain constraints' stencils {i} u N_i (row i of `pairs`), in the CSR form colour_stencils
+/// takes.
+void node_stencils(const PairTable& pairs, std::vector<Index>& stencil_start, std::vector<Index>& nodes);
 
 /// Checks the invariant (for tests): every colour's stencils are pairwise node-disjoint and every
 /// constraint appears exactly once.

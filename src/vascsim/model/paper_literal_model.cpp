@@ -10,6 +10,7 @@
 #include "vascsim/constraints/energy_constraint.hpp"
 #include "vascsim/constraints/xpbd_projection.hpp"
 #include "vascsim/core/error.hpp"
+#include "vascsim/geometry/boundary.hpp"
 #include "vascsim/model/stability.hpp"
 
 namespace vascsim {
@@ -40,17 +41,14 @@ std::vector<std::pair<Index, Index>> unique_pairs(std::vector<std::pair<Index, I
 std::vector<std::pair<Index, Index>> stretch_pairs(const Discretization& disc, StretchPairs which) {
   std::vector<std::pair<Index, Index>> pairs;
   if (which == StretchPairs::TetEdges) {
-    pairs.reserve(6 * disc.tets().size());
-    for (const Tet& t : disc.tets())
-      for (int a = 0; a < 4; ++a)
-        for (int b = a + 1; b < 4; ++b) pairs.emplace_back(t[a], t[b]);
-  } else {
-    // Per-node support radii may make N_i asymmetric: the union of both directions, once.
-    const PairTable& pt = disc.pairs();
-    pairs.reserve(pt.col.size());
-    for (Index i = 0; i + 1 < static_cast<Index>(pt.row_start.size()); ++i)
-      for (Index k = pt.row_start[i]; k < pt.row_start[i + 1]; ++k) pairs.emplace_back(i, pt.col[k]);
+    for (const Edge& e : tet_edges(disc.tets())) pairs.emplace_back(e[0], e[1]);
+    return pairs;
   }
+  // Per-node support radii may make N_i asymmetric: the union of both directions, once.
+  const PairTable& pt = disc.pairs();
+  pairs.reserve(pt.col.size());
+  for (Index i = 0; i + 1 < static_cast<Index>(pt.row_start.size()); ++i)
+    for (Index k = pt.row_start[i]; k < pt.row_start[i + 1]; ++k) pairs.emplace_back(i, pt.col[k]);
   return unique_pairs(std::move(pairs));
 }
 

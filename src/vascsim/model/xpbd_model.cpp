@@ -13,6 +13,7 @@
 #include "vascsim/constraints/tet_neo_hookean_constraint.hpp"
 #include "vascsim/constraints/xpbd_projection.hpp"
 #include "vascsim/core/error.hpp"
+#include "vascsim/geometry/boundary.hpp"
 
 namespace vascsim {
 
@@ -24,18 +25,6 @@ using constraints::Vec6;
 // Below this many nodes one thread is faster: every colour ends in a barrier, and on a loaded 2-core
 // machine OpenMP regions on small clouds cost more than they save (as in point_primitive_energy.cpp).
 constexpr Index kParallelMinNodes = 2048;
-
-// Unique edges of the tets, each as (lo, hi).
-std::vector<std::array<Index, 2>> tet_edges(const std::vector<Tet>& tets) {
-  std::vector<std::array<Index, 2>> e;
-  e.reserve(6 * tets.size());
-  for (const Tet& t : tets)
-    for (int a = 0; a < 4; ++a)
-      for (int b = a + 1; b < 4; ++b) e.push_back({std::min(t[a], t[b]), std::max(t[a], t[b])});
-  std::sort(e.begin(), e.end());
-  e.erase(std::unique(e.begin(), e.end()), e.end());
-  return e;
-}
 
 // Contact of a point p with obstacle ob at load factor s (the obstacle translated by s * motion).
 constraints::ContactConstraint obstacle_contact(const RigidObstacle& ob, double s, const Vec3& p) {
@@ -121,13 +110,8 @@ void XpbdModel::setup_meshless() {
 
   const Index n = disc.num_nodes();
   const PairTable& P = disc.pairs();
-  std::vector<Index> start{0}, nodes;
-  nodes.reserve(P.col.size() + n);
-  for (Index i = 0; i < n; ++i) {
-    nodes.push_back(i);
-    nodes.insert(nodes.end(), P.col.begin() + P.row_start[i], P.col.begin() + P.row_start[i + 1]);
-    start.push_back(static_cast<Index>(nodes.size()));
-  }
+  std::vector<Index> start, nodes;
+  node_stencils(P, start, nodes);
   update_node_weights();
   node_lambda_.assign(6 * static_cast<std::size_t>(n), 0.0);
   if (stabilise_) pair_lambda_.assign(3 * P.col.size(), 0.0);

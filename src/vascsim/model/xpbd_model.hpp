@@ -132,7 +132,7 @@ class XpbdModel final : public Model {
   std::vector<double> alpha_h_, alpha_d_, tet_lambda_;
 
   // Stretching constraints on the tet edges.
-  std::vector<std::array<Index, 2>> edges_;
+  std::vector<std::array<Index, 2>> edges_;  // geometry/boundary.hpp Edge: (lo, hi)
   std::vector<double> edge_rest_, edge_compliance_, edge_lambda_;
   Colouring edge_colours_;
 

@@ -245,7 +245,7 @@ TEST(SceneValidation, MissingRequiredKey) {
   {
     json s = tiny_box();
     s["geometry"].erase("type");
-    expect_scene_error(s, "geometry.type", {"missing", "tube, box, beam"});
+    expect_scene_error(s, "geometry.type", {"missing", "tube, vessel, mesh, box, beam"});
   }
   {
     json s = tiny_box();
@@ -374,7 +374,7 @@ TEST(SceneValidation, TubeSelectorOnBox) {
   s["regions"].push_back(
       json::parse(R"({ "name": "ring", "select": { "type": "cylinder_end", "end": "start" } })"));
   const std::string path = write_scene(test_dir() / "scene.json", s);
-  expect_input_error(path, {}, {path + ": ", "region 'ring'", "needs a tube geometry"});
+  expect_input_error(path, {}, {path + ": ", "region 'ring'", "needs a vessel geometry"});
 }
 
 TEST(SceneValidation, WallThicknessNotBelowOuterRadius) {
@@ -421,14 +421,18 @@ TEST(SceneValidation, MessagesAreSingleLineFromParseScene) {
 // Accepted input
 
 TEST(SceneFiles, ShippedScenesLoad) {
-  for (const char* name : {"cantilever.json", "vein-indent.json"}) {
-    SCOPED_TRACE(name);
-    const std::string path = std::string(VASCSIM_SOURCE_DIR) + "/scenes/" + name;
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(VASCSIM_SOURCE_DIR) / "scenes")) {
+    if (entry.path().extension() != ".json") continue;
+    ++count;
+    const std::string path = entry.path().string();
+    SCOPED_TRACE(path);
     Scene sc;
     ASSERT_NO_THROW(sc = load_scene(path));
     EXPECT_EQ(sc.file, path);
     EXPECT_FALSE(sc.regions.empty());
   }
+  EXPECT_GE(count, 5);  // cantilever, vein-indent and the paper's three vessels at least
 }
 
 TEST(SceneFiles, Defaults) {

@@ -15,30 +15,72 @@ void write_vectors(fmt::ostream& out, const std::string& name, const Vec3Array& 
 }
 }  // namespace
 
-void write_vtu(const std::filesystem::path& file, const Vec3Array& X, const Vec3Array& x, const std::vector<Tet>& tets,
-               const std::vector<std::pair<std::string, const Vec3Array*>>& extra) {
+namespace {
+
+// The grid of one file: points, point data, cells (connectivity of `corners` nodes each, one VTK type).
+template <std::size_t Corners, class WritePointData, class WriteCellData>
+void write_grid(const std::filesystem::path& file, const Vec3Array& points,
+                const std::vector<std::array<Index, Corners>>& cells, int vtk_type, const char* point_vectors,
+                WritePointData&& point_data, WriteCellData&& cell_data) {
   try {
     auto out = fmt::output_file(file.string());
     out.print("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n");
-    out.print("  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", x.size(), tets.size());
-    out.print("      <PointData Vectors=\"displacement\">\n");
-    Vec3Array u(x.size());
-    for (std::size_t i = 0; i < x.size(); ++i) u[i] = x[i] - X[i];
-    write_vectors(out, "displacement", u);
-    for (const auto& [name, values] : extra) write_vectors(out, name, *values);
-    out.print("      </PointData>\n      <Points>\n");
-    write_vectors(out, "Points", x);
+    out.print("  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", points.size(), cells.size());
+    out.print("      <PointData Vectors=\"{}\">\n", point_vectors);
+    point_data(out);
+    out.print("      </PointData>\n      <CellData>\n");
+    cell_data(out);
+    out.print("      </CellData>\n      <Points>\n");
+    write_vectors(out, "Points", points);
     out.print("      </Points>\n      <Cells>\n");
     out.print("        <DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n");
-    for (const Tet& t : tets) out.print("{} {} {} {}\n", t[0], t[1], t[2], t[3]);
+    for (const auto& c : cells) {
+      for (std::size_t k = 0; k < Corners; ++k) out.print("{}{}", k ? " " : "", c[k]);
+      out.print("\n");
+    }
     out.print("        </DataArray>\n        <DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">\n");
-    for (std::size_t c = 0; c < tets.size(); ++c) out.print("{}\n", 4 * (c + 1));
+    for (std::size_t c = 0; c < cells.size(); ++c) out.print("{}\n", Corners * (c + 1));
     out.print("        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
-    for (std::size_t c = 0; c < tets.size(); ++c) out.print("10\n");  // VTK_TETRA
+    for (std::size_t c = 0; c < cells.size(); ++c) out.print("{}\n", vtk_type);
     out.print("        </DataArray>\n      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
   } catch (const std::system_error& e) {
     throw InputError(fmt::format("{}: cannot write: {}", file.string(), e.what()));
   }
+}
+
+}  // namespace
+
+void write_vtu(const std::filesystem::path& file, const Vec3Array& X, const Vec3Array& x, const std::vector<Tet>& tets,
+               const std::vector<std::pair<std::string, const Vec3Array*>>& extra) {
+  Vec3Array u(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) u[i] = x[i] - X[i];
+  write_grid(
+      file, x, tets, 10 /* VTK_TETRA */, "displacement",
+      [&](fmt::ostream& out) {
+        write_vectors(out, "displacement", u);
+        for (const auto& [name, values] : extra) write_vectors(out, name, *values);
+      },
+      [](fmt::ostream&) {});
+}
+
+void write_surface_vtu(const std::filesystem::path& file, const SurfaceVtu& s) {
+  write_grid(
+      file, *s.positions, *s.triangles, 5 /* VTK_TRIANGLE */, "displacement",
+      [&](fmt::ostream& out) {
+        write_vectors(out, "displacement", *s.displacements);
+        if (s.normals) write_vectors(out, "normal", *s.normals);
+        if (s.uv && !s.uv->empty()) {
+          out.print("        <DataArray type=\"Float64\" Name=\"uv\" NumberOfComponents=\"2\" format=\"ascii\">\n");
+          for (const auto& t : *s.uv) out.print("{:.10g} {:.10g}\n", t.x(), t.y());
+          out.print("        </DataArray>\n");
+        }
+      },
+      [&](fmt::ostream& out) {
+        if (!s.outer) return;
+        out.print("        <DataArray type=\"UInt8\" Name=\"outer\" format=\"ascii\">\n");
+        for (char o : *s.outer) out.print("{}\n", o ? 1 : 0);
+        out.print("        </DataArray>\n");
+      });
 }
 
 void write_pvd(const std::filesystem::path& file, const std::vector<PvdEntry>& entries) {

@@ -86,15 +86,44 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   for (std::size_t i = 0; i < cols.size(); ++i) csv << (i ? "," : "") << cols[i];
   csv << "\n";
 
-  std::vector<PvdEntry> pvd;
+  std::vector<PvdEntry> pvd, surface_pvd;
   const fs::path vtk_dir = options.out_dir / "vtk";
+  const bool surface = scene.output.surface && sim.body().surface.has_value();
+  if (scene.output.surface && !surface)
+    throw InputError(fmt::format("{}: key 'output.surface': geometry '{}' has no render surface", scene.file,
+                                 scene.geometry.type));
+  nlohmann::json surface_info = nullptr;
+  if (surface) {
+    const MlsMapReport& r = sim.surface_map()->report();
+    surface_info = {{"vertices", sim.surface_map()->num_vertices()},
+                    {"triangles", sim.body().surface->triangles.size()},
+                    {"mean_support", r.mean_support},
+                    {"min_support", r.min_support},
+                    {"max_support", r.max_support},
+                    {"max_cond", r.max_cond},
+                    {"grown_vertices", r.grown_vertices},
+                    {"base_radius_m", r.base_radius_m},
+                    {"max_radius_m", r.max_radius_m}};
+  }
   auto write_vtk = [&](const StepRecord& r) {
-    if (!scene.output.vtk || r.step % scene.output.vtk_every != 0) return;
+    if (!(scene.output.vtk || surface) || r.step % scene.output.vtk_every != 0) return;
     fs::create_directories(vtk_dir, ec);
-    const std::string name = fmt::format("nodes_{:04d}.vtu", r.step);
-    write_vtu(vtk_dir / name, sim.discretization().rest_positions(), model.positions(), sim.discretization().tets());
-    pvd.push_back({model.name() == "explicit" ? r.report.time_s : r.report.load_factor, name});
-    write_pvd(vtk_dir / "nodes.pvd", pvd);
+    // Quasi-static series are indexed by the load factor, dynamic ones by time.
+    const double stamp = model.name() == "quasi_static" ? r.report.load_factor : r.report.time_s;
+    if (scene.output.vtk) {
+      const std::string name = fmt::format("nodes_{:04d}.vtu", r.step);
+      write_vtu(vtk_dir / name, sim.discretization().rest_positions(), model.positions(), sim.discretization().tets());
+      pvd.push_back({stamp, name});
+      write_pvd(vtk_dir / "nodes.pvd", pvd);
+    }
+    if (surface) {
+      const SurfaceFrame f = sim.surface_frame();
+      const RenderSurface& rs = *sim.body().surface;
+      const std::string name = fmt::format("surface_{:04d}.vtu", r.step);
+      write_surface_vtu(vtk_dir / name, {&f.positions, &f.displacements, &f.normals, &rs.uv, &rs.triangles, &rs.outer});
+      surface_pvd.push_back({stamp, name});
+      write_pvd(vtk_dir / "surface.pvd", surface_pvd);
+    }
   };
 
   nlohmann::json steps = nlohmann::json::array();
@@ -139,7 +168,11 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
         {"total", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}}},
       {"unconverged_steps", unconverged},
       {"steps", steps},
-      {"outputs", {{"probes_csv", "probes.csv"}, {"vtk", scene.output.vtk ? "vtk/nodes.pvd" : ""}}}};
+      {"surface_map", surface_info},
+      {"outputs",
+       {{"probes_csv", "probes.csv"},
+        {"vtk", scene.output.vtk ? "vtk/nodes.pvd" : ""},
+        {"surface", surface ? "vtk/surface.pvd" : ""}}}};
   const auto ref = sim.reference(last);
   if (!ref.is_null()) summary["reference"] = ref;
   std::ofstream js(options.out_dir / "summary.json");

@@ -24,18 +24,70 @@ bool is_identifier(const std::string& name, bool allow_dash = false) {
          });
 }
 
+// Wall cross-section keys shared by "tube" and "vessel".
+void read_wall_section(JsonReader& g, TubeSpec& t) {
+  t.outer_radius_m = g.required_number("outer_radius_m", 1e-7, 10.0);
+  t.wall_thickness_m = g.required_number("wall_thickness_m", 1e-8, 10.0);
+  if (t.wall_thickness_m >= t.outer_radius_m)
+    g.fail("wall_thickness_m",
+           fmt::format("value {} must be smaller than outer_radius_m = {}", t.wall_thickness_m, t.outer_radius_m));
+  t.node_spacing_m = g.required_number("node_spacing_m", 1e-8, 10.0);
+  t.min_layers = g.integer("min_layers", 3, 2, 100);
+}
+
+CenterlineSpec read_centerline(JsonReader c) {
+  CenterlineSpec s;
+  s.type = c.required_string("type", {"straight", "bent", "s", "polyline"});
+  if (s.type == "straight") {
+    s.length_m = c.required_number("length_m", 1e-7, 100.0);
+  } else if (s.type == "bent" || s.type == "s") {
+    s.radius_of_curvature_m = c.required_number("radius_of_curvature_m", 1e-7, 100.0);
+    s.angle_deg = c.required_number("angle_deg", 1.0, s.type == "bent" ? 359.0 : 179.0);
+    s.leg_length_m = c.number("leg_length_m", 0.0, 0.0, 100.0);
+  } else {
+    const auto* pts = c.raw("points_m");
+    if (!pts || !pts->is_array() || pts->size() < 2)
+      c.fail("points_m", "expected an array of at least two [x, y, z] points (m)");
+    for (std::size_t k = 0; k < pts->size(); ++k) {
+      const auto& p = (*pts)[k];
+      if (!p.is_array() || p.size() != 3 || !p[0].is_number() || !p[1].is_number() || !p[2].is_number())
+        c.fail("points_m", fmt::format("point {} is not [x, y, z] (three numbers, m)", k));
+      const Vec3 v(p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
+      if (!v.allFinite()) c.fail("points_m", fmt::format("point {} is not finite", k));
+      s.points_m.push_back(v);
+    }
+  }
+  c.finish();
+  return s;
+}
+
+MeshGeometrySpec read_mesh(JsonReader& g) {
+  MeshGeometrySpec m;
+  m.file = g.required_string("file");
+  m.units_m = g.number("units_m", 1.0, 1e-9, 1e3);
+  m.kind = g.string("kind", "lumen", {"lumen", "closed_wall"});
+  m.wall_thickness_m = m.kind == "lumen" ? g.required_number("wall_thickness_m", 1e-8, 10.0) : 0.0;
+  m.node_spacing_m = g.required_number("node_spacing_m", 1e-8, 10.0);
+  m.min_layers = g.integer("min_layers", 3, 3, 100);
+  // Relative to the scene file, so a scene runs from any working directory.
+  const std::filesystem::path p(m.file);
+  if (p.is_relative()) m.file = (std::filesystem::path(g.file()).parent_path() / p).lexically_normal().string();
+  return m;
+}
+
 GeometrySpec read_geometry(JsonReader g) {
   GeometrySpec s;
-  s.type = g.required_string("type", {"tube", "box", "beam"});
+  s.type = g.required_string("type", {"tube", "vessel", "mesh", "box", "beam"});
   if (s.type == "tube") {
-    s.tube.outer_radius_m = g.required_number("outer_radius_m", 1e-7, 10.0);
-    s.tube.wall_thickness_m = g.required_number("wall_thickness_m", 1e-8, 10.0);
-    if (s.tube.wall_thickness_m >= s.tube.outer_radius_m)
-      g.fail("wall_thickness_m", fmt::format("value {} must be smaller than outer_radius_m = {}",
-                                             s.tube.wall_thickness_m, s.tube.outer_radius_m));
+    read_wall_section(g, s.tube);
     s.tube.length_m = g.required_number("length_m", 1e-7, 100.0);
-    s.tube.node_spacing_m = g.required_number("node_spacing_m", 1e-8, 10.0);
-    s.tube.min_layers = g.integer("min_layers", 3, 2, 100);
+  } else if (s.type == "vessel") {
+    read_wall_section(g, s.tube);
+    if (s.tube.min_layers < 3) g.fail("min_layers", "a swept vessel needs at least 3 layers (MODEL.md decision 2)");
+    if (!g.has("centerline")) g.fail("centerline", "missing; a centre-line object is required");
+    s.centerline = read_centerline(g.object("centerline"));
+  } else if (s.type == "mesh") {
+    s.mesh = read_mesh(g);
   } else if (s.type == "box") {
     s.box.min_m = g.required_vec3("min_m");
     s.box.max_m = g.required_vec3("max_m");
@@ -67,7 +119,7 @@ GeometrySpec read_geometry(JsonReader g) {
     s.box.cells = Eigen::Vector3i(nl + s.beam_clamp_layers - 1, nw, nh);
     s.beam_length_m = nl * delta;
   }
-  if (s.type != "tube") {
+  if (s.type == "box" || s.type == "beam") {
     const double nodes = (s.box.cells.cast<double>() + Vec3::Ones()).prod();
     if (nodes > 5e7) g.fail("node_spacing_m", fmt::format("gives {:.3g} nodes; the limit is 5e7", nodes));
   }
@@ -77,7 +129,7 @@ GeometrySpec read_geometry(JsonReader g) {
 
 SelectorSpec read_selector(JsonReader r) {
   SelectorSpec s;
-  s.type = r.required_string("type", {"box", "cylinder_end", "wall_patch", "all"});
+  s.type = r.required_string("type", {"box", "cylinder_end", "wall_patch", "surface_patch", "all"});
   if (s.type == "box") {
     s.min_m = r.vec3("min_m", Vec3::Constant(-kBig));
     s.max_m = r.vec3("max_m", Vec3::Constant(kBig));
@@ -88,8 +140,24 @@ SelectorSpec read_selector(JsonReader r) {
     s.surface = r.string("surface", "outer", {"outer", "inner"});
     s.angle_center_deg = r.number("angle_center_deg", 0.0, -360.0, 360.0);
     s.angle_half_width_deg = r.required_number("angle_half_width_deg", 0.0, 180.0);
-    s.z_center_m = r.required_number("z_center_m", -100.0, 100.0);
-    s.z_half_length_m = r.required_number("z_half_length_m", 0.0, 100.0);
+    // s_* is the arc length along the centre-line; z_* is its older name (a straight tube's z).
+    for (const char* k : {"center_m", "half_length_m"}) {
+      const std::string sk = std::string("s_") + k, zk = std::string("z_") + k;
+      if (r.has(sk) && r.has(zk)) r.fail(zk, fmt::format("give {} or {} (its older name), not both", sk, zk));
+    }
+    const std::string c = r.has("z_center_m") ? "z_center_m" : "s_center_m";
+    const std::string h = r.has("z_half_length_m") ? "z_half_length_m" : "s_half_length_m";
+    if (r.has("s_center_fraction")) {
+      if (r.has(c)) r.fail("s_center_fraction", fmt::format("give {} or s_center_fraction, not both", c));
+      s.s_center_fraction = r.required_number("s_center_fraction", 0.0, 1.0);
+    } else {
+      s.s_center_m = r.required_number(c, -100.0, 100.0);
+    }
+    s.s_half_length_m = r.required_number(h, 0.0, 100.0);
+  } else if (s.type == "surface_patch") {
+    s.surface = r.string("surface", "outer", {"outer", "inner"});
+    s.centre_m = r.required_vec3("centre_m");
+    s.radius_m = r.required_number("radius_m", 0.0, 100.0);
   }
   r.finish();
   return s;
@@ -101,7 +169,8 @@ void read_direction(JsonReader& r, const std::string& key, RegionSpec& reg) {
   if (!v) return;
   if (v->is_string()) {
     if (v->get<std::string>() != "inward") r.fail(key, "expected [x, y, z] or \"inward\"");
-    if (reg.select.type != "wall_patch") r.fail(key, "\"inward\" is only defined for a wall_patch selector");
+    if (reg.select.type != "wall_patch" && reg.select.type != "surface_patch")
+      r.fail(key, "\"inward\" is only defined for wall_patch and surface_patch selectors");
     reg.direction_inward = true;
     return;
   }
@@ -349,8 +418,15 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   }
   ref.finish();
 
+  JsonReader map = root.object("mapping");
+  sc.mapping.support_radius_factor =
+      map.number("support_radius_factor", MlsMapOptions{}.support_radius_factor, 1.5, 5.0);
+  sc.mapping.max_growths = map.integer("max_growths", MlsMapOptions{}.max_growths, 0, 20);
+  map.finish();
+
   JsonReader out = root.object("output");
   sc.output.vtk = out.boolean("vtk", false);
+  sc.output.surface = out.boolean("surface", false);
   sc.output.vtk_every = out.integer("vtk_every", 1, 1, 1000000);
   out.finish();
   root.finish();

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "vascsim/geometry/generators.hpp"
+#include "vascsim/mapping/mls_map.hpp"
 #include "vascsim/model/discretization.hpp"
 #include "vascsim/model/explicit_model.hpp"
 #include "vascsim/model/paper_literal_model.hpp"
@@ -18,9 +19,31 @@
 
 namespace vascsim {
 
+/// A vessel centre-line (geometry type "vessel").
+struct CenterlineSpec {
+  std::string type;  ///< "straight", "bent", "s" or "polyline"
+  double length_m = 0.0;                 // straight
+  double radius_of_curvature_m = 0.0;    // bent, s
+  double angle_deg = 0.0;                // bent, s
+  double leg_length_m = 0.0;             // bent, s: straight legs before and after the arcs
+  Vec3Array points_m;                    // polyline: points the C1 curve passes through
+};
+
+/// An imported triangle mesh (geometry type "mesh").
+struct MeshGeometrySpec {
+  std::string file;            ///< resolved against the scene file's folder
+  double units_m = 1.0;        ///< metres per file unit (1e-3 for a file in millimetres)
+  std::string kind = "lumen";  ///< "lumen" (offset outward by the wall thickness) or "closed_wall"
+  double wall_thickness_m = 0.0;
+  double node_spacing_m = 0.0;
+  int min_layers = 3;
+};
+
 struct GeometrySpec {
-  std::string type;  ///< "tube", "box" or "beam"
-  TubeSpec tube;
+  std::string type;  ///< "tube", "vessel", "mesh", "box" or "beam"
+  TubeSpec tube;     ///< tube; for "vessel" the radius, thickness, spacing and layers (length unused)
+  CenterlineSpec centerline;
+  MeshGeometrySpec mesh;
   BoxSpec box;
   // beam: a box from x = -(clamp_layers - 1) Delta to length, cross-section width x height
   double beam_length_m = 0.0, beam_width_m = 0.0, beam_height_m = 0.0;
@@ -28,13 +51,16 @@ struct GeometrySpec {
 };
 
 struct SelectorSpec {
-  std::string type;  ///< "box", "cylinder_end", "wall_patch", "all"
+  std::string type;  ///< "box", "cylinder_end", "wall_patch", "surface_patch", "all"
   Vec3 min_m = Vec3::Zero(), max_m = Vec3::Zero();  // box
-  std::string end = "start";                        // cylinder_end: "start" (z = 0) or "end" (z = L)
-  double depth_m = 0.0;                             // cylinder_end: nodes within this distance of the end plane
-  std::string surface = "outer";                    // wall_patch: "outer" or "inner"
+  std::string end = "start";                        // cylinder_end: "start" (s = 0) or "end" (s = L)
+  double depth_m = 0.0;                             // cylinder_end: nodes within this arc length of the end
+  std::string surface = "outer";                    // wall_patch, surface_patch: "outer" or "inner"
   double angle_center_deg = 0.0, angle_half_width_deg = 15.0;
-  double z_center_m = 0.0, z_half_length_m = 0.0;
+  double s_center_m = 0.0, s_half_length_m = 0.0;   // wall_patch: arc length along the centre-line
+  double s_center_fraction = -1.0;                  // wall_patch: centre as a fraction of the length (if >= 0)
+  Vec3 centre_m = Vec3::Zero();                     // surface_patch: nodes within radius_m of centre_m
+  double radius_m = 0.0;
 };
 
 struct RegionSpec {
@@ -43,7 +69,7 @@ struct RegionSpec {
   RegionBcType bc = RegionBcType::Probe;
   Vec3 vector = Vec3::Zero();  ///< displacement (m) or total force (N) at load factor 1
   Vec3 direction = Vec3::Zero();
-  bool direction_inward = false;  ///< direction "inward": minus the radial unit vector at the patch centre
+  bool direction_inward = false;  ///< direction "inward": into the wall at the patch (wall_patch, surface_patch)
   double magnitude = 0.0;
   bool has_vector = false;
   double release_time_s = std::numeric_limits<double>::infinity();  ///< fixed/displacement: let go at this time
@@ -61,7 +87,8 @@ struct ReferenceSpec {
 };
 
 struct OutputSpec {
-  bool vtk = false;
+  bool vtk = false;    ///< node cloud series vtk/nodes.pvd
+  bool surface = false;  ///< surface series vtk/surface.pvd (MLS-mapped; vessels and lattices)
   int vtk_every = 1;
 };
 
@@ -82,6 +109,7 @@ struct Scene {
   XpbdSettings xpbd;
   PaperLiteralSettings paper_literal;
   ReferenceSpec reference;
+  MlsMapOptions mapping;  ///< the surface map (output.surface)
   OutputSpec output;
   nlohmann::json resolved;  ///< the JSON after overrides (for summary.json)
 };

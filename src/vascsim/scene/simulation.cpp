@@ -8,6 +8,7 @@
 #include "vascsim/core/error.hpp"
 #include "vascsim/experiments/timoshenko.hpp"
 #include "vascsim/geometry/boundary.hpp"
+#include "vascsim/geometry/swept_vessel.hpp"
 #include "vascsim/model/registry.hpp"
 
 namespace vascsim {
@@ -18,64 +19,105 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+double patch_center_s(const SelectorSpec& s, const WallCoordinates& wall) {
+  return s.s_center_fraction >= 0.0 ? s.s_center_fraction * wall.length_m : s.s_center_m;
+}
+
 std::vector<char> select_nodes(const SelectorSpec& s, const RegionSpec& reg, const Scene& scene,
-                               const Discretization& disc) {
+                               const Discretization& disc, const Body& body) {
   const Vec3Array& X = disc.rest_positions();
-  const auto& tube = disc.cloud().tube;
+  const auto& wall = body.wall;
   const double tol = 1e-6 * disc.mean_spacing();
   std::vector<char> in(X.size(), 0);
-  if ((s.type == "cylinder_end" || s.type == "wall_patch") && !tube)
-    throw InputError(fmt::format("{}: region '{}': selector '{}' needs a tube geometry", scene.file, reg.name, s.type));
+  const bool needs_wall = s.type == "cylinder_end" || s.type == "wall_patch" || s.type == "surface_patch";
+  const bool needs_line = s.type == "cylinder_end" || s.type == "wall_patch";
+  if (needs_wall && !wall)
+    throw InputError(fmt::format("{}: region '{}': selector '{}' needs a vessel geometry (tube, vessel or mesh)",
+                                 scene.file, reg.name, s.type));
+  if (needs_line && !wall->has_centerline())
+    throw InputError(fmt::format("{}: region '{}': selector '{}' needs a centre-line (tube or vessel geometry); "
+                                 "use surface_patch or box on an imported mesh",
+                                 scene.file, reg.name, s.type));
   for (std::size_t i = 0; i < X.size(); ++i) {
     const Vec3& p = X[i];
+    const Index n = static_cast<Index>(i);
     bool hit = false;
     if (s.type == "all") {
       hit = true;
     } else if (s.type == "box") {
       hit = (p.array() >= s.min_m.array() - tol).all() && (p.array() <= s.max_m.array() + tol).all();
     } else if (s.type == "cylinder_end") {
-      hit = s.end == "start" ? p.z() <= s.depth_m + tol : p.z() >= tube->length_m - s.depth_m - tol;
-    } else if (s.type == "wall_patch") {
-      const double r = std::hypot(p.x(), p.y());
-      const double radial_step = (tube->outer_radius_m - tube->inner_radius_m) / (tube->radial_layers - 1);
-      const double target = s.surface == "outer" ? tube->outer_radius_m : tube->inner_radius_m;
-      double dtheta = std::atan2(p.y(), p.x()) * 180.0 / std::numbers::pi - s.angle_center_deg;
-      dtheta = std::remainder(dtheta, 360.0);
-      hit = std::abs(r - target) <= 0.01 * radial_step && std::abs(dtheta) <= s.angle_half_width_deg + 1e-9 &&
-            std::abs(p.z() - s.z_center_m) <= s.z_half_length_m + tol;
+      hit = s.end == "start" ? wall->s_m[i] <= s.depth_m + tol : wall->s_m[i] >= wall->length_m - s.depth_m - tol;
+    } else {
+      const bool on_surface = s.surface == "outer" ? wall->on_outer(n) : wall->on_inner(n);
+      if (s.type == "wall_patch") {
+        const double s_center = patch_center_s(s, *wall);
+        const double dtheta = std::remainder(wall->theta_deg[i] - s.angle_center_deg, 360.0);
+        hit = on_surface && std::abs(dtheta) <= s.angle_half_width_deg + 1e-9 &&
+              std::abs(wall->s_m[i] - s_center) <= s.s_half_length_m + tol;
+      } else {  // surface_patch
+        hit = on_surface && (p - s.centre_m).norm() <= s.radius_m + tol;
+      }
     }
     in[i] = hit ? 1 : 0;
   }
   return in;
 }
 
-}  // namespace
-
-NodeCloud build_geometry(const GeometrySpec& spec) {
-  if (spec.type == "tube") return make_tube(spec.tube);
-  NodeCloud c = make_box(spec.box);
-  if (spec.type == "beam") c.kind = "beam";
-  return c;
+// The "inward" direction of a patch: into the wall at the patch centre (wall_patch: minus the radial
+// direction of the centre-line frame; surface_patch: minus the mean outward normal of its nodes).
+Vec3 inward_direction(const SelectorSpec& s, const WallCoordinates& wall, const std::vector<Index>& nodes) {
+  if (s.type == "wall_patch") return -wall.radial(patch_center_s(s, wall), s.angle_center_deg);
+  Vec3 sum = Vec3::Zero();
+  for (Index i : nodes) sum += wall.outward[static_cast<std::size_t>(i)];
+  return -sum.normalized();
 }
 
-std::vector<Region> build_regions(const Scene& scene, const Discretization& disc) {
+Body body_from_mesh(const MeshGeometrySpec& spec) {
+  throw InputError(fmt::format("{}: mesh geometry is not available yet", spec.file));
+}
+
+}  // namespace
+
+Body build_body(const GeometrySpec& spec) {
+  if (spec.type == "tube") {
+    SweptVesselSpec ss{spec.tube.outer_radius_m, spec.tube.wall_thickness_m, spec.tube.node_spacing_m,
+                       std::max(3, spec.tube.min_layers)};
+    return body_from_tube(make_tube(spec.tube), make_swept_vessel(straight_centerline(spec.tube.length_m), ss));
+  }
+  if (spec.type == "vessel") {
+    const CenterlineSpec& c = spec.centerline;
+    auto line = std::make_shared<const Centerline>(
+        c.type == "straight" ? straight_centerline(c.length_m)
+        : c.type == "bent"   ? bent_centerline(c.radius_of_curvature_m, c.angle_deg, c.leg_length_m)
+        : c.type == "s"      ? s_centerline(c.radius_of_curvature_m, c.angle_deg, c.leg_length_m)
+                             : Centerline(c.points_m));
+    SweptVesselSpec ss{spec.tube.outer_radius_m, spec.tube.wall_thickness_m, spec.tube.node_spacing_m,
+                       spec.tube.min_layers};
+    return body_from_swept_vessel(make_swept_vessel(*line, ss), line);
+  }
+  if (spec.type == "mesh") return body_from_mesh(spec.mesh);
+  NodeCloud c = make_box(spec.box);
+  if (spec.type == "beam") c.kind = "beam";
+  return body_from_lattice(std::move(c));
+}
+
+NodeCloud build_geometry(const GeometrySpec& spec) { return build_body(spec).cloud; }
+
+std::vector<Region> build_regions(const Scene& scene, const Discretization& disc, const Body& body) {
   std::vector<Region> out;
   const auto faces = boundary_faces(disc.tets());
   for (const RegionSpec& rs : scene.regions) {
     Region r;
     r.name = rs.name;
     r.bc = rs.bc;
-    const std::vector<char> in = select_nodes(rs.select, rs, scene, disc);
+    const std::vector<char> in = select_nodes(rs.select, rs, scene, disc, body);
     for (std::size_t i = 0; i < in.size(); ++i)
       if (in[i]) r.nodes.push_back(static_cast<Index>(i));
     if (r.nodes.empty())
       throw InputError(fmt::format("{}: key 'regions.{}.select': region '{}' selects no nodes", scene.file,
                                    &rs - scene.regions.data(), rs.name));
-    Vec3 dir = rs.direction;
-    if (rs.direction_inward) {
-      const double th = rs.select.angle_center_deg * std::numbers::pi / 180.0;
-      dir = -Vec3(std::cos(th), std::sin(th), 0.0);
-    }
+    const Vec3 dir = rs.direction_inward ? inward_direction(rs.select, *body.wall, r.nodes) : rs.direction;
     r.direction = dir;
     r.release_time_s = rs.release_time_s;
     if (std::isfinite(r.release_time_s) && scene.model != "xpbd")
@@ -116,14 +158,15 @@ Simulation::Simulation(const Scene& scene) : scene_(scene) {
 void Simulation::build() {
   const Scene& scene = scene_;
   const auto t0 = std::chrono::steady_clock::now();
-  const NodeCloud cloud = build_geometry(scene.geometry);
+  body_ = std::make_unique<Body>(build_body(scene.geometry));
+  const NodeCloud& cloud = body_->cloud;
   spdlog::info("geometry: {} with {} nodes and {} virtual tetrahedra", cloud.kind, cloud.positions.size(),
                cloud.tets.size());
   disc_ = std::make_unique<Discretization>(cloud, scene.material, scene.discretization);
   spdlog::info("discretization: mean spacing {:.4g} m, mean neighbours {:.1f}, volume {:.4g} m^3 (tets {:.4g} m^3)",
                disc_->mean_spacing(), disc_->mean_neighbours(), disc_->total_volume(), disc_->tet_volume());
   energy_ = std::make_unique<PointPrimitiveEnergy>(*disc_, scene.energy);
-  problem_ = std::make_unique<Problem>(*energy_, build_regions(scene, *disc_), scene.gravity_m_s2);
+  problem_ = std::make_unique<Problem>(*energy_, build_regions(scene, *disc_, *body_), scene.gravity_m_s2);
   for (const auto& p : scene.probes) {
     Index best = 0;
     double bd = INFINITY;
@@ -170,6 +213,33 @@ StepRecord Simulation::measure(int step, const StepReport& report) const {
     rec.probes.push_back(c == "x" ? u.x() : c == "y" ? u.y() : c == "z" ? u.z() : u.norm());
   }
   return rec;
+}
+
+const MlsMap* Simulation::surface_map() {
+  if (!surface_map_ && body_->surface) {
+    const auto t0 = std::chrono::steady_clock::now();
+    surface_map_ = std::make_unique<MlsMap>(disc_->rest_positions(), body_->surface->rest_vertices, scene_.mapping);
+    const MlsMapReport& r = surface_map_->report();
+    spdlog::info("surface map: {} vertices, |S| mean {:.1f} (min {}, max {}), max cond {:.3g}, {} vertices grown, {:.2f} s",
+                 surface_map_->num_vertices(), r.mean_support, r.min_support, r.max_support, r.max_cond,
+                 r.grown_vertices, seconds_since(t0));
+  }
+  return surface_map_.get();
+}
+
+SurfaceFrame Simulation::surface_frame() {
+  const MlsMap* map = surface_map();
+  if (!map) throw InputError(fmt::format("{}: geometry '{}' has no render surface", scene_.file, scene_.geometry.type));
+  SurfaceFrame f;
+  const Vec3Array& x = model_->positions();
+  const Vec3Array& X = disc_->rest_positions();
+  Vec3Array u(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) u[i] = x[i] - X[i];
+  map->map_displacements(u, f.displacements);
+  f.positions.resize(f.displacements.size());
+  for (std::size_t v = 0; v < f.positions.size(); ++v) f.positions[v] = map->rest_surface()[v] + f.displacements[v];
+  vertex_normals(body_->surface->triangles, f.positions, f.normals);
+  return f;
 }
 
 StepRecord Simulation::initial_record() const { return measure(0, StepReport{}); }

@@ -6,6 +6,8 @@
 #include <chrono>
 #include <memory>
 
+#include "vascsim/geometry/vessel_body.hpp"
+#include "vascsim/mapping/mls_map.hpp"
 #include "vascsim/model/model.hpp"
 #include "vascsim/scene/scene.hpp"
 
@@ -28,11 +30,20 @@ struct StepRecord {
   double wall_s = 0.0;                 ///< wall-clock time of this step, s
 };
 
-/// Builds a node cloud from a geometry block.
+/// Builds the body of a geometry block: node cloud, wall coordinates (vessels) and render surface.
+Body build_body(const GeometrySpec& spec);
+/// The node cloud of build_body.
 NodeCloud build_geometry(const GeometrySpec& spec);
 
 /// Selects the nodes of every region and turns the scene's boundary conditions into Regions.
-std::vector<Region> build_regions(const Scene& scene, const Discretization& disc);
+std::vector<Region> build_regions(const Scene& scene, const Discretization& disc, const Body& body);
+
+/// The deformed render surface of one output point.
+struct SurfaceFrame {
+  Vec3Array positions;  ///< m
+  Vec3Array displacements;  ///< m
+  Vec3Array normals;    ///< unit, recomputed from the deformed triangles
+};
 
 class Simulation {
  public:
@@ -42,6 +53,11 @@ class Simulation {
   const Discretization& discretization() const { return *disc_; }
   const PointPrimitiveEnergy& energy() const { return *energy_; }
   const Problem& problem() const { return *problem_; }
+  const Body& body() const { return *body_; }
+  /// The MLS surface map; built on first use (null when the body has no surface).
+  const MlsMap* surface_map();
+  /// Maps the current node positions to the render surface (needs a surface).
+  SurfaceFrame surface_frame();
   Model& model() { return *model_; }
   double setup_seconds() const { return setup_s_; }
 
@@ -57,6 +73,8 @@ class Simulation {
   StepRecord measure(int step, const StepReport& report) const;
 
   Scene scene_;
+  std::unique_ptr<Body> body_;
+  std::unique_ptr<MlsMap> surface_map_;
   std::unique_ptr<Discretization> disc_;
   std::unique_ptr<PointPrimitiveEnergy> energy_;
   std::unique_ptr<Problem> problem_;

@@ -1,0 +1,120 @@
+#include "vascsim/geometry/vessel_body.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include "vascsim/geometry/boundary.hpp"
+#include "vascsim/geometry/swept_vessel.hpp"
+#include "vascsim/mapping/mls_map.hpp"
+
+namespace vascsim {
+
+Vec3 WallCoordinates::radial(double s, double theta) const {
+  const Frame f = centerline->frame(s);
+  const double th = theta * std::numbers::pi / 180.0;
+  return std::cos(th) * f.N + std::sin(th) * f.B;
+}
+
+Body body_from_swept_vessel(SweptVessel v, std::shared_ptr<const Centerline> centerline) {
+  const int nr = v.radial_layers, nt = v.angular_nodes, nz = v.axial_nodes;
+  const std::size_t n = v.cloud.positions.size();
+  WallCoordinates w;
+  w.centerline = std::move(centerline);
+  w.length_m = v.length_m;
+  w.depth_m.resize(n);
+  w.s_m.resize(n);
+  w.theta_deg.resize(n);
+  w.outward.resize(n);
+  // Thickness from the geometry itself: the distance between the inner and outer layer of node 0's ray.
+  w.thickness_m = (v.cloud.positions[static_cast<std::size_t>(nr - 1)] - v.cloud.positions[0]).norm();
+  w.shell_tolerance_m = 0.01 * w.thickness_m / (nr - 1);
+  for (int iz = 0; iz < nz; ++iz) {
+    const double s = v.length_m * iz / (nz - 1);
+    const Frame f = w.centerline->frame(s);
+    for (int it = 0; it < nt; ++it) {
+      const double th = 2.0 * std::numbers::pi * it / nt;
+      const Vec3 dir = std::cos(th) * f.N + std::sin(th) * f.B;
+      for (int ir = 0; ir < nr; ++ir) {
+        const auto i = static_cast<std::size_t>(ir + nr * (it + nt * iz));
+        w.depth_m[i] = w.thickness_m * ir / (nr - 1);
+        w.s_m[i] = s;
+        w.theta_deg[i] = 360.0 * it / nt;
+        w.outward[i] = dir;
+      }
+    }
+  }
+  RenderSurface surf;
+  const std::size_t nsurf = static_cast<std::size_t>(nt) * nz;
+  surf.rest_vertices.resize(2 * nsurf);
+  // The surface vertices are the outer (ir = nr-1) and inner (ir = 0) node layers; take them from the
+  // cloud so a caller that substitutes an equivalent cloud (make_tube) stays bit-consistent.
+  for (std::size_t k = 0; k < nsurf; ++k) {
+    surf.rest_vertices[k] = v.cloud.positions[static_cast<std::size_t>(nr) * k + static_cast<std::size_t>(nr - 1)];
+    surf.rest_vertices[nsurf + k] = v.cloud.positions[static_cast<std::size_t>(nr) * k];
+  }
+  surf.rest_normals = std::move(v.normals);
+  surf.uv = std::move(v.uv);
+  surf.triangles = std::move(v.triangles);
+  surf.outer.reserve(surf.triangles.size());
+  for (const auto& t : surf.triangles)
+    surf.outer.push_back(static_cast<std::size_t>(t[0]) < nsurf && static_cast<std::size_t>(t[1]) < nsurf &&
+                                 static_cast<std::size_t>(t[2]) < nsurf
+                             ? 1
+                             : 0);
+  Body b;
+  b.cloud = std::move(v.cloud);
+  b.wall = std::move(w);
+  b.surface = std::move(surf);
+  return b;
+}
+
+Body body_from_tube(NodeCloud tube, SweptVessel swept) {
+  const TubeShape& shape = tube.tube.value();
+  auto cl = std::make_shared<const Centerline>(straight_centerline(shape.length_m));
+  Body b = body_from_swept_vessel(std::move(swept), cl);
+  WallCoordinates& w = *b.wall;
+  const std::size_t n = tube.positions.size();
+  w.thickness_m = shape.outer_radius_m - shape.inner_radius_m;
+  w.shell_tolerance_m = 0.01 * w.thickness_m / (shape.radial_layers - 1);
+  w.depth_m.resize(n);
+  w.s_m.resize(n);
+  w.theta_deg.resize(n);
+  w.outward.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3& p = tube.positions[i];
+    w.depth_m[i] = std::hypot(p.x(), p.y()) - shape.inner_radius_m;
+    w.s_m[i] = p.z();
+    const double th = std::atan2(p.y(), p.x()) * 180.0 / std::numbers::pi;
+    w.theta_deg[i] = th < 0.0 ? th + 360.0 : th;
+    w.outward[i] = Vec3(p.x(), p.y(), 0.0).normalized();
+  }
+  b.cloud = std::move(tube);
+  return b;
+}
+
+Body body_from_lattice(NodeCloud cloud) {
+  RenderSurface surf;
+  const auto faces = boundary_faces(cloud.tets);
+  // Compact the boundary nodes into surface vertices.
+  std::vector<Index> vertex_of(cloud.positions.size(), -1);
+  for (const Triangle& f : faces) {
+    std::array<Index, 3> t{};
+    for (int c = 0; c < 3; ++c) {
+      Index& v = vertex_of[static_cast<std::size_t>(f[c])];
+      if (v < 0) {
+        v = static_cast<Index>(surf.rest_vertices.size());
+        surf.rest_vertices.push_back(cloud.positions[static_cast<std::size_t>(f[c])]);
+      }
+      t[c] = v;
+    }
+    surf.triangles.push_back(t);
+  }
+  surf.outer.assign(surf.triangles.size(), 1);
+  vertex_normals(surf.triangles, surf.rest_vertices, surf.rest_normals);
+  Body b;
+  b.cloud = std::move(cloud);
+  b.surface = std::move(surf);
+  return b;
+}
+
+}  // namespace vascsim

@@ -1,0 +1,72 @@
+#pragma once
+// What a geometry block builds: the node cloud (the simulated body) plus, for vessels, the wall
+// coordinates of every node (region selectors and "inward" directions use them) and the triangle
+// surface rendered through the MLS map. One type for the three sources: centre-line sweeps (tube,
+// vessel), imported meshes (mesh_wall) and plain lattices (box, beam).
+
+#include <array>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "vascsim/geometry/centerline.hpp"
+#include "vascsim/geometry/node_cloud.hpp"
+
+namespace vascsim {
+
+struct SweptVessel;
+
+/// Per-node position inside a vessel wall (rest configuration).
+struct WallCoordinates {
+  double thickness_m = 0.0;
+  /// Distance from the inner (lumen) surface into the wall along the wall normal, 0..thickness, m.
+  std::vector<double> depth_m;
+  /// Unit wall normal at the node, pointing away from the lumen.
+  Vec3Array outward;
+  /// A node with depth >= thickness - shell_tolerance is on the outer surface, one with depth <=
+  /// shell_tolerance on the inner surface (m). Lattices aligned with the wall use 1 % of the layer
+  /// step; axis-aligned lattices in an arbitrary wall use half the lattice spacing.
+  double shell_tolerance_m = 0.0;
+
+  // Centre-line coordinates: only for vessels swept along a centre-line (empty for imported meshes).
+  std::shared_ptr<const Centerline> centerline;
+  std::vector<double> s_m;        ///< arc length of the node's cross-section, m
+  std::vector<double> theta_deg;  ///< angle around the centre-line from the frame's N towards B, [0, 360)
+  double length_m = 0.0;          ///< centre-line length, m
+
+  bool has_centerline() const { return centerline != nullptr; }
+  bool on_outer(Index i) const { return depth_m[i] >= thickness_m - shell_tolerance_m; }
+  bool on_inner(Index i) const { return depth_m[i] <= shell_tolerance_m; }
+  /// Unit outward wall normal of the centre-line vessel at (s, theta) (rest).
+  Vec3 radial(double s_m, double theta_deg) const;
+};
+
+/// A closed, outward-oriented triangle surface over rest vertices, rendered through the MLS map.
+struct RenderSurface {
+  std::vector<std::array<Index, 3>> triangles;
+  Vec3Array rest_vertices;  ///< m
+  Vec3Array rest_normals;   ///< unit, outward of the solid
+  std::vector<Eigen::Vector2d> uv;  ///< texture coordinates (u along the centre-line, v around); may be empty
+  std::vector<char> outer;          ///< per triangle: 1 on the outer wall (what a viewer draws), else 0
+};
+
+struct Body {
+  NodeCloud cloud;
+  std::optional<WallCoordinates> wall;
+  std::optional<RenderSurface> surface;
+};
+
+/// A swept vessel with its centre-line: wall coordinates from the lattice indices, the swept surface
+/// (outer wall triangles flagged outer).
+Body body_from_swept_vessel(SweptVessel vessel, std::shared_ptr<const Centerline> centerline);
+
+/// A make_tube cloud (cloud.tube set): wall coordinates from the cylinder (s = z, theta from +x towards
+/// +y, as the straight centre-line's frame), the surface taken from `swept` (the same tube swept along
+/// the straight centre-line: identical surface lattice for any number of wall layers).
+Body body_from_tube(NodeCloud tube, SweptVessel swept);
+
+/// A plain lattice (box, beam): no wall; the surface is the boundary of the virtual tetrahedra over the
+/// nodes themselves (every face "outer").
+Body body_from_lattice(NodeCloud cloud);
+
+}  // namespace vascsim

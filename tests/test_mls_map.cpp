@@ -14,6 +14,7 @@
 #include "vascsim/core/error.hpp"
 #include "vascsim/geometry/boundary.hpp"
 #include "vascsim/geometry/generators.hpp"
+#include "vascsim/mapping/mls_checks.hpp"
 #include "vascsim/mapping/mls_map.hpp"
 
 namespace vascsim {
@@ -87,70 +88,10 @@ Vec3Array cube_face_points(double edge, int per_face, std::uint64_t seed) {
   return p;
 }
 
-Mat3 random_rotation(std::mt19937_64& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  Eigen::Quaterniond q(n(rng), n(rng), n(rng), n(rng));
-  return q.normalized().toRotationMatrix();
-}
-
-struct Measured {
-  double unity = 0.0;       // max |sum phi - 1|
-  double linear = 0.0;      // max |sum phi X_i - S_v| / Delta
-  double affine = 0.0;      // max |x_s - (A S_v + t)| / Delta, double
-  double rigid90 = 0.0;     // same for a 90 degree rotation + translation
-  double rigid_rand = 0.0;  // same for a random rotation + translation
-  double f32 = 0.0;         // worst of the three fields through the float32 path, / Delta
-  double max_cond = 0.0;
-  Index min_support = 0;
-};
-
-// Maps x = A X + t through the map (double and float32) and returns the worst error against A S + t.
-void field_error(const MlsMap& map, const Vec3Array& X, const Mat3& A, const Vec3& t, double delta,
-                 double& err, double& err_f32) {
-  Vec3Array x(X.size());
-  std::vector<Eigen::Vector3f> u32(X.size());
-  for (std::size_t i = 0; i < X.size(); ++i) {
-    x[i] = A * X[i] + t;
-    u32[i] = (x[i] - X[i]).cast<float>();
-  }
-  Vec3Array xs;
-  std::vector<Eigen::Vector3f> xs32;
-  map.map_positions(x, xs);
-  map.map_displacements_f32(u32, xs32);
-  const Vec3Array& S = map.rest_surface();
-  for (std::size_t v = 0; v < S.size(); ++v) {
-    const Vec3 exact = A * S[v] + t;
-    err = std::max(err, (xs[v] - exact).norm() / delta);
-    err_f32 = std::max(err_f32, (xs32[v].cast<double>() - exact).norm() / delta);
-  }
-}
+using Measured = MlsT11;
 
 Measured measure_t11(const MlsMap& map, const Vec3Array& X, double delta, std::uint64_t seed) {
-  Measured m;
-  const auto& rs = map.row_start();
-  const Vec3Array& S = map.rest_surface();
-  m.min_support = map.report().min_support;
-  m.max_cond = map.report().max_cond;
-  for (Index v = 0; v < map.num_vertices(); ++v) {
-    double sum = 0.0;
-    Vec3 sx = Vec3::Zero();
-    for (Index e = rs[v]; e < rs[v + 1]; ++e) {
-      sum += map.values()[e];
-      sx += map.values()[e] * X[map.columns()[e]];
-    }
-    m.unity = std::max(m.unity, std::abs(sum - 1.0));
-    m.linear = std::max(m.linear, (sx - S[v]).norm() / delta);
-  }
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const Vec3 t(5 * delta * u(rng), 5 * delta * u(rng), 5 * delta * u(rng));
-  Mat3 A = Mat3::Identity();
-  for (int a = 0; a < 9; ++a) A(a / 3, a % 3) += 0.2 * u(rng);
-  field_error(map, X, A, t, delta, m.affine, m.f32);
-  const Mat3 R90 = Eigen::AngleAxisd(std::numbers::pi / 2, Vec3(1, 2, 3).normalized()).toRotationMatrix();
-  field_error(map, X, R90, t, delta, m.rigid90, m.f32);
-  field_error(map, X, random_rotation(rng), t, delta, m.rigid_rand, m.f32);
-  return m;
+  return measure_mls_t11(map, X, delta, seed);
 }
 
 // T11 pass criteria (MODEL.md section 6). The double bounds hold with margin: the solve with cond(A^)

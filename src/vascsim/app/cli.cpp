@@ -13,6 +13,7 @@
 #include "vascsim/app/progress.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/experiments/cantilever.hpp"
+#include "vascsim/experiments/mls_validation.hpp"
 #include "vascsim/experiments/realtime_bench.hpp"
 #include "vascsim/scene/runner.hpp"
 
@@ -64,6 +65,22 @@ int command_run(const std::string& scene_path, const std::vector<std::string>& s
     out << fmt::format("warning: {} load steps did not converge (see summary.json)\n",
                        summary["unconverged_steps"].get<int>());
   return 0;
+}
+
+int command_validate_mls(const std::vector<std::string>& scenes, const std::vector<std::string>& sets,
+                         double tight_factor, const std::string& out_opt, std::ostream& out) {
+  const nlohmann::json rows = validate_mls(scenes, sets, tight_factor);
+  const std::filesystem::path dir = out_opt.empty() ? std::filesystem::path("out/mls-validation") : std::filesystem::path(out_opt);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw InputError(fmt::format("{}: cannot create the output folder: {}", dir.string(), ec.message()));
+  const std::string table = mls_validation_table(rows);
+  std::ofstream(dir / "mls-validation.json") << rows.dump(2) << "\n";
+  std::ofstream(dir / "mls-validation.md") << table;
+  out << table << "wrote " << (dir / "mls-validation.json").string() << " and mls-validation.md\n";
+  bool all = true;
+  for (const auto& r : rows) all = all && r["t11_pass"].get<bool>();
+  return all ? 0 : 1;
 }
 
 int command_validate_cantilever(const std::string& out_opt, const std::vector<int>& sizes, std::ostream& out,
@@ -175,6 +192,16 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   cant->add_option("--out", out_dir, "Output folder (default: out/cantilever-table)");
   cant->add_option("--sizes", sizes, "Cells across the beam, n = b / Delta")->delimiter(',')->check(CLI::Range(1, 16));
 
+  auto* mls = validate->add_subcommand("mls", "MODEL.md T11/T15: the MLS surface map of each scene's body");
+  std::vector<std::string> mls_scenes;
+  double mls_tight = 1.0;
+  mls->add_option("scenes", mls_scenes, "Scene JSON files")->required();
+  mls->add_option("--set", sets, "Override a key in every scene: path.to.key=value (repeatable)");
+  mls->add_option("--tight-factor", mls_tight, "Support radius factor for the T15 guard check")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 5.0));
+  mls->add_option("--out", out_dir, "Output folder (default: out/mls-validation)");
+
   auto* bench = app.add_subcommand("bench", "Real-time benchmark: wall time per 1 ms step at several resolutions "
                                             "(docs/performance.md section 9)");
   RealtimeBenchOptions bench_opt;
@@ -193,7 +220,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   bench->add_option("--out", bench_out, "Write FILE.csv or FILE.json (repeatable: --out a.csv --out a.json)");
 
   // Global options (-q, -v, -j) are accepted after the subcommand too.
-  for (auto* sub : {run, validate, cant, bench}) sub->fallthrough();
+  for (auto* sub : {run, validate, cant, mls, bench}) sub->fallthrough();
   std::vector<std::string> rev(args.rbegin(), args.rend());
   try {
     app.parse(rev);
@@ -217,6 +244,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   try {
     if (run->parsed()) return command_run(scene_path, sets, out_dir, out, err);
     if (cant->parsed()) return command_validate_cantilever(out_dir, sizes, out, err);
+    if (mls->parsed()) return command_validate_mls(mls_scenes, sets, mls_tight, out_dir, out);
     if (bench->parsed()) {
       if (bench_threads->count() == 0 && threads > 0) bench_opt.threads = {threads};
       return command_bench(bench_opt, bench_out, quiet, verbose, out, err);

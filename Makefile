@@ -9,7 +9,7 @@ PYTHON    ?= /usr/bin/python3
 JOBS      ?= $(shell nproc)
 
 .PHONY: deps build run test test-release test-sanitize bench bench-realtime compare-models xpbd-convergence \
-  cantilever-table format clean
+  cantilever-table vessels vessel-aorta-vmtk mls-validation format clean
 
 deps:
 	@scripts/install-deps.sh
@@ -45,6 +45,26 @@ bench-realtime: build
 
 # vein-indent with quasi_static, explicit, xpbd and paper_literal on one force-displacement figure
 # (docs/validation.md; about 25 minutes on 2 cores).
+# The paper's three vessels, each indented on its outer wall (quasi-static, about 5 min each on 2 cores),
+# with a shaded picture of the last frame: out/<scene>/surface.png.
+VESSELS ?= hand-dorsal-vein aorta-bent retinal-artery-twice-bent
+vessels: build
+	@for v in $(VESSELS); do \
+	  $(BUILD_DIR)/vascsim run scenes/$$v.json --out out/$$v && \
+	  $(PYTHON) scripts/render_surface.py out/$$v/vtk/surface.pvd --color displacement --out out/$$v/surface.png \
+	  || exit 1; done
+
+# The imported VMTK aorta (98k nodes; about 40 min quasi-static on 2 cores).
+vessel-aorta-vmtk: build
+	$(BUILD_DIR)/vascsim run scenes/aorta-vmtk.json --out out/aorta-vmtk
+	$(PYTHON) scripts/render_surface.py out/aorta-vmtk/vtk/surface.pvd --color displacement --outer-only \
+	  --elev 35 --azim -70 --out out/aorta-vmtk/surface.png
+
+# docs/validation.md's T11/T15 table of the MLS map on every vessel (seconds; no solve).
+mls-validation: build
+	$(BUILD_DIR)/vascsim validate mls scenes/hand-dorsal-vein.json scenes/aorta-bent.json \
+	  scenes/retinal-artery-twice-bent.json scenes/aorta-vmtk.json --out out/mls-validation
+
 compare-models: build
 	$(PYTHON) scripts/compare_models.py --vascsim $(BUILD_DIR)/vascsim --out out/compare-models
 

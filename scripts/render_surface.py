@@ -72,7 +72,8 @@ def resolve_input(path, frame):
     t, f = entries[i]
     if not os.path.isfile(f):
         raise RenderError(f"{f}: not found (frame {i} of {path})")
-    return f, f"frame {i} of 0..{n - 1}, t = {t:g} s"
+    # The .pvd timestep is a time (dynamic models) or a load factor (quasi-static): no unit implied.
+    return f, f"frame {i} of 0..{n - 1}, timestep {t:g}"
 
 
 def read_mesh(path):

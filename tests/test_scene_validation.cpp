@@ -404,6 +404,41 @@ TEST(SceneValidation, CommandLineUsageErrors) {
   }
 }
 
+// Bad vessel meshes: one line naming the mesh file, exit code 2, never a crash. The mesh reader's
+// own cases (formats, orientation, every defect) are in test_mesh_import.cpp; here the CLI path.
+TEST(SceneValidation, BadMeshFilesExitTwoWithOneLineNamingTheFile) {
+  const fs::path dir = test_dir();
+  // A tetrahedron's faces in ASCII STL, with a placeholder for one coordinate.
+  auto tet_stl = [](const std::string& x) {
+    const std::string v[4] = {x + " 0 0", "1 0 0", "0 1 0", "0 0 1"};
+    const int f[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    std::string s = "solid t\n";
+    for (const auto& t : f)
+      s += "facet normal 0 0 0\nouter loop\nvertex " + v[t[0]] + "\nvertex " + v[t[1]] + "\nvertex " + v[t[2]] +
+           "\nendloop\nendfacet\n";
+    return s + "endsolid t\n";
+  };
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {"missing.stl", ""},  // not written
+      {"empty.stl", "<empty>"},
+      {"points.xyz", "0 0 0\n1 0 0\n"},
+      {"nan.stl", tet_stl("nan")},
+  };
+  for (const auto& [name, text] : files) {
+    SCOPED_TRACE(name);
+    const fs::path mesh = dir / name;
+    if (!text.empty()) write_text(mesh, text == "<empty>" ? "" : text);
+    json s = tiny_box();
+    s["geometry"] = {{"type", "mesh"}, {"file", mesh.string()}, {"wall_thickness_m", 0.1}, {"node_spacing_m", 0.05}};
+    s["regions"] = json::array();
+    const std::string path = write_scene(dir / ("scene-" + name + ".json"), s);
+    const CliResult r = cli({"-q", "run", path, "--out", (dir / "out").string()});
+    EXPECT_EQ(r.code, 2) << r.err;
+    ASSERT_EQ(r.messages.size(), 1u) << r.err;
+    EXPECT_NE(r.messages[0].find(mesh.string()), std::string::npos) << r.messages[0];
+  }
+}
+
 TEST(SceneValidation, MessagesAreSingleLineFromParseScene) {
   json s = tiny_box();
   s["energy"] = {{"volume_stiffness_pa", -1.0}};

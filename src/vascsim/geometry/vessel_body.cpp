@@ -4,10 +4,24 @@
 #include <numbers>
 
 #include "vascsim/geometry/boundary.hpp"
+#include "vascsim/geometry/mesh_wall.hpp"
 #include "vascsim/geometry/swept_vessel.hpp"
 #include "vascsim/mapping/mls_map.hpp"
 
 namespace vascsim {
+
+namespace {
+
+// A triangle is on the outer wall when its three vertices are.
+template <class IsOuterVertex>
+std::vector<char> outer_triangles(const std::vector<std::array<Index, 3>>& triangles, IsOuterVertex&& is_outer) {
+  std::vector<char> out;
+  out.reserve(triangles.size());
+  for (const auto& t : triangles) out.push_back(is_outer(t[0]) && is_outer(t[1]) && is_outer(t[2]) ? 1 : 0);
+  return out;
+}
+
+}  // namespace
 
 Vec3 WallCoordinates::radial(double s, double theta) const {
   const Frame f = centerline->frame(s);
@@ -55,12 +69,7 @@ Body body_from_swept_vessel(SweptVessel v, std::shared_ptr<const Centerline> cen
   surf.rest_normals = std::move(v.normals);
   surf.uv = std::move(v.uv);
   surf.triangles = std::move(v.triangles);
-  surf.outer.reserve(surf.triangles.size());
-  for (const auto& t : surf.triangles)
-    surf.outer.push_back(static_cast<std::size_t>(t[0]) < nsurf && static_cast<std::size_t>(t[1]) < nsurf &&
-                                 static_cast<std::size_t>(t[2]) < nsurf
-                             ? 1
-                             : 0);
+  surf.outer = outer_triangles(surf.triangles, [&](Index v) { return static_cast<std::size_t>(v) < nsurf; });
   Body b;
   b.cloud = std::move(v.cloud);
   b.wall = std::move(w);
@@ -89,6 +98,25 @@ Body body_from_tube(NodeCloud tube, SweptVessel swept) {
     w.outward[i] = Vec3(p.x(), p.y(), 0.0).normalized();
   }
   b.cloud = std::move(tube);
+  return b;
+}
+
+Body body_from_mesh_wall(MeshWall m) {
+  WallCoordinates w;
+  w.thickness_m = m.thickness_m;
+  w.depth_m = std::move(m.depth_m);
+  w.outward = std::move(m.outward);
+  w.shell_tolerance_m = 0.5 * m.cloud.spacing_m;
+  RenderSurface surf;
+  surf.rest_vertices = std::move(m.surface_vertices);
+  surf.rest_normals = std::move(m.normals);
+  surf.triangles = std::move(m.triangles);
+  surf.outer = outer_triangles(surf.triangles,
+                                [&](Index v) { return m.surface_is_outer[static_cast<std::size_t>(v)] != 0; });
+  Body b;
+  b.cloud = std::move(m.cloud);
+  b.wall = std::move(w);
+  b.surface = std::move(surf);
   return b;
 }
 

@@ -15,6 +15,7 @@
 namespace vascsim {
 
 struct SweptVessel;
+struct MeshWall;
 
 /// Per-node position inside a vessel wall (rest configuration).
 struct WallCoordinates {
@@ -64,6 +65,11 @@ Body body_from_swept_vessel(SweptVessel vessel, std::shared_ptr<const Centerline
 /// +y, as the straight centre-line's frame), the surface taken from `swept` (the same tube swept along
 /// the straight centre-line: identical surface lattice for any number of wall layers).
 Body body_from_tube(NodeCloud tube, SweptVessel swept);
+
+/// A wall built from an imported mesh: wall depth and outward normal from the mesh, no centre-line;
+/// "on the surface" means within half the lattice spacing of it (the lattice is axis-aligned, not
+/// aligned with the wall).
+Body body_from_mesh_wall(MeshWall wall);
 
 /// A plain lattice (box, beam): no wall; the surface is the boundary of the virtual tetrahedra over the
 /// nodes themselves (every face "outer").

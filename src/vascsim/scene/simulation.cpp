@@ -8,6 +8,8 @@
 #include "vascsim/core/error.hpp"
 #include "vascsim/experiments/timoshenko.hpp"
 #include "vascsim/geometry/boundary.hpp"
+#include "vascsim/geometry/mesh_wall.hpp"
+#include "vascsim/io/mesh_import.hpp"
 #include "vascsim/geometry/swept_vessel.hpp"
 #include "vascsim/model/registry.hpp"
 
@@ -74,7 +76,14 @@ Vec3 inward_direction(const SelectorSpec& s, const WallCoordinates& wall, const 
 }
 
 Body body_from_mesh(const MeshGeometrySpec& spec) {
-  throw InputError(fmt::format("{}: mesh geometry is not available yet", spec.file));
+  const TriangleMesh mesh = import_triangle_mesh(spec.file, spec.units_m);
+  MeshWallSpec ws;
+  ws.kind = spec.kind;
+  ws.wall_thickness_m = spec.wall_thickness_m;
+  ws.node_spacing_m = spec.node_spacing_m;
+  ws.min_layers = spec.min_layers;
+  ws.source = spec.file;
+  return body_from_mesh_wall(make_mesh_wall(mesh, ws));
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/spatial_grid.hpp"
 #include "vascsim/geometry/mesh_wall.hpp"
 #include "vascsim/geometry/triangle_mesh.hpp"
 #include "vascsim/io/mesh_import.hpp"
@@ -143,6 +144,30 @@ double total_tet_volume(const NodeCloud& c) {
   for (const Tet& t : c.tets)
     v += signed_volume(c.positions[t[0]], c.positions[t[1]], c.positions[t[2]], c.positions[t[3]]);
   return v;
+}
+
+// 6 sqrt(2) V / l_rms^3 (1 for the regular tet, 0.657 for a Kuhn tet), the measure make_mesh_wall
+// filters with.
+double tet_quality(const NodeCloud& c, const Tet& t) {
+  const Vec3 &a = c.positions[t[0]], &b = c.positions[t[1]], &e = c.positions[t[2]], &f = c.positions[t[3]];
+  const double l2 = ((b - a).squaredNorm() + (e - a).squaredNorm() + (f - a).squaredNorm() +
+                     (e - b).squaredNorm() + (f - b).squaredNorm() + (f - e).squaredNorm()) /
+                    6.0;
+  return 6.0 * std::sqrt(2.0) * signed_volume(a, b, e, f) / (l2 * std::sqrt(l2));
+}
+
+double min_tet_quality(const NodeCloud& c) {
+  double q = std::numeric_limits<double>::infinity();
+  for (const Tet& t : c.tets) q = std::min(q, tet_quality(c, t));
+  return q;
+}
+
+// Wall of the capped polygonal tube lumen (circumradius R, n sides, length L): the Steiner formula
+// of the convex prism K, vol(K + tB) - vol(K) = S t + M t^2 + 4/3 pi t^3, with S = 2A + P L and the
+// mean-curvature term M = (pi L + pi P / 2) (side edges: exterior angle 2 pi / n; base edges: pi / 2).
+double capped_tube_wall_volume(double R, int n, double L, double t) {
+  const double P = polygon_perimeter(R, n), A = polygon_area(R, n);
+  return (2 * A + P * L) * t + kPi * (L + P / 2) * t * t + 4.0 / 3.0 * kPi * t * t * t;
 }
 
 // Every edge of the wall surface is shared by exactly two triangles running it in opposite
@@ -395,20 +420,34 @@ TEST(MeshWall, OpenTubeLumenInvariants) {
   const NodeCloud& cl = w.cloud;
   const double delta = cl.spacing_m;
   EXPECT_EQ(cl.kind, "mesh_wall");
-  EXPECT_NEAR(delta, c.t / 3.5, 1e-15) << "Delta = min(node_spacing, t / (min_layers + 0.5))";
+  EXPECT_NEAR(delta, c.t / 3, 1e-15) << "Delta = min(node_spacing, t / min_layers)";
   ASSERT_GT(cl.tets.size(), 0u);
   ASSERT_EQ(w.depth_m.size(), cl.positions.size());
   ASSERT_EQ(w.outward.size(), cl.positions.size());
+  ASSERT_EQ(w.node_surface.size(), cl.positions.size());
 
-  // Nodes: depth in [0, t] exactly (it is the quantity the lattice was clipped with); radius in
-  // [R cos(pi/n), R + t] (the polygon's sides lie inside the circle by R (1 - cos(pi/n)));
-  // z in [0, L] (clipped at the openings); outward is radial.
+  // Nodes: snapped onto the lumen (depth exactly 0, on the polygon) or onto the outer surface (depth
+  // exactly t, radius R + t along the face normal or the vertex ray: in [(R + t) cos(pi/n), R + t]);
+  // interior lattice nodes at depth in [Delta / 2, t - Delta / 2]; z in [0, L] (clipped at the
+  // openings); outward is radial.
   const double r_min = c.R * std::cos(kPi / c.n) - 1e-12, r_max = c.R + c.t + 1e-12;
+  int on_inner = 0, on_outer = 0;
   for (std::size_t i = 0; i < cl.positions.size(); ++i) {
     const Vec3& x = cl.positions[i];
     const double r = x.head<2>().norm();
-    ASSERT_GE(w.depth_m[i], 0.0);
-    ASSERT_LE(w.depth_m[i], c.t);
+    if (w.node_surface[i] == 1) {
+      ++on_inner;
+      ASSERT_EQ(w.depth_m[i], 0.0);
+      ASSERT_LE(r, c.R + 1e-12);
+    } else if (w.node_surface[i] == 2) {
+      ++on_outer;
+      ASSERT_EQ(w.depth_m[i], c.t);
+      ASSERT_GE(r, (c.R + c.t) * std::cos(kPi / c.n) - 1e-12);
+    } else {
+      ASSERT_EQ(w.node_surface[i], 0);
+      ASSERT_GE(w.depth_m[i], 0.5 * delta - 1e-12);
+      ASSERT_LE(w.depth_m[i], c.t - 0.5 * delta + 1e-12);
+    }
     ASSERT_GE(r, r_min);
     ASSERT_LE(r, r_max);
     ASSERT_GE(x.z(), 0.0);
@@ -416,26 +455,38 @@ TEST(MeshWall, OpenTubeLumenInvariants) {
     ASSERT_NEAR(w.outward[i].norm(), 1.0, 1e-12);
     ASSERT_GT(w.outward[i].dot(Vec3(x.x(), x.y(), 0.0).normalized()), 0.99);
   }
-  // Tets: the lattice volume Delta^3 / 6 exactly (positive), centroid inside the wall, and no edge
-  // dips into the lumen by more than the chord sag 3 Delta^2 / (8 R) (a tet spanning the lumen would
+  EXPECT_GT(on_inner, 0);
+  EXPECT_GT(on_outer, 0);
+  // Spacing: snapped nodes closer than 0.3 Delta were merged; interior nodes are >= Delta / 2 from
+  // the surfaces. Quality: the filter's bound.
+  const double min_spacing = min_nearest_spacing(cl.positions) / delta;
+  EXPECT_GE(min_spacing, 0.3 - 1e-9);
+  const double min_quality = min_tet_quality(cl);
+  EXPECT_GE(min_quality, 0.1);
+  // Tets: positive, centroid inside the wall up to the graze 0.1 Delta, and no edge dips into the
+  // lumen by more than the graze plus the chord sag 3 Delta^2 / (8 R) (a tet spanning the lumen would
   // dip by ~R).
   TriangleMesh oriented = lumen;
   orient_outward(oriented);
   const MeshDistance d(oriented);
-  const double sag = 3 * delta * delta / (8 * c.R) + c.R * (1 - std::cos(kPi / c.n));
+  const double sag = 0.1 * delta + 3 * delta * delta / (8 * c.R) + c.R * (1 - std::cos(kPi / c.n));
+  double z_lo = c.L, z_hi = 0.0;
   for (const Tet& t : cl.tets) {
     const Vec3 &a = cl.positions[t[0]], &b = cl.positions[t[1]], &e = cl.positions[t[2]],
                &f = cl.positions[t[3]];
-    ASSERT_NEAR(signed_volume(a, b, e, f), delta * delta * delta / 6, 1e-9 * delta * delta * delta);
+    ASSERT_GT(signed_volume(a, b, e, f), 0.0);
     const double sc = d.signed_distance(0.25 * (a + b + e + f));
-    ASSERT_GE(sc, 0.0);
-    ASSERT_LE(sc, c.t);
-    for (int i = 0; i < 4; ++i)
+    ASSERT_GE(sc, -0.1 * delta);
+    ASSERT_LE(sc, c.t + 0.1 * delta);
+    for (int i = 0; i < 4; ++i) {
+      z_lo = std::min(z_lo, cl.positions[t[i]].z());
+      z_hi = std::max(z_hi, cl.positions[t[i]].z());
       for (int j = i + 1; j < 4; ++j)
         for (int s = 1; s < 8; ++s) {
           const Vec3 q = cl.positions[t[i]] + (s / 8.0) * (cl.positions[t[j]] - cl.positions[t[i]]);
           ASSERT_GE(q.head<2>().norm(), c.R - sag);
         }
+    }
   }
   // Every node is in a tet.
   std::vector<char> used(cl.positions.size(), 0);
@@ -443,20 +494,33 @@ TEST(MeshWall, OpenTubeLumenInvariants) {
     for (const Index v : t) used[v] = 1;
   EXPECT_EQ(std::count(used.begin(), used.end(), 0), 0);
 
-  // Volume: analytic wall of the polygonal lumen (Minkowski ring P t + pi t^2, times L). The kept
-  // tets span the node band only, which starts and ends within a cell of each surface: about half a
-  // cell is lost along each surface (and at the cut ends), ratio ~ 1 - Delta / t = 0.71 at
-  // t / Delta = 3.5; measured 0.675, so the band is [0.6, 0.8]. The deficit is O(Delta / t), not
-  // O(Delta / R): see TetVolumeConvergesWithSpacing.
-  const double exact = (polygon_perimeter(c.R, c.n) * c.t + kPi * c.t * c.t) * c.L;
-  const double ratio = total_tet_volume(cl) / exact;
-  EXPECT_GT(ratio, 0.6);
-  EXPECT_LT(ratio, 0.8);
+  // Volume. The ring of the polygonal lumen (Minkowski ring P t + pi t^2) over the z span of the tets:
+  // the openings are not snapped, so the tets end at the first and last lattice planes inside
+  // (z_lo, z_hi here: within Delta of 0 and L). Over that span the wall is conforming; the 1 %
+  // tolerance covers the outer chords (sag Delta^2 / (8 (R + t)) ~ 0.01 Delta over t) and the few
+  // cells dropped by the quality and edge filters. Before snapping this ratio was 0.675 (the node band
+  // stopped ~Delta / 2 short of each surface).
+  const double ring = polygon_perimeter(c.R, c.n) * c.t + kPi * c.t * c.t;
+  const double volume = total_tet_volume(cl);
+  EXPECT_GT(z_lo, 0.0);
+  EXPECT_LT(z_lo, delta);
+  EXPECT_GT(z_hi, c.L - delta);
+  const double ratio = volume / (ring * (z_hi - z_lo));
+  EXPECT_NEAR(ratio, 1.0, 0.01);
+  // Against the whole wall, the staircase at the two rims loses at most one cell of length each.
+  const double ratio_full = volume / (ring * c.L);
+  EXPECT_GT(ratio_full, 1.0 - 2 * delta / c.L - 0.01);
+  EXPECT_LT(ratio_full, 1.01);
   RecordProperty("tet_volume_ratio", std::to_string(ratio));
+  RecordProperty("tet_volume_ratio_full_length", std::to_string(ratio_full));
+  std::printf("open tube: Delta t/%.2f, %zu nodes, %zu tets, volume/ring(z span) %.4f, volume/ring(L) %.4f, "
+              "min spacing %.3f Delta, min quality %.3f\n",
+              c.t / delta, cl.positions.size(), cl.tets.size(), ratio, ratio_full, min_spacing, min_quality);
 
   // Surface: closed, outward; its enclosed volume is the outer polygon prism minus the lumen prism
   // (outer vertices at R + t along the radial vertex normals), exact to rounding.
   expect_closed_oriented(w);
+  const double exact = ring * c.L;
   const double surface_volume = enclosed_volume(TriangleMesh{w.surface_vertices, w.triangles});
   EXPECT_NEAR(surface_volume, (polygon_area(c.R + c.t, c.n) - polygon_area(c.R, c.n)) * c.L, 1e-9 * exact);
   EXPECT_EQ(w.outer_foldovers, 0);
@@ -470,47 +534,71 @@ TEST(MeshWall, OpenTubeLumenInvariants) {
   }
 }
 
-// The staircase volume deficit is O(Delta): halving Delta roughly halves it.
-TEST(MeshWall, TetVolumeConvergesWithSpacing) {
+// The closed (capped) tube at three axis directions (aligned with the lattice, along the Kuhn
+// diagonal (1, 1, 1), generic): the tet volume against the analytic wall (Steiner formula), the node
+// spacing, the tet quality and the layers through the wall (measure_wall_layers: the kept nodes
+// within lateral distance Delta of the normal line through an inner-surface vertex span a depth
+// range D; layers = 1 + floor(D / Delta); every inner vertex is sampled).
+TEST(MeshWall, ClosedTubeVolumeSpacingQualityLayers) {
   TubeCase c;
-  c.L = 1.5e-3;  // short: the fine case has 8 cells across the wall
-  c.m = 4;
-  const TriangleMesh lumen = tube_lumen(c.R, c.L, c.n, c.m, false);
-  const double exact = (polygon_perimeter(c.R, c.n) * c.t + kPi * c.t * c.t) * c.L;
-  c.spacing = c.t / 4;
-  const double deficit1 = 1 - total_tet_volume(make_mesh_wall(lumen, lumen_spec(c)).cloud) / exact;
-  c.spacing = c.t / 8;
-  const double deficit2 = 1 - total_tet_volume(make_mesh_wall(lumen, lumen_spec(c)).cloud) / exact;
-  EXPECT_GT(deficit1, 0.0);
-  EXPECT_GT(deficit2, 0.0);
-  EXPECT_GT(deficit2 / deficit1, 0.3);
-  EXPECT_LT(deficit2 / deficit1, 0.7);
-}
-
-// Layers through the wall on tubes along z (walls aligned with the lattice and at every angle around
-// it), along (1, 1, 1) and along a generic direction. measure_wall_layers: the kept nodes within
-// lateral distance Delta of the normal line through an inner-surface vertex span a depth range D;
-// layers = 1 + floor(D / Delta); every inner vertex is sampled (578 per tube).
-TEST(MeshWall, LayersThroughObliqueAndAlignedWalls) {
-  TubeCase c;
+  c.L = 6e-3;
+  c.m = 16;
   const TriangleMesh straight = tube_lumen(c.R, c.L, c.n, c.m, true);
+  const double exact = capped_tube_wall_volume(c.R, c.n, c.L, c.t);
   for (const Vec3& axis : {Vec3(0, 0, 1), Vec3(1, 1, 1), Vec3(1, 0.37, 0.71)}) {
     const Mat3 rot = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), axis.normalized()).toRotationMatrix();
     TriangleMesh m = straight;
     for (Vec3& v : m.vertices) v = rot * v;
     const MeshWall w = make_mesh_wall(m, lumen_spec(c));
+    const double delta = w.cloud.spacing_m;
+    const double ratio = total_tet_volume(w.cloud) / exact;
+    const double min_spacing = min_nearest_spacing(w.cloud.positions) / delta;
+    const double min_quality = min_tet_quality(w.cloud);
     const WallLayers layers = measure_wall_layers(w, 100000);
+    std::printf("capped tube axis (%.2f %.2f %.2f): Delta t/%.2f, %zu nodes, %zu tets, volume ratio %.4f, min "
+                "spacing %.3f Delta, min quality %.3f, layers min %d mean %.2f\n",
+                axis.x(), axis.y(), axis.z(), c.t / delta, w.cloud.positions.size(), w.cloud.tets.size(), ratio,
+                min_spacing, min_quality, layers.min, layers.mean);
+    // Measured 0.992 (aligned), 0.983 and 0.983 at Delta = t / 3. The polygonal lumen is in the
+    // reference (its error R (1 - cos pi/n) does not enter); what is lost are the cells at the caps'
+    // 90-degree rim ridges (a Kuhn tet cutting the lumen's corner is dropped and no lattice node lies on
+    // the ridge) and the few cells dropped by the quality filter: O(Delta) per unit ridge length.
+    EXPECT_GT(ratio, 0.975) << "axis " << axis.transpose();
+    EXPECT_LT(ratio, 1.005) << "axis " << axis.transpose();
+    EXPECT_GE(min_spacing, 0.3 - 1e-9);
+    EXPECT_GE(min_quality, 0.1);
     EXPECT_EQ(layers.samples, c.n * (c.m + 1) + 2);
     EXPECT_GE(layers.min, 3) << "axis " << axis.transpose();
-    EXPECT_GE(layers.mean, 3.3) << "axis " << axis.transpose();
+    EXPECT_GE(layers.mean, 3.5) << "axis " << axis.transpose();
   }
 }
 
-// A lumen narrower than the lattice spacing: nodes lie on both sides within one cell, but no tet may
-// join them across the lumen (every edge stays outside the lumen up to the graze tolerance 0.1 Delta).
+// The volume deficit converges with Delta (halving Delta more than halves it here).
+TEST(MeshWall, TetVolumeConvergesWithSpacing) {
+  TubeCase c;
+  c.L = 3e-3;
+  c.m = 8;
+  const Vec3 axis = Vec3(1, 0.37, 0.71).normalized();
+  const Mat3 rot = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), axis).toRotationMatrix();
+  TriangleMesh lumen = tube_lumen(c.R, c.L, c.n, c.m, true);
+  for (Vec3& v : lumen.vertices) v = rot * v;
+  const double exact = capped_tube_wall_volume(c.R, c.n, c.L, c.t);
+  c.spacing = c.t / 3;
+  const double deficit1 = 1 - total_tet_volume(make_mesh_wall(lumen, lumen_spec(c)).cloud) / exact;
+  c.spacing = c.t / 6;
+  const double deficit2 = 1 - total_tet_volume(make_mesh_wall(lumen, lumen_spec(c)).cloud) / exact;
+  std::printf("capped tube volume deficit: %.4f at Delta = t/3, %.4f at t/6\n", deficit1, deficit2);
+  EXPECT_LT(std::abs(deficit1), 0.025);
+  EXPECT_LT(std::abs(deficit2), 0.01);
+  EXPECT_LT(std::abs(deficit2), 0.6 * std::abs(deficit1));
+}
+
+// A lumen narrower than the lattice spacing: nodes lie on both sides within one cell (many snapped onto
+// the lumen and merged), but no tet may join them across the lumen (every edge stays outside the lumen
+// up to the graze tolerance 0.1 Delta).
 TEST(MeshWall, NoTetSpansANarrowLumen) {
   TubeCase c;
-  c.R = 0.2e-3;  // 2R = 0.4 mm < sqrt(3) Delta = 0.52 mm
+  c.R = 0.2e-3;  // 2R = 0.4 mm < sqrt(3) Delta = 0.52 mm (Delta = t / 3)
   c.n = 32;
   const TriangleMesh lumen = tube_lumen(c.R, c.L, c.n, c.m, false);
   const MeshWall w = make_mesh_wall(lumen, lumen_spec(c));
@@ -549,12 +637,20 @@ TEST(MeshWall, ClosedWallFromNestedSurfaces) {
   for (std::size_t i = 0; i < cl.positions.size(); ++i) {
     const Vec3& x = cl.positions[i];
     const double r = x.head<2>().norm();
-    const bool in_inner = r < c.R * std::cos(kPi / c.n) && x.z() > 0 && x.z() < c.L;
+    // (nodes snapped onto the inner surface lie on it: allow rounding)
+    const bool in_inner = r < c.R * std::cos(kPi / c.n) - 1e-12 && x.z() > 1e-12 && x.z() < c.L - 1e-12;
     ASSERT_FALSE(in_inner) << "node in the cavity";
     ASSERT_LE(r, c.R + c.t + 1e-12);
     ASSERT_GE(w.depth_m[i], 0.0);
     ASSERT_LE(w.depth_m[i], c.t * std::sqrt(2.0) + 1e-12);  // the corner regions are up to sqrt(2) t away
+    if (w.node_surface[i] == 1) {
+      ASSERT_EQ(w.depth_m[i], 0.0);
+    } else if (w.node_surface[i] == 2) {
+      ASSERT_GE(w.depth_m[i], w.thickness_m - 1e-12);
+    }
   }
+  EXPECT_GE(min_nearest_spacing(cl.positions), (0.3 - 1e-9) * cl.spacing_m);
+  EXPECT_GE(min_tet_quality(cl), 0.1);
   for (const Tet& t : cl.tets)
     ASSERT_GT(signed_volume(cl.positions[t[0]], cl.positions[t[1]], cl.positions[t[2]], cl.positions[t[3]]),
               0.0);
@@ -562,6 +658,12 @@ TEST(MeshWall, ClosedWallFromNestedSurfaces) {
   const double shell = enclosed_volume(TriangleMesh{w.surface_vertices, w.triangles});
   EXPECT_NEAR(shell, polygon_area(c.R + c.t, c.n) * (c.L + 2 * c.t) - polygon_area(c.R, c.n) * c.L,
               1e-9 * shell);
+  // The snapped wall fills the solid: measured 0.99; the loss is at the 90-degree ridges of both caps
+  // (inner and outer), as for the capped lumen.
+  const double ratio = total_tet_volume(cl) / shell;
+  std::printf("closed wall: %zu nodes, %zu tets, volume ratio %.4f\n", cl.positions.size(), cl.tets.size(), ratio);
+  EXPECT_GT(ratio, 0.975);
+  EXPECT_LT(ratio, 1.005);
   EXPECT_GT(std::count(w.surface_is_outer.begin(), w.surface_is_outer.end(), 1), 0);
   EXPECT_GT(std::count(w.surface_is_outer.begin(), w.surface_is_outer.end(), 0), 0);
 
@@ -599,7 +701,8 @@ TEST(MeshWallSlow, AortaLumenStl) {
   const MeshWall w = make_mesh_wall(lumen, s);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const NodeCloud& cl = w.cloud;
-  // Sanity: the wall volume (area x t) over Delta^3 bounds the node count; tets ~ 5-6 per node.
+  // Sanity: the wall volume (area x t) over Delta^3 bounds the node count (t / Delta + 1 node planes
+  // through the wall, times the convex wall's excess over area x t); tets ~ 4-5 per node.
   TriangleMesh oriented = lumen;
   orient_outward(oriented);
   double area = 0.0;
@@ -608,8 +711,9 @@ TEST(MeshWallSlow, AortaLumenStl) {
                       .cross(oriented.vertices[t[2]] - oriented.vertices[t[0]])
                       .norm();
   const double cells = area * s.wall_thickness_m / std::pow(cl.spacing_m, 3);
+  EXPECT_NEAR(cl.spacing_m, 0.5e-3, 1e-15) << "min(node_spacing, t / min_layers)";
   EXPECT_GT(static_cast<double>(cl.positions.size()), 0.7 * cells);
-  EXPECT_LT(static_cast<double>(cl.positions.size()), 1.6 * cells);
+  EXPECT_LT(static_cast<double>(cl.positions.size()), 1.8 * cells);
   EXPECT_GT(cl.tets.size(), 3 * cl.positions.size());
   EXPECT_LT(cl.tets.size(), 6 * cl.positions.size());
   for (std::size_t i = 0; i < cl.positions.size(); ++i) {
@@ -623,19 +727,32 @@ TEST(MeshWallSlow, AortaLumenStl) {
   const double shell = enclosed_volume(TriangleMesh{w.surface_vertices, w.triangles});
   EXPECT_GT(shell, 0.8 * area * s.wall_thickness_m);
   EXPECT_LT(shell, 1.2 * area * s.wall_thickness_m);
+  // The tets fill the wall: the rendering surface's enclosed volume (outer vertices offset by t along
+  // the vertex normals; it folds over slightly in concave places) is the closest reference; area x t
+  // underestimates a convex wall by the Steiner term (~ t / (2 R)).
+  const double volume = total_tet_volume(cl);
+  EXPECT_NEAR(volume / shell, 1.0, 0.02);
+  const double min_spacing = min_nearest_spacing(cl.positions) / cl.spacing_m;
+  const double min_quality = min_tet_quality(cl);
+  EXPECT_GE(min_spacing, 0.3 - 1e-9);
+  EXPECT_GE(min_quality, 0.1);
   const WallLayers layers = measure_wall_layers(w, 2000);
+  EXPECT_GE(layers.min, s.min_layers);
   RecordProperty("nodes", static_cast<int>(cl.positions.size()));
   RecordProperty("tets", static_cast<int>(cl.tets.size()));
   RecordProperty("seconds", std::to_string(seconds));
   RecordProperty("min_layers", layers.min);
   RecordProperty("mean_layers", std::to_string(layers.mean));
   RecordProperty("outer_foldovers", w.outer_foldovers);
+  RecordProperty("volume_over_shell", std::to_string(volume / shell));
   std::printf(
-      "aorta: %zu nodes, %zu tets, %.2f s, layers min %d mean %.2f, area %.4g m^2, shell %.4g m^3, "
-      "foldovers %d\n",
-      cl.positions.size(), cl.tets.size(), seconds, layers.min, layers.mean, area, shell, w.outer_foldovers);
+      "aorta: %zu nodes, %zu tets, %.2f s, layers min %d mean %.2f, area %.4g m^2, shell %.4g m^3, tet volume "
+      "%.4g m^3 (/shell %.4f, /(area t) %.4f), min spacing %.3f Delta, min quality %.3f, foldovers %d\n",
+      cl.positions.size(), cl.tets.size(), seconds, layers.min, layers.mean, area, shell, volume, volume / shell,
+      volume / (area * s.wall_thickness_m), min_spacing, min_quality, w.outer_foldovers);
   EXPECT_LT(seconds, 20.0);
 }
+
 
 }  // namespace
 }  // namespace vascsim

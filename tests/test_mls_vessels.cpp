@@ -53,7 +53,7 @@ TEST(MlsVessels, EveryVesselSurfacePassesT11AndTheGuardsHold) {
   expect_t11_and_t15(rows);
 }
 
-// The imported aorta (98k lattice nodes): Release only, about 4 s.
+// The imported aorta (88k nodes): Release only, about 4 s.
 TEST(MlsVesselsSlow, ImportedAortaSurfacePassesT11AndTheGuardsHold) {
   const auto rows = validate_mls({scene("aorta-vmtk.json")}, {}, 1.0);
   ASSERT_EQ(rows.size(), 1u);

@@ -312,6 +312,9 @@ TEST(SceneValidation, InvalidJson) {
   const std::string path =
       write_text(dir / "broken.json", "{ \"model\": \"quasi_static\",\n  \"geometry\": { \n");
   expect_input_error(path, {}, {path + ": ", "not valid JSON"});
+  // A number beyond a double is an out_of_range in the JSON library, not a parse error: still exit 2.
+  const std::string huge = write_text(dir / "huge.json", "{ \"gravity_m_s2\": [0, 0, 1e999] }");
+  expect_input_error(huge, {}, {huge + ": ", "not valid JSON"});
 }
 
 TEST(SceneValidation, CommentsAreAllowed) {

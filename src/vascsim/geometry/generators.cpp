@@ -6,16 +6,11 @@
 #include <random>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/geometry/kuhn.hpp"
 
 namespace vascsim {
 
 namespace {
-
-// The six tetrahedra of the Kuhn split of a unit cell, as corner bit masks (bit a = +1 along axis a).
-// Each is the path 0 -> e_p -> e_p + e_q -> 7 for a permutation (p, q, r) of the axes.
-constexpr std::array<std::array<int, 4>, 6> kKuhnTets = {{
-    {0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7},
-}};
 
 // Appends the 6 tets of one hexahedral cell whose corner with bit mask m has node index corner[m];
 // orients every tet positively using the node positions.

@@ -9,9 +9,11 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <unordered_map>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/spatial_grid.hpp"
+#include "vascsim/geometry/kuhn.hpp"
 
 namespace vascsim {
 
@@ -23,29 +25,37 @@ constexpr double kNegInf = -std::numeric_limits<double>::infinity();
 // coordinates common in CAD and test meshes (a node exactly on the surface makes inside/outside a
 // coin flip decided by rounding).
 constexpr double kLatticeShift = 0.3183;
-// A tet edge may graze the lumen (or the outside) by this fraction of Delta: a chord of length
-// sqrt(3) Delta sags 3 Delta^2 / (8 R) into a lumen of radius R, <= 0.1 Delta for R >= 3.75 Delta.
-// An edge that crosses a narrow lumen or gap goes deeper and its tet is dropped.
+// A tet edge or centroid may graze the lumen (or the outside) by this fraction of Delta: a chord of
+// length sqrt(3) Delta sags 3 Delta^2 / (8 R) into a lumen of radius R, <= 0.1 Delta for R >= 3.75
+// Delta. An edge that crosses a narrow lumen or gap goes deeper and its tet is dropped.
 constexpr double kEdgeGrazeFraction = 0.1;
+// Snap band (isosurface stuffing, Labelle & Shewchuk 2007, with the Kuhn split instead of their BCC
+// stencils): a lattice point inside the solid within kSnapInside Delta of a wall surface, or outside
+// it within kSnapOutside Delta, is moved onto the closest surface point. The band is 1.5 cells wide,
+// so every normal line through a surface meets a snapped point; an unsnapped (interior) point stays
+// >= Delta / 2 from every surface, hence from every snapped node. Snapping outside points up to a
+// whole cell (not only Delta / 2) keeps the cells that straddle the surface obliquely: with Delta / 2
+// the closed tube lost 3-8 % of its volume, with Delta 0.3-2 % (1.5 Delta gained < 0.5 % more).
+constexpr double kSnapInside = 0.5;
+constexpr double kSnapOutside = 1.0;
+// Snapped nodes closer than this fraction of Delta are merged into the first one (lattice order):
+// where the snap band is nearly parallel to a lattice plane, or at creases and ridges, two lattice
+// points can snap to (almost) the same surface point, and coincident nodes break the MLS
+// discretisation. Also the guaranteed minimum node spacing.
+constexpr double kMergeFraction = 0.3;
+// Kept tets need quality 6 sqrt(2) V / l_rms^3 (1 for the regular tet, 0.657 for a Kuhn tet) at least
+// this. It bounds the shape-function gradients in the linear tet stiffness (the quasi-static
+// preconditioner) and the XPBD tet constraints; the slivers it removes are flattened cells against the
+// surface and hold little volume.
+constexpr double kMinQuality = 0.1;
 
-// Kuhn split of a lattice cube as corner bit masks (bit a = +1 along axis a); every tet contains the
-// corners 0 and 7, so a cube is only visited from a kept lower corner.
-constexpr std::array<std::array<int, 4>, 6> kKuhnTets = {{
-    {0, 1, 3, 7},
-    {0, 1, 5, 7},
-    {0, 2, 3, 7},
-    {0, 2, 6, 7},
-    {0, 4, 5, 7},
-    {0, 4, 6, 7},
-}};
-
-// Corner orders with positive volume on an axis-aligned lattice of positive spacing.
-std::array<std::array<int, 4>, 6> positive_kuhn_tets() {
-  auto corner = [](int m) { return Vec3(m & 1, (m >> 1) & 1, (m >> 2) & 1); };
-  auto tets = kKuhnTets;
-  for (auto& t : tets)
-    if (signed_volume(corner(t[0]), corner(t[1]), corner(t[2]), corner(t[3])) < 0.0) std::swap(t[2], t[3]);
-  return tets;
+// 6 sqrt(2) V / l_rms^3: 1 for the regular tetrahedron, -> 0 for every degenerate shape (sliver,
+// needle, cap, wedge), negative when inverted.
+double tet_quality(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  const double l2 = ((b - a).squaredNorm() + (c - a).squaredNorm() + (d - a).squaredNorm() +
+                     (c - b).squaredNorm() + (d - b).squaredNorm() + (d - c).squaredNorm()) /
+                    6.0;
+  return l2 > 0.0 ? 6.0 * std::sqrt(2.0) * signed_volume(a, b, c, d) / (l2 * std::sqrt(l2)) : 0.0;
 }
 
 // The wall solid as a "slack" function: >= 0 inside, and 1-Lipschitz (min of distance functions),
@@ -57,6 +67,7 @@ struct WallSolid {
   bool open = false;  // lumen with boundary loops: clip at the openings
   double t = 0.0;
   double delta = 0.0;
+  const std::vector<char>* triangle_is_inner = nullptr;  // closed_wall: per surface triangle
 
   double slack(const Vec3& q) const {
     if (closed_wall) return -surface->signed_distance(q);
@@ -65,32 +76,69 @@ struct WallSolid {
     return std::min(cp.signed_distance, t - cp.signed_distance);
   }
 
-  // Per lattice point: inside?, depth from the lumen/inner surface and the direction away from it.
+  // Per lattice point: dropped, interior (kept where it is) or snapped onto the lumen/inner or the
+  // outer surface; the node position, its depth from the lumen/inner surface and the direction away
+  // from it.
+  enum class State : std::uint8_t { out, interior, inner, outer };
   struct NodeInfo {
-    bool inside = false;
+    State state = State::out;
+    Vec3 pos = Vec3::Zero();
     double slack = kNegInf;
     double depth = 0.0;
     Vec3 outward = Vec3::Zero();
   };
   NodeInfo node(const Vec3& q) const {
     NodeInfo n;
+    const double band = kSnapInside * delta;
     const ClosestPoint cp = closed_wall ? surface->closest(q) : surface->closest(q, t + delta);
     if (!cp.found) return n;
     if (closed_wall) {
-      n.slack = -cp.signed_distance;
-      if (n.slack < 0.0) return n;
-      const ClosestPoint ci = inner->closest(q);
+      const double slack = -cp.signed_distance;
+      if (slack < -kSnapOutside * delta) return n;
+      if (slack >= band) {
+        n.state = State::interior;
+        n.pos = q;
+        n.slack = slack;
+      } else {
+        n.pos = cp.point;
+        n.slack = 0.0;
+        n.state = (*triangle_is_inner)[static_cast<std::size_t>(cp.triangle)] ? State::inner : State::outer;
+        if (n.state == State::inner) {
+          // Away from the lumen = into the solid = against the solid's outward normal.
+          n.outward = cp.distance > 1e-9 * delta
+                          ? Vec3((slack >= 0.0 ? q - cp.point : cp.point - q) / cp.distance)
+                          : Vec3(-cp.normal);
+          return n;  // depth exactly 0
+        }
+      }
+      const ClosestPoint ci = inner->closest(n.pos);
       n.depth = ci.distance;
       // Inner normals face the lumen; away from it is minus the pseudo-normal on the surface itself.
-      n.outward = ci.distance > 1e-9 * delta ? Vec3((q - ci.point) / ci.distance) : Vec3(-ci.normal);
-    } else {
-      if (open && cp.on_boundary) return n;
-      n.slack = std::min(cp.signed_distance, t - cp.signed_distance);
-      if (n.slack < 0.0) return n;
-      n.depth = cp.signed_distance;
-      n.outward = cp.distance > 1e-9 * delta ? Vec3((q - cp.point) / cp.distance) : cp.normal;
+      n.outward = ci.distance > 1e-9 * delta ? Vec3((n.pos - ci.point) / ci.distance) : Vec3(-ci.normal);
+      return n;
     }
-    n.inside = true;
+    if (open && cp.on_boundary) return n;  // beyond an opening: the wall is clipped there
+    const double sd = cp.signed_distance;
+    if (sd < -kSnapOutside * delta || sd > t + kSnapOutside * delta) return n;
+    // The closest-point ray from the lumen through q: the depth along it is the distance to the lumen.
+    n.outward = cp.distance > 1e-9 * delta ? Vec3((sd >= 0.0 ? q - cp.point : cp.point - q) / cp.distance)
+                                           : cp.normal;
+    if (sd < band) {
+      n.state = State::inner;
+      n.pos = cp.point;
+      n.slack = 0.0;
+    } else if (sd >= t - band) {
+      // The closest point on the offset surface {distance = t} lies on the same ray, at depth t.
+      n.state = State::outer;
+      n.pos = cp.point + t * n.outward;
+      n.depth = t;
+      n.slack = 0.0;
+    } else {
+      n.state = State::interior;
+      n.pos = q;
+      n.depth = sd;
+      n.slack = std::min(sd, t - sd);
+    }
     return n;
   }
 };
@@ -183,11 +231,12 @@ MeshWall make_mesh_wall(const TriangleMesh& input, const MeshWallSpec& spec) {
     t = thinnest_wall(inner_mesh, outer_mesh);
     require(t > 0.0, "the inner and outer surfaces touch (thinnest wall 0)");
   }
-  // Half a layer of margin: at Delta = t / min_layers the lattice fits min_layers planes across an
-  // axis-aligned wall, but nodes whose cubes are cut by a curved surface are dropped and oblique walls
-  // then measured min_layers - 1 in places (measure_wall_layers on tubes at several axis directions);
-  // t / (min_layers + 0.25) was the smallest margin measured to reach min_layers everywhere.
-  const double delta = std::min(spec.node_spacing_m, t / (spec.min_layers + 0.5));
+  // Delta = t / min_layers: with nodes snapped onto both surfaces an axis-aligned wall holds
+  // min_layers + 1 node planes. t / (min_layers - 1) (min_layers planes, as the swept vessel) measured
+  // min_layers - 1 in places on the aorta (measure_wall_layers: where a surface's snapped nodes were
+  // merged or their tets dropped, the depth span within Delta of the normal line falls short of t);
+  // t / min_layers measured >= min_layers on the tubes at every axis direction and on the aorta.
+  const double delta = std::min(spec.node_spacing_m, t / spec.min_layers);
   w.thickness_m = t;
   w.nominal_layers = static_cast<int>(std::floor(t / delta + 1e-9)) + 1;
 
@@ -218,19 +267,23 @@ MeshWall make_mesh_wall(const TriangleMesh& input, const MeshWallSpec& spec) {
   const MeshDistance surface(mesh);
   std::optional<MeshDistance> inner;
   if (closed_wall) inner.emplace(inner_mesh);
-  WallSolid solid{&surface, inner ? &*inner : nullptr, closed_wall, open, t, delta};
+  std::vector<char> triangle_is_inner(mesh.triangles.size(), 0);
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
+    triangle_is_inner[f] = closed_wall && comps.nesting_depth[comps.of_triangle[f]] % 2 == 1;
+  WallSolid solid{&surface, inner ? &*inner : nullptr, closed_wall, open, t, delta, &triangle_is_inner};
 
-  // Candidates: for "lumen", lattice points within t of some triangle's box (a narrow band); for
-  // "closed_wall" every lattice point (the solid may be thick somewhere).
+  // Candidates: for "lumen", lattice points within t + Delta of some triangle's box (a band that holds
+  // the wall and its snap band); for "closed_wall" every lattice point (the solid may be thick).
   std::vector<std::int64_t> candidates;
   if (!closed_wall) {
     std::vector<char> mark(static_cast<std::size_t>(total), 0);
+    const double reach = t + delta;
     for (const auto& tri : mesh.triangles) {
       Eigen::AlignedBox3d tb;
       for (const Index v : tri) tb.extend(mesh.vertices[v]);
-      const Eigen::Array3d lo = ((tb.min().array() - t - origin.array()) / delta).ceil().max(0.0);
+      const Eigen::Array3d lo = ((tb.min().array() - reach - origin.array()) / delta).ceil().max(0.0);
       const Eigen::Array3d hi =
-          ((tb.max().array() + t - origin.array()) / delta).floor().min(dims_real - 1.0);
+          ((tb.max().array() + reach - origin.array()) / delta).floor().min(dims_real - 1.0);
       for (auto k = static_cast<std::int64_t>(lo[2]); k <= static_cast<std::int64_t>(hi[2]); ++k)
         for (auto j = static_cast<std::int64_t>(lo[1]); j <= static_cast<std::int64_t>(hi[1]); ++j)
           for (auto i = static_cast<std::int64_t>(lo[0]); i <= static_cast<std::int64_t>(hi[0]); ++i)
@@ -240,11 +293,13 @@ MeshWall make_mesh_wall(const TriangleMesh& input, const MeshWallSpec& spec) {
       if (mark[c]) candidates.push_back(static_cast<std::int64_t>(c));
   }
 
-  // Nodes: lattice points inside the solid, evaluated in parallel chunks (bounded memory), numbered
-  // serially in lattice order (deterministic for any thread count).
+  // Nodes: lattice points of the solid and its snap band, evaluated in parallel chunks (bounded
+  // memory), numbered serially in lattice order (deterministic for any thread count).
+  using State = WallSolid::State;
   std::vector<Index> node_of(static_cast<std::size_t>(total), -1);
   std::vector<std::int64_t> node_lattice;
   std::vector<double> node_slack, node_depth;
+  std::vector<State> node_state;
   Vec3Array node_pos, node_out;
   constexpr std::int64_t kChunk = 1 << 16;
   std::vector<WallSolid::NodeInfo> info(static_cast<std::size_t>(kChunk));
@@ -257,49 +312,104 @@ MeshWall make_mesh_wall(const TriangleMesh& input, const MeshWallSpec& spec) {
     for (std::int64_t c = c0; c < c1; ++c) info[c - c0] = solid.node(lattice_point(candidate(c)));
     for (std::int64_t c = c0; c < c1; ++c) {
       const auto& n = info[c - c0];
-      if (!n.inside) continue;
+      if (n.state == State::out) continue;
       const std::int64_t id = candidate(c);
       node_of[static_cast<std::size_t>(id)] = static_cast<Index>(node_lattice.size());
       node_lattice.push_back(id);
-      node_pos.push_back(lattice_point(id));
+      node_pos.push_back(n.pos);
+      node_state.push_back(n.state);
       node_slack.push_back(n.slack);
       node_depth.push_back(n.depth);
       node_out.push_back(n.outward);
     }
   }
 
-  // Tets: a Kuhn tet is kept when its four vertices are nodes, its centroid is inside the solid, and
-  // no edge leaves the solid by more than kEdgeGrazeFraction Delta at its midpoint (so no tet spans
-  // the lumen or a gap between walls). The Lipschitz bound skips the midpoint query when an endpoint
-  // is deep enough: slack(mid) >= slack(end) - |edge| / 2.
+  // Merge snapped nodes closer than kMergeFraction Delta into the first of them (lattice order, so
+  // deterministic): an unsnapped node is >= Delta / 2 from any surface and lattice points are Delta
+  // apart, so only snapped pairs can come close. A hash of cells of edge r_merge finds them.
+  const auto nn = static_cast<std::int64_t>(node_lattice.size());
+  std::vector<Index> alias(static_cast<std::size_t>(nn));
+  std::int64_t merged = 0;
+  {
+    const double r_merge = kMergeFraction * delta;
+    auto key = [&](const Eigen::Vector3i& c) {
+      return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c[0])) * 73856093u) ^
+             (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c[1])) * 19349663u) ^
+             (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c[2])) * 83492791u);
+    };
+    std::unordered_map<std::uint64_t, std::vector<Index>> cells;
+    for (std::int64_t n = 0; n < nn; ++n) {
+      alias[n] = static_cast<Index>(n);
+      if (node_state[n] == State::interior) continue;
+      const Eigen::Vector3i c = ((node_pos[n] - origin) / r_merge).array().floor().cast<int>().matrix();
+      Index rep = -1;
+      for (int dz = -1; dz <= 1 && rep < 0; ++dz)
+        for (int dy = -1; dy <= 1 && rep < 0; ++dy)
+          for (int dx = -1; dx <= 1 && rep < 0; ++dx) {
+            const auto it = cells.find(key(c + Eigen::Vector3i(dx, dy, dz)));
+            if (it == cells.end()) continue;
+            for (const Index m : it->second)
+              if ((node_pos[m] - node_pos[n]).norm() < r_merge) {
+                rep = m;
+                break;
+              }
+          }
+      if (rep >= 0) {
+        alias[n] = rep;
+        ++merged;
+      } else {
+        cells[key(c)].push_back(static_cast<Index>(n));
+      }
+    }
+  }
+
+  // Tets: a Kuhn tet of the lattice, with the snapped and merged vertex positions, is kept when its
+  // four vertices are distinct nodes, its quality is >= kMinQuality (so it is positively oriented),
+  // its centroid is inside the solid and no edge leaves the solid by more than kEdgeGrazeFraction
+  // Delta at its midpoint (so no tet spans the lumen or a gap between walls; both up to the chord sag
+  // of a curved surface). The Lipschitz bound skips the midpoint query when an endpoint is deep
+  // enough: slack(mid) >= slack(end) - |edge| / 2.
   const auto kuhn = positive_kuhn_tets();
   const double graze = kEdgeGrazeFraction * delta;
-  const auto nn = static_cast<std::int64_t>(node_lattice.size());
   std::vector<std::uint8_t> keep(static_cast<std::size_t>(nn), 0);
-#pragma omp parallel for schedule(dynamic, 256)
-  for (std::int64_t n = 0; n < nn; ++n) {
+  std::vector<std::int64_t> low_quality(static_cast<std::size_t>(nn), 0);
+  auto cell_corners = [&](std::int64_t n) {
+    std::array<Index, 8> corner;
+    corner.fill(-1);
     const std::int64_t id = node_lattice[n];
     const std::int64_t i = id % nx, j = (id / nx) % ny, k = id / (nx * ny);
-    if (i + 1 >= nx || j + 1 >= ny || k + 1 >= nz) continue;
-    std::array<Index, 8> corner;
-    for (int m = 0; m < 8; ++m)
-      corner[m] =
+    if (i + 1 >= nx || j + 1 >= ny || k + 1 >= nz) return corner;
+    for (int m = 0; m < 8; ++m) {
+      const Index v =
           node_of[static_cast<std::size_t>(lattice_id(i + (m & 1), j + ((m >> 1) & 1), k + ((m >> 2) & 1)))];
-    if (corner[7] < 0) continue;
+      corner[m] = v < 0 ? v : alias[v];
+    }
+    return corner;
+  };
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::int64_t n = 0; n < nn; ++n) {
+    const std::array<Index, 8> corner = cell_corners(n);
+    if (corner[0] < 0 || corner[7] < 0 || corner[0] == corner[7]) continue;
     std::uint8_t mask = 0;
     for (std::size_t q = 0; q < kuhn.size(); ++q) {
       const auto& tk = kuhn[q];
       const Tet tet{corner[tk[0]], corner[tk[1]], corner[tk[2]], corner[tk[3]]};
       if (std::min({tet[0], tet[1], tet[2], tet[3]}) < 0) continue;
-      const Vec3 centroid =
-          0.25 * (node_pos[tet[0]] + node_pos[tet[1]] + node_pos[tet[2]] + node_pos[tet[3]]);
-      if (solid.slack(centroid) < 0.0) continue;
+      if (tet[0] == tet[1] || tet[0] == tet[2] || tet[0] == tet[3] || tet[1] == tet[2] || tet[1] == tet[3] ||
+          tet[2] == tet[3])
+        continue;  // collapsed by a merge
+      const Vec3 &a = node_pos[tet[0]], &b = node_pos[tet[1]], &c = node_pos[tet[2]], &d = node_pos[tet[3]];
+      if (tet_quality(a, b, c, d) < kMinQuality) {
+        ++low_quality[n];
+        continue;
+      }
+      if (solid.slack(0.25 * (a + b + c + d)) < -graze) continue;
       bool ok = true;
-      for (int a = 0; a < 4 && ok; ++a)
-        for (int b = a + 1; b < 4 && ok; ++b) {
-          const double half = 0.5 * (node_pos[tet[a]] - node_pos[tet[b]]).norm();
-          if (std::max(node_slack[tet[a]], node_slack[tet[b]]) - half >= -graze) continue;
-          ok = solid.slack(0.5 * (node_pos[tet[a]] + node_pos[tet[b]])) >= -graze;
+      for (int u = 0; u < 4 && ok; ++u)
+        for (int v = u + 1; v < 4 && ok; ++v) {
+          const double half = 0.5 * (node_pos[tet[u]] - node_pos[tet[v]]).norm();
+          if (std::max(node_slack[tet[u]], node_slack[tet[v]]) - half >= -graze) continue;
+          ok = solid.slack(0.5 * (node_pos[tet[u]] + node_pos[tet[v]])) >= -graze;
         }
       if (ok) mask = static_cast<std::uint8_t>(mask | (1u << q));
     }
@@ -310,18 +420,10 @@ MeshWall make_mesh_wall(const TriangleMesh& input, const MeshWallSpec& spec) {
   std::vector<Tet> tets;
   for (std::int64_t n = 0; n < nn; ++n) {
     if (!keep[n]) continue;
-    const std::int64_t id = node_lattice[n];
-    const std::int64_t i = id % nx, j = (id / nx) % ny, k = id / (nx * ny);
-    for (std::size_t q = 0; q < kuhn.size(); ++q) {
-      if (!(keep[n] & (1u << q))) continue;
-      Tet tet;
-      for (int c = 0; c < 4; ++c) {
-        const int m = kuhn[q][c];
-        tet[c] = node_of[static_cast<std::size_t>(
-            lattice_id(i + (m & 1), j + ((m >> 1) & 1), k + ((m >> 2) & 1)))];
-      }
-      tets.push_back(tet);
-    }
+    const std::array<Index, 8> corner = cell_corners(n);
+    for (std::size_t q = 0; q < kuhn.size(); ++q)
+      if (keep[n] & (1u << q))
+        tets.push_back({corner[kuhn[q][0]], corner[kuhn[q][1]], corner[kuhn[q][2]], corner[kuhn[q][3]]});
   }
   require(!tets.empty(),
           fmt::format("the wall keeps no tetrahedron at lattice spacing {:.4g} m (wall thickness "
@@ -337,6 +439,7 @@ MeshWall make_mesh_wall(const TriangleMesh& input, const MeshWallSpec& spec) {
     cloud.positions.push_back(node_pos[n]);
     w.depth_m.push_back(node_depth[n]);
     w.outward.push_back(node_out[n]);
+    w.node_surface.push_back(node_state[n] == State::inner ? 1 : node_state[n] == State::outer ? 2 : 0);
     cloud.box.extend(node_pos[n]);
   }
   for (Tet& tet : tets)
@@ -344,6 +447,8 @@ MeshWall make_mesh_wall(const TriangleMesh& input, const MeshWallSpec& spec) {
   cloud.tets = std::move(tets);
   cloud.kind = "mesh_wall";
   cloud.spacing_m = delta;
+  std::int64_t dropped_low_quality = 0;
+  for (const auto c : low_quality) dropped_low_quality += c;
 
   if (closed_wall) {
     w.triangles = mesh.triangles;
@@ -363,10 +468,10 @@ MeshWall make_mesh_wall(const TriangleMesh& input, const MeshWallSpec& spec) {
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   spdlog::info(
-      "{}: mesh wall ({}{}): {} nodes, {} tets, lattice spacing {:.4g} m, wall {:.4g} m, {} nominal "
-      "layers, {:.2f} s",
-      name, spec.kind, open ? ", open ends" : "", cloud.positions.size(), cloud.tets.size(), delta, t,
-      w.nominal_layers, seconds);
+      "{}: mesh wall ({}{}): {} nodes ({} snapped nodes merged), {} tets ({} below quality {} dropped), "
+      "lattice spacing {:.4g} m, wall {:.4g} m, {} nominal layers, {:.2f} s",
+      name, spec.kind, open ? ", open ends" : "", cloud.positions.size(), merged, cloud.tets.size(),
+      dropped_low_quality, kMinQuality, delta, t, w.nominal_layers, seconds);
   return w;
 }
 

@@ -7,35 +7,9 @@
 #include <string>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/geometry/kuhn.hpp"
 
 namespace vascsim {
-
-namespace {
-
-// Kuhn split of a unit cell as corner bit masks (bit a = +1 along lattice axis a), as make_tube.
-constexpr std::array<std::array<int, 4>, 6> kKuhnTets = {{
-    {0, 1, 3, 7},
-    {0, 1, 5, 7},
-    {0, 2, 3, 7},
-    {0, 2, 6, 7},
-    {0, 4, 5, 7},
-    {0, 4, 6, 7},
-}};
-
-// Orientation of each Kuhn tet in lattice coordinates (r, theta, s). The map to space has positive
-// Jacobian wherever r kappa < 1, so orienting here and checking after the mapping never hides an
-// inversion by re-orienting.
-std::array<bool, 6> kuhn_needs_swap() {
-  std::array<bool, 6> swap{};
-  auto corner = [](int m) { return Vec3(m & 1, (m >> 1) & 1, (m >> 2) & 1); };
-  for (std::size_t i = 0; i < kKuhnTets.size(); ++i) {
-    const auto& t = kKuhnTets[i];
-    swap[i] = signed_volume(corner(t[0]), corner(t[1]), corner(t[2]), corner(t[3])) < 0.0;
-  }
-  return swap;
-}
-
-}  // namespace
 
 SweptVessel make_swept_vessel(const Centerline& cl, const SweptVesselSpec& s) {
   auto require = [](bool ok, const std::string& what) {
@@ -93,6 +67,8 @@ SweptVessel make_swept_vessel(const Centerline& cl, const SweptVesselSpec& s) {
       }
     }
   }
+  // Oriented in lattice coordinates (r, theta, s): the map to space has positive Jacobian wherever
+  // r kappa < 1, so orienting there and checking after the mapping never hides an inversion.
   const auto swap = kuhn_needs_swap();
   cloud.tets.reserve(static_cast<std::size_t>(6) * (nr - 1) * nt * (nz - 1));
   const Vec3Array& X = cloud.positions;

@@ -106,7 +106,7 @@ Body body_from_mesh_wall(MeshWall m) {
   w.thickness_m = m.thickness_m;
   w.depth_m = std::move(m.depth_m);
   w.outward = std::move(m.outward);
-  w.shell_tolerance_m = 0.5 * m.cloud.spacing_m;
+  w.surface_tag = std::move(m.node_surface);
   RenderSurface surf;
   surf.rest_vertices = std::move(m.surface_vertices);
   surf.rest_normals = std::move(m.normals);

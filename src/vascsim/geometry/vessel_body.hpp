@@ -24,9 +24,9 @@ struct WallCoordinates {
   std::vector<double> depth_m;
   /// Unit wall normal at the node, pointing away from the lumen.
   Vec3Array outward;
-  /// A node with depth >= thickness - shell_tolerance is on the outer surface, one with depth <=
-  /// shell_tolerance on the inner surface (m). Lattices aligned with the wall use 1 % of the layer
-  /// step; axis-aligned lattices in an arbitrary wall use half the lattice spacing.
+  /// Without surface_tag, a node with depth >= thickness - shell_tolerance is on the outer surface, one
+  /// with depth <= shell_tolerance on the inner surface (m); lattices aligned with the wall use 1 % of
+  /// the layer step.
   double shell_tolerance_m = 0.0;
 
   // Centre-line coordinates: only for vessels swept along a centre-line (empty for imported meshes).
@@ -35,9 +35,17 @@ struct WallCoordinates {
   std::vector<double> theta_deg;  ///< angle around the centre-line from the frame's N towards B, [0, 360)
   double length_m = 0.0;          ///< centre-line length, m
 
+  /// Per node, when the generator knows it exactly (imported meshes: nodes snapped onto a surface):
+  /// 1 on the inner (lumen) surface, 2 on the outer surface, 0 inside. Empty: decide by depth.
+  std::vector<char> surface_tag;
+
   bool has_centerline() const { return centerline != nullptr; }
-  bool on_outer(Index i) const { return depth_m[i] >= thickness_m - shell_tolerance_m; }
-  bool on_inner(Index i) const { return depth_m[i] <= shell_tolerance_m; }
+  bool on_outer(Index i) const {
+    return surface_tag.empty() ? depth_m[i] >= thickness_m - shell_tolerance_m : surface_tag[i] == 2;
+  }
+  bool on_inner(Index i) const {
+    return surface_tag.empty() ? depth_m[i] <= shell_tolerance_m : surface_tag[i] == 1;
+  }
   /// Unit outward wall normal of the centre-line vessel at (s, theta) (rest).
   Vec3 radial(double s_m, double theta_deg) const;
 };
@@ -66,9 +74,8 @@ Body body_from_swept_vessel(SweptVessel vessel, std::shared_ptr<const Centerline
 /// the straight centre-line: identical surface lattice for any number of wall layers).
 Body body_from_tube(NodeCloud tube, SweptVessel swept);
 
-/// A wall built from an imported mesh: wall depth and outward normal from the mesh, no centre-line;
-/// "on the surface" means within half the lattice spacing of it (the lattice is axis-aligned, not
-/// aligned with the wall).
+/// A wall built from an imported mesh: wall depth, outward normal and the surface tags of the nodes
+/// snapped onto the inner and outer surface; no centre-line.
 Body body_from_mesh_wall(MeshWall wall);
 
 /// A plain lattice (box, beam): no wall; the surface is the boundary of the virtual tetrahedra over the

@@ -441,6 +441,9 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     doc = nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
   } catch (const nlohmann::json::parse_error& e) {
     throw InputError(fmt::format("{}: not valid JSON at byte {}: {}", path, e.byte, e.what()));
+  } catch (const nlohmann::json::exception& e) {
+    // e.g. out_of_range for a number beyond a double (1e999)
+    throw InputError(fmt::format("{}: not valid JSON: {}", path, e.what()));
   }
   for (const auto& o : overrides) apply_override(doc, o);
   return parse_scene(doc, path);

@@ -1,14 +1,16 @@
 # The two set-up commands of the README:
 #   make run   installs what is missing, builds in Release, runs the default scene and plots it
-#   make test  installs what is missing, builds, runs the whole test suite (Release, then ASan+UBSan)
+#   make test  installs what is missing, builds, runs the whole test suite (Release, then ASan+UBSan,
+#              then the threaded tests under ThreadSanitizer)
 BUILD_DIR ?= build
 ASAN_DIR  ?= build-asan
+TSAN_DIR  ?= build-tsan
 SCENE     ?= scenes/vein-indent.json
 OUT       ?= out/vein-indent
 PYTHON    ?= /usr/bin/python3
 JOBS      ?= $(shell nproc)
 
-.PHONY: deps build run test test-release test-sanitize bench bench-realtime compare-models xpbd-convergence \
+.PHONY: deps build run test test-release test-sanitize test-threads bench bench-realtime compare-models xpbd-convergence \
   cantilever-table vessels vessel-aorta-vmtk mls-validation format clean
 
 deps:
@@ -22,7 +24,7 @@ run: build
 	$(BUILD_DIR)/vascsim run $(SCENE) --out $(OUT)
 	$(PYTHON) scripts/plot_probes.py $(OUT)
 
-test: test-release test-sanitize
+test: test-release test-sanitize test-threads
 
 test-release: build
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
@@ -34,6 +36,16 @@ test-sanitize: deps
 	cmake --build $(ASAN_DIR) -j $(JOBS)
 	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -L unit
+
+# The tests that run threads (haptic loop, hand-offs, mouse input) under ThreadSanitizer. Only these: the
+# OpenMP kernels run on libgomp, which is not instrumented, so TSan would report its internals.
+THREADED_TESTS ?= LatestValue*:HapticLoop*:VirtualCoupling*:ForceOutput*:MouseMapping*
+test-threads: deps
+	cmake -S . -B $(TSAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVASCSIM_SANITIZE=thread \
+	  -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_WERROR=ON
+	cmake --build $(TSAN_DIR) -j $(JOBS) --target vascsim_tests
+	TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 $(TSAN_DIR)/tests/vascsim_tests \
+	  --gtest_filter='$(THREADED_TESTS)'
 
 bench: build
 	$(BUILD_DIR)/bench/vascsim_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true

@@ -1,0 +1,87 @@
+#pragma once
+// The two records that cross between the haptic thread and the simulation thread (docs/haptics.md),
+// each through its own LatestValue:
+//   haptic -> simulation: ToolPose, the tool (proxy) pose at a haptic tick;
+//   simulation -> haptic: ContactState, the contact result of one simulation step together with a
+//   local linearisation, so the 1 kHz loop can extrapolate the force between the slower simulation
+//   updates (MODEL.md section 3.4, "a linearised local stiffness around the contact").
+// Both are trivially copyable (plain arrays, not Eigen types, whose copies are user-defined) so the
+// hand-off is a memcpy. Accessors convert to Eigen.
+
+#include <array>
+#include <cstdint>
+
+#include "vascsim/core/types.hpp"
+
+namespace vascsim {
+
+/// The tool pose the haptic thread publishes for the simulation, once per tick.
+struct ToolPose {
+  std::uint64_t sequence = 0;  ///< 1, 2, ... per published pose; 0: nothing published yet
+  double time_s = 0.0;         ///< haptic-clock time of the tick that produced it
+  std::array<double, 3> position_m{};
+  std::array<double, 4> orientation_wxyz{1.0, 0.0, 0.0, 0.0};  ///< unit quaternion, w first
+  std::uint32_t buttons = 0;
+
+  Vec3 position() const { return {position_m[0], position_m[1], position_m[2]}; }
+  Eigen::Quaterniond orientation() const {
+    return {orientation_wxyz[0], orientation_wxyz[1], orientation_wxyz[2], orientation_wxyz[3]};
+  }
+  void set_position(const Vec3& p) { position_m = {p.x(), p.y(), p.z()}; }
+  void set_orientation(const Eigen::Quaterniond& q) { orientation_wxyz = {q.w(), q.x(), q.y(), q.z()}; }
+};
+
+/// What one simulation step publishes for the haptic thread.
+///
+/// Between two updates the haptic loop evaluates force_at(p) for the current tool position p:
+///     F(p) = F_sim + K (p_sim - p),
+/// then, if a contact normal n is given, drops an attractive normal component (n . F < 0): a one-sided
+/// contact pushes but never pulls, so extrapolating past the point of separation gives zero normal force
+/// instead of glue.
+struct ContactState {
+  std::uint64_t sequence = 0;  ///< 1, 2, ... per simulation step; 0: no state yet (force_at is zero)
+  double sim_time_s = 0.0;     ///< simulation time of the step
+  /// The tool pose the step used (copied from the ToolPose it read). Its time_s is on the haptic clock,
+  /// so (tick time - tool.time_s) is the age of this force: the force latency.
+  ToolPose tool;
+  /// Force on the tool from the contact constraints, N (e.g. -sum lambda_c n_c / h^2, MODEL.md 3.3).
+  std::array<double, 3> force_n{};
+  /// dF/d(-p): contact stiffness, N/m, row-major 3x3, symmetric positive semi-definite. For one
+  /// contact of stiffness k along the unit normal n: k n n^T (normal_stiffness()).
+  std::array<double, 9> stiffness_n_per_m{};
+  /// Unit contact normal, pointing from the tissue towards the tool (the direction the tissue pushes);
+  /// zero when there is no single normal (then the extrapolation is not made one-sided).
+  std::array<double, 3> normal{};
+
+  Vec3 force() const { return {force_n[0], force_n[1], force_n[2]}; }
+  Mat3 stiffness() const {
+    Mat3 k;
+    k << stiffness_n_per_m[0], stiffness_n_per_m[1], stiffness_n_per_m[2], stiffness_n_per_m[3],
+        stiffness_n_per_m[4], stiffness_n_per_m[5], stiffness_n_per_m[6], stiffness_n_per_m[7],
+        stiffness_n_per_m[8];
+    return k;
+  }
+  Vec3 contact_normal() const { return {normal[0], normal[1], normal[2]}; }
+  void set_force(const Vec3& f) { force_n = {f.x(), f.y(), f.z()}; }
+  void set_stiffness(const Mat3& k) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) stiffness_n_per_m[static_cast<std::size_t>(3 * r + c)] = k(r, c);
+  }
+  void set_normal(const Vec3& n) { normal = {n.x(), n.y(), n.z()}; }
+
+  /// The extrapolated force on the tool at position `p_m` (see above). Zero before the first state.
+  /// `stiffness_scale` (in [0, 1]) lets a controller soften K to what it can render stably.
+  Vec3 force_at(const Vec3& p_m, double stiffness_scale = 1.0) const {
+    if (sequence == 0) return Vec3::Zero();
+    Vec3 f = force() + stiffness_scale * (stiffness() * (tool.position() - p_m));
+    const Vec3 n = contact_normal();
+    const double fn = n.dot(f);
+    if (fn < 0.0) f -= fn * n;  // n = 0 leaves f unchanged
+    return f;
+  }
+};
+
+/// k n n^T: the stiffness of one frictionless contact of stiffness `k_n_per_m` along the unit `normal`.
+inline Mat3 normal_stiffness(const Vec3& normal, double k_n_per_m) { return k_n_per_m * normal * normal.transpose(); }
+
+}  // namespace vascsim

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "vascsim/model/problem.hpp"
+#include "vascsim/model/rigid_obstacle.hpp"
 
 namespace vascsim {
 
@@ -39,9 +40,10 @@ class Model {
   /// so a support or a tool feels exactly what the solver applied. nullptr (the default): the caller
   /// evaluates the point-primitive energy's forces at positions() instead (exact for force-based models).
   virtual const Vec3Array* constraint_forces() const { return nullptr; }
-  /// Per rigid obstacle of the scene (in scene order): the force it exerted on the tissue over the last
-  /// substep, N. Empty for models without obstacles.
-  virtual std::vector<Vec3> obstacle_forces() const { return {}; }
+  /// Per rigid obstacle of the scene (in scene order): the force it exerted on the tissue (over the last
+  /// substep for dynamic models, at equilibrium for quasi_static), its moment and contacts. Empty for
+  /// models without obstacles.
+  virtual std::vector<ObstacleLoad> obstacle_loads() const { return {}; }
 };
 
 }  // namespace vascsim

@@ -31,6 +31,14 @@ QuasiStaticModel::QuasiStaticModel(const Problem& problem, const QuasiStaticSett
       free_slot_[i] = static_cast<Eigen::Index>(free_.size());
       free_.push_back(i);
     }
+  contact_of_.assign(n, -1);
+  contact_lambda_.assign(n, 0.0);
+  contact_normal_.assign(n, Vec3::Zero());
+  for (const auto& o : settings.obstacles)
+    if (!(o.radius_m > 0.0)) throw InputError(fmt::format("quasi_static: obstacle '{}': radius_m must be > 0", o.name));
+  geometry_.resize(settings.obstacles.size());
+  for (std::size_t o = 0; o < geometry_.size(); ++o) geometry_[o] = obstacle_at(settings.obstacles[o], 0.0);
+  obstacle_load_.assign(settings.obstacles.size(), ObstacleLoad{});
   // Preconditioner: the tets' linear stiffness restricted to the free dofs.
   const auto& E = problem.energy();
   const Eigen::SparseMatrix<double> K = linear_tet_stiffness(disc.rest_positions(), disc.tets(),
@@ -64,10 +72,90 @@ QuasiStaticModel::QuasiStaticModel(const Problem& problem, const QuasiStaticSett
   }
 }
 
+void QuasiStaticModel::filter(Vec3Array& v) const {
+  if (settings_.obstacles.empty()) return;
+  for (Index i : free_)
+    if (contact_of_[i] >= 0) v[i] -= contact_normal_[i].dot(v[i]) * contact_normal_[i];
+}
+
+int QuasiStaticModel::project_contacts(Vec3Array& x, bool add) {
+  int added = 0;
+  const int no = static_cast<int>(geometry_.size());
+  if (no == 0) return 0;
+  for (Index i : free_) {
+    int& o = contact_of_[i];
+    if (o < 0) {
+      if (!add) continue;
+      // The deepest penetration, if any.
+      double deepest = 0.0;
+      for (int k = 0; k < no; ++k) {
+        const double c = obstacle_contact(geometry_[k], x[i]).value;
+        if (c < deepest) deepest = c, o = k;
+      }
+      if (o < 0) continue;
+      ++added;
+    }
+    // Onto the surface along the normal (a contact in the active set is held on the surface).
+    const auto c = obstacle_contact(geometry_[o], x[i]);
+    x[i] -= c.value * c.normal;
+    contact_normal_[i] = c.normal;
+  }
+  return added;
+}
+
+void QuasiStaticModel::add_contact_curvature(const Vec3Array& x, const Vec3Array& p, Vec3Array& Hp) const {
+  // A node held on a curved tool surface by the normal force lambda feels, when it slides by t along the
+  // surface, the turn of that force: the Lagrangian's Hessian gains -lambda grad^2 phi, with
+  // grad^2 phi = (I - n n^T - e e^T) / d (d the distance to the tool's core, e the capsule axis on the
+  // cylindrical part, e = 0 on the rounded ends). Without it Newton converges only linearly.
+  for (Index i : free_) {
+    const int o = contact_of_[i];
+    if (o < 0 || !(contact_lambda_[i] > 0.0)) continue;
+    const constraints::Capsule& g = geometry_[static_cast<std::size_t>(o)];
+    const Vec3 n = contact_normal_[i];
+    Vec3 t = p[i] - n.dot(p[i]) * n;
+    const Vec3 ab = g.b - g.a;
+    const double len2 = ab.squaredNorm();
+    if (len2 > 0.0) {
+      const double u = (x[i] - g.a).dot(ab) / len2;
+      if (u > 0.0 && u < 1.0) {
+        const Vec3 e = ab / std::sqrt(len2);
+        t -= e.dot(t) * e;
+      }
+    }
+    Hp[i] -= (contact_lambda_[i] / g.radius_m) * t;
+  }
+}
+
+int QuasiStaticModel::release_pulling_contacts(const Vec3Array& r) {
+  int released = 0;
+  for (Index i : free_)
+    if (contact_of_[i] >= 0 && -r[i].dot(contact_normal_[i]) < 0.0) {
+      contact_of_[i] = -1;
+      ++released;
+    }
+  return released;
+}
+
+void QuasiStaticModel::measure_contacts(const Vec3Array& r, double s) {
+  for (std::size_t o = 0; o < obstacle_load_.size(); ++o) obstacle_load_[o] = ObstacleLoad{};
+  for (Index i : free_) {
+    const int o = contact_of_[i];
+    if (o < 0) continue;
+    // Equilibrium in the normal direction: r_i + lambda n_i = 0.
+    const Vec3 f = (-r[i].dot(contact_normal_[i])) * contact_normal_[i];
+    ObstacleLoad& load = obstacle_load_[static_cast<std::size_t>(o)];
+    load.force_n += f;
+    load.torque_n_m += (x_[i] - tool_point_at(settings_.obstacles[static_cast<std::size_t>(o)], s)).cross(f);
+    ++load.contacts;
+  }
+}
+
 void QuasiStaticModel::precondition(const Vec3Array& r, Vec3Array& z) const {
   z.assign(r.size(), Vec3::Zero());
   if (!have_precond_) {
     for (Index i : free_) z[i] = r[i];
+    filter(z);
     return;
   }
   Eigen::VectorXd b(static_cast<Eigen::Index>(free_.size()) * 3);
@@ -75,6 +163,7 @@ void QuasiStaticModel::precondition(const Vec3Array& r, Vec3Array& z) const {
   const Eigen::VectorXd y = settings_.preconditioner == "cholesky" ? Eigen::VectorXd(cholesky_.solve(b))
                                                                     : Eigen::VectorXd(incomplete_.solve(b));
   for (std::size_t a = 0; a < free_.size(); ++a) z[free_[a]] = y.segment<3>(3 * static_cast<Eigen::Index>(a));
+  filter(z);
 }
 
 double QuasiStaticModel::residual_norm(const Vec3Array& r) const {
@@ -99,6 +188,7 @@ int QuasiStaticModel::conjugate_gradients(const Vec3Array& x, const Vec3Array& r
   Vec3Array r(n, Vec3::Zero()), z, p, Hp;
   const auto lin = problem_.energy().linearize(x);
   for (Index i : free_) r[i] = rhs[i];
+  filter(r);
   const double target = eta * residual_norm(r);
   precondition(r, z);
   p = z;
@@ -108,6 +198,8 @@ int QuasiStaticModel::conjugate_gradients(const Vec3Array& x, const Vec3Array& r
     problem_.energy().hessian_product(lin, p, Hp);
     for (std::size_t i = 0; i < n; ++i)
       if (problem_.constrained()[i]) Hp[i].setZero();
+    add_contact_curvature(x, p, Hp);
+    filter(Hp);
     const double pHp = dot(p, Hp);
     if (!(pHp > 0.0)) {
       // Negative curvature (SVK under compression): keep what we have, or the preconditioned gradient.
@@ -154,11 +246,23 @@ StepReport QuasiStaticModel::solve(double s) {
   Vec3Array base = x_;
   for (Index i = 0; i < n; ++i)
     if (problem_.constrained()[i]) base[i] += dp[i];
+  // Tools: move them to s; nodes in contact (and nodes the tools now enter) go onto their surfaces, a
+  // prescribed normal increment like the one above.
+  for (std::size_t o = 0; o < geometry_.size(); ++o) geometry_[o] = obstacle_at(settings_.obstacles[o], s);
+  if (!geometry_.empty()) {
+    project_contacts(base, true);
+    for (Index i : free_)
+      if (contact_of_[i] >= 0) {
+        dp[i] = base[i] - x_[i];
+        moved = moved || dp[i].squaredNorm() > 0.0;
+      }
+  }
   Vec3Array trial = base;
   if (!x_prev_.empty() && s_ != s_prev_) {
     const double q = (s - s_) / (s_ - s_prev_);
     for (Index i = 0; i < n; ++i)
-      if (!problem_.constrained()[i]) trial[i] = x_[i] + q * (x_[i] - x_prev_[i]);
+      if (!problem_.constrained()[i] && contact_of_[i] < 0) trial[i] = x_[i] + q * (x_[i] - x_prev_[i]);
+    project_contacts(trial, true);
   } else {
     E.forces(x_, f_int);
     for (Index i = 0; i < n; ++i) r[i] = f_int[i] + f_ext[i];
@@ -169,6 +273,7 @@ StepReport QuasiStaticModel::solve(double s) {
     rep.inner_iterations += conjugate_gradients(x_, r, 1e-2, dx);
     for (Index i = 0; i < n; ++i)
       if (!problem_.constrained()[i]) trial[i] += dx[i];
+    project_contacts(trial, true);
   }
   x_prev_ = x_;
   s_prev_ = s_;
@@ -176,7 +281,7 @@ StepReport QuasiStaticModel::solve(double s) {
 
   // Newton iterations.
   double res = 0.0, best = INFINITY;
-  int stalled = 0;
+  int stalled = 0, passes = 0;
   for (int it = 0;; ++it) {
     E.forces(x_, f_int);
     double reaction2 = 0.0, ext2 = 0.0;
@@ -184,18 +289,46 @@ StepReport QuasiStaticModel::solve(double s) {
       r[i] = f_int[i] + f_ext[i];
       ext2 += f_ext[i].squaredNorm();
       if (problem_.constrained()[i]) reaction2 += r[i].squaredNorm();
+      if (contact_of_[i] >= 0) reaction2 += std::pow(r[i].dot(contact_normal_[i]), 2);
     }
     const double scale = std::max(std::sqrt(std::max(reaction2, ext2)), 1e-300);
+    Vec3Array r_unfiltered;
+    if (!geometry_.empty()) {
+      r_unfiltered = r;
+      for (Index i : free_)
+        contact_lambda_[i] = contact_of_[i] >= 0 ? -r[i].dot(contact_normal_[i]) : 0.0;
+      filter(r);
+    }
     res = residual_norm(r) / scale;
     if (!std::isfinite(res)) throw NumericalError(fmt::format("quasi_static: non-finite residual at s = {:.4g}", s));
     spdlog::debug("quasi_static: s = {:.4g}, Newton {}: relative residual {:.3e}", s, it, res);
-    if (res <= settings_.rel_tolerance) break;
+    if (res <= settings_.rel_tolerance) {
+      if (geometry_.empty()) break;
+      // Converged for this active set: release the contacts that pull on a tool and continue, unless
+      // nothing changes.
+      const int released = release_pulling_contacts(r_unfiltered);
+      if (released == 0) {
+        measure_contacts(r_unfiltered, s);
+        break;
+      }
+      ++contact_passes_;
+      spdlog::debug("quasi_static: s = {:.4g}: released {} contacts that pulled", s, released);
+      if (++passes > settings_.max_contact_passes) {
+        rep.converged = false;
+        measure_contacts(r_unfiltered, s);
+        break;
+      }
+      stalled = 0;
+      best = INFINITY;
+      continue;
+    }
     // Positions carry about 1e-16 relative precision, which floors the attainable residual; stop
     // when three Newton steps in a row gain less than 10 %.
     stalled = res < 0.9 * best ? 0 : stalled + 1;
     best = std::min(best, res);
     if (it == settings_.max_newton_iterations || stalled >= 3) {
       rep.converged = false;
+      if (!geometry_.empty()) measure_contacts(r_unfiltered, s);
       break;
     }
     ++rep.iterations;
@@ -216,6 +349,7 @@ StepReport QuasiStaticModel::solve(double s) {
     bool accepted = false;
     for (int ls = 0; ls < 40; ++ls, step *= 0.5) {
       for (Index i = 0; i < n; ++i) trial[i] = x_[i] + step * dx[i];
+      project_contacts(trial, false);
       const double pi = potential(trial, f_ext);
       if (std::isfinite(pi) && pi <= pi0 + 1e-4 * step * g) {
         accepted = true;
@@ -226,8 +360,10 @@ StepReport QuasiStaticModel::solve(double s) {
         // it reduces the force residual instead.
         Vec3Array f_trial;
         E.forces(trial, f_trial);
+        for (Index i : free_) f_trial[i] += f_ext[i];
+        filter(f_trial);
         double r2 = 0.0;
-        for (Index i : free_) r2 += (f_trial[i] + f_ext[i]).squaredNorm();
+        for (Index i : free_) r2 += f_trial[i].squaredNorm();
         if (std::isfinite(r2) && std::sqrt(r2) < 0.9 * residual_norm(r)) {
           accepted = true;
           break;
@@ -239,6 +375,11 @@ StepReport QuasiStaticModel::solve(double s) {
       break;
     }
     x_.swap(trial);
+    // Nodes the step pushed into a tool join the active set on its surface.
+    if (project_contacts(x_, true) > 0) {
+      stalled = 0;
+      best = INFINITY;
+    }
   }
   rep.residual = res;
   s_ = s;
@@ -267,7 +408,8 @@ nlohmann::json QuasiStaticModel::info() const {
           {"preconditioner", have_precond_ ? settings_.preconditioner + " of the tet linear stiffness" : "none"},
           {"newton_iterations", total_newton_},
           {"cg_iterations", total_cg_},
-          {"unconverged_steps", unconverged_steps_}};
+          {"unconverged_steps", unconverged_steps_},
+          {"contact_passes", contact_passes_}};
 }
 
 }  // namespace vascsim

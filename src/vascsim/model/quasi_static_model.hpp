@@ -6,6 +6,13 @@
 // as the preconditioner; negative curvature stops CG early; a backtracking Armijo line search on Pi
 // globalises (an incomplete Cholesky factor by default, see QuasiStaticSettings). A load step starts from a linear predictor that carries the prescribed increment into the
 // free nodes, then a secant extrapolation along the load path. Converged when |r_free| <= tol * max(|reactions|, |f_ext|).
+//
+// Rigid obstacles (tools, the catheter) are frictionless one-sided contacts by an active set: a node that
+// enters a tool is put on its surface and its normal degree of freedom is held there (the residual, the CG
+// directions and the preconditioned vectors are filtered by I - n n^T, the "modified PCG" of Baraff &
+// Witkin 1998), so it can still slide along the tool. After Newton converges, a contact whose normal
+// reaction lambda = -r.n pulls on the tool (lambda < 0) is released and Newton continues; the step ends
+// when no node penetrates and no contact pulls. The tool force is sum lambda n over its contacts.
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
@@ -24,6 +31,8 @@ struct QuasiStaticSettings {
   /// "cholesky" (exact factor of the tet stiffness: 5x fewer CG iterations, but its fill grows fast:
   /// 21 M nonzeros and 90 ms per solve at 23k nodes), "incomplete_cholesky" (cheap at any size) or "none".
   std::string preconditioner = "auto";
+  std::vector<RigidObstacle> obstacles;  ///< frictionless rigid tools, moved by the load factor
+  int max_contact_passes = 50;           ///< active-set changes after a converged Newton solve, per load step
 };
 
 class QuasiStaticModel final : public Model {
@@ -35,6 +44,9 @@ class QuasiStaticModel final : public Model {
   const Vec3Array& positions() const override { return x_; }
   double load_factor() const override { return s_; }
   nlohmann::json info() const override;
+  /// Per obstacle at the last solve: sum lambda n over its contacts (force on the tissue), the moment about
+  /// its tool point, the contact count.
+  std::vector<ObstacleLoad> obstacle_loads() const override { return obstacle_load_; }
 
   /// Solves for equilibrium at load factor s starting from the current state (also used by experiments).
   StepReport solve(double s);
@@ -45,6 +57,14 @@ class QuasiStaticModel final : public Model {
   // PCG on H_ff dx = rhs (free nodes); returns iterations. Stops at |res| <= eta |rhs| or negative curvature.
   int conjugate_gradients(const Vec3Array& x, const Vec3Array& rhs, double eta, Vec3Array& dx) const;
   void precondition(const Vec3Array& r, Vec3Array& z) const;
+  // Contact (active set).
+  void filter(Vec3Array& v) const;  // removes the normal component at nodes in contact
+  // Puts every node in contact on its tool's surface at the current geometry; with `add`, also takes in
+  // the free nodes that penetrate a tool. Returns the number taken in.
+  int project_contacts(Vec3Array& x, bool add);
+  void add_contact_curvature(const Vec3Array& x, const Vec3Array& p, Vec3Array& Hp) const;
+  int release_pulling_contacts(const Vec3Array& r);  // lambda = -r.n < 0: released; returns how many
+  void measure_contacts(const Vec3Array& r, double s);
 
   const Problem& problem_;
   QuasiStaticSettings settings_;
@@ -55,6 +75,12 @@ class QuasiStaticModel final : public Model {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> cholesky_;
   Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> incomplete_;
   bool have_precond_ = false;
+  std::vector<int> contact_of_;             // per node: obstacle in contact, -1 none
+  Vec3Array contact_normal_;                // per node in contact: unit normal out of the tool
+  std::vector<double> contact_lambda_;      // per node in contact: normal force -r.n at the last Newton iterate
+  std::vector<constraints::Capsule> geometry_;  // obstacles at the load factor being solved
+  std::vector<ObstacleLoad> obstacle_load_;
+  long long contact_passes_ = 0;
   long long total_newton_ = 0, total_cg_ = 0;
   int unconverged_steps_ = 0;
 };

@@ -26,14 +26,6 @@ using constraints::Vec6;
 // machine OpenMP regions on small clouds cost more than they save (as in point_primitive_energy.cpp).
 constexpr Index kParallelMinNodes = 2048;
 
-// Contact of a point p with obstacle ob at load factor s (the obstacle translated by s * motion).
-constraints::ContactConstraint obstacle_contact(const RigidObstacle& ob, double s, const Vec3& p) {
-  const Vec3 shift = s * ob.motion_m;
-  return ob.shape == RigidObstacle::Shape::Sphere
-             ? constraints::sphere_contact(p, 0.0, {ob.a_m + shift, ob.radius_m})
-             : constraints::capsule_contact(p, 0.0, {ob.a_m + shift, ob.b_m + shift, ob.radius_m});
-}
-
 template <class Stencils>
 Colouring colour(const Stencils& stencils, Index num_nodes) {
   std::vector<Index> start{0}, nodes;
@@ -83,7 +75,16 @@ XpbdModel::XpbdModel(const Problem& problem, const XpbdSettings& s) : problem_(p
   for (const auto& o : s.obstacles)
     if (!(o.radius_m > 0.0)) throw InputError(fmt::format("xpbd: obstacle '{}': radius_m must be > 0", o.name));
   contact_lambda_.assign(x_.size() * s.obstacles.size(), 0.0);
-  obstacle_force_.assign(s.obstacles.size(), Vec3::Zero());
+  const std::size_t no = s.obstacles.size();
+  obstacle_load_.assign(no, ObstacleLoad{});
+  obstacle_now_.resize(no);
+  tool_now_.resize(no);
+  posed_.assign(no, 0);
+  pose_from_.resize(no);
+  pose_to_.resize(no);
+  tool_from_.resize(no);
+  tool_to_.resize(no);
+  place_obstacles(0.0, 0.0);
   if (s.stretch_modulus_pa > 0.0) setup_edges();
   if (s.energy_modulus_pa > 0.0) setup_barycentre();
   spdlog::info("xpbd: {} elastic constraints in {} colours; step {:.4g} s = {} substeps of {:.4g} s, {} "
@@ -375,16 +376,41 @@ void XpbdModel::project_barycentre(Index t) {
   }
 }
 
-void XpbdModel::project_contacts(double s) {
+void XpbdModel::place_obstacles(double s, double fraction) {
+  for (std::size_t o = 0; o < settings_.obstacles.size(); ++o) {
+    if (!posed_[o]) {
+      obstacle_now_[o] = obstacle_at(settings_.obstacles[o], s);
+      tool_now_[o] = tool_point_at(settings_.obstacles[o], s);
+      continue;
+    }
+    const auto& from = pose_from_[o];
+    const auto& to = pose_to_[o];
+    obstacle_now_[o] = {from.a + fraction * (to.a - from.a), from.b + fraction * (to.b - from.b), to.radius_m};
+    tool_now_[o] = tool_from_[o] + fraction * (tool_to_[o] - tool_from_[o]);
+  }
+}
+
+void XpbdModel::set_obstacle_pose(std::size_t o, const Vec3& position_m, const Eigen::Quaterniond& orientation) {
+  const constraints::Capsule g = obstacle_posed(settings_.obstacles.at(o), position_m, orientation);
+  if (!posed_[o]) {
+    // The first pose: no sweep from wherever the load factor had the obstacle.
+    pose_from_[o] = g;
+    tool_from_[o] = position_m;
+    posed_[o] = 1;
+  }
+  pose_to_[o] = g;
+  tool_to_[o] = position_m;
+}
+
+void XpbdModel::project_contacts() {
   const Index n = static_cast<Index>(x_.size());
-  const auto& obstacles = settings_.obstacles;
-  const std::size_t no = obstacles.size();
+  const std::size_t no = settings_.obstacles.size();
   // One constraint per (node, obstacle), touching one node only: no colouring needed.
 #pragma omp parallel for schedule(static) if (parallel_)
   for (Index i = 0; i < n; ++i) {
     if (inv_mass_[i] == 0.0) continue;
     for (std::size_t o = 0; o < no; ++o) {
-      const auto c = obstacle_contact(obstacles[o], s, p_[i]);
+      const auto c = obstacle_contact(obstacle_now_[o], p_[i]);
       double& lambda = contact_lambda_[static_cast<std::size_t>(i) * no + o];
       if (!c.active && lambda == 0.0) continue;
       // Unilateral, rigid (alpha = 0): Delta lambda = -C / w, clamped so that lambda stays >= 0.
@@ -434,19 +460,23 @@ void XpbdModel::substep(double s_next) {
       sweep(elastic_colours_, [this](Index t) { project_tet(t); });
     if (!edges_.empty()) sweep(edge_colours_, [this](Index e) { project_edge(e); });
     if (!bary_rest_.empty()) sweep(tet_colours_, [this](Index t) { project_barycentre(t); });
-    if (!settings_.obstacles.empty()) project_contacts(s_next);
+    if (!settings_.obstacles.empty()) project_contacts();
   }
   if (!settings_.obstacles.empty()) {
-    // The force each obstacle exerted on the tissue: sum lambda n / h^2 with the final normals.
+    // The load each obstacle exerted on the tissue: sum lambda n / h^2 with the final normals, and its
+    // moment about the tool point (the force acts at the node, which is on the tool's surface).
     const std::size_t no = settings_.obstacles.size();
     for (std::size_t o = 0; o < no; ++o) {
-      Vec3 f = Vec3::Zero();
+      ObstacleLoad load;
       for (Index i = 0; i < n; ++i) {
         const double lambda = contact_lambda_[static_cast<std::size_t>(i) * no + o];
         if (lambda == 0.0) continue;
-        f += (lambda * inv_h2_) * obstacle_contact(settings_.obstacles[o], s_next, p_[i]).normal;
+        const Vec3 f = (lambda * inv_h2_) * obstacle_contact(obstacle_now_[o], p_[i]).normal;
+        load.force_n += f;
+        load.torque_n_m += (p_[i] - tool_now_[o]).cross(f);
+        ++load.contacts;
       }
-      obstacle_force_[o] = f;
+      obstacle_load_[o] = load;
     }
   }
   const double decay = std::exp(-settings_.damping_per_s * h);
@@ -457,23 +487,40 @@ void XpbdModel::substep(double s_next) {
   }
 }
 
+StepReport XpbdModel::step() {
+  const double t0 = t_;
+  for (int j = 1; j <= settings_.substeps; ++j) {
+    apply_releases(t0 + (j - 1) * h_);
+    const double s_next = load_factor_at(t0 + j * h_);
+    place_obstacles(s_next, static_cast<double>(j) / settings_.substeps);
+    substep(s_next);
+  }
+  for (std::size_t o = 0; o < posed_.size(); ++o)
+    if (posed_[o]) {
+      pose_from_[o] = pose_to_[o];
+      tool_from_[o] = tool_to_[o];
+    }
+  t_ = t0 + step_;
+  substeps_done_ += settings_.substeps;
+  s_ = load_factor_at(t_);
+  for (const auto& x : x_)
+    if (!x.allFinite()) throw NumericalError(fmt::format("xpbd: the state became non-finite at t = {:.6g} s", t_));
+  StepReport r;
+  r.iterations = settings_.substeps;
+  r.time_s = t_;
+  r.load_factor = s_;
+  return r;
+}
+
 StepReport XpbdModel::advance(int k) {
   const double t_end = std::min(k * settings_.output_interval_s, settings_.duration_s);
   StepReport r;
+  int substeps = 0;
   while (t_ < t_end - 0.5 * step_) {
-    const double t0 = t_;
-    for (int j = 1; j <= settings_.substeps; ++j) {
-      apply_releases(t0 + (j - 1) * h_);
-      substep(load_factor_at(t0 + j * h_));
-    }
-    t_ = t0 + step_;
-    r.iterations += settings_.substeps;
+    r = step();
+    substeps += r.iterations;
   }
-  substeps_done_ += r.iterations;
-  s_ = load_factor_at(t_);
-  for (const auto& x : x_)
-    if (!x.allFinite())
-      throw NumericalError(fmt::format("xpbd: the state became non-finite at t = {:.6g} s", t_));
+  r.iterations = substeps;
   r.time_s = t_;
   r.load_factor = s_;
   return r;

@@ -31,24 +31,13 @@
 
 #include "vascsim/model/constraint_colouring.hpp"
 #include "vascsim/model/model.hpp"
+#include "vascsim/model/rigid_obstacle.hpp"
 
 namespace vascsim {
 
 enum class XpbdElastic {
   MeshlessStrain,  ///< MODEL.md 3.3 (A): the point-primitive energy (default)
   TetNeoHookean    ///< MODEL.md 3.3 (B): the virtual tetrahedra's neo-Hookean pair
-};
-
-/// A rigid body the tissue cannot enter (MODEL.md 3.3 contact), moved with the load factor s: its reference
-/// points are a + s motion (and b + s motion). Nodes are points; contact is one-sided, alpha = 0.
-struct RigidObstacle {
-  enum class Shape { Sphere, Capsule };
-  std::string name;
-  Shape shape = Shape::Sphere;
-  double radius_m = 0.0;
-  Vec3 a_m = Vec3::Zero();       ///< sphere centre, or capsule segment start, at s = 0 (m)
-  Vec3 b_m = Vec3::Zero();       ///< capsule segment end at s = 0 (m); unused for a sphere
-  Vec3 motion_m = Vec3::Zero();  ///< rigid translation at s = 1 (m)
 };
 
 struct XpbdSettings {
@@ -76,8 +65,21 @@ class XpbdModel final : public Model {
   nlohmann::json info() const override;
   /// sum_c lambda_c grad C_c / h^2 per node over the last substep, N (also on prescribed nodes).
   const Vec3Array* constraint_forces() const override { return &f_constraint_; }
-  /// Per obstacle: the force it exerted on the tissue over the last substep, sum lambda n / h^2 (N).
-  std::vector<Vec3> obstacle_forces() const override { return obstacle_force_; }
+  /// Per obstacle: the force it exerted on the tissue over the last substep, sum lambda n / h^2 (N), its
+  /// moment about the tool point and the nodes in contact.
+  std::vector<ObstacleLoad> obstacle_loads() const override { return obstacle_load_; }
+
+  /// Places obstacle o by a device pose (rigid_obstacle.hpp obstacle_posed) for the end of the next step;
+  /// the substeps move it linearly from its previous pose (MODEL.md 3.3, "interpolate between ticks"). From
+  /// the first call on, the obstacle ignores its load-factor motion. Throws std::out_of_range for a bad o.
+  void set_obstacle_pose(std::size_t o, const Vec3& position_m, const Eigen::Quaterniond& orientation);
+  /// The geometry obstacle o had in the last substep.
+  const constraints::Capsule& obstacle_geometry(std::size_t o) const { return obstacle_now_.at(o); }
+  /// One step of step_s (n_sub substeps) from the current time, for drivers that pace the model
+  /// themselves (the haptic session). advance() is a sequence of these.
+  StepReport step();
+  double time() const { return t_; }
+  double step_length() const { return step_; }
 
   const Vec3Array& velocities() const { return v_; }
   double substep_length() const { return h_; }
@@ -101,7 +103,8 @@ class XpbdModel final : public Model {
   void project_tet(Index t);        // (B)
   void project_edge(Index e);       // stretching
   void project_barycentre(Index t);  // four per-spring barycentre constraints of tet t
-  void project_contacts(double s);   // every node against every obstacle at load factor s
+  void project_contacts();           // every node against every obstacle as placed for this substep
+  void place_obstacles(double s, double fraction);  // obstacle_now_ at load factor s, fraction of the step
   template <class Project>
   void sweep(const Colouring& colours, Project&& project);
 
@@ -138,7 +141,10 @@ class XpbdModel final : public Model {
 
   // Contact: multipliers per (node, obstacle) and the force on every obstacle's tissue side.
   std::vector<double> contact_lambda_;
-  std::vector<Vec3> obstacle_force_;
+  std::vector<ObstacleLoad> obstacle_load_;
+  std::vector<constraints::Capsule> obstacle_now_, pose_from_, pose_to_;  // per obstacle
+  std::vector<Vec3> tool_now_, tool_from_, tool_to_;                      // tool points, m
+  std::vector<char> posed_;  // placed by set_obstacle_pose
   double substep_load_ = 0.0;
 
   // Per-spring barycentre constraints (4 per tet).

@@ -37,10 +37,13 @@ nlohmann::json step_json(const Scene& scene, const StepRecord& r) {
   nlohmann::json probes = nlohmann::json::object();
   for (std::size_t i = 0; i < r.probes.size(); ++i) probes[scene.probes[i].name + "_displacement_m"] = r.probes[i];
   for (std::size_t i = 0; i < r.obstacles.size(); ++i)
-    regions[scene.xpbd.obstacles[i].name] = {
+    regions[scene.obstacles[i].name] = {
         {"displacement_m", r.obstacles[i].displacement_m},
         {"force_n", r.obstacles[i].force_projected_n},
-        {"force_vector_n", {r.obstacles[i].force_n.x(), r.obstacles[i].force_n.y(), r.obstacles[i].force_n.z()}}};
+        {"force_vector_n", {r.obstacles[i].force_n.x(), r.obstacles[i].force_n.y(), r.obstacles[i].force_n.z()}},
+        {"torque_vector_n_m",
+         {r.obstacles[i].torque_n_m.x(), r.obstacles[i].torque_n_m.y(), r.obstacles[i].torque_n_m.z()}},
+        {"contacts", r.obstacles[i].contacts}};
   return {{"step", r.step},
           {"time_s", r.report.time_s},
           {"load_factor", r.report.load_factor},
@@ -62,7 +65,7 @@ std::vector<std::string> probe_columns(const Scene& scene) {
     c.push_back(r.name + "_force_n");
   }
   for (const auto& p : scene.probes) c.push_back(p.name + "_displacement_m");
-  for (const auto& o : scene.xpbd.obstacles) {
+  for (const auto& o : scene.obstacles) {
     c.push_back(o.name + "_displacement_m");
     c.push_back(o.name + "_force_n");
   }

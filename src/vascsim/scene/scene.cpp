@@ -341,20 +341,41 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
       if (r.name == ob.name) o.fail("name", fmt::format("'{}' is already a region name", ob.name));
     for (const auto& p : sc.probes)
       if (p.name == ob.name) o.fail("name", fmt::format("'{}' is already a probe name", ob.name));
-    for (const auto& q : sc.xpbd.obstacles)
+    for (const auto& q : sc.obstacles)
       if (q.name == ob.name) o.fail("name", fmt::format("duplicate obstacle name '{}'", ob.name));
-    const std::string shape = o.string("shape", "sphere", {"sphere", "capsule"});
-    ob.shape = shape == "sphere" ? RigidObstacle::Shape::Sphere : RigidObstacle::Shape::Capsule;
-    ob.radius_m = o.required_number("radius_m", 1e-12, 1e3);
-    if (ob.shape == RigidObstacle::Shape::Sphere) {
-      ob.a_m = o.required_vec3("centre_m");
+    const std::string shape = o.string("shape", "sphere", {"sphere", "capsule", "catheter"});
+    if (shape == "catheter") {
+      // Diameter in metres or in French (1 Fr = 1/3 mm); 6 Fr by default.
+      if (o.has("diameter_m") && o.has("diameter_fr"))
+        o.fail("diameter_m", "give the diameter as diameter_m or as diameter_fr, not both");
+      const double diameter = o.has("diameter_m") ? o.required_number("diameter_m", 1e-6, 1.0)
+                                                  : o.number("diameter_fr", 6.0, 0.1, 100.0) * kMetresPerFrench;
+      const Vec3 tip = o.required_vec3("tip_m");
+      const Vec3 direction = o.required_vec3("direction");
+      if (!(direction.norm() > 0.0)) o.fail("direction", "must be a non-zero vector");
+      const double length = o.number("length_m", 0.02, 1e-6, 10.0);
+      if (length < diameter)
+        o.fail("length_m", fmt::format("{} m is shorter than the catheter's diameter ({} m)", length, diameter));
+      const std::string name = ob.name;
+      ob = make_catheter(name, tip, direction, diameter, length);
+      // The push: motion_m, or push_m along the catheter's direction.
+      if (o.has("motion_m") && o.has("push_m")) o.fail("push_m", "give motion_m or push_m, not both");
+      ob.motion_m = o.has("push_m") ? Vec3(o.number("push_m", 0.0, -10.0, 10.0) * direction.normalized())
+                                    : o.vec3("motion_m", Vec3::Zero());
     } else {
-      ob.a_m = o.required_vec3("a_m");
-      ob.b_m = o.required_vec3("b_m");
+      ob.shape = shape == "sphere" ? RigidObstacle::Shape::Sphere : RigidObstacle::Shape::Capsule;
+      ob.radius_m = o.required_number("radius_m", 1e-12, 1e3);
+      if (ob.shape == RigidObstacle::Shape::Sphere) {
+        ob.a_m = o.required_vec3("centre_m");
+      } else {
+        ob.a_m = o.required_vec3("a_m");
+        ob.b_m = o.required_vec3("b_m");
+      }
+      ob.tool_point_m = ob.a_m;
+      ob.motion_m = o.vec3("motion_m", Vec3::Zero());
     }
-    ob.motion_m = o.vec3("motion_m", Vec3::Zero());
     o.finish();
-    sc.xpbd.obstacles.push_back(ob);
+    sc.obstacles.push_back(ob);
   }
 
   JsonReader qs = root.object("quasi_static");

@@ -104,6 +104,7 @@ struct Scene {
   std::vector<RegionSpec> regions;
   std::vector<PointProbeSpec> probes;
   Vec3 gravity_m_s2 = Vec3::Zero();
+  std::vector<RigidObstacle> obstacles;  ///< rigid tools (xpbd and quasi_static)
   ExplicitSettings explicit_settings;
   QuasiStaticSettings quasi_static;
   XpbdSettings xpbd;

@@ -185,12 +185,14 @@ void Simulation::build() {
     }
     probe_nodes_.push_back(best);
   }
-  if (!scene.xpbd.obstacles.empty() && scene.model != "xpbd")
-    throw InputError(fmt::format("{}: key 'obstacles': rigid obstacles are supported by the xpbd model only (model "
-                                 "is '{}')",
+  if (!scene.obstacles.empty() && scene.model != "xpbd" && scene.model != "quasi_static")
+    throw InputError(fmt::format("{}: key 'obstacles': rigid obstacles are supported by the xpbd and quasi_static "
+                                 "models only (model is '{}')",
                                  scene.file, scene.model));
-  model_ = make_model(scene.model, *problem_,
-                      ModelSettings{scene.explicit_settings, scene.quasi_static, scene.xpbd, scene.paper_literal});
+  ModelSettings settings{scene.explicit_settings, scene.quasi_static, scene.xpbd, scene.paper_literal};
+  settings.xpbd.obstacles = scene.obstacles;
+  settings.quasi_static.obstacles = scene.obstacles;
+  model_ = make_model(scene.model, *problem_, settings);
   setup_s_ = seconds_since(t0);
 }
 
@@ -206,13 +208,17 @@ StepRecord Simulation::measure(int step, const StepReport& report) const {
     energy_->forces(x, f_int);
   problem_->external_forces(report.load_factor, f_ext);
   rec.regions = problem_->measure(report.load_factor, x, f_int, f_ext);
-  const std::vector<Vec3> tool_forces = step > 0 ? model_->obstacle_forces() : std::vector<Vec3>{};
-  for (std::size_t o = 0; o < scene_.xpbd.obstacles.size(); ++o) {
-    const RigidObstacle& ob = scene_.xpbd.obstacles[o];
+  const std::vector<ObstacleLoad> loads = step > 0 ? model_->obstacle_loads() : std::vector<ObstacleLoad>{};
+  for (std::size_t o = 0; o < scene_.obstacles.size(); ++o) {
+    const RigidObstacle& ob = scene_.obstacles[o];
     ObstacleMeasure m;
     const double travel = ob.motion_m.norm();
     m.displacement_m = report.load_factor * travel;
-    m.force_n = o < tool_forces.size() ? tool_forces[o] : Vec3::Zero();
+    if (o < loads.size()) {
+      m.force_n = loads[o].force_n;
+      m.torque_n_m = loads[o].torque_n_m;
+      m.contacts = loads[o].contacts;
+    }
     m.force_projected_n = travel > 0.0 ? m.force_n.dot(ob.motion_m / travel) : m.force_n.norm();
     rec.obstacles.push_back(m);
   }

@@ -13,8 +13,10 @@
 #include "vascsim/app/progress.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/experiments/cantilever.hpp"
+#include "vascsim/experiments/force_displacement.hpp"
 #include "vascsim/experiments/mls_validation.hpp"
 #include "vascsim/experiments/realtime_bench.hpp"
+#include "vascsim/scene/haptic_session.hpp"
 #include "vascsim/scene/runner.hpp"
 
 namespace vascsim {
@@ -40,10 +42,50 @@ std::string step_status(const std::string& model, const StepRecord& r) {
   return fmt::format("t = {:.4g} s, {} substeps", r.report.time_s, r.report.iterations);
 }
 
+struct SessionFlags {
+  std::string mode, record, replay;
+};
+
+int command_haptic_session(const Scene& scene, const std::filesystem::path& out_dir, const SessionFlags& flags,
+                           std::ostream& out, std::ostream& err) {
+  spdlog::info("scene '{}' ({}): haptic session, output {}", scene.name, scene.file, out_dir.string());
+  Progress progress(err, is_terminal(err), scene.name);
+  HapticRunOptions opt;
+  opt.out_dir = out_dir;
+  opt.mode = flags.mode;
+  opt.record = flags.record;
+  opt.replay = flags.replay;
+  opt.on_progress = [&](double done, double total) {
+    progress.update(static_cast<int>(std::lround(1000.0 * done / total)), 1000,
+                    fmt::format("session t = {:.3f} of {:.3f} s", done, total));
+  };
+  const nlohmann::json summary = run_haptic_session(scene, opt);
+  progress.finish();
+  const auto& h = summary["haptics"];
+  const auto& loop = h["loop"];
+  out << fmt::format("{}: {} nodes, {:.3g} s session ({}), {} ticks at {:.1f} Hz (jitter p50/p99/max {:.3f}/{:.3f}/{:.3f} "
+                     "ms), {} simulation steps at {:.1f} Hz, max force on the tool {:.4g} N; wrote {}\n",
+                     scene.name, summary["nodes"].get<int>(), h["duration_s"].get<double>(), h["mode"].get<std::string>(),
+                     h["ticks"].get<std::size_t>(), loop["achieved_rate_hz"].get<double>(),
+                     loop["jitter_p50_ms"].get<double>(), loop["jitter_p99_ms"].get<double>(),
+                     loop["jitter_max_ms"].get<double>(), h["simulation_steps"].get<std::size_t>(),
+                     h["deformation_rate_hz"].get<double>(), h["max_force_on_tool_n"].get<double>(),
+                     (out_dir / "force_history.csv").string());
+  if (h.contains("replay"))
+    out << fmt::format("replay of {}: {} ticks compared, max force difference {:.3g} N, bit-identical: {}\n",
+                       h["replay"]["file"].get<std::string>(), h["replay"]["ticks_compared"].get<std::size_t>(),
+                       h["replay"]["max_force_difference_n"].get<double>(),
+                       h["replay"]["bit_identical"].get<bool>() ? "yes" : "no");
+  return 0;
+}
+
 int command_run(const std::string& scene_path, const std::vector<std::string>& sets, const std::string& out_opt,
-                std::ostream& out, std::ostream& err) {
+                const SessionFlags& flags, std::ostream& out, std::ostream& err) {
   const Scene scene = load_scene(scene_path, sets);
   const std::filesystem::path out_dir = out_opt.empty() ? std::filesystem::path("out") / scene.name : std::filesystem::path(out_opt);
+  if (scene.haptics.enabled) return command_haptic_session(scene, out_dir, flags, out, err);
+  if (!flags.mode.empty() || !flags.record.empty() || !flags.replay.empty())
+    throw InputError(fmt::format("{}: --mode, --record and --replay need a scene with a 'haptics' block", scene.file));
   spdlog::info("scene '{}' ({}), model {}, output {}", scene.name, scene.file, scene.model, out_dir.string());
   Progress progress(err, is_terminal(err), scene.name);
   RunOptions opt;
@@ -64,6 +106,35 @@ int command_run(const std::string& scene_path, const std::vector<std::string>& s
   if (summary["unconverged_steps"].get<int>() > 0)
     out << fmt::format("warning: {} load steps did not converge (see summary.json)\n",
                        summary["unconverged_steps"].get<int>());
+  return 0;
+}
+
+int command_force_displacement(const std::string& scene_path, const std::vector<std::string>& sets,
+                               const std::string& out_opt, const std::string& tool, bool plot, std::ostream& out,
+                               std::ostream& err) {
+  const Scene scene = load_scene(scene_path, sets);
+  ForceDisplacementOptions opt;
+  opt.out_dir = out_opt.empty() ? std::filesystem::path("out") / (scene.name + "-force-displacement")
+                                : std::filesystem::path(out_opt);
+  opt.tool = tool;
+  opt.plot = plot;
+  spdlog::info("force-displacement: scene '{}' ({}), model {}, output {}", scene.name, scene.file, scene.model,
+               opt.out_dir.string());
+  Progress progress(err, is_terminal(err), scene.name);
+  opt.on_step = [&](const StepRecord& r, int total) { progress.update(r.step, total, step_status(scene.model, r)); };
+  const ForceDisplacementResult res = run_force_displacement(scene, opt);
+  progress.finish();
+  const auto& rows = res.summary["force_displacement"]["rows"];
+  const auto& last = rows.back();
+  out << fmt::format("{}: tool '{}' at {:.4g} mm: {:.4g} mN ({} steps, model {}); wrote {}\n", scene.name,
+                     res.summary["force_displacement"]["tool"].get<std::string>(),
+                     last["displacement_m"].get<double>() * 1e3, last["force_n"].get<double>() * 1e3,
+                     rows.size() - 1, scene.model, res.csv.string());
+  if (!res.png.empty()) out << "wrote " << res.png.string() << "\n";
+  if (!res.plot_problem.empty()) out << "warning: no plot: " << res.plot_problem << "\n";
+  if (res.summary["unconverged_steps"].get<int>() > 0)
+    out << fmt::format("warning: {} load steps did not converge (see summary.json)\n",
+                       res.summary["unconverged_steps"].get<int>());
   return 0;
 }
 
@@ -184,6 +255,11 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   run->add_option("scene", scene_path, "Scene JSON file (docs/scene-format.md)")->required();
   run->add_option("--set", sets, "Override a scene key: path.to.key=value (repeatable)");
   run->add_option("--out", out_dir, "Output folder (default: out/<scene name>)");
+  SessionFlags session;
+  run->add_option("--mode", session.mode, "Haptic scenes: lockstep (deterministic) or realtime (haptic thread)")
+      ->check(CLI::IsMember({"lockstep", "realtime"}));
+  run->add_option("--record", session.record, "Haptic scenes: also write the session recording to FILE");
+  run->add_option("--replay", session.replay, "Haptic scenes: play a session recording instead of the trajectory");
 
   auto* validate = app.add_subcommand("validate", "Validation studies against analytic references");
   validate->require_subcommand(1);
@@ -219,8 +295,21 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   bench->add_option("--set", bench_opt.overrides, "Override a scene key: path.to.key=value (repeatable)");
   bench->add_option("--out", bench_out, "Write FILE.csv or FILE.json (repeatable: --out a.csv --out a.json)");
 
+  auto* experiment = app.add_subcommand("experiment", "The paper's experiments, one command each");
+  experiment->require_subcommand(1);
+  auto* fd = experiment->add_subcommand(
+      "force-displacement", "A tool (catheter) presses the vessel in displacement steps: force_displacement.csv "
+                            "and .png (the paper's Fig. 10: scenes/hand-dorsal-vein-catheter.json)");
+  std::string fd_tool;
+  bool fd_no_plot = false;
+  fd->add_option("scene", scene_path, "Scene JSON file with a moving tool in 'obstacles'")->required();
+  fd->add_option("--set", sets, "Override a scene key: path.to.key=value (repeatable), e.g. model=xpbd");
+  fd->add_option("--out", out_dir, "Output folder (default: out/<scene name>-force-displacement)");
+  fd->add_option("--tool", fd_tool, "The obstacle that presses (default: the scene's only obstacle)");
+  fd->add_flag("--no-plot", fd_no_plot, "Write the CSV only (no matplotlib call)");
+
   // Global options (-q, -v, -j) are accepted after the subcommand too.
-  for (auto* sub : {run, validate, cant, mls, bench}) sub->fallthrough();
+  for (auto* sub : {run, validate, cant, mls, bench, experiment, fd}) sub->fallthrough();
   std::vector<std::string> rev(args.rbegin(), args.rend());
   try {
     app.parse(rev);
@@ -242,8 +331,9 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   setup_logging(err, quiet, verbose);
   if (threads > 0) omp_set_num_threads(threads);
   try {
-    if (run->parsed()) return command_run(scene_path, sets, out_dir, out, err);
+    if (run->parsed()) return command_run(scene_path, sets, out_dir, session, out, err);
     if (cant->parsed()) return command_validate_cantilever(out_dir, sizes, out, err);
+    if (fd->parsed()) return command_force_displacement(scene_path, sets, out_dir, fd_tool, !fd_no_plot, out, err);
     if (mls->parsed()) return command_validate_mls(mls_scenes, sets, mls_tight, out_dir, out);
     if (bench->parsed()) {
       if (bench_threads->count() == 0 && threads > 0) bench_opt.threads = {threads};

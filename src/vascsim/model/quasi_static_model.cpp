@@ -110,7 +110,7 @@ void QuasiStaticModel::add_contact_curvature(const Vec3Array& x, const Vec3Array
   // cylindrical part, e = 0 on the rounded ends). Without it Newton converges only linearly.
   for (Index i : free_) {
     const int o = contact_of_[i];
-    if (o < 0 || !(contact_lambda_[i] > 0.0)) continue;
+    if (o < 0) continue;  // both signs: while in the set the contact is bilateral
     const constraints::Capsule& g = geometry_[static_cast<std::size_t>(o)];
     const Vec3 n = contact_normal_[i];
     Vec3 t = p[i] - n.dot(p[i]) * n;
@@ -301,26 +301,37 @@ StepReport QuasiStaticModel::solve(double s) {
     }
     res = residual_norm(r) / scale;
     if (!std::isfinite(res)) throw NumericalError(fmt::format("quasi_static: non-finite residual at s = {:.4g}", s));
-    spdlog::debug("quasi_static: s = {:.4g}, Newton {}: relative residual {:.3e}", s, it, res);
-    if (res <= settings_.rel_tolerance) {
-      if (geometry_.empty()) break;
-      // Converged for this active set: release the contacts that pull on a tool and continue, unless
-      // nothing changes.
+    if (spdlog::should_log(spdlog::level::debug)) {
+      int active = 0, pulling = 0;
+      for (Index i : free_)
+        if (contact_of_[i] >= 0) {
+          ++active;
+          pulling += contact_lambda_[i] < 0.0 ? 1 : 0;
+        }
+      spdlog::debug("quasi_static: s = {:.4g}, Newton {}: relative residual {:.3e}{}", s, it, res,
+                    geometry_.empty() ? std::string() : fmt::format(" ({} contacts, {} pulling)", active, pulling));
+    }
+    // Nearly converged for this active set (1e-3, well before the tolerance, so that Newton does not polish
+    // a set that is about to change): release the contacts that pull on a tool and iterate again; done when
+    // converged and nothing pulls.
+    if (!geometry_.empty() && res <= std::max(settings_.rel_tolerance, 1e-3)) {
       const int released = release_pulling_contacts(r_unfiltered);
-      if (released == 0) {
-        measure_contacts(r_unfiltered, s);
-        break;
+      if (released > 0) {
+        ++contact_passes_;
+        spdlog::debug("quasi_static: s = {:.4g}: released {} contacts that pulled", s, released);
+        if (++passes > settings_.max_contact_passes) {
+          rep.converged = false;
+          measure_contacts(r_unfiltered, s);
+          break;
+        }
+        stalled = 0;
+        best = INFINITY;
+        continue;
       }
-      ++contact_passes_;
-      spdlog::debug("quasi_static: s = {:.4g}: released {} contacts that pulled", s, released);
-      if (++passes > settings_.max_contact_passes) {
-        rep.converged = false;
-        measure_contacts(r_unfiltered, s);
-        break;
-      }
-      stalled = 0;
-      best = INFINITY;
-      continue;
+    }
+    if (res <= settings_.rel_tolerance) {
+      if (!geometry_.empty()) measure_contacts(r_unfiltered, s);
+      break;
     }
     // Positions carry about 1e-16 relative precision, which floors the attainable residual; stop
     // when three Newton steps in a row gain less than 10 %.
@@ -376,7 +387,8 @@ StepReport QuasiStaticModel::solve(double s) {
     }
     x_.swap(trial);
     // Nodes the step pushed into a tool join the active set on its surface.
-    if (project_contacts(x_, true) > 0) {
+    if (const int added = project_contacts(x_, true); added > 0) {
+      spdlog::debug("quasi_static:   {} nodes entered a tool", added);
       stalled = 0;
       best = INFINITY;
     }

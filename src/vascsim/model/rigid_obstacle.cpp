@@ -32,7 +32,7 @@ RigidObstacle make_catheter(const std::string& name, const Vec3& tip_m, const Ve
 constraints::Capsule obstacle_at(const RigidObstacle& obstacle, double s) {
   const Vec3 shift = s * obstacle.motion_m;
   const Vec3 b = obstacle.shape == RigidObstacle::Shape::Sphere ? obstacle.a_m : obstacle.b_m;
-  return {obstacle.a_m + shift, b + shift, obstacle.radius_m};
+  return {obstacle.a_m + shift, b + shift, obstacle.radius_m + obstacle.node_radius_m};
 }
 
 Vec3 tool_point_at(const RigidObstacle& obstacle, double s) { return obstacle.tool_point_m + s * obstacle.motion_m; }
@@ -45,16 +45,16 @@ constraints::Capsule obstacle_posed(const RigidObstacle& obstacle, const Vec3& p
                                     const Eigen::Quaterniond& orientation) {
   if (obstacle.shape == RigidObstacle::Shape::Sphere) {
     const Vec3 c = position_m + (obstacle.a_m - obstacle.tool_point_m);
-    return {c, c, obstacle.radius_m};
+    return {c, c, obstacle.radius_m + obstacle.node_radius_m};
   }
   const Eigen::Quaterniond q = orientation.normalized();
   if (obstacle.catheter) {
     const Vec3 d = q * Vec3(0.0, 0.0, -1.0);
     return {position_m - obstacle.radius_m * d, position_m - (obstacle.length_m - obstacle.radius_m) * d,
-            obstacle.radius_m};
+            obstacle.radius_m + obstacle.node_radius_m};
   }
   return {position_m + q * (obstacle.a_m - obstacle.tool_point_m), position_m + q * (obstacle.b_m - obstacle.tool_point_m),
-          obstacle.radius_m};
+          obstacle.radius_m + obstacle.node_radius_m};
 }
 
 }  // namespace vascsim

@@ -32,6 +32,10 @@ struct RigidObstacle {
   Vec3 tool_point_m = Vec3::Zero();
   bool catheter = false;         ///< built by make_catheter (a capsule whose a end is the tip)
   double length_m = 0.0;         ///< catheter: tip to shaft end (m)
+  /// Radius of the node spheres the tool meets (m; 0: nodes are points). Contact keeps nodes this far
+  /// outside the tool, so a tool thinner than about 2 node spacings cannot slip between nodes
+  /// (docs/haptics.md); the price is a gap of this size between tool and wall.
+  double node_radius_m = 0.0;
 };
 
 /// A catheter of outer `diameter_m` whose rounded tip's foremost point is `tip_m` and which points along
@@ -41,7 +45,8 @@ struct RigidObstacle {
 RigidObstacle make_catheter(const std::string& name, const Vec3& tip_m, const Vec3& direction,
                             double diameter_m, double length_m);
 
-/// The obstacle's geometry at load factor s (translated by s * motion_m). A sphere is a capsule with a = b.
+/// The obstacle's contact geometry at load factor s (translated by s * motion_m; radius_m + node_radius_m).
+/// A sphere is a capsule with a = b.
 constraints::Capsule obstacle_at(const RigidObstacle& obstacle, double s);
 
 /// The tool point at load factor s, m.

@@ -73,6 +73,26 @@ std::vector<std::string> probe_columns(const Scene& scene) {
   return c;
 }
 
+nlohmann::json describe_run(const Scene& scene, Simulation& sim) {
+  const auto& disc = sim.discretization();
+  return {{"scene", scene.name},
+          {"scene_file", scene.file},
+          {"model", sim.model().name()},
+          {"parameters", scene.resolved},
+          {"nodes", disc.num_nodes()},
+          {"virtual_tetrahedra", disc.tets().size()},
+          {"neighbour_pairs", disc.pairs().col.size()},
+          {"mean_neighbours", disc.mean_neighbours()},
+          {"mean_spacing_m", disc.mean_spacing()},
+          {"support_radius_min_m", *std::min_element(disc.support_radius().begin(), disc.support_radius().end())},
+          {"support_radius_max_m", *std::max_element(disc.support_radius().begin(), disc.support_radius().end())},
+          {"nodes_with_grown_support", disc.grown_nodes()},
+          {"volume_m3", disc.total_volume()},
+          {"mass_kg", std::accumulate(disc.masses().begin(), disc.masses().end(), 0.0)},
+          {"solver", sim.model().info()},
+          {"threads", omp_get_max_threads()}};
+}
+
 nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   namespace fs = std::filesystem;
   std::error_code ec;
@@ -147,24 +167,8 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
     if (options.on_step) options.on_step(last, model.num_steps());
   }
 
-  const auto& disc = sim.discretization();
-  nlohmann::json summary = {
-      {"scene", scene.name},
-      {"scene_file", scene.file},
-      {"model", model.name()},
-      {"parameters", scene.resolved},
-      {"nodes", disc.num_nodes()},
-      {"virtual_tetrahedra", disc.tets().size()},
-      {"neighbour_pairs", disc.pairs().col.size()},
-      {"mean_neighbours", disc.mean_neighbours()},
-      {"mean_spacing_m", disc.mean_spacing()},
-      {"support_radius_min_m", *std::min_element(disc.support_radius().begin(), disc.support_radius().end())},
-      {"support_radius_max_m", *std::max_element(disc.support_radius().begin(), disc.support_radius().end())},
-      {"nodes_with_grown_support", disc.grown_nodes()},
-      {"volume_m3", disc.total_volume()},
-      {"mass_kg", std::accumulate(disc.masses().begin(), disc.masses().end(), 0.0)},
-      {"solver", model.info()},
-      {"threads", omp_get_max_threads()},
+  nlohmann::json summary = describe_run(scene, sim);
+  summary.update({
       {"timings_s",
        {{"setup", sim.setup_seconds()},
         {"solve", solve_s},
@@ -175,7 +179,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
       {"outputs",
        {{"probes_csv", "probes.csv"},
         {"vtk", scene.output.vtk ? "vtk/nodes.pvd" : ""},
-        {"surface", surface ? "vtk/surface.pvd" : ""}}}};
+        {"surface", surface ? "vtk/surface.pvd" : ""}}}});
   const auto ref = sim.reference(last);
   if (!ref.is_null()) summary["reference"] = ref;
   std::ofstream js(options.out_dir / "summary.json");

@@ -20,6 +20,9 @@ struct RunOptions {
 /// Runs the scene and returns summary.json's content (also written). Throws InputError / NumericalError.
 nlohmann::json run_scene(const Scene& scene, const RunOptions& options);
 
+/// summary.json's description of a run: scene, model, discretisation sizes, solver parameters, threads.
+nlohmann::json describe_run(const Scene& scene, Simulation& sim);
+
 /// Column names of probes.csv for a scene.
 std::vector<std::string> probe_columns(const Scene& scene);
 

@@ -374,6 +374,7 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
       ob.tool_point_m = ob.a_m;
       ob.motion_m = o.vec3("motion_m", Vec3::Zero());
     }
+    ob.node_radius_m = o.number("node_radius_m", 0.0, 0.0, 1.0);
     o.finish();
     sc.obstacles.push_back(ob);
   }
@@ -397,6 +398,33 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   sc.explicit_settings.cfl_coefficient = ex.number("cfl_coefficient", 0.4, 0.01, 2.0);
   sc.explicit_settings.power_iterations = ex.integer("power_iterations", 60, 1, 100000);
   ex.finish();
+
+  if (root.has("haptics")) {
+    JsonReader h = root.object("haptics");
+    HapticsSpec& hs = sc.haptics;
+    hs.enabled = true;
+    hs.tool = h.string("tool", "");
+    JsonReader dev = h.object("device");
+    dev.string("type", "scripted", {"scripted"});
+    const std::filesystem::path traj = dev.required_string("trajectory");
+    hs.trajectory = traj.is_relative() ? (std::filesystem::path(file).parent_path() / traj).lexically_normal().string()
+                                       : traj.string();
+    dev.finish();
+    hs.mode = h.string("mode", "lockstep", {"lockstep", "realtime"});
+    hs.rate_hz = h.number("rate_hz", 1000.0, 1.0, 100000.0);
+    hs.ticks_per_step = h.integer("ticks_per_step", 1, 1, 1000);
+    hs.duration_s = h.number("duration_s", 0.0, 0.0, 1e5);
+    hs.force_limit_n = h.number("force_limit_n", 0.88, 0.0, 100.0);
+    hs.force_step_n = h.number("force_step_n", 0.1, 1e-6, 100.0);
+    hs.force_scale = h.number("force_scale", 1.0, 0.0, 1e9);
+    JsonReader c = h.object("coupling");
+    hs.proxy_mass_kg = c.number("proxy_mass_kg", 0.005, 1e-6, 100.0);
+    hs.coupling_stiffness_n_per_m = c.number("stiffness_n_per_m", 500.0, 1e-3, 1e6);
+    hs.coupling_damping_n_s_per_m = c.number("damping_n_s_per_m", -1.0, -1.0, 1e6);
+    c.finish();
+    h.finish();
+    if (sc.model != "xpbd") h.fail("mode", fmt::format("a haptic session needs model 'xpbd' (model is '{}')", sc.model));
+  }
 
   JsonReader xp = root.object("xpbd");
   sc.xpbd.duration_s = xp.number("duration_s", 0.02, 1e-9, 1e4);

@@ -86,6 +86,22 @@ struct ReferenceSpec {
   std::string region;  ///< the loaded region whose deflection is compared
 };
 
+/// A haptic session (docs/haptics.md): a device poses one tool through the 1 kHz haptic loop while the xpbd
+/// model deforms the tissue. Present when the scene has a "haptics" block.
+struct HapticsSpec {
+  bool enabled = false;
+  std::string tool;                  ///< the obstacle the device poses ("" : the scene's only obstacle)
+  std::string trajectory;            ///< scripted device: trajectory file (resolved against the scene's folder)
+  std::string mode = "lockstep";     ///< "lockstep" (deterministic, one thread) or "realtime" (haptic thread)
+  double rate_hz = 1000.0;           ///< haptic loop rate, Hz
+  int ticks_per_step = 1;            ///< lockstep: one simulation step per this many ticks
+  double duration_s = 0.0;           ///< 0: the trajectory's length, s
+  double force_limit_n = 0.88;       ///< clamp of the sent force (device continuous limit), N
+  double force_step_n = 0.1;         ///< largest change of the sent force per tick, N
+  double force_scale = 1.0;          ///< device force = scale x tool force (scaled feedback for tiny vessels)
+  double proxy_mass_kg = 0.005, coupling_stiffness_n_per_m = 500.0, coupling_damping_n_s_per_m = -1.0;
+};
+
 struct OutputSpec {
   bool vtk = false;    ///< node cloud series vtk/nodes.pvd
   bool surface = false;  ///< surface series vtk/surface.pvd (MLS-mapped; vessels and lattices)
@@ -112,6 +128,7 @@ struct Scene {
   ReferenceSpec reference;
   MlsMapOptions mapping;  ///< the surface map (output.surface)
   OutputSpec output;
+  HapticsSpec haptics;
   nlohmann::json resolved;  ///< the JSON after overrides (for summary.json)
 };
 

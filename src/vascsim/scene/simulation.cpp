@@ -189,6 +189,11 @@ void Simulation::build() {
     throw InputError(fmt::format("{}: key 'obstacles': rigid obstacles are supported by the xpbd and quasi_static "
                                  "models only (model is '{}')",
                                  scene.file, scene.model));
+  for (const auto& o : scene.obstacles)
+    if (o.radius_m + o.node_radius_m < 2.0 * disc_->mean_spacing())
+      spdlog::warn("obstacle '{}': radius {:.3g} m + node_radius_m {:.3g} m is below 2 node spacings ({:.3g} m): the "
+                   "tool may slip between nodes; set node_radius_m to about half the spacing (docs/haptics.md)",
+                   o.name, o.radius_m, o.node_radius_m, 2.0 * disc_->mean_spacing());
   ModelSettings settings{scene.explicit_settings, scene.quasi_static, scene.xpbd, scene.paper_literal};
   settings.xpbd.obstacles = scene.obstacles;
   settings.quasi_static.obstacles = scene.obstacles;

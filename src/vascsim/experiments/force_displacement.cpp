@@ -1,0 +1,107 @@
+#include "vascsim/experiments/force_displacement.hpp"
+
+#include <cstdlib>
+#include <fmt/format.h>
+#include <fstream>
+#include <spdlog/spdlog.h>
+
+#include "vascsim/core/error.hpp"
+#include "vascsim/scene/runner.hpp"
+
+#ifndef VASCSIM_SOURCE_DIR
+#define VASCSIM_SOURCE_DIR "."
+#endif
+
+namespace vascsim {
+
+namespace {
+
+std::size_t tool_index(const Scene& scene, const std::string& name) {
+  if (scene.obstacles.empty())
+    throw InputError(fmt::format("{}: force-displacement needs a tool: add an 'obstacles' entry (e.g. a catheter)",
+                                 scene.file));
+  if (name.empty()) {
+    if (scene.obstacles.size() > 1)
+      throw InputError(fmt::format("{}: the scene has {} obstacles; name the tool with --tool", scene.file,
+                                   scene.obstacles.size()));
+    return 0;
+  }
+  for (std::size_t o = 0; o < scene.obstacles.size(); ++o)
+    if (scene.obstacles[o].name == name) return o;
+  throw InputError(fmt::format("{}: no obstacle named '{}'", scene.file, name));
+}
+
+// Quotes a path for /bin/sh.
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+}  // namespace
+
+std::string force_displacement_header() {
+  return "step,displacement_m,force_n,force_x_n,force_y_n,force_z_n,torque_x_n_m,torque_y_n_m,torque_z_n_m,"
+         "contacts,converged";
+}
+
+ForceDisplacementResult run_force_displacement(const Scene& scene, const ForceDisplacementOptions& options) {
+  namespace fs = std::filesystem;
+  const std::size_t tool = tool_index(scene, options.tool);
+  const RigidObstacle& ob = scene.obstacles[tool];
+  if (!(ob.motion_m.norm() > 0.0))
+    throw InputError(fmt::format("{}: tool '{}' does not move: give it push_m (catheter) or motion_m", scene.file,
+                                 ob.name));
+  std::vector<StepRecord> records;
+  RunOptions run;
+  run.out_dir = options.out_dir;
+  run.on_step = [&](const StepRecord& r, int total) {
+    records.push_back(r);
+    if (options.on_step) options.on_step(r, total);
+  };
+  ForceDisplacementResult result;
+  result.summary = run_scene(scene, run);
+
+  result.csv = options.out_dir / "force_displacement.csv";
+  std::ofstream csv(result.csv);
+  if (!csv) throw InputError(fmt::format("{}: cannot write", result.csv.string()));
+  csv << "# " << scene.name << ": tool '" << ob.name << "', model " << scene.model
+      << "; force and torque exerted by the tissue on the tool (N, N m about the tool point)\n";
+  csv << force_displacement_header() << "\n";
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& r : records) {
+    const ObstacleMeasure& m = r.obstacles.at(tool);
+    const Vec3 f = -m.force_n, t = -m.torque_n_m;  // on the tool
+    csv << fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{}\n", r.step, m.displacement_m,
+                       m.force_projected_n, f.x(), f.y(), f.z(), t.x(), t.y(), t.z(), m.contacts,
+                       r.report.converged ? 1 : 0);
+    rows.push_back({{"displacement_m", m.displacement_m}, {"force_n", m.force_projected_n}});
+  }
+  csv.close();
+  result.summary["force_displacement"] = {{"tool", ob.name}, {"csv", result.csv.filename().string()}, {"rows", rows}};
+
+  if (options.plot) {
+    const fs::path script =
+        options.plot_script.empty() ? fs::path(VASCSIM_SOURCE_DIR) / "scripts" / "plot_force_displacement.py" : options.plot_script;
+    const fs::path png = options.out_dir / "force_displacement.png";
+    if (!fs::exists(script)) {
+      result.plot_problem = fmt::format("{} not found", script.string());
+    } else {
+      const std::string cmd = fmt::format("{} {} {} --out {} --label {} --title {}", shell_quote(options.python),
+                                          shell_quote(script.string()), shell_quote(result.csv.string()),
+                                          shell_quote(png.string()), shell_quote(scene.model),
+                                          shell_quote(scene.name));
+      const int rc = std::system((cmd + " > /dev/null").c_str());
+      if (rc == 0)
+        result.png = png;
+      else
+        result.plot_problem = fmt::format("the plot script failed (exit status {}): {}", rc, cmd);
+    }
+    if (!result.plot_problem.empty()) result.summary["force_displacement"]["plot_problem"] = result.plot_problem;
+    else result.summary["force_displacement"]["png"] = png.filename().string();
+  }
+  std::ofstream(options.out_dir / "summary.json") << result.summary.dump(2) << "\n";
+  return result;
+}
+
+}  // namespace vascsim

@@ -1,0 +1,46 @@
+#pragma once
+// `vascsim experiment force-displacement SCENE.json`: a tool (the catheter) presses the vessel wall in
+// displacement steps and the force it feels is written against its displacement (the paper's Fig. 10
+// set-up is scenes/hand-dorsal-vein-catheter.json). The scene's model decides how: quasi_static solves the
+// frictionless contact to equilibrium at every step (the accurate curve), xpbd presses dynamically at the
+// haptic rate (what a trainee feels; too soft on thin walls, docs/validation.md).
+//
+// Writes into the output folder everything `vascsim run` writes (summary.json, probes.csv, VTK) plus
+// force_displacement.csv and, with Debian's matplotlib, force_displacement.png
+// (scripts/plot_force_displacement.py).
+
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "vascsim/scene/simulation.hpp"
+
+namespace vascsim {
+
+struct ForceDisplacementOptions {
+  std::filesystem::path out_dir;
+  std::string tool;  ///< obstacle name; empty: the scene's only obstacle
+  bool plot = true;
+  std::string python = "/usr/bin/python3";
+  /// Default: scripts/plot_force_displacement.py of the source tree this binary was built from.
+  std::filesystem::path plot_script;
+  std::function<void(const StepRecord&, int)> on_step;
+};
+
+struct ForceDisplacementResult {
+  nlohmann::json summary;      ///< summary.json of the run, with a "force_displacement" entry
+  std::filesystem::path csv;   ///< force_displacement.csv
+  std::filesystem::path png;   ///< empty if not plotted
+  std::string plot_problem;    ///< why there is no PNG (empty if plotted or not asked for)
+};
+
+/// Throws InputError if the scene has no such tool, or the tool does not move.
+ForceDisplacementResult run_force_displacement(const Scene& scene, const ForceDisplacementOptions& options);
+
+/// The header of force_displacement.csv. Force and torque are those the tissue exerts on the tool (N, N m
+/// about the tool point); force_n is that force projected on the reversed push direction (positive when
+/// the tissue resists the push); displacement_m is the tool's travel along its push (m).
+std::string force_displacement_header();
+
+}  // namespace vascsim

@@ -12,6 +12,7 @@
 
 #include "vascsim/app/cli.hpp"
 #include "vascsim/core/error.hpp"
+#include "vascsim/interaction/scripted_device.hpp"
 #include "vascsim/interaction/session_recording.hpp"
 #include "vascsim/scene/haptic_session.hpp"
 
@@ -97,6 +98,20 @@ TEST(HapticSession, RealtimePressStaysWithinTheClamp) {
   EXPECT_EQ(loop["nan_events"].get<std::uint64_t>(), 0u);
   EXPECT_GT(s["haptics"]["simulation_steps"].get<std::size_t>(), 5u);
   EXPECT_LE(loop["max_force_sent_n"].get<double>(), 0.05 + 1e-12);
+  fs::remove_all(d);
+}
+
+// Any Device can drive a session (the path a hardware device takes); it then needs haptics.duration_s.
+TEST(HapticSession, TakesAnExternalDevice) {
+  const fs::path d = fresh_dir("external");
+  ScriptedDevice device(read_trajectory(kData / "haptic-press.csv"));
+  HapticRunOptions opt;
+  opt.out_dir = d;
+  opt.device = &device;
+  EXPECT_THROW(run_haptic_session(block_scene(), opt), InputError);
+  const auto s = run_haptic_session(block_scene({"haptics.duration_s=0.02"}), opt);
+  EXPECT_EQ(s["haptics"]["ticks"].get<std::size_t>(), 21u);
+  EXPECT_EQ(device.sent_forces().size(), 21u);  // the loop sent every tick's force to this device
   fs::remove_all(d);
 }
 

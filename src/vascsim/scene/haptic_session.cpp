@@ -129,7 +129,12 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   // Device files first: a bad one fails before the (slow) set-up.
   std::vector<ForceSample> recorded_forces;
   Trajectory trajectory;
-  if (options.replay.empty()) {
+  if (options.device != nullptr) {
+    if (!(spec.duration_s > 0.0))
+      throw InputError(fmt::format("{}: key 'haptics.duration_s': a session with an external device needs a duration",
+                                   scene.file));
+    trajectory = Trajectory({DevicePose{}}, "external device");
+  } else if (options.replay.empty()) {
     trajectory = read_trajectory(spec.trajectory);
   } else {
     RecordedSession rec = read_session_recording(options.replay);
@@ -158,8 +163,13 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   DeviceLimits limits;
   limits.max_continuous_force_n = spec.force_limit_n;
   limits.max_peak_force_n = std::max(limits.max_peak_force_n, spec.force_limit_n);
-  ScriptedDevice device(trajectory, limits);
-  device.reserve_forces(n_ticks + 16);
+  ScriptedDevice scripted(trajectory, limits);
+  scripted.reserve_forces(n_ticks + 16);
+  Device& device = options.device != nullptr ? *options.device : scripted;
+  if (options.device != nullptr) {
+    limits = device.limits();
+    limits.max_continuous_force_n = std::min(limits.max_continuous_force_n, spec.force_limit_n);
+  }
   VirtualCouplingSettings cs;
   cs.proxy_mass_kg = spec.proxy_mass_kg;
   cs.stiffness_n_per_m = spec.coupling_stiffness_n_per_m;
@@ -167,7 +177,7 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   cs.max_contact_stiffness_n_per_m = limits.max_stiffness_n_per_m;
   cs.time_step_s = period;
   ForceOutputSettings fo;
-  fo.max_force_n = spec.force_limit_n;
+  fo.max_force_n = limits.max_continuous_force_n;
   fo.max_step_n_per_tick = spec.force_step_n;
   LatestValue<ContactState> from_sim;
   LatestValue<ToolPose> to_sim;
@@ -179,7 +189,7 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   HapticLoop loop(device, VirtualCoupling(cs), ForceOutputFilter(fo), from_sim, to_sim, lo);
   SimulationSide side(*model, tool, spec.force_scale, limits.max_stiffness_n_per_m, from_sim);
   // The tool starts where the device starts (no sweep from the scene's rest pose).
-  const DevicePose first = trajectory.at(trajectory.start_time_s());
+  const DevicePose first = device.pose(trajectory.start_time_s());
   model->set_obstacle_pose(tool, first.position_m, first.orientation);
   const double setup_s = seconds_between(t_begin, Clock::now());
 
@@ -280,7 +290,7 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   nlohmann::json haptics = {
       {"mode", mode},
       {"tool", scene.obstacles[tool].name},
-      {"device", "scripted"},
+      {"device", std::string(device.name())},
       {"trajectory", options.replay.empty() ? spec.trajectory : options.replay.string()},
       {"duration_s", duration},
       {"rate_hz", spec.rate_hz},

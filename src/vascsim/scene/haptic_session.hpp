@@ -20,6 +20,7 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 
+#include "vascsim/interaction/device.hpp"
 #include "vascsim/scene/scene.hpp"
 
 namespace vascsim {
@@ -29,6 +30,10 @@ struct HapticRunOptions {
   std::string mode;                  ///< "" : the scene's; "lockstep" or "realtime" overrides it
   std::filesystem::path record;      ///< write the session recording here ("" : not written)
   std::filesystem::path replay;      ///< play this recording instead of the scene's trajectory
+  /// A device of your own (e.g. OpenHapticsDevice, docs/haptics.md "Connecting a real device") instead of
+  /// the scene's scripted one; it must outlive the call. Its poses are scene positions (m) and its limits
+  /// cap the clamp. The session then lasts haptics.duration_s (required).
+  Device* device = nullptr;
   /// Called now and then with (session time done, session length), s.
   std::function<void(double, double)> on_progress;
 };

@@ -37,14 +37,16 @@ test-sanitize: deps
 	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -L unit
 
-# The tests that run threads (haptic loop, hand-offs, mouse input) under ThreadSanitizer. Only these: the
-# OpenMP kernels run on libgomp, which is not instrumented, so TSan would report its internals.
+# The tests that run threads (haptic loop, hand-offs, mouse input, the realtime haptic session) under
+# ThreadSanitizer. Only these, and with OMP_NUM_THREADS=1: the OpenMP kernels run on libgomp, which is not
+# instrumented, so TSan would report its internals; the threads under test are the haptic thread and the
+# simulation thread, which are std::threads.
 THREADED_TESTS ?= LatestValue*:HapticLoop*:VirtualCoupling*:ForceOutput*:MouseMapping*:HapticSession.Realtime*
 test-threads: deps
 	cmake -S . -B $(TSAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVASCSIM_SANITIZE=thread \
 	  -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_WERROR=ON
 	cmake --build $(TSAN_DIR) -j $(JOBS) --target vascsim_tests
-	TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 $(TSAN_DIR)/tests/vascsim_tests \
+	OMP_NUM_THREADS=1 TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 $(TSAN_DIR)/tests/vascsim_tests \
 	  --gtest_filter='$(THREADED_TESTS)'
 
 bench: build

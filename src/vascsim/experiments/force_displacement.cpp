@@ -71,7 +71,8 @@ ForceDisplacementResult run_force_displacement(const Scene& scene, const ForceDi
   nlohmann::json rows = nlohmann::json::array();
   for (const auto& r : records) {
     const ObstacleMeasure& m = r.obstacles.at(tool);
-    const Vec3 f = -m.force_n, t = -m.torque_n_m;  // on the tool
+    // On the tool; + 0.0 turns -0 into 0 in the text.
+    const Vec3 f = -m.force_n + Vec3::Zero(), t = -m.torque_n_m + Vec3::Zero();
     csv << fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{}\n", r.step, m.displacement_m,
                        m.force_projected_n, f.x(), f.y(), f.z(), t.x(), t.y(), t.z(), m.contacts,
                        r.report.converged ? 1 : 0);

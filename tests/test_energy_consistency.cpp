@@ -51,10 +51,10 @@ struct TermCase {
 
 // SVK, literal strain, Mueller's volume term, stabiliser (MODEL.md 1.7-1.9).
 std::vector<TermCase> term_cases(const Material& m) {
-  return {{"SVK", {StrainMeasure::GreenHalf, 0.0, 0.0}},
-          {"literal", {StrainMeasure::MuellerNoHalf, 0.0, 0.0}},
-          {"k_v", {StrainMeasure::GreenHalf, 0.5 * m.lame_lambda(), 0.0}},
-          {"stabiliser", {StrainMeasure::GreenHalf, 0.0, 0.5}}};
+  return {{"SVK", {StrainMeasure::GreenHalf, 0.0, 0.0, {}, {}}},
+          {"literal", {StrainMeasure::MuellerNoHalf, 0.0, 0.0, {}, {}}},
+          {"k_v", {StrainMeasure::GreenHalf, 0.5 * m.lame_lambda(), 0.0, {}, {}}},
+          {"stabiliser", {StrainMeasure::GreenHalf, 0.0, 0.5, {}, {}}}};
 }
 
 double max_norm(const Vec3Array& a) {
@@ -175,8 +175,8 @@ TEST(ForceEnergyT5, StabiliserAloneIsEnergyConsistent) {
   const Material mat = tissue();
   const Discretization disc(jittered_cloud(), mat);
   const Vec3Array x = large_deformation(disc.rest_positions(), 3);
-  const PointPrimitiveEnergy with(disc, {StrainMeasure::GreenHalf, 0.0, 0.5});
-  const PointPrimitiveEnergy without(disc, {StrainMeasure::GreenHalf, 0.0, 0.0});
+  const PointPrimitiveEnergy with(disc, {StrainMeasure::GreenHalf, 0.0, 0.5, {}, {}});
+  const PointPrimitiveEnergy without(disc, {StrainMeasure::GreenHalf, 0.0, 0.0, {}, {}});
   Vec3Array f, f0;
   with.forces(x, f);
   without.forces(x, f0);
@@ -194,7 +194,7 @@ TEST(ForceEnergyT5, LocalAssemblyReproducesLibraryForces) {
   const Discretization disc(jittered_cloud(), mat);
   const Vec3Array x = large_deformation(disc.rest_positions(), 4);
   const double kv = 0.5 * mat.lame_lambda();
-  const PointPrimitiveEnergy energy(disc, {StrainMeasure::GreenHalf, kv, 0.0});
+  const PointPrimitiveEnergy energy(disc, {StrainMeasure::GreenHalf, kv, 0.0, {}, {}});
   const StressFn stress = svk_plus_volume(energy.strain_lambda(), energy.shear_modulus(), kv, cofactor);
   Vec3Array f_lib, f_loc, scratch;
   const double U_lib = energy.forces(x, f_lib);

@@ -554,7 +554,7 @@ TEST(HyperelasticLawSvk, MatchesPointPrimitiveEnergy) {
   // psi_SVK(F) sum_i V_i. Tolerance 1e-10 relative (per-node F errors ~1e-14 enter psi linearly).
   const Material m = test::tissue(kE, kNu);
   const Discretization disc(test::lattice(4), m);
-  const PointPrimitiveEnergy energy(disc, EnergyOptions{StrainMeasure::GreenHalf, 0.0, 0.0});
+  const PointPrimitiveEnergy energy(disc, EnergyOptions{StrainMeasure::GreenHalf, 0.0, 0.0, {}, {}});
   const SvkLaw law({kE, kNu});
   std::mt19937_64 rng(61);
   for (int k = 0; k < 4; ++k) {

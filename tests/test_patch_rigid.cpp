@@ -110,10 +110,10 @@ struct TermCase {
 };
 
 std::vector<TermCase> term_cases(const Material& m) {
-  EnergyOptions svk{StrainMeasure::GreenHalf, 0.0, 0.0};
-  EnergyOptions literal{StrainMeasure::MuellerNoHalf, 0.0, 0.0};
-  EnergyOptions volume{StrainMeasure::GreenHalf, 0.5 * m.lame_lambda(), 0.0};
-  EnergyOptions stab{StrainMeasure::GreenHalf, 0.0, 0.5};
+  EnergyOptions svk{StrainMeasure::GreenHalf, 0.0, 0.0, {}, {}};
+  EnergyOptions literal{StrainMeasure::MuellerNoHalf, 0.0, 0.0, {}, {}};
+  EnergyOptions volume{StrainMeasure::GreenHalf, 0.5 * m.lame_lambda(), 0.0, {}, {}};
+  EnergyOptions stab{StrainMeasure::GreenHalf, 0.0, 0.5, {}, {}};
   return {{"SVK", svk}, {"literal", literal}, {"k_v", volume}, {"stabiliser", stab}};
 }
 

@@ -34,8 +34,8 @@ TEST(StiffnessT6, UniaxialStrainEnergyMatchesLinearElasticity) {
     const double V = std::pow(4 * kDelta, 3);
     // Tet-partition volumes sum to the box volume exactly (so U_lin below uses the true volume).
     ASSERT_NEAR(disc.total_volume(), V, 1e-12 * V);
-    const PointPrimitiveEnergy svk(disc, {StrainMeasure::GreenHalf, 0.0, 0.1});
-    const PointPrimitiveEnergy literal(disc, {StrainMeasure::MuellerNoHalf, 0.0, 0.0});
+    const PointPrimitiveEnergy svk(disc, {StrainMeasure::GreenHalf, 0.0, 0.1, {}, {}});
+    const PointPrimitiveEnergy literal(disc, {StrainMeasure::MuellerNoHalf, 0.0, 0.0, {}, {}});
     const double U_lin = 0.5 * mat.p_wave_modulus() * e * e * V;
     for (int axis = 0; axis < 3; ++axis) {
       Vec3Array x = disc.rest_positions();
@@ -102,7 +102,7 @@ TEST(ZeroModesT10, CheckerboardHasNoStrainAtInteriorNodes) {
 TEST(ZeroModesT10, StabiliserPenalisesCheckerboardButNotAffineFields) {
   const Checkerboard cb;
   const double mu = cb.mat.shear_modulus(), E = cb.mat.youngs_modulus_pa, alpha = 0.1;
-  const PointPrimitiveEnergy energy(cb.disc, {StrainMeasure::GreenHalf, 0.0, alpha});
+  const PointPrimitiveEnergy energy(cb.disc, {StrainMeasure::GreenHalf, 0.0, alpha, {}, {}});
   const double U_hg = energy.energy(cb.positions()).stabilizer;
   // Scale of the stabiliser energy: alpha mu (a / Delta)^2 per unit volume (r_ij ~ 2a, |X_ij| ~ Delta).
   const double scale = alpha * mu * (cb.a / kDelta) * (cb.a / kDelta) * cb.disc.total_volume();

@@ -33,6 +33,17 @@ PointPrimitiveEnergy::PointPrimitiveEnergy(const Discretization& disc, const Ene
   const Material& m = disc.material();
   mu_ = m.shear_modulus();
   lambda_ = m.lame_lambda() - opt_.volume_stiffness_pa;
+  if (opt_.law) {
+    if (opt_.strain != StrainMeasure::GreenHalf)
+      throw InputError(fmt::format("energy: the literal strain (mueller_no_half) applies to the built-in SVK only, "
+                                   "not to material law '{}'",
+                                   opt_.law->name()));
+    mu_ = opt_.law->small_strain_shear_modulus();
+    lambda_ = opt_.law->small_strain_bulk_modulus() - 2.0 / 3.0 * mu_ - opt_.volume_stiffness_pa;
+    if (opt_.law->needs_frame() && opt_.frames.size() != static_cast<std::size_t>(disc.num_nodes()))
+      throw InputError(fmt::format("energy: material law '{}' needs a wall frame at every node (a vessel geometry)",
+                                   opt_.law->name()));
+  }
   if (opt_.volume_stiffness_pa < 0.0 || lambda_ < 0.0)
     throw InputError(fmt::format("energy: volume stiffness k_v = {} Pa must lie in [0, lambda = {} Pa]",
                                  opt_.volume_stiffness_pa, m.lame_lambda()));
@@ -47,7 +58,11 @@ Mat3 PointPrimitiveEnergy::weighted_stress(Index i, const Mat3& F, EnergyBreakdo
   const double V = disc_.volumes()[i];
   const Mat3 I = Mat3::Identity();
   Mat3 Pt;
-  if (opt_.strain == StrainMeasure::GreenHalf) {
+  if (opt_.law) {
+    const materials::MaterialFrame* frame = opt_.frames.empty() ? nullptr : &opt_.frames[static_cast<std::size_t>(i)];
+    Pt = V * opt_.law->first_piola(F, frame);
+    if (e) e->strain += V * opt_.law->energy_density(F, frame);
+  } else if (opt_.strain == StrainMeasure::GreenHalf) {
     const Mat3 E = 0.5 * (F.transpose() * F - I);  // Green-Lagrange strain (Eq. 5 with the 1/2)
     const double trE = E.trace();
     const Mat3 S = lambda_ * trE * I + 2.0 * mu_ * E;  // SVK 2nd Piola-Kirchhoff (Eq. 6, tensor form)
@@ -82,8 +97,14 @@ Mat3 PointPrimitiveEnergy::weighted_stress_derivative(Index i, const Mat3& F, co
   // Literal: Ptilde = 2 V F sigma with sigma of eps = F^T F - I, i.e. "half" = 1 and a factor 2.
   const bool svk = opt_.strain == StrainMeasure::GreenHalf;
   const Mat3 dE = (svk ? 0.5 : 1.0) * (dF.transpose() * F + F.transpose() * dF);
-  const Mat3 dS = lambda_ * dE.trace() * I + 2.0 * mu_ * dE;
-  Mat3 dPt = (svk ? V : 2.0 * V) * (dF * S + F * dS);
+  Mat3 dPt;
+  if (opt_.law) {
+    const materials::MaterialFrame* frame = opt_.frames.empty() ? nullptr : &opt_.frames[static_cast<std::size_t>(i)];
+    dPt = V * opt_.law->first_piola_derivative(F, dF, frame);
+  } else {
+    const Mat3 dS = lambda_ * dE.trace() * I + 2.0 * mu_ * dE;
+    dPt = (svk ? V : 2.0 * V) * (dF * S + F * dS);
+  }
   if (opt_.volume_stiffness_pa > 0.0) {
     const double J = F.determinant();
     const Mat3 cof = cofactor(F);
@@ -188,7 +209,7 @@ PointPrimitiveEnergy::Linearization PointPrimitiveEnergy::linearize(const Vec3Ar
 #pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
   for (Index i = 0; i < n; ++i) {
     lin.F[i] = disc_.deformation_gradient(i, x);
-    lin.S[i] = stress(lin.F[i]);
+    if (!opt_.law) lin.S[i] = stress(lin.F[i]);
   }
   return lin;
 }

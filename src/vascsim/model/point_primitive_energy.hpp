@@ -4,9 +4,11 @@
 // Mueller's volume term k_v and the zero-energy-mode stabiliser alpha_hg. Forces are assembled in the
 // gather form of MODEL.md 1.8 (two passes over nodes, no atomics), parallel over nodes with OpenMP.
 
+#include <memory>
 #include <vector>
 
 #include "vascsim/model/discretization.hpp"
+#include "vascsim/model/materials/hyperelastic_law.hpp"
 
 namespace vascsim {
 
@@ -19,6 +21,12 @@ struct EnergyOptions {
   StrainMeasure strain = StrainMeasure::GreenHalf;
   double volume_stiffness_pa = 0.0;  ///< k_v of MODEL.md 1.9a (0 <= k_v; lambda is reduced by k_v to keep E, nu)
   double stabilizer_alpha = 0.1;     ///< alpha_hg of MODEL.md 1.9b (0 disables)
+  /// The strain-energy law psi(F) (model/materials/). Null: the built-in SVK of the Material's E and nu
+  /// (the default, and the only one the literal strain applies to). With a law, the small-strain moduli of
+  /// the law set lambda and mu for the stabiliser and the preconditioner.
+  std::shared_ptr<const materials::HyperelasticLaw> law;
+  /// Per node, for laws that need one (hgo): the wall's axial/circumferential/radial frame at rest.
+  std::vector<materials::MaterialFrame> frames;
 };
 
 /// Energy terms, J.

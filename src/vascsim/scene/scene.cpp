@@ -284,10 +284,41 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   sc.geometry = read_geometry(root.object("geometry"));
 
   JsonReader mat = root.object("material");
-  sc.material.youngs_modulus_pa = mat.number("youngs_modulus_pa", 0.5e6, 1e-6, 1e12);
-  sc.material.poisson_ratio = mat.number("poisson_ratio", 0.45, -0.99, 0.499);
+  sc.material_law = mat.string("law", "svk", materials::hyperelastic_law_names());
+  nlohmann::json law_parameters = nlohmann::json::object();
+  if (sc.material_law == "svk" || sc.material_law == "neo_hookean") {
+    sc.material.youngs_modulus_pa = mat.number("youngs_modulus_pa", 0.5e6, 1e-6, 1e12);
+    sc.material.poisson_ratio = mat.number("poisson_ratio", 0.45, -0.99, 0.499);
+    law_parameters = {{"youngs_modulus_pa", sc.material.youngs_modulus_pa},
+                      {"poisson_ratio", sc.material.poisson_ratio}};
+  } else if (sc.material_law == "mooney_rivlin") {
+    for (const char* k : {"c10_pa", "c01_pa"}) law_parameters[k] = mat.required_number(k, 0.0, 1e12);
+    law_parameters["bulk_modulus_pa"] = mat.required_number("bulk_modulus_pa", 1e-6, 1e15);
+  } else {  // hgo
+    law_parameters["shear_modulus_pa"] = mat.required_number("shear_modulus_pa", 1e-6, 1e12);
+    law_parameters["bulk_modulus_pa"] = mat.required_number("bulk_modulus_pa", 1e-6, 1e15);
+    law_parameters["k1_pa"] = mat.required_number("k1_pa", 0.0, 1e12);
+    law_parameters["k2"] = mat.required_number("k2", 0.0, 1e4);
+    law_parameters["fibre_angle_deg"] = mat.required_number("fibre_angle_deg", 0.0, 90.0);
+  }
   sc.material.density_kg_m3 = mat.number("density_kg_m3", 1060.0, 1e-3, 1e5);
   mat.finish();
+  if (sc.material_law != "svk") {
+    try {
+      sc.energy.law = materials::make_hyperelastic_law(sc.material_law, law_parameters);
+    } catch (const InputError& e) {
+      mat.fail("law", e.what());
+    }
+    // The discretisation, the stability estimates and the preconditioner use E and nu: those of the law at
+    // small strain (for hgo, of the ground matrix).
+    const double mu = sc.energy.law->small_strain_shear_modulus(), kappa = sc.energy.law->small_strain_bulk_modulus();
+    sc.material.youngs_modulus_pa = 9.0 * kappa * mu / (3.0 * kappa + mu);
+    sc.material.poisson_ratio = (3.0 * kappa - 2.0 * mu) / (2.0 * (3.0 * kappa + mu));
+    if (!(sc.material.poisson_ratio < 0.4999))
+      mat.fail("bulk_modulus_pa", fmt::format("gives a Poisson ratio of {:.6f} at small strain; it must be below 0.4999 "
+                                              "(lower the bulk modulus)",
+                                              sc.material.poisson_ratio));
+  }
 
   JsonReader disc = root.object("discretization");
   sc.discretization.support_radius_factor = disc.number("support_radius_factor", 2.0, 1.01, 5.0);
@@ -302,6 +333,7 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   disc.finish();
 
   JsonReader en = root.object("energy");
+  const std::shared_ptr<const materials::HyperelasticLaw> law = sc.energy.law;
   sc.energy.strain = en.string("strain", literal ? "mueller_no_half" : "green", {"green", "mueller_no_half"}) == "green"
                          ? StrainMeasure::GreenHalf
                          : StrainMeasure::MuellerNoHalf;
@@ -309,6 +341,9 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   const double lambda = sc.material.lame_lambda();
   sc.energy.volume_stiffness_pa = en.number("volume_stiffness_pa", 0.0, 0.0, std::max(lambda, 0.0));
   en.finish();
+  sc.energy.law = law;
+  if (law && sc.energy.strain != StrainMeasure::GreenHalf)
+    en.fail("strain", fmt::format("the literal strain applies to material law 'svk' only (law is '{}')", sc.material_law));
 
   for (auto& r : root.array_of_objects("regions", false)) sc.regions.push_back(read_region(r));
   for (std::size_t a = 0; a < sc.regions.size(); ++a)

@@ -11,6 +11,7 @@
 #include "vascsim/geometry/generators.hpp"
 #include "vascsim/mapping/mls_map.hpp"
 #include "vascsim/model/discretization.hpp"
+#include "vascsim/model/materials/law_factory.hpp"
 #include "vascsim/model/explicit_model.hpp"
 #include "vascsim/model/paper_literal_model.hpp"
 #include "vascsim/model/point_primitive_energy.hpp"
@@ -115,6 +116,7 @@ struct Scene {
   std::string model = "quasi_static";
   GeometrySpec geometry;
   Material material;
+  std::string material_law = "svk";  ///< material.law; the law object itself is energy.law (null for svk)
   DiscretizationOptions discretization;
   EnergyOptions energy;
   std::vector<RegionSpec> regions;

@@ -153,6 +153,18 @@ std::vector<Region> build_regions(const Scene& scene, const Discretization& disc
   return out;
 }
 
+std::vector<materials::MaterialFrame> wall_frames(const Body& body, const Scene& scene) {
+  if (!body.wall || !body.wall->has_centerline())
+    throw InputError(fmt::format("{}: key 'material.law': '{}' takes its fibre directions from the vessel's "
+                                 "centre-line; geometry '{}' has none (use a tube or a vessel)",
+                                 scene.file, scene.material_law, scene.geometry.type));
+  const WallCoordinates& w = *body.wall;
+  std::vector<materials::MaterialFrame> frames(body.cloud.positions.size());
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    frames[i] = materials::make_material_frame(w.centerline->tangent(w.s_m[i]), w.outward[i]);
+  return frames;
+}
+
 Simulation::Simulation(const Scene& scene) : scene_(scene) {
   try {
     build();
@@ -174,7 +186,13 @@ void Simulation::build() {
   disc_ = std::make_unique<Discretization>(cloud, scene.material, scene.discretization);
   spdlog::info("discretization: mean spacing {:.4g} m, mean neighbours {:.1f}, volume {:.4g} m^3 (tets {:.4g} m^3)",
                disc_->mean_spacing(), disc_->mean_neighbours(), disc_->total_volume(), disc_->tet_volume());
-  energy_ = std::make_unique<PointPrimitiveEnergy>(*disc_, scene.energy);
+  EnergyOptions energy = scene.energy;
+  if (energy.law && scene.model != "quasi_static" && scene.model != "explicit")
+    throw InputError(fmt::format("{}: key 'material.law': '{}' is supported by the quasi_static and explicit models; "
+                                 "the {} model implements svk only so far",
+                                 scene.file, scene.material_law, scene.model));
+  if (energy.law && energy.law->needs_frame()) energy.frames = wall_frames(*body_, scene);
+  energy_ = std::make_unique<PointPrimitiveEnergy>(*disc_, energy);
   problem_ = std::make_unique<Problem>(*energy_, build_regions(scene, *disc_, *body_), scene.gravity_m_s2);
   for (const auto& p : scene.probes) {
     Index best = 0;

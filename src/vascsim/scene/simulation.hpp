@@ -40,6 +40,10 @@ NodeCloud build_geometry(const GeometrySpec& spec);
 /// Selects the nodes of every region and turns the scene's boundary conditions into Regions.
 std::vector<Region> build_regions(const Scene& scene, const Discretization& disc, const Body& body);
 
+/// Per node, the wall frame (axial = centre-line tangent at the node's s, radial = outward wall normal) that
+/// anisotropic laws take their fibres from. Throws InputError for a body without a centre-line.
+std::vector<materials::MaterialFrame> wall_frames(const Body& body, const Scene& scene);
+
 /// The deformed render surface of one output point.
 struct SurfaceFrame {
   Vec3Array positions;  ///< m

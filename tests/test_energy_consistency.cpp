@@ -6,6 +6,7 @@
 
 #include "test_support.hpp"
 
+#include <nlohmann/json.hpp>
 #include <omp.h>
 #include <algorithm>
 #include <cmath>
@@ -17,6 +18,7 @@
 
 #include "vascsim/geometry/generators.hpp"
 #include "vascsim/model/discretization.hpp"
+#include "vascsim/model/materials/law_factory.hpp"
 #include "vascsim/model/point_primitive_energy.hpp"
 
 namespace {
@@ -49,12 +51,31 @@ struct TermCase {
   EnergyOptions options;
 };
 
-// SVK, literal strain, Mueller's volume term, stabiliser (MODEL.md 1.7-1.9).
-std::vector<TermCase> term_cases(const Material& m) {
+// SVK, literal strain, Mueller's volume term, stabiliser (MODEL.md 1.7-1.9), and the material laws of
+// model/materials through the same assembly (issue 6): neo-Hookean, Mooney-Rivlin and HGO (fibres at
+// +-29 deg from one tilted wall frame at every node; under large_deformation some nodes stretch their
+// fibres and some compress them).
+std::vector<TermCase> term_cases(const Material& m, Index num_nodes) {
+  const double E = m.youngs_modulus_pa, nu = m.poisson_ratio, mu = m.shear_modulus(), kappa = m.bulk_modulus();
+  auto law = [](const char* name, const nlohmann::json& p) {
+    return std::shared_ptr<const materials::HyperelasticLaw>(materials::make_hyperelastic_law(name, p));
+  };
+  const std::vector<materials::MaterialFrame> frames(
+      static_cast<std::size_t>(num_nodes), materials::make_material_frame(Vec3(0.3, 0.2, 1.0), Vec3(1.0, 0.0, 0.0)));
   return {{"SVK", {StrainMeasure::GreenHalf, 0.0, 0.0, {}, {}}},
           {"literal", {StrainMeasure::MuellerNoHalf, 0.0, 0.0, {}, {}}},
           {"k_v", {StrainMeasure::GreenHalf, 0.5 * m.lame_lambda(), 0.0, {}, {}}},
-          {"stabiliser", {StrainMeasure::GreenHalf, 0.0, 0.5, {}, {}}}};
+          {"stabiliser", {StrainMeasure::GreenHalf, 0.0, 0.5, {}, {}}},
+          {"neo_hookean",
+           {StrainMeasure::GreenHalf, 0.0, 0.1, law("neo_hookean", nlohmann::json{{"youngs_modulus_pa", E}, {"poisson_ratio", nu}}), {}}},
+          {"mooney_rivlin",
+           {StrainMeasure::GreenHalf, 0.0, 0.1,
+            law("mooney_rivlin", nlohmann::json{{"c10_pa", 0.3 * mu}, {"c01_pa", 0.2 * mu}, {"bulk_modulus_pa", kappa}}), {}}},
+          {"hgo",
+           {StrainMeasure::GreenHalf, 0.0, 0.1,
+            law("hgo", nlohmann::json{{"shear_modulus_pa", mu}, {"bulk_modulus_pa", kappa}, {"k1_pa", mu}, {"k2", 1.0},
+                        {"fibre_angle_deg", 29.0}}),
+            frames}}};
 }
 
 double max_norm(const Vec3Array& a) {
@@ -133,7 +154,7 @@ TEST(MomentumT4, ForcesConserveLinearAndAngularMomentum) {
   const Discretization disc(jittered_cloud(), mat);
   const Vec3Array x = large_deformation(disc.rest_positions(), 1);
   const double L = max_norm(x);  // lever arm of x about the origin, m
-  for (const auto& c : term_cases(mat)) {
+  for (const auto& c : term_cases(mat, disc.num_nodes())) {
     const PointPrimitiveEnergy energy(disc, c.options);
     Vec3Array f;
     energy.forces(x, f);
@@ -157,7 +178,7 @@ TEST(ForceEnergyT5, ForcesAreMinusEnergyGradient) {
   const Material mat = tissue();
   const Discretization disc(jittered_cloud(), mat);
   const Vec3Array x = large_deformation(disc.rest_positions(), 2);
-  for (const auto& c : term_cases(mat)) {
+  for (const auto& c : term_cases(mat, disc.num_nodes())) {
     const PointPrimitiveEnergy energy(disc, c.options);
     Vec3Array f;
     energy.forces(x, f);
@@ -260,7 +281,7 @@ TEST(ForceEnergyT5, HessianProductMatchesForceDifferences) {
     w[i] = kDelta * Vec3(uni(rng), uni(rng), uni(rng));
   }
   const double eps = 1e-6;  // displacement eps * v ~ 1e-9 m
-  for (const auto& c : term_cases(mat)) {
+  for (const auto& c : term_cases(mat, disc.num_nodes())) {
     const PointPrimitiveEnergy energy(disc, c.options);
     Vec3Array Hv, Hw, fp, fm, xp(x), xm(x);
     energy.hessian_product(x, v, Hv);

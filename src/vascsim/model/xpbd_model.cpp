@@ -108,6 +108,8 @@ void XpbdModel::setup_meshless() {
   // The literal strain eps = F^T F - I = 2E with the same C^ is the constraint 2 Mandel(E).
   strain_scale_ = energy.options().strain == StrainMeasure::MuellerNoHalf ? 2.0 : 1.0;
   stabilise_ = energy.options().stabilizer_alpha > 0.0;
+  law_ = energy.options().law.get();
+  frames_ = law_ != nullptr && law_->needs_frame() ? &energy.options().frames : nullptr;
 
   const Index n = disc.num_nodes();
   const PairTable& P = disc.pairs();
@@ -242,6 +244,52 @@ void XpbdModel::project_node(Index i) {
   // Strain block: c = s Mandel(E), E = 1/2 (F^T F - I), F = sum_j (p_j - p_i) d_ij^T (MODEL.md 1.6).
   Mat3 F = Mat3::Zero();
   for (Index e = begin; e < end; ++e) F.noalias() += (p_[P.col[e]] - p_[i]) * P.d[e].transpose();
+  Mat3 G;
+  if (law_ != nullptr) {
+    G = law_energy_correction(i, F);
+  } else {
+    G = svk_strain_correction(i, F);
+  }
+  {
+    const Vec3 g = G * d_self;
+    p_[i] += inv_mass_[i] * g;
+    f_constraint_[i] += inv_h2_ * g;
+  }
+  for (Index e = begin; e < end; ++e) {
+    const Index j = P.col[e];
+    const Vec3 g = G * P.d[e];
+    p_[j] += inv_mass_[j] * g;
+    f_constraint_[j] += inv_h2_ * g;
+  }
+  if (!stabilise_) return;
+  project_stabiliser(i, F + G * weighted_d_[i]);
+}
+
+Mat3 XpbdModel::law_energy_correction(Index i, const Mat3& F) {
+  // Any hyperelastic law (model/materials) as one scalar XPBD energy constraint per node:
+  //   C_i = sqrt(2 V_i psi(F_i)),  alpha = 1,  so that 1/2 C_i^2 / alpha = V_i psi(F_i)  (Macklin & Mueller 2021's
+  //   "energy as a constraint"); grad_k C_i = (V_i / C_i) P(F_i) d_ik, and
+  //   Delta lambda = -(C + alpha~ lambda) / (sum_k w_k |grad_k C|^2 + alpha~),  alpha~ = 1/h^2,
+  //   sum_k w_k |G d_k|^2 = tr(G D_i G^T) with D_i = sum_k w_k d_k d_k^T.
+  // At the rest state C = 0 and the gradient direction is undefined: below a tiny energy the node is left
+  // alone (its stabiliser still acts).
+  const Discretization& disc = problem_.discretization();
+  const materials::MaterialFrame* frame = frames_ == nullptr ? nullptr : &(*frames_)[static_cast<std::size_t>(i)];
+  const double V = disc.volumes()[i];
+  const double energy = V * law_->energy_density(F, frame);
+  const double floor = 1e-24 * V * shear_modulus_;
+  if (!(energy > floor)) return Mat3::Zero();
+  const double C = std::sqrt(2.0 * energy);
+  const Mat3 Gc = (V / C) * law_->first_piola(F, frame);
+  double& lambda = node_lambda_[6 * static_cast<std::size_t>(i)];
+  const double denom = (Gc * weighted_d_[i] * Gc.transpose()).trace() + inv_h2_;
+  const double dl = (-C - inv_h2_ * lambda) / denom;
+  lambda += dl;
+  return dl * Gc;
+}
+
+Mat3 XpbdModel::svk_strain_correction(Index i, const Mat3& F) {
+  const Discretization& disc = problem_.discretization();
   const Mat3 C = F.transpose() * F;
   const Vec6 c = strain_scale_ * constraints::mandel(0.5 * (C - Mat3::Identity()));
   // alpha~ = (V C^)^{-1} / h^2 = (I - beta e e^T) / (2 mu V h^2), beta = lambda / (3 lambda + 2 mu).
@@ -256,28 +304,20 @@ void XpbdModel::project_node(Index i) {
   const Vec6 dlambda = A.llt().solve(-c - alpha_lambda);
   lambda += dlambda;
   // Delta p_k = w_k J_k^T Delta lambda = w_k G d_k with G = s F L(Delta lambda); force G d_k / h^2.
-  const Mat3 G = strain_scale_ * F * constraints::unmandel(dlambda);
-  {
-    const Vec3 g = G * d_self;
-    p_[i] += inv_mass_[i] * g;
-    f_constraint_[i] += inv_h2_ * g;
-  }
-  for (Index e = begin; e < end; ++e) {
-    const Index j = P.col[e];
-    const Vec3 g = G * P.d[e];
-    p_[j] += inv_mass_[j] * g;
-    f_constraint_[j] += inv_h2_ * g;
-  }
-  if (!stabilise_) return;
+  return strain_scale_ * F * constraints::unmandel(dlambda);
+}
+
+void XpbdModel::project_stabiliser(Index i, const Mat3& F) {
   // Stabiliser (MODEL.md 1.9b): U_i = c_i/2 sum_j w_ij |r_ij|^2, r_ij = p_j - p_i - F_i X_ij. F_i is the
   // weighted least-squares fit of the neighbourhood, so dU_i/dF_i = (sum_j w_ij r_ij X_ij^T) A_i^{-1} = 0 and
   // the gradients with F_i frozen are exact: each pair is a 3-vector constraint with grad_j = I,
-  // grad_i = -I and compliance 1/(c_i w_ij).
-  // F after the strain correction without a second gather: Delta F = sum_k Delta p_k d_k^T = G D_i.
-  F.noalias() += G * weighted_d_[i];
+  // grad_i = -I and compliance 1/(c_i w_ij). F is the fit after the elastic correction, obtained without a
+  // second gather: Delta F = sum_k Delta p_k d_k^T = G D_i.
+  const Discretization& disc = problem_.discretization();
+  const PairTable& P = disc.pairs();
   const Vec3Array& X = disc.rest_positions();
   const double ci = problem_.energy().stabilizer_coefficients()[i];
-  for (Index e = begin; e < end; ++e) {
+  for (Index e = P.row_start[i]; e < P.row_start[i + 1]; ++e) {
     const Index j = P.col[e];
     const double w_sum = inv_mass_[i] + inv_mass_[j];
     if (w_sum == 0.0) continue;

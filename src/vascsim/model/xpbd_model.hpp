@@ -99,7 +99,10 @@ class XpbdModel final : public Model {
   void setup_tets();
   void setup_edges();
   void setup_barycentre();
-  void project_node(Index i);       // (A) strain block + stabiliser pairs of node i
+  void project_node(Index i);       // (A) strain block (or law energy) + stabiliser pairs of node i
+  Mat3 svk_strain_correction(Index i, const Mat3& F);   // (A), SVK: the 6x6 block; returns G (Delta p_k = w_k G d_k)
+  Mat3 law_energy_correction(Index i, const Mat3& F);   // (A), any law: one scalar energy constraint; returns G
+  void project_stabiliser(Index i, const Mat3& F);      // stabiliser pairs of node i with fit F
   void project_tet(Index t);        // (B)
   void project_edge(Index e);       // stretching
   void project_barycentre(Index t);  // four per-spring barycentre constraints of tet t
@@ -129,6 +132,8 @@ class XpbdModel final : public Model {
   std::vector<double> node_lambda_, pair_lambda_;
   double strain_scale_ = 1.0;
   bool stabilise_ = false;
+  const materials::HyperelasticLaw* law_ = nullptr;                 // null: the SVK block
+  const std::vector<materials::MaterialFrame>* frames_ = nullptr;  // per node, for laws that need one
 
   // (B) tets: rest D_m^{-1}, compliances (1/J), multipliers (C_H, C_D).
   std::vector<Mat3> dm_inv_;

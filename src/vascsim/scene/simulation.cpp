@@ -187,10 +187,14 @@ void Simulation::build() {
   spdlog::info("discretization: mean spacing {:.4g} m, mean neighbours {:.1f}, volume {:.4g} m^3 (tets {:.4g} m^3)",
                disc_->mean_spacing(), disc_->mean_neighbours(), disc_->total_volume(), disc_->tet_volume());
   EnergyOptions energy = scene.energy;
-  if (energy.law && scene.model != "quasi_static" && scene.model != "explicit")
-    throw InputError(fmt::format("{}: key 'material.law': '{}' is supported by the quasi_static and explicit models; "
-                                 "the {} model implements svk only so far",
-                                 scene.file, scene.material_law, scene.model));
+  if (energy.law && scene.model == "paper_literal")
+    throw InputError(fmt::format("{}: key 'material.law': the paper_literal model is the paper's SVK; '{}' needs "
+                                 "quasi_static, explicit or xpbd",
+                                 scene.file, scene.material_law));
+  if (energy.law && scene.model == "xpbd" && scene.xpbd.elastic != XpbdElastic::MeshlessStrain)
+    throw InputError(fmt::format("{}: key 'material.law': with xpbd, '{}' needs xpbd.elastic = meshless_strain (the "
+                                 "tet option is its own neo-Hookean)",
+                                 scene.file, scene.material_law));
   if (energy.law && energy.law->needs_frame()) energy.frames = wall_frames(*body_, scene);
   energy_ = std::make_unique<PointPrimitiveEnergy>(*disc_, energy);
   problem_ = std::make_unique<Problem>(*energy_, build_regions(scene, *disc_, *body_), scene.gravity_m_s2);

@@ -162,8 +162,8 @@ def plot(args):
             ax.plot(x[bad], y[bad], "x", color=FAIL_RGB, markersize=8, markeredgewidth=1.8, zorder=5,
                     label=None if failed_labelled else "not converged")
             failed_labelled = True
-    ax.set_xlabel(f"catheter displacement ({du})")
-    ax.set_ylabel(f"force on the catheter ({fu})")
+    ax.set_xlabel(f"{args.tool} displacement ({du})")
+    ax.set_ylabel(f"force on the {args.tool} ({fu})")
     if args.title:
         ax.set_title(args.title, fontsize=10)
     ax.grid(True, alpha=0.35)
@@ -184,6 +184,8 @@ def main(argv=None):
     ap.add_argument("--label", action="append", metavar="L",
                     help="legend label, once per CSV in order (default: each file's parent folder name)")
     ap.add_argument("--title", metavar="T", help="axes title (default: none)")
+    ap.add_argument("--tool", default="catheter", metavar="NAME",
+                    help="what presses, for the axis labels (default: catheter)")
     ap.add_argument("--units", choices=["auto", "si", "mm_mN"], default="auto",
                     help="axis units: auto (default), si (m, N) or mm_mN (mm, mN)")
     args = ap.parse_args(argv)

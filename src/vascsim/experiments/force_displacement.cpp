@@ -16,21 +16,6 @@ namespace vascsim {
 
 namespace {
 
-std::size_t tool_index(const Scene& scene, const std::string& name) {
-  if (scene.obstacles.empty())
-    throw InputError(fmt::format("{}: force-displacement needs a tool: add an 'obstacles' entry (e.g. a catheter)",
-                                 scene.file));
-  if (name.empty()) {
-    if (scene.obstacles.size() > 1)
-      throw InputError(fmt::format("{}: the scene has {} obstacles; name the tool with --tool", scene.file,
-                                   scene.obstacles.size()));
-    return 0;
-  }
-  for (std::size_t o = 0; o < scene.obstacles.size(); ++o)
-    if (scene.obstacles[o].name == name) return o;
-  throw InputError(fmt::format("{}: no obstacle named '{}'", scene.file, name));
-}
-
 // Quotes a path for /bin/sh.
 std::string shell_quote(const std::string& s) {
   std::string q = "'";
@@ -47,7 +32,7 @@ std::string force_displacement_header() {
 
 ForceDisplacementResult run_force_displacement(const Scene& scene, const ForceDisplacementOptions& options) {
   namespace fs = std::filesystem;
-  const std::size_t tool = tool_index(scene, options.tool);
+  const std::size_t tool = find_tool(scene, options.tool, "force-displacement");
   const RigidObstacle& ob = scene.obstacles[tool];
   if (!(ob.motion_m.norm() > 0.0))
     throw InputError(fmt::format("{}: tool '{}' does not move: give it push_m (catheter) or motion_m", scene.file,

@@ -92,23 +92,6 @@ class SimulationSide {
   double previous_magnitude_ = 0.0, k_ = 0.0;
 };
 
-std::size_t session_tool(const Scene& scene) {
-  const std::string& name = scene.haptics.tool;
-  if (scene.obstacles.empty())
-    throw InputError(fmt::format("{}: key 'haptics': the device needs a tool to pose: add an 'obstacles' entry",
-                                 scene.file));
-  if (name.empty()) {
-    if (scene.obstacles.size() > 1)
-      throw InputError(fmt::format("{}: key 'haptics.tool': the scene has {} obstacles; name the one the device "
-                                   "poses",
-                                   scene.file, scene.obstacles.size()));
-    return 0;
-  }
-  for (std::size_t o = 0; o < scene.obstacles.size(); ++o)
-    if (scene.obstacles[o].name == name) return o;
-  throw InputError(fmt::format("{}: key 'haptics.tool': no obstacle named '{}'", scene.file, name));
-}
-
 double quantile(std::vector<double> v, double q) {
   if (v.empty()) return 0.0;
   const std::size_t k = std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())));
@@ -122,7 +105,7 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   namespace fs = std::filesystem;
   const HapticsSpec& spec = scene.haptics;
   if (!spec.enabled) throw InputError(fmt::format("{}: the scene has no 'haptics' block", scene.file));
-  const std::size_t tool = session_tool(scene);
+  const std::size_t tool = find_tool(scene, spec.tool, "haptics.tool");
   const std::string mode = options.mode.empty() ? spec.mode : options.mode;
   if (mode != "lockstep" && mode != "realtime")
     throw InputError(fmt::format("haptic mode '{}': use lockstep or realtime", mode));
@@ -203,10 +186,8 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   auto write_frame = [&]() {
     if (!surface || steps % (steps_per_frame * scene.output.vtk_every) != 0) return;
     fs::create_directories(vtk_dir, ec);
-    const SurfaceFrame f = sim.surface_frame();
-    const RenderSurface& rs = *sim.body().surface;
     const std::string name = fmt::format("surface_{:05d}.vtu", steps);
-    write_surface_vtu(vtk_dir / name, {&f.positions, &f.displacements, &f.normals, &rs.uv, &rs.triangles, &rs.outer});
+    write_surface_frame(sim, vtk_dir / name);
     surface_pvd.push_back({model->time(), name});
     write_pvd(vtk_dir / "surface.pvd", surface_pvd);
   };

@@ -73,6 +73,12 @@ std::vector<std::string> probe_columns(const Scene& scene) {
   return c;
 }
 
+void write_surface_frame(Simulation& sim, const std::filesystem::path& file) {
+  const SurfaceFrame f = sim.surface_frame();
+  const RenderSurface& rs = *sim.body().surface;
+  write_surface_vtu(file, {&f.positions, &f.displacements, &f.normals, &rs.uv, &rs.triangles, &rs.outer});
+}
+
 nlohmann::json describe_run(const Scene& scene, Simulation& sim) {
   const auto& disc = sim.discretization();
   return {{"scene", scene.name},
@@ -140,10 +146,8 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
       write_pvd(vtk_dir / "nodes.pvd", pvd);
     }
     if (surface) {
-      const SurfaceFrame f = sim.surface_frame();
-      const RenderSurface& rs = *sim.body().surface;
       const std::string name = fmt::format("surface_{:04d}.vtu", r.step);
-      write_surface_vtu(vtk_dir / name, {&f.positions, &f.displacements, &f.normals, &rs.uv, &rs.triangles, &rs.outer});
+      write_surface_frame(sim, vtk_dir / name);
       surface_pvd.push_back({stamp, name});
       write_pvd(vtk_dir / "surface.pvd", surface_pvd);
     }

@@ -20,6 +20,9 @@ struct RunOptions {
 /// Runs the scene and returns summary.json's content (also written). Throws InputError / NumericalError.
 nlohmann::json run_scene(const Scene& scene, const RunOptions& options);
 
+/// Writes the MLS-mapped render surface of the current state to a .vtu file (the body must have a surface).
+void write_surface_frame(Simulation& sim, const std::filesystem::path& file);
+
 /// summary.json's description of a run: scene, model, discretisation sizes, solver parameters, threads.
 nlohmann::json describe_run(const Scene& scene, Simulation& sim);
 

@@ -517,6 +517,21 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   return sc;
 }
 
+std::size_t find_tool(const Scene& scene, const std::string& name, const std::string& where) {
+  if (scene.obstacles.empty())
+    throw InputError(fmt::format("{}: {}: the scene has no tool: add an 'obstacles' entry (e.g. a catheter)",
+                                 scene.file, where));
+  if (name.empty()) {
+    if (scene.obstacles.size() > 1)
+      throw InputError(fmt::format("{}: {}: the scene has {} obstacles; name the tool", scene.file, where,
+                                   scene.obstacles.size()));
+    return 0;
+  }
+  for (std::size_t o = 0; o < scene.obstacles.size(); ++o)
+    if (scene.obstacles[o].name == name) return o;
+  throw InputError(fmt::format("{}: {}: no obstacle named '{}'", scene.file, where, name));
+}
+
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
   std::ifstream in(path);
   if (!in) throw InputError(fmt::format("{}: cannot open the scene file (missing or unreadable)", path));

@@ -142,6 +142,11 @@ const std::vector<std::string>& model_names();
 /// index ("regions.2.bc.type"). Throws InputError for a malformed override.
 void apply_override(nlohmann::json& doc, const std::string& assignment);
 
+/// Index of the obstacle named `name` in scene.obstacles; with an empty name, the scene's only obstacle.
+/// Throws InputError naming the file and `where` (the key or option that named it) if there is no such
+/// obstacle, none at all, or several and no name.
+std::size_t find_tool(const Scene& scene, const std::string& name, const std::string& where);
+
 /// Reads, overrides and validates a scene file. Throws InputError naming the file and key.
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "vascsim/experiments/cantilever.hpp"
-#include "vascsim/experiments/timoshenko.hpp"
+#include "vascsim/core/beam_theory.hpp"
 
 namespace {
 

@@ -16,6 +16,7 @@
 #include <sstream>
 #include <string>
 
+#include "vascsim/core/tensor_algebra.hpp"
 #include "vascsim/geometry/generators.hpp"
 #include "vascsim/model/discretization.hpp"
 #include "vascsim/model/materials/law_factory.hpp"
@@ -84,19 +85,9 @@ double max_norm(const Vec3Array& a) {
   return m;
 }
 
-// Scoped single-threaded OpenMP. The finite-difference loops below evaluate the energy of 343 nodes a few
-// hundred times: too little work per OpenMP region to pay for a fork/join, and on a loaded 2-core machine
-// two threads were measured 5-16x slower than one. The forces under test are still computed in parallel.
-class SingleThreaded {
- public:
-  SingleThreaded() : saved_(omp_get_max_threads()) { omp_set_num_threads(1); }
-  ~SingleThreaded() { omp_set_num_threads(saved_); }
-  SingleThreaded(const SingleThreaded&) = delete;
-  SingleThreaded& operator=(const SingleThreaded&) = delete;
-
- private:
-  int saved_;
-};
+// The finite-difference loops below evaluate the energy of 343 nodes a few hundred times (one thread: see
+// test::SingleThreaded).
+using test::SingleThreaded;
 
 // max over 30 random DOFs of |f + dU/dx| / max|f|, with dU/dx by central differences of step 1e-7 Delta.
 double fd_force_error(const std::function<double(const Vec3Array&)>& U, const Vec3Array& f, Vec3Array x) {

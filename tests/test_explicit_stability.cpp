@@ -26,19 +26,9 @@ using namespace vascsim;
 using test::kDelta;
 using test::record;
 
-// The dynamics below take ~10^4 steps on 125 nodes: far too little work per OpenMP region to pay for a
-// fork/join, and on a loaded 2-core machine two threads were measured 5-16x slower than one. These tests
-// check numerics, not parallelism (T4/T5 cover the parallel assembly), so they run on one thread.
-class SingleThreaded {
- public:
-  SingleThreaded() : saved_(omp_get_max_threads()) { omp_set_num_threads(1); }
-  ~SingleThreaded() { omp_set_num_threads(saved_); }
-  SingleThreaded(const SingleThreaded&) = delete;
-  SingleThreaded& operator=(const SingleThreaded&) = delete;
-
- private:
-  int saved_;
-};
+// The dynamics below take ~10^4 steps on 125 nodes: one thread (test::SingleThreaded). These tests check
+// numerics, not parallelism (T4/T5 cover the parallel assembly).
+using test::SingleThreaded;
 
 // A free body (no regions, no gravity) on the jittered (+-0.2 Delta) n^3 cloud, sound-mode energy.
 struct FreeBody {

@@ -15,6 +15,7 @@
 #include "vascsim/geometry/boundary.hpp"
 #include "vascsim/geometry/generators.hpp"
 #include "vascsim/mapping/mls_checks.hpp"
+#include "vascsim/geometry/vertex_normals.hpp"
 #include "vascsim/mapping/mls_map.hpp"
 
 namespace vascsim {
@@ -246,8 +247,8 @@ TEST(MlsMap, TransposeMapConservesVirtualWorkAndTotalForce) {
   record("total_force_rel", force_rel);
 }
 
-// Area-weighted normals of the tube's boundary mesh: outer-wall vertices point radially outward, inner
-// ones toward the axis. Rim vertices (z = 0 or L) are left out: their faces span the wall and the end
+// Vertex normals (geometry/vertex_normals) of the tube's boundary mesh: outer-wall vertices point radially
+// outward, inner ones toward the axis. Rim vertices (z = 0 or L) are left out: their faces span the wall and the end
 // annulus, so the true normal there is not radial. After a rigid motion of the nodes, the normals of the
 // mapped (deformed) mesh are the rotated rest normals, which checks they are recomputed from positions.
 TEST(MlsMap, TubeVertexNormalsPointRadiallyAndFollowRigidMotion) {

@@ -9,7 +9,13 @@
 #include <sstream>
 #include <string>
 
+#include <omp.h>
+
+#include <span>
+
+#include "vascsim/constraints/meshless_strain_constraint.hpp"
 #include "vascsim/geometry/generators.hpp"
+#include "vascsim/model/discretization.hpp"
 #include "vascsim/model/material.hpp"
 
 namespace vascsim::test {
@@ -43,4 +49,32 @@ inline Material tissue(double youngs_modulus_pa, double poisson_ratio = 0.45) {
   return m;
 }
 
+/// Runs the enclosing test on one OpenMP thread (bitwise comparisons, tiny clouds), restoring the count.
+class SingleThreaded {
+ public:
+  SingleThreaded() : saved_(omp_get_max_threads()) { omp_set_num_threads(1); }
+  ~SingleThreaded() { omp_set_num_threads(saved_); }
+  SingleThreaded(const SingleThreaded&) = delete;
+  SingleThreaded& operator=(const SingleThreaded&) = delete;
+
+ private:
+  int saved_;
+};
+
 }  // namespace vascsim::test
+
+namespace vascsim::constraints {
+
+/// The strain constraint of node i reading row i of disc.pairs() and disc.self_d()[i] (tests only: the
+/// library's kernel takes the row itself, so constraints/ does not depend on model/).
+inline void meshless_strain_constraint(const Discretization& disc, Index i, const Vec3Array& x,
+                                       MeshlessStrainEval& out) {
+  const PairTable& pairs = disc.pairs();
+  const auto begin = static_cast<std::size_t>(pairs.row_start[static_cast<std::size_t>(i)]);
+  const auto size = static_cast<std::size_t>(pairs.row_size(i));
+  meshless_strain_constraint(i, std::span<const Index>(pairs.col.data() + begin, size),
+                             std::span<const Vec3>(pairs.d.data() + begin, size),
+                             disc.self_d()[static_cast<std::size_t>(i)], x, out);
+}
+
+}  // namespace vascsim::constraints

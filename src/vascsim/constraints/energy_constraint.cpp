@@ -73,4 +73,20 @@ ScalarConstraint<4> literal_energy_constraint(const TetPositions& x, const TetMa
   return c;
 }
 
+std::vector<BarycentreSprings> barycentre_springs_of_mesh(const Vec3Array& X,
+                                                          const std::vector<std::array<Index, 4>>& tets,
+                                                          const std::vector<double>& masses, double bulk_modulus_pa) {
+  std::vector<BarycentreSprings> out(tets.size());
+  for (std::size_t t = 0; t < tets.size(); ++t) {
+    TetPositions x;
+    TetMasses m;
+    for (int a = 0; a < 4; ++a) {
+      x[a] = X[static_cast<std::size_t>(tets[t][a])];
+      m[a] = masses[static_cast<std::size_t>(tets[t][a])];
+    }
+    out[t] = barycentre_springs(x, m, bulk_modulus_pa);
+  }
+  return out;
+}
+
 }  // namespace vascsim::constraints

@@ -15,6 +15,7 @@
 // Tet vertices are indexed 0..3 here (the paper's 1..4).
 
 #include <array>
+#include <vector>
 
 #include "vascsim/constraints/xpbd_projection.hpp"
 
@@ -56,6 +57,12 @@ struct BarycentreSprings {
   double stiffness = 0.0;
 };
 BarycentreSprings barycentre_springs(const TetPositions& X, const TetMasses& m, double bulk_modulus_pa);
+
+/// barycentre_springs of every tetrahedron of a mesh: rest positions X (m), tets as four node indices, nodal
+/// masses (kg), bulk modulus (Pa). One entry per tet, in order.
+std::vector<BarycentreSprings> barycentre_springs_of_mesh(const Vec3Array& X,
+                                                          const std::vector<std::array<Index, 4>>& tets,
+                                                          const std::vector<double>& masses, double bulk_modulus_pa);
 
 /// LITERAL energy constraint as printed, KNOWN DEFECTIVE (MODEL.md E11):
 ///   Eq. 18:    C = 1/2 sum_a k_a (|x_a - x0| - d_a0)^2      (J when k_a is in N/m)

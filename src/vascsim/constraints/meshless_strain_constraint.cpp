@@ -104,14 +104,4 @@ void meshless_strain_constraint(Index i, std::span<const Index> neighbours, std:
   }
 }
 
-void meshless_strain_constraint(const Discretization& disc, Index i, const Vec3Array& x,
-                                MeshlessStrainEval& out) {
-  const PairTable& pairs = disc.pairs();
-  const auto begin = static_cast<std::size_t>(pairs.row_start[static_cast<std::size_t>(i)]);
-  const auto size = static_cast<std::size_t>(pairs.row_size(i));
-  meshless_strain_constraint(i, std::span<const Index>(pairs.col.data() + begin, size),
-                             std::span<const Vec3>(pairs.d.data() + begin, size),
-                             disc.self_d()[static_cast<std::size_t>(i)], x, out);
-}
-
 }  // namespace vascsim::constraints

@@ -17,7 +17,6 @@
 #include <vector>
 
 #include "vascsim/constraints/xpbd_projection.hpp"
-#include "vascsim/model/discretization.hpp"
 
 namespace vascsim::constraints {
 
@@ -58,9 +57,5 @@ double meshless_strain_energy(const Vec6& c, double lame_lambda_pa, double shear
 /// Discretization::pairs() (col and d, same length), `d_self` = self_d()[i], `x` the current positions.
 void meshless_strain_constraint(Index i, std::span<const Index> neighbours, std::span<const Vec3> d,
                                 const Vec3& d_self, const Vec3Array& x, MeshlessStrainEval& out);
-
-/// The same, reading row i of disc.pairs() and disc.self_d()[i].
-void meshless_strain_constraint(const Discretization& disc, Index i, const Vec3Array& x,
-                                MeshlessStrainEval& out);
 
 }  // namespace vascsim::constraints

@@ -3,7 +3,7 @@
 #include <string>
 
 #include "vascsim/core/error.hpp"
-#include "vascsim/model/point_primitive_energy.hpp"  // cofactor()
+#include "vascsim/core/tensor_algebra.hpp"
 
 namespace vascsim::constraints {
 

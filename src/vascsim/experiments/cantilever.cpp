@@ -2,7 +2,7 @@
 
 #include <chrono>
 
-#include "vascsim/experiments/timoshenko.hpp"
+#include "vascsim/core/beam_theory.hpp"
 #include "vascsim/scene/scene.hpp"
 #include "vascsim/scene/simulation.hpp"
 

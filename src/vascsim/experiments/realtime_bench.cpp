@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/statistics.hpp"
 #include "vascsim/scene/simulation.hpp"
 
 #ifndef VASCSIM_BUILD_TYPE
@@ -58,14 +59,6 @@ std::string grouped(long long n) {
     s += digits[i];
   }
   return s;
-}
-
-// Linear interpolation between order statistics (numpy's default), q in [0, 1].
-double quantile(const std::vector<double>& sorted, double q) {
-  const double pos = q * static_cast<double>(sorted.size() - 1);
-  const std::size_t i = static_cast<std::size_t>(pos);
-  if (i + 1 >= sorted.size()) return sorted.back();
-  return sorted[i] + (pos - static_cast<double>(i)) * (sorted[i + 1] - sorted[i]);
 }
 
 std::string utc_now() {

@@ -13,6 +13,7 @@
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/spatial_grid.hpp"
+#include "vascsim/geometry/vertex_normals.hpp"
 #include "vascsim/geometry/kuhn.hpp"
 
 namespace vascsim {
@@ -163,7 +164,7 @@ double thinnest_wall(const TriangleMesh& inner, const TriangleMesh& outer) {
 // Wall surface for kind "lumen": the lumen flipped (normals into the lumen), its offset by t along the
 // vertex normals, and rim strips along the boundary loops of an open lumen.
 void lumen_wall_surface(const TriangleMesh& lumen, double t, MeshWall& w) {
-  const Vec3Array n = vertex_normals(lumen);
+  const Vec3Array n = vertex_normals(lumen.triangles, lumen.vertices);
   const auto nv = static_cast<Index>(lumen.vertices.size());
   w.surface_vertices.resize(2 * static_cast<std::size_t>(nv));
   w.normals.resize(w.surface_vertices.size());
@@ -453,7 +454,7 @@ MeshWall make_mesh_wall(const TriangleMesh& input, const MeshWallSpec& spec) {
   if (closed_wall) {
     w.triangles = mesh.triangles;
     w.surface_vertices = mesh.vertices;
-    w.normals = vertex_normals(mesh);
+    w.normals = vertex_normals(mesh.triangles, mesh.vertices);
     w.surface_is_outer.assign(mesh.vertices.size(), 0);
     for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
       if (comps.nesting_depth[comps.of_triangle[f]] % 2 == 0)

@@ -1,5 +1,7 @@
 #include "vascsim/geometry/triangle_mesh.hpp"
 
+#include "vascsim/geometry/vertex_normals.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -293,28 +295,6 @@ std::vector<std::array<Index, 2>> boundary_edges(const TriangleMesh& m) {
   return out;
 }
 
-Vec3Array vertex_normals(const TriangleMesh& m) {
-  Vec3Array n(m.vertices.size(), Vec3::Zero());
-  for (std::size_t f = 0; f < m.triangles.size(); ++f) {
-    const Vec3 c = tri_cross(m, f);
-    const double len = c.norm();
-    if (!(len > 0.0)) continue;
-    const Vec3 unit = c / len;
-    const auto& t = m.triangles[f];
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 u = m.vertices[t[(k + 1) % 3]] - m.vertices[t[k]];
-      const Vec3 w = m.vertices[t[(k + 2) % 3]] - m.vertices[t[k]];
-      const double angle = std::atan2(u.cross(w).norm(), u.dot(w));
-      n[t[k]] += angle * unit;
-    }
-  }
-  for (Vec3& v : n) {
-    const double len = v.norm();
-    if (len > 0.0) v /= len;
-  }
-  return n;
-}
-
 // ----------------------------------------------------------------------------------------------
 // MeshDistance
 
@@ -384,7 +364,7 @@ MeshDistance::MeshDistance(const TriangleMesh& mesh) : mesh_(mesh) {
       vertex_boundary_[edges.vertices[e][0]] = vertex_boundary_[edges.vertices[e][1]] = 1;
     }
   }
-  vertex_normal_ = vertex_normals(mesh_);
+  vertex_normal_ = vertex_normals(mesh_.triangles, mesh_.vertices);
   if (nf == 0) return;
   Vec3Array centroids(nf);
   for (std::size_t f = 0; f < nf; ++f) {

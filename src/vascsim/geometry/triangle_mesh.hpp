@@ -53,10 +53,6 @@ std::vector<std::array<Index, 2>> boundary_edges(const TriangleMesh& mesh);
 /// Length of the axis-aligned bounding box diagonal, m (0 for an empty mesh).
 double bounding_box_diagonal(const TriangleMesh& mesh);
 
-/// #V unit vertex normals: incident face normals weighted by the face's angle at the vertex
-/// (Thuermer & Wuethrich 1998), pointing to the side the (oriented) triangles face.
-Vec3Array vertex_normals(const TriangleMesh& mesh);
-
 /// Which part of the closest triangle the closest point lies on.
 enum class MeshFeature { face, edge, vertex };
 

@@ -6,7 +6,7 @@
 #include "vascsim/geometry/boundary.hpp"
 #include "vascsim/geometry/mesh_wall.hpp"
 #include "vascsim/geometry/swept_vessel.hpp"
-#include "vascsim/mapping/mls_map.hpp"
+#include "vascsim/geometry/vertex_normals.hpp"
 
 namespace vascsim {
 

@@ -11,7 +11,7 @@
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/interaction/device_csv.hpp"
-#include "vascsim/scene/json_reader.hpp"
+#include "vascsim/core/json_reader.hpp"
 
 namespace vascsim {
 

@@ -231,22 +231,4 @@ void MlsMap::map_forces_to_nodes(const Vec3Array& f_surface_n, Vec3Array& f_node
   }
 }
 
-void vertex_normals(const std::vector<std::array<Index, 3>>& triangles, const Vec3Array& positions_m,
-                    Vec3Array& normals) {
-  const Index nv = static_cast<Index>(positions_m.size());
-  normals.assign(positions_m.size(), Vec3::Zero());
-  for (const auto& t : triangles) {
-    for (Index k : t)
-      if (k < 0 || k >= nv)
-        throw InputError(fmt::format("vertex normals: triangle vertex {} out of range", k));
-    // |cross| = twice the area, so summing cross products weights each face by its area.
-    const Vec3 n = (positions_m[t[1]] - positions_m[t[0]]).cross(positions_m[t[2]] - positions_m[t[0]]);
-    for (Index k : t) normals[k] += n;
-  }
-  for (Vec3& n : normals) {
-    const double len = n.norm();
-    if (len > 0.0) n /= len;
-  }
-}
-
 }  // namespace vascsim

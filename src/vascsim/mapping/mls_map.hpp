@@ -84,10 +84,4 @@ class MlsMap {
   MlsMapReport report_;
 };
 
-/// Area-weighted vertex normals of a triangle mesh (MODEL.md 4.4 (a)): n_v ∝ sum over the faces at v of
-/// (x_b - x_a) x (x_c - x_a), unit length; zero for a vertex without faces of non-zero area.
-/// triangles: #F vertex triples, counter-clockwise seen from outside; positions_m: #V, m.
-void vertex_normals(const std::vector<std::array<Index, 3>>& triangles, const Vec3Array& positions_m,
-                    Vec3Array& normals);
-
 }  // namespace vascsim

@@ -10,6 +10,7 @@
 #include "vascsim/constraints/energy_constraint.hpp"
 #include "vascsim/constraints/xpbd_projection.hpp"
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/parallel.hpp"
 #include "vascsim/geometry/boundary.hpp"
 #include "vascsim/model/stability.hpp"
 
@@ -17,7 +18,6 @@ namespace vascsim {
 
 namespace {
 
-constexpr Index kParallelThreshold = 2048;  // as in point_primitive_energy.cpp
 constexpr int kPowerIterations = 60;        // as ExplicitModel
 
 // The paper's pipeline: literal strain, no stabiliser, no volume term (MODEL.md 3.1 step 1).
@@ -107,16 +107,10 @@ PaperLiteralModel::PaperLiteralModel(const Problem& problem, const PaperLiteralS
   const auto& tets = disc.tets();
   tet_k_.resize(tets.size());
   tet_rest_.resize(tets.size());
+  const auto springs = constraints::barycentre_springs_of_mesh(x_, tets, disc.masses(), kappa);
   for (std::size_t t = 0; t < tets.size(); ++t) {
-    constraints::TetPositions X;
-    constraints::TetMasses m;
-    for (int a = 0; a < 4; ++a) {
-      X[a] = x_[tets[t][a]];
-      m[a] = disc.masses()[tets[t][a]];
-    }
-    const auto springs = constraints::barycentre_springs(X, m, kappa);
-    tet_rest_[t] = springs.rest_distances;
-    tet_k_[t] = springs.stiffness;
+    tet_rest_[t] = springs[t].rest_distances;
+    tet_k_[t] = springs[t].stiffness;
   }
   ks_prime_ = constraints::pbd_iteration_stiffness(s.stretch_stiffness, s.iterations);
   ke_prime_ = constraints::pbd_iteration_stiffness(s.energy_stiffness, s.iterations);
@@ -195,7 +189,7 @@ void PaperLiteralModel::step(double s_next) {
   const double dt = dt_;
   impl_->energy.forces(x_, f_int_);
   problem_.external_forces(s_next, f_ext_);
-#pragma omp parallel for schedule(static) if (n >= kParallelThreshold)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
   for (Index i = 0; i < n; ++i) {
     f_constraint_[i] = f_int_[i];
     if (fixed[i]) {
@@ -211,7 +205,7 @@ void PaperLiteralModel::step(double s_next) {
     for (std::size_t t = 0; t < tet_k_.size(); ++t) project_energy(t);
   }
   const double decay = std::exp(-settings_.damping_per_s * dt);
-#pragma omp parallel for schedule(static) if (n >= kParallelThreshold)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
   for (Index i = 0; i < n; ++i) {
     v_[i] = (p_[i] - x_[i]) * (decay / dt);
     x_[i] = p_[i];

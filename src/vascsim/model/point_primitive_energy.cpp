@@ -3,30 +3,10 @@
 #include <fmt/format.h>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/parallel.hpp"
+#include "vascsim/core/tensor_algebra.hpp"
 
 namespace vascsim {
-
-Mat3 cofactor(const Mat3& F) {
-  Mat3 C;
-  C.col(0) = F.col(1).cross(F.col(2));
-  C.col(1) = F.col(2).cross(F.col(0));
-  C.col(2) = F.col(0).cross(F.col(1));
-  return C;
-}
-
-namespace {
-// Below this size a parallel region costs more than it saves (and on a loaded 2-core machine, much more).
-constexpr Index kParallelMinNodes = 2048;
-
-// d cof(F) along dF: product rule on the column cross products.
-Mat3 cofactor_derivative(const Mat3& F, const Mat3& dF) {
-  Mat3 C;
-  C.col(0) = dF.col(1).cross(F.col(2)) + F.col(1).cross(dF.col(2));
-  C.col(1) = dF.col(2).cross(F.col(0)) + F.col(2).cross(dF.col(0));
-  C.col(2) = dF.col(0).cross(F.col(1)) + F.col(0).cross(dF.col(1));
-  return C;
-}
-}  // namespace
 
 PointPrimitiveEnergy::PointPrimitiveEnergy(const Discretization& disc, const EnergyOptions& options)
     : disc_(disc), opt_(options) {

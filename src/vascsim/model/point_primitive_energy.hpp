@@ -88,7 +88,4 @@ class PointPrimitiveEnergy {
   std::vector<double> stab_c_;  // c_i = alpha_hg mu V_i / tr(A_i), N/m * m^3
 };
 
-/// Cofactor matrix cof(F) = det(F) F^{-T}, columns [F_1 x F_2, F_2 x F_0, F_0 x F_1] (MODEL.md 1.9a).
-Mat3 cofactor(const Mat3& F);
-
 }  // namespace vascsim

@@ -13,6 +13,7 @@
 #include "vascsim/constraints/tet_neo_hookean_constraint.hpp"
 #include "vascsim/constraints/xpbd_projection.hpp"
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/parallel.hpp"
 #include "vascsim/geometry/boundary.hpp"
 
 namespace vascsim {
@@ -21,10 +22,6 @@ namespace {
 
 using constraints::Mat6;
 using constraints::Vec6;
-
-// Below this many nodes one thread is faster: every colour ends in a barrier, and on a loaded 2-core
-// machine OpenMP regions on small clouds cost more than they save (as in point_primitive_energy.cpp).
-constexpr Index kParallelMinNodes = 2048;
 
 template <class Stencils>
 Colouring colour(const Stencils& stencils, Index num_nodes) {
@@ -215,16 +212,10 @@ void XpbdModel::setup_barycentre() {
   const auto& tets = disc.tets();
   bary_rest_.resize(tets.size());
   bary_compliance_.resize(tets.size());
+  const auto springs = constraints::barycentre_springs_of_mesh(x_, tets, disc.masses(), settings_.energy_modulus_pa);
   for (std::size_t t = 0; t < tets.size(); ++t) {
-    constraints::TetPositions X;
-    constraints::TetMasses m;
-    for (int a = 0; a < 4; ++a) {
-      X[a] = x_[tets[t][a]];
-      m[a] = disc.masses()[tets[t][a]];
-    }
-    const auto springs = constraints::barycentre_springs(X, m, settings_.energy_modulus_pa);
-    bary_rest_[t] = springs.rest_distances;
-    bary_compliance_[t] = 1.0 / springs.stiffness;
+    bary_rest_[t] = springs[t].rest_distances;
+    bary_compliance_[t] = 1.0 / springs[t].stiffness;
   }
   bary_lambda_.assign(4 * tets.size(), 0.0);
   if (tet_colours_.num_colours() == 0) tet_colours_ = colour(tets, disc.num_nodes());

@@ -8,7 +8,7 @@
 #include <cctype>
 
 #include "vascsim/core/error.hpp"
-#include "vascsim/scene/json_reader.hpp"
+#include "vascsim/core/json_reader.hpp"
 
 namespace vascsim {
 

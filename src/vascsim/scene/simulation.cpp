@@ -6,11 +6,12 @@
 #include <spdlog/spdlog.h>
 
 #include "vascsim/core/error.hpp"
-#include "vascsim/experiments/timoshenko.hpp"
+#include "vascsim/core/beam_theory.hpp"
 #include "vascsim/geometry/boundary.hpp"
 #include "vascsim/geometry/mesh_wall.hpp"
 #include "vascsim/io/mesh_import.hpp"
 #include "vascsim/geometry/swept_vessel.hpp"
+#include "vascsim/geometry/vertex_normals.hpp"
 #include "vascsim/model/registry.hpp"
 
 namespace vascsim {

@@ -3,7 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "vascsim/model/materials/parameter_checks.hpp"
-#include "vascsim/model/materials/tensor_algebra.hpp"
+#include "vascsim/core/tensor_algebra.hpp"
 
 namespace vascsim::materials {
 

@@ -1,4 +1,4 @@
-#include "vascsim/scene/json_reader.hpp"
+#include "vascsim/core/json_reader.hpp"
 
 #include <cmath>
 #include <fmt/format.h>

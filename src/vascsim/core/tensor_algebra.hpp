@@ -1,11 +1,13 @@
 #pragma once
-// Small 3x3 tensor helpers shared by the hyperelastic laws (header-only, inlined in the hot paths).
+// Small 3x3 tensor helpers shared by the point-primitive energy, the hyperelastic laws and the tet
+// constraints (header-only, inlined in the hot paths).
 
 #include "vascsim/core/types.hpp"
 
-namespace vascsim::materials {
+namespace vascsim {
 
-/// cof(F) = det(F) F^{-T} = dJ/dF, columns [F_1 x F_2, F_2 x F_0, F_0 x F_1] (F_c = column c; MODEL.md 1.9a).
+/// cof(F) = det(F) F^{-T} = dJ/dF, columns [F_1 x F_2, F_2 x F_0, F_0 x F_1] (F_c = column c). Not
+/// adj(F) = cof(F)^T, which differs for every non-symmetric F (docs/model.md section 9.1).
 /// Defined for every F, including singular and inverted ones.
 inline Mat3 cofactor(const Mat3& F) {
   Mat3 C;
@@ -29,4 +31,4 @@ inline double ddot(const Mat3& A, const Mat3& B) {
   return A.cwiseProduct(B).sum();
 }
 
-}  // namespace vascsim::materials
+}  // namespace vascsim

@@ -4,7 +4,7 @@
 
 #include "vascsim/core/beam_theory.hpp"
 #include "vascsim/scene/scene.hpp"
-#include "vascsim/scene/simulation.hpp"
+#include "vascsim/run/simulation.hpp"
 
 namespace vascsim {
 
@@ -37,6 +37,30 @@ nlohmann::json cantilever_scene(const CantileverCase& c) {
          {"bc", {{"type", "force"}, {"direction", {0.0, 0.0, -1.0}}, {"magnitude_n", load}}}}}},
       {"quasi_static", {{"load_steps", 1}, {"rel_tolerance", 1e-8}}},
       {"reference", {{"type", "timoshenko_cantilever"}, {"region", "tip"}}}};
+}
+
+std::vector<CantileverConfiguration> cantilever_table_configurations() {
+  const CantileverCase sound;
+  auto with = [&](auto change) {
+    CantileverCase c = sound;
+    change(c);
+    return c;
+  };
+  return {{"sound, nu = 0.3", with([](auto& c) { c.poisson_ratio = 0.3; })},
+          {"sound, nu = 0.45", sound},
+          {"sound, K_min = 4 (no support growth at edges), nu = 0.3", with([](auto& c) {
+             c.poisson_ratio = 0.3;
+             c.min_neighbours = 4;
+           })},
+          {"sound, K_min = 4 (no support growth at edges), nu = 0.45", with([](auto& c) { c.min_neighbours = 4; })},
+          {"sound without stabiliser (alpha_hg = 0), nu = 0.45", with([](auto& c) { c.stabilizer_alpha = 0.0; })},
+          {"h = 1.5 Delta, nu = 0.45", with([](auto& c) { c.support_radius_factor = 1.5; })},
+          {"alpha_hg = 0.5, nu = 0.45", with([](auto& c) { c.stabilizer_alpha = 0.5; })},
+          {"Mueller-kernel volumes, nu = 0.45", with([](auto& c) { c.volume = "mueller_kernel"; })},
+          {"literal strain (no 1/2), alpha_hg = 0, nu = 0.45", with([](auto& c) {
+             c.strain = "mueller_no_half";
+             c.stabilizer_alpha = 0.0;
+           })}};
 }
 
 CantileverResult run_cantilever(const CantileverCase& c) {

@@ -36,4 +36,15 @@ nlohmann::json cantilever_scene(const CantileverCase& c);
 /// Runs one case (quasi-static, one load step).
 CantileverResult run_cantilever(const CantileverCase& c);
 
+/// One row of docs/validation.md's cantilever table: a label and the case (cells_across is set per column).
+struct CantileverConfiguration {
+  std::string label;
+  CantileverCase base;
+};
+
+/// The rows of the table `vascsim validate cantilever` prints: the sound default at nu = 0.3 and 0.45 and
+/// the variants it is compared with (no support growth, no stabiliser, h = 1.5 Delta, a stronger stabiliser,
+/// Mueller-kernel volumes, the literal strain).
+std::vector<CantileverConfiguration> cantilever_table_configurations();
+
 }  // namespace vascsim

@@ -6,7 +6,8 @@
 #include <spdlog/spdlog.h>
 
 #include "vascsim/core/error.hpp"
-#include "vascsim/scene/runner.hpp"
+#include "vascsim/run/output_writer.hpp"
+#include "vascsim/run/runner.hpp"
 
 #ifndef VASCSIM_SOURCE_DIR
 #define VASCSIM_SOURCE_DIR "."
@@ -25,9 +26,9 @@ std::string shell_quote(const std::string& s) {
 
 }  // namespace
 
-std::string force_displacement_header() {
-  return "step,displacement_m,force_n,force_x_n,force_y_n,force_z_n,torque_x_n_m,torque_y_n_m,torque_z_n_m,"
-         "contacts,converged";
+std::vector<std::string> force_displacement_columns() {
+  return {"step",      "displacement_m", "force_n",      "force_x_n",    "force_y_n", "force_z_n",
+          "torque_x_n_m", "torque_y_n_m", "torque_z_n_m", "contacts",     "converged"};
 }
 
 ForceDisplacementResult run_force_displacement(const Scene& scene, const ForceDisplacementOptions& options) {
@@ -47,23 +48,22 @@ ForceDisplacementResult run_force_displacement(const Scene& scene, const ForceDi
   ForceDisplacementResult result;
   result.summary = run_scene(scene, run);
 
-  result.csv = options.out_dir / "force_displacement.csv";
-  std::ofstream csv(result.csv);
-  if (!csv) throw InputError(fmt::format("{}: cannot write", result.csv.string()));
-  csv << "# " << scene.name << ": tool '" << ob.name << "', model " << scene.model
-      << "; force and torque exerted by the tissue on the tool (N, N m about the tool point)\n";
-  csv << force_displacement_header() << "\n";
+  const OutputWriter out(options.out_dir);
+  CsvTable csv = out.table("force_displacement.csv", force_displacement_columns(),
+                           fmt::format("{}: tool '{}', model {}; force and torque exerted by the tissue on the tool "
+                                       "(N, N m about the tool point)",
+                                       scene.name, ob.name, scene.model));
+  result.csv = csv.file();
   nlohmann::json rows = nlohmann::json::array();
   for (const auto& r : records) {
     const ObstacleMeasure& m = r.obstacles.at(tool);
     // On the tool; + 0.0 turns -0 into 0 in the text.
     const Vec3 f = -m.force_n + Vec3::Zero(), t = -m.torque_n_m + Vec3::Zero();
-    csv << fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{}\n", r.step, m.displacement_m,
-                       m.force_projected_n, f.x(), f.y(), f.z(), t.x(), t.y(), t.z(), m.contacts,
-                       r.report.converged ? 1 : 0);
+    csv.add_row(fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{}", r.step,
+                            m.displacement_m, m.force_projected_n, f.x(), f.y(), f.z(), t.x(), t.y(), t.z(), m.contacts,
+                            r.report.converged ? 1 : 0));
     rows.push_back({{"displacement_m", m.displacement_m}, {"force_n", m.force_projected_n}});
   }
-  csv.close();
   result.summary["force_displacement"] = {{"tool", ob.name}, {"csv", result.csv.filename().string()}, {"rows", rows}};
 
   if (options.plot) {
@@ -86,7 +86,7 @@ ForceDisplacementResult run_force_displacement(const Scene& scene, const ForceDi
     if (!result.plot_problem.empty()) result.summary["force_displacement"]["plot_problem"] = result.plot_problem;
     else result.summary["force_displacement"]["png"] = png.filename().string();
   }
-  std::ofstream(options.out_dir / "summary.json") << result.summary.dump(2) << "\n";
+  out.write_summary(result.summary);
   return result;
 }
 

@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "vascsim/scene/simulation.hpp"
+#include "vascsim/run/simulation.hpp"
 
 namespace vascsim {
 
@@ -38,9 +38,9 @@ struct ForceDisplacementResult {
 /// Throws InputError if the scene has no such tool, or the tool does not move.
 ForceDisplacementResult run_force_displacement(const Scene& scene, const ForceDisplacementOptions& options);
 
-/// The header of force_displacement.csv. Force and torque are those the tissue exerts on the tool (N, N m
+/// The columns of force_displacement.csv. Force and torque are those the tissue exerts on the tool (N, N m
 /// about the tool point); force_n is that force projected on the reversed push direction (positive when
 /// the tissue resists the push); displacement_m is the tool's travel along its push (m).
-std::string force_displacement_header();
+std::vector<std::string> force_displacement_columns();
 
 }  // namespace vascsim

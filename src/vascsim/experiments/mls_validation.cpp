@@ -8,7 +8,7 @@
 #include "vascsim/core/spatial_grid.hpp"
 #include "vascsim/mapping/mls_checks.hpp"
 #include "vascsim/scene/scene.hpp"
-#include "vascsim/scene/simulation.hpp"
+#include "vascsim/run/simulation.hpp"
 
 namespace vascsim {
 

@@ -1,6 +1,7 @@
 #include "vascsim/experiments/realtime_bench.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <omp.h>
 #include <algorithm>
 #include <chrono>
@@ -12,7 +13,8 @@
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/statistics.hpp"
-#include "vascsim/scene/simulation.hpp"
+#include "vascsim/model/registry.hpp"
+#include "vascsim/run/simulation.hpp"
 
 #ifndef VASCSIM_BUILD_TYPE
 #define VASCSIM_BUILD_TYPE ""
@@ -77,14 +79,12 @@ struct RestoreOmpThreads {
 };
 
 void validate(const RealtimeBenchOptions& o) {
-  const auto& names = model_names();
-  if (std::find(names.begin(), names.end(), o.model) == names.end())
-    throw InputError(fmt::format("bench: unknown model '{}'; use xpbd or explicit", o.model));
-  if (o.model != "xpbd" && o.model != "explicit")
-    throw InputError(
-        fmt::format("bench: model '{}' is not supported (it has no 1 ms step to time or no "
-                    "benchmark settings yet); use xpbd or explicit",
-                    o.model));
+  std::vector<std::string> dynamic;
+  for (const ModelEntry& e : model_registry())
+    if (e.capabilities.dynamic) dynamic.push_back(e.name);
+  if (std::find(dynamic.begin(), dynamic.end(), o.model) == dynamic.end())
+    throw InputError(fmt::format("bench: model '{}' is not a dynamic model with a time step to time; use one of {}",
+                                 o.model, fmt::join(dynamic, ", ")));
   if (o.target_nodes.empty()) throw InputError("bench: --nodes needs at least one node count");
   for (int n : o.target_nodes)
     if (n < 1 || n > kMaxTargetNodes)
@@ -110,7 +110,6 @@ std::vector<std::string> bench_overrides(const RealtimeBenchOptions& o, double r
   s.push_back(fmt::format("{}.duration_s={:.17g}", o.model, duration_s));
   // Keep the scene's ramp, but finish it within the run so the timed steps see the full load.
   s.push_back(fmt::format("{}.ramp_time_s={:.17g}", o.model, std::min(ramp_s, duration_s)));
-  if (o.model == "xpbd") s.push_back(fmt::format("xpbd.step_s={:.17g}", kBenchStepS));
   return s;
 }
 
@@ -228,7 +227,7 @@ RealtimeBenchReport run_realtime_bench(const RealtimeBenchOptions& o) {
     s.push_back("model=" + o.model);
     return s;
   }());
-  const double ramp_s = o.model == "xpbd" ? base.xpbd.ramp_time_s : base.explicit_settings.ramp_time_s;
+  const double ramp_s = find_model(o.model).schedule(base.own_model_settings()).ramp_time_s;
   const unsigned hw = std::thread::hardware_concurrency();
   RestoreOmpThreads restore;
 

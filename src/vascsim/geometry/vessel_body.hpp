@@ -59,6 +59,13 @@ struct RenderSurface {
   std::vector<char> outer;          ///< per triangle: 1 on the outer wall (what a viewer draws), else 0
 };
 
+/// The render surface deformed to one state (the surface map's output).
+struct SurfaceFrame {
+  Vec3Array positions;      ///< m
+  Vec3Array displacements;  ///< m
+  Vec3Array normals;        ///< unit, recomputed from the deformed triangles
+};
+
 struct Body {
   NodeCloud cloud;
   std::optional<WallCoordinates> wall;

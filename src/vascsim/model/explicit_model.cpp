@@ -5,9 +5,41 @@
 #include <spdlog/spdlog.h>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/parallel.hpp"
 #include "vascsim/model/stability.hpp"
 
 namespace vascsim {
+
+ExplicitSettings read_explicit_settings(JsonReader& ex) {
+  ExplicitSettings s;
+  const TimeSchedule schedule = read_time_schedule(ex);
+  s.duration_s = schedule.duration_s;
+  s.ramp_time_s = schedule.ramp_time_s;
+  s.output_interval_s = schedule.output_interval_s;
+  s.damping_per_s = ex.number("damping_per_s", 10.0, 0.0, 1e6);
+  s.dt_s = ex.number("dt_s", 0.0, 0.0, 1.0);
+  s.safety = ex.number("safety", 0.5, 0.01, 0.95);
+  s.cfl_coefficient = ex.number("cfl_coefficient", 0.4, 0.01, 2.0);
+  s.power_iterations = ex.integer("power_iterations", 60, 1, 100000);
+  ex.finish();
+  return s;
+}
+
+ModelEntry explicit_model_entry() {
+  ModelEntry e;
+  e.name = "explicit";
+  e.summary = "symplectic Euler below the stability limit: the verification reference";
+  e.capabilities = {.dynamic = true, .takes_tools = false, .device_driven = false, .releases_regions = false};
+  e.read_settings = [](JsonReader& block) { return std::any(read_explicit_settings(block)); };
+  e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
+    return std::make_unique<ExplicitModel>(problem, settings_as<ExplicitSettings>(settings));
+  };
+  e.schedule = [](const std::any& settings) {
+    const auto& s = settings_as<ExplicitSettings>(settings);
+    return TimeSchedule{s.duration_s, s.ramp_time_s, s.output_interval_s};
+  };
+  return e;
+}
 
 ExplicitIntegrator::ExplicitIntegrator(const Problem& problem, double dt_s, double damping_per_s,
                                        bool eq10_literal_sign)
@@ -26,7 +58,7 @@ void ExplicitIntegrator::substep(double s_next) {
   const double sign = literal_sign_ ? -1.0 : 1.0;
   const double decay = std::exp(-damping_ * dt_);
   const Index n = static_cast<Index>(x_.size());
-#pragma omp parallel for schedule(static) if (n >= 2048)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
   for (Index i = 0; i < n; ++i) {
     if (fixed[i]) {
       const Vec3 target = problem_.prescribed_position(i, s_next);
@@ -79,10 +111,7 @@ ExplicitModel::ExplicitModel(const Problem& problem, const ExplicitSettings& s) 
   integrator_ = std::make_unique<ExplicitIntegrator>(problem, dt_, s.damping_per_s, s.eq10_literal_sign);
 }
 
-double ExplicitModel::load_factor_at(double t) const {
-  if (settings_.ramp_time_s <= 0.0) return 1.0;
-  return std::min(t / settings_.ramp_time_s, 1.0);
-}
+double ExplicitModel::load_factor_at(double t) const { return ramped_load_factor(t, settings_.ramp_time_s); }
 
 StepReport ExplicitModel::advance(int k) {
   const double t_end = std::min(k * settings_.output_interval_s, settings_.duration_s);

@@ -5,6 +5,7 @@
 // v <- v exp(-c dt). Paper Eq. 10 with the sign fixed (E6): a = (f_ext + f_int) / m.
 
 #include "vascsim/model/model.hpp"
+#include "vascsim/model/registry.hpp"
 
 namespace vascsim {
 
@@ -19,6 +20,12 @@ struct ExplicitSettings {
   int power_iterations = 60;        ///< power iterations for omega_max
   bool eq10_literal_sign = false;   ///< a = (f_ext - f_int)/m as printed (negative test E6 only)
 };
+
+/// Reads the `explicit` block of a scene (docs/scene-format.md).
+ExplicitSettings read_explicit_settings(JsonReader& block);
+
+/// The registry entry (registry.cpp).
+ModelEntry explicit_model_entry();
 
 /// Symplectic Euler state and substep, usable on its own (tests, experiments).
 class ExplicitIntegrator {

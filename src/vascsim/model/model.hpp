@@ -1,6 +1,7 @@
 #pragma once
 // The Model interface: a solver that advances a Problem through a sequence of output points
-// (load steps or output times). Models are chosen by name in the scene (registry.hpp).
+// (load steps or output times). Models are chosen by name in the scene (registry.hpp); a model a device can
+// drive also implements DeviceDrivenModel (device_driven_model.hpp).
 
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -20,6 +21,8 @@ struct StepReport {
   double residual = 0.0;     ///< relative force residual (quasi_static); 0 otherwise
   bool converged = true;
 };
+
+class DeviceDrivenModel;
 
 class Model {
  public:
@@ -44,6 +47,9 @@ class Model {
   /// substep for dynamic models, at equilibrium for quasi_static), its moment and contacts. Empty for
   /// models without obstacles.
   virtual std::vector<ObstacleLoad> obstacle_loads() const { return {}; }
+  /// The device-driven view of this model (haptic sessions, the viewer); nullptr for models a device cannot
+  /// drive. Agrees with the registry's capabilities.device_driven.
+  virtual DeviceDrivenModel* device_driven() { return nullptr; }
 };
 
 }  // namespace vascsim

@@ -66,6 +66,45 @@ struct PaperLiteralModel::Impl {
 
 PaperLiteralModel::~PaperLiteralModel() = default;
 
+PaperLiteralSettings read_paper_literal_settings(JsonReader& pl) {
+  const PaperLiteralSettings d;  // the defaults live in one place (the settings struct)
+  PaperLiteralSettings s;
+  const TimeSchedule schedule = read_time_schedule(pl, {d.duration_s, d.ramp_time_s, d.output_interval_s});
+  s.duration_s = schedule.duration_s;
+  s.ramp_time_s = schedule.ramp_time_s;
+  s.output_interval_s = schedule.output_interval_s;
+  s.step_s = pl.number("step_s", d.step_s, 1e-9, 1.0);
+  s.iterations = pl.integer("iterations", d.iterations, 1, 1000);
+  s.stretch_stiffness = pl.number("stretch_stiffness", d.stretch_stiffness, 0.0, 1.0);
+  s.energy_stiffness = pl.number("energy_stiffness", d.energy_stiffness, 0.0, 1.0);
+  s.stretch_pairs = pl.string("stretch_pairs", "tet_edges", {"tet_edges", "neighbours"}) == "tet_edges"
+                        ? StretchPairs::TetEdges
+                        : StretchPairs::Neighbours;
+  s.damping_per_s = pl.number("damping_per_s", d.damping_per_s, 0.0, 1e6);
+  pl.finish();
+  return s;
+}
+
+ModelEntry paper_literal_model_entry() {
+  ModelEntry e;
+  e.name = "paper_literal";
+  e.summary = "the paper's pipeline as printed (explicit step + PBD constraints), for reproduction";
+  e.capabilities = {.dynamic = true, .takes_tools = false, .device_driven = false, .releases_regions = false};
+  e.read_settings = [](JsonReader& block) { return std::any(read_paper_literal_settings(block)); };
+  e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
+    return std::make_unique<PaperLiteralModel>(problem, settings_as<PaperLiteralSettings>(settings));
+  };
+  e.schedule = [](const std::any& settings) {
+    const auto& s = settings_as<PaperLiteralSettings>(settings);
+    return TimeSchedule{s.duration_s, s.ramp_time_s, s.output_interval_s};
+  };
+  e.law_restriction = [](const std::any&, const std::string& law) -> std::string {
+    if (law == "svk") return "";
+    return fmt::format("the paper_literal model is the paper's SVK; '{}' needs another model", law);
+  };
+  return e;
+}
+
 PaperLiteralModel::PaperLiteralModel(const Problem& problem, const PaperLiteralSettings& s)
     : problem_(problem), settings_(s) {
   if (!(s.duration_s > 0.0)) throw InputError("paper_literal: duration_s must be > 0");
@@ -143,10 +182,7 @@ PaperLiteralModel::PaperLiteralModel(const Problem& problem, const PaperLiteralS
         dt_, dt_ / dt_explicit_, dt_explicit_);
 }
 
-double PaperLiteralModel::load_factor_at(double t) const {
-  if (settings_.ramp_time_s <= 0.0) return 1.0;
-  return std::min(t / settings_.ramp_time_s, 1.0);
-}
+double PaperLiteralModel::load_factor_at(double t) const { return ramped_load_factor(t, settings_.ramp_time_s); }
 
 void PaperLiteralModel::project_stretch(std::size_t c) {
   const Index a = stretch_nodes_[2 * c], b = stretch_nodes_[2 * c + 1];

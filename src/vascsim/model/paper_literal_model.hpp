@@ -43,6 +43,7 @@
 #include <vector>
 
 #include "vascsim/model/model.hpp"
+#include "vascsim/model/registry.hpp"
 
 namespace vascsim {
 
@@ -62,6 +63,12 @@ struct PaperLiteralSettings {
   StretchPairs stretch_pairs = StretchPairs::TetEdges;
   double damping_per_s = 0.0;  ///< v *= exp(-c dt) after each step, 1/s (0: none, as printed)
 };
+
+/// Reads the `paper_literal` block of a scene (docs/scene-format.md).
+PaperLiteralSettings read_paper_literal_settings(JsonReader& block);
+
+/// The registry entry (registry.cpp).
+ModelEntry paper_literal_model_entry();
 
 /// Sign convention of constraint_forces(): the force (N) that the model's elastic terms exert ON node k
 /// during the last step, f_k = f_int,k + sum_c s_c grad_k C_c / dt^2, where f_int is the literal meshless

@@ -6,8 +6,11 @@
 
 namespace vascsim {
 
-Problem::Problem(const PointPrimitiveEnergy& energy, std::vector<Region> regions, const Vec3& gravity_m_s2)
-    : energy_(energy), regions_(std::move(regions)), gravity_(gravity_m_s2) {
+Problem::Problem(const PointPrimitiveEnergy& energy, std::vector<Region> regions, const Vec3& gravity_m_s2,
+                 std::vector<RigidObstacle> tools)
+    : energy_(energy), regions_(std::move(regions)), gravity_(gravity_m_s2), tools_(std::move(tools)) {
+  for (const RigidObstacle& t : tools_)
+    if (!(t.radius_m > 0.0)) throw InputError(fmt::format("tool '{}': radius_m must be > 0", t.name));
   const Index n = discretization().num_nodes();
   constrained_.assign(n, 0);
   constraint_region_.assign(n, -1);

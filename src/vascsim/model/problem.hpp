@@ -1,7 +1,8 @@
 #pragma once
 // A boundary-value problem on a discretised body: the elastic energy, named node regions with their
-// boundary conditions (fixed, prescribed displacement, applied force), gravity, and the reaction
-// forces that the supports exert on the tissue. All loads scale with one load factor s in [0, 1]
+// boundary conditions (fixed, prescribed displacement, applied force), gravity, the rigid tools in
+// frictionless contact with the tissue (the catheter), and the reaction forces that the supports exert on
+// the tissue. All loads scale with one load factor s in [0, 1]
 // (load steps for quasi_static, a time ramp for explicit).
 
 #include <limits>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "vascsim/model/point_primitive_energy.hpp"
+#include "vascsim/model/rigid_obstacle.hpp"
 
 namespace vascsim {
 
@@ -42,12 +44,18 @@ struct RegionMeasure {
 
 class Problem {
  public:
-  Problem(const PointPrimitiveEnergy& energy, std::vector<Region> regions, const Vec3& gravity_m_s2);
+  /// Throws InputError for a node index out of range, overlapping constrained regions or a tool without a
+  /// positive radius.
+  Problem(const PointPrimitiveEnergy& energy, std::vector<Region> regions, const Vec3& gravity_m_s2,
+          std::vector<RigidObstacle> tools = {});
 
   const PointPrimitiveEnergy& energy() const { return energy_; }
   const Discretization& discretization() const { return energy_.discretization(); }
   const std::vector<Region>& regions() const { return regions_; }
   const Vec3& gravity() const { return gravity_; }
+  /// Rigid tools in frictionless one-sided contact with the nodes, in scene order (moved by the load factor,
+  /// or posed by a device through DeviceDrivenModel).
+  const std::vector<RigidObstacle>& tools() const { return tools_; }
 
   /// Per node: true when its position is prescribed (fixed or displacement region).
   const std::vector<char>& constrained() const { return constrained_; }
@@ -68,6 +76,7 @@ class Problem {
   const PointPrimitiveEnergy& energy_;
   std::vector<Region> regions_;
   Vec3 gravity_;
+  std::vector<RigidObstacle> tools_;
   std::vector<char> constrained_;
   std::vector<int> constraint_region_;  // region index per constrained node, -1 otherwise
   Index num_constrained_ = 0;

@@ -17,10 +17,35 @@ double dot(const Vec3Array& a, const Vec3Array& b) {
 }
 }  // namespace
 
+QuasiStaticSettings read_quasi_static_settings(JsonReader& qs) {
+  QuasiStaticSettings s;
+  s.load_steps = qs.integer("load_steps", 10, 1, 100000);
+  s.rel_tolerance = qs.number("rel_tolerance", 1e-8, 1e-14, 0.1);
+  s.max_newton_iterations = qs.integer("max_newton_iterations", 60, 1, 10000);
+  s.max_cg_iterations = qs.integer("max_cg_iterations", 2000, 1, 1000000);
+  s.preconditioner = qs.string("preconditioner", "auto", {"auto", "incomplete_cholesky", "cholesky", "none"});
+  s.frame_s = qs.number("frame_s", 1e-3, 1e-6, 10.0);
+  qs.finish();
+  return s;
+}
+
+ModelEntry quasi_static_model_entry() {
+  ModelEntry e;
+  e.name = "quasi_static";
+  e.summary = "static equilibrium by Newton-CG at every load step: force-displacement experiments, validation";
+  e.capabilities = {.dynamic = false, .takes_tools = true, .device_driven = true, .releases_regions = false};
+  e.read_settings = [](JsonReader& block) { return std::any(read_quasi_static_settings(block)); };
+  e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
+    return std::make_unique<QuasiStaticModel>(problem, settings_as<QuasiStaticSettings>(settings));
+  };
+  return e;
+}
+
 QuasiStaticModel::QuasiStaticModel(const Problem& problem, const QuasiStaticSettings& settings)
     : problem_(problem), settings_(settings), x_(problem.discretization().rest_positions()) {
   if (settings.load_steps < 1) throw InputError("quasi_static: load_steps must be >= 1");
   if (!(settings.rel_tolerance > 0.0)) throw InputError("quasi_static: rel_tolerance must be > 0");
+  if (!(settings.frame_s > 0.0)) throw InputError("quasi_static: frame_s must be > 0");
   const auto& disc = problem.discretization();
   if (problem.num_constrained() == 0)
     throw InputError("key 'regions': quasi_static needs a fixed or displacement region; a static solution needs supports");
@@ -34,13 +59,20 @@ QuasiStaticModel::QuasiStaticModel(const Problem& problem, const QuasiStaticSett
   contact_of_.assign(n, -1);
   contact_lambda_.assign(n, 0.0);
   contact_normal_.assign(n, Vec3::Zero());
-  for (const auto& o : settings.obstacles)
-    if (!(o.radius_m > 0.0)) throw InputError(fmt::format("quasi_static: obstacle '{}': radius_m must be > 0", o.name));
-  geometry_.resize(settings.obstacles.size());
-  for (std::size_t o = 0; o < geometry_.size(); ++o) geometry_[o] = obstacle_at(settings.obstacles[o], 0.0);
-  obstacle_load_.assign(settings.obstacles.size(), ObstacleLoad{});
-  // Preconditioner: the tets' linear stiffness restricted to the free dofs.
-  const auto& E = problem.energy();
+  const std::size_t tools = problem.tools().size();
+  geometry_.resize(tools);
+  posed_.assign(tools, 0);
+  posed_geometry_.resize(tools);
+  posed_point_.assign(tools, Vec3::Zero());
+  place_tools(0.0);
+  obstacle_load_.assign(tools, ObstacleLoad{});
+  build_preconditioner();
+}
+
+void QuasiStaticModel::build_preconditioner() {
+  // The tets' linear stiffness restricted to the free dofs.
+  const auto& disc = problem_.discretization();
+  const auto& E = problem_.energy();
   const Eigen::SparseMatrix<double> K = linear_tet_stiffness(disc.rest_positions(), disc.tets(),
                                                              E.strain_lambda() + E.options().volume_stiffness_pa,
                                                              E.shear_modulus());
@@ -72,8 +104,30 @@ QuasiStaticModel::QuasiStaticModel(const Problem& problem, const QuasiStaticSett
   }
 }
 
+void QuasiStaticModel::place_tools(double s) {
+  const auto& tools = problem_.tools();
+  for (std::size_t o = 0; o < geometry_.size(); ++o) geometry_[o] = posed_[o] ? posed_geometry_[o] : obstacle_at(tools[o], s);
+}
+
+Vec3 QuasiStaticModel::tool_point(std::size_t o, double s) const {
+  return posed_[o] ? posed_point_[o] : tool_point_at(problem_.tools()[o], s);
+}
+
+void QuasiStaticModel::set_tool_pose(std::size_t tool, const Vec3& position_m, const Eigen::Quaterniond& orientation) {
+  posed_geometry_.at(tool) = obstacle_posed(problem_.tools().at(tool), position_m, orientation);
+  posed_point_[tool] = position_m;
+  posed_[tool] = 1;
+}
+
+StepReport QuasiStaticModel::step() {
+  StepReport r = solve(1.0);
+  t_ += settings_.frame_s;
+  r.time_s = t_;
+  return r;
+}
+
 void QuasiStaticModel::filter(Vec3Array& v) const {
-  if (settings_.obstacles.empty()) return;
+  if (geometry_.empty()) return;
   for (Index i : free_)
     if (contact_of_[i] >= 0) v[i] -= contact_normal_[i].dot(v[i]) * contact_normal_[i];
 }
@@ -146,7 +200,7 @@ void QuasiStaticModel::measure_contacts(const Vec3Array& r, double s) {
     const Vec3 f = (-r[i].dot(contact_normal_[i])) * contact_normal_[i];
     ObstacleLoad& load = obstacle_load_[static_cast<std::size_t>(o)];
     load.force_n += f;
-    load.torque_n_m += (x_[i] - tool_point_at(settings_.obstacles[static_cast<std::size_t>(o)], s)).cross(f);
+    load.torque_n_m += (x_[i] - tool_point(static_cast<std::size_t>(o), s)).cross(f);
     ++load.contacts;
   }
 }
@@ -224,18 +278,13 @@ int QuasiStaticModel::conjugate_gradients(const Vec3Array& x, const Vec3Array& r
   return it;
 }
 
-StepReport QuasiStaticModel::solve(double s) {
+void QuasiStaticModel::predict(double s, const Vec3Array& f_ext, StepReport& rep) {
+  // From the second load step on: secant extrapolation along the load path (nearly exact for a smooth path,
+  // and free). Otherwise the linear one: move the constrained nodes by their increment and the free nodes by
+  // the linear response to it, H_ff dx_f = r_f - H_fc dp_c (this avoids crushing the layer next to a driven
+  // region).
   const auto& E = problem_.energy();
   const Index n = problem_.discretization().num_nodes();
-  StepReport rep;
-  rep.load_factor = s;
-  Vec3Array f_ext, f_int, r(n), dx, Hd;
-  problem_.external_forces(s, f_ext);
-
-  // Predictor. From the second load step on: secant extrapolation along the load path (nearly exact for a
-  // smooth path, and free). Otherwise the linear one: move the constrained nodes by their increment
-  // and the free nodes by the linear response to it, H_ff dx_f = r_f - H_fc dp_c (this avoids crushing
-  // the layer next to a driven region).
   Vec3Array dp(n, Vec3::Zero());
   bool moved = false;
   for (Index i = 0; i < n; ++i)
@@ -248,7 +297,7 @@ StepReport QuasiStaticModel::solve(double s) {
     if (problem_.constrained()[i]) base[i] += dp[i];
   // Tools: move them to s; nodes in contact (and nodes the tools now enter) go onto their surfaces, a
   // prescribed normal increment like the one above.
-  for (std::size_t o = 0; o < geometry_.size(); ++o) geometry_[o] = obstacle_at(settings_.obstacles[o], s);
+  place_tools(s);
   if (!geometry_.empty()) {
     project_contacts(base, true);
     for (Index i : free_)
@@ -264,6 +313,7 @@ StepReport QuasiStaticModel::solve(double s) {
       if (!problem_.constrained()[i] && contact_of_[i] < 0) trial[i] = x_[i] + q * (x_[i] - x_prev_[i]);
     project_contacts(trial, true);
   } else {
+    Vec3Array f_int, r(n), dx, Hd;
     E.forces(x_, f_int);
     for (Index i = 0; i < n; ++i) r[i] = f_int[i] + f_ext[i];
     if (moved) {
@@ -278,29 +328,74 @@ StepReport QuasiStaticModel::solve(double s) {
   x_prev_ = x_;
   s_prev_ = s_;
   x_ = potential(trial, f_ext) <= potential(base, f_ext) ? trial : base;
+}
+
+double QuasiStaticModel::residual(double s, const Vec3Array& f_ext, Vec3Array& r, Vec3Array& r_unfiltered) {
+  // r = f_int + f_ext; scaled by the larger of the reactions (supports and tools) and the applied loads.
+  const Index n = problem_.discretization().num_nodes();
+  Vec3Array f_int;
+  problem_.energy().forces(x_, f_int);
+  double reaction2 = 0.0, ext2 = 0.0;
+  for (Index i = 0; i < n; ++i) {
+    r[i] = f_int[i] + f_ext[i];
+    ext2 += f_ext[i].squaredNorm();
+    if (problem_.constrained()[i]) reaction2 += r[i].squaredNorm();
+    if (contact_of_[i] >= 0) reaction2 += std::pow(r[i].dot(contact_normal_[i]), 2);
+  }
+  const double scale = std::max(std::sqrt(std::max(reaction2, ext2)), 1e-300);
+  if (!geometry_.empty()) {
+    r_unfiltered = r;
+    for (Index i : free_) contact_lambda_[i] = contact_of_[i] >= 0 ? -r[i].dot(contact_normal_[i]) : 0.0;
+    filter(r);
+  }
+  const double res = residual_norm(r) / scale;
+  if (!std::isfinite(res)) throw NumericalError(fmt::format("quasi_static: non-finite residual at s = {:.4g}", s));
+  return res;
+}
+
+bool QuasiStaticModel::line_search(const Vec3Array& r, const Vec3Array& f_ext, Vec3Array& dx, Vec3Array& trial) {
+  // Backtracking Armijo line search on Pi: the directional derivative is -r . dx.
+  const Index n = problem_.discretization().num_nodes();
+  const double slope = -dot(r, dx);
+  if (!(slope < 0.0)) {
+    for (Index i : free_) dx[i] = r[i];  // not a descent direction: fall back to the gradient
+  }
+  const double pi0 = potential(x_, f_ext);
+  const double g = std::min(-dot(r, dx), 0.0);
+  double step = 1.0;
+  for (int ls = 0; ls < 40; ++ls, step *= 0.5) {
+    for (Index i = 0; i < n; ++i) trial[i] = x_[i] + step * dx[i];
+    project_contacts(trial, false);
+    const double pi = potential(trial, f_ext);
+    if (std::isfinite(pi) && pi <= pi0 + 1e-4 * step * g) return true;
+    if (ls == 0) {
+      // Near the solution the energy decrease falls below round-off; accept the full step when
+      // it reduces the force residual instead.
+      Vec3Array f_trial;
+      problem_.energy().forces(trial, f_trial);
+      for (Index i : free_) f_trial[i] += f_ext[i];
+      filter(f_trial);
+      double r2 = 0.0;
+      for (Index i : free_) r2 += f_trial[i].squaredNorm();
+      if (std::isfinite(r2) && std::sqrt(r2) < 0.9 * residual_norm(r)) return true;
+    }
+  }
+  return false;
+}
+
+StepReport QuasiStaticModel::solve(double s) {
+  const Index n = problem_.discretization().num_nodes();
+  StepReport rep;
+  rep.load_factor = s;
+  Vec3Array f_ext, r(n), r_unfiltered, dx, trial(n);
+  problem_.external_forces(s, f_ext);
+  predict(s, f_ext, rep);
 
   // Newton iterations.
   double res = 0.0, best = INFINITY;
   int stalled = 0, passes = 0;
   for (int it = 0;; ++it) {
-    E.forces(x_, f_int);
-    double reaction2 = 0.0, ext2 = 0.0;
-    for (Index i = 0; i < n; ++i) {
-      r[i] = f_int[i] + f_ext[i];
-      ext2 += f_ext[i].squaredNorm();
-      if (problem_.constrained()[i]) reaction2 += r[i].squaredNorm();
-      if (contact_of_[i] >= 0) reaction2 += std::pow(r[i].dot(contact_normal_[i]), 2);
-    }
-    const double scale = std::max(std::sqrt(std::max(reaction2, ext2)), 1e-300);
-    Vec3Array r_unfiltered;
-    if (!geometry_.empty()) {
-      r_unfiltered = r;
-      for (Index i : free_)
-        contact_lambda_[i] = contact_of_[i] >= 0 ? -r[i].dot(contact_normal_[i]) : 0.0;
-      filter(r);
-    }
-    res = residual_norm(r) / scale;
-    if (!std::isfinite(res)) throw NumericalError(fmt::format("quasi_static: non-finite residual at s = {:.4g}", s));
+    res = residual(s, f_ext, r, r_unfiltered);
     if (spdlog::should_log(spdlog::level::debug)) {
       int active = 0, pulling = 0;
       for (Index i : free_)
@@ -349,39 +444,7 @@ StepReport QuasiStaticModel::solve(double s) {
     const int cg = conjugate_gradients(x_, r, eta, dx);
     rep.inner_iterations += cg;
     spdlog::debug("quasi_static:   CG {} iterations (eta {:.1e})", cg, eta);
-    // Backtracking Armijo line search on Pi: the directional derivative is -r . dx.
-    const double slope = -dot(r, dx);
-    if (!(slope < 0.0)) {
-      for (Index i : free_) dx[i] = r[i];  // not a descent direction: fall back to the gradient
-    }
-    const double pi0 = potential(x_, f_ext);
-    const double g = std::min(-dot(r, dx), 0.0);
-    double step = 1.0;
-    bool accepted = false;
-    for (int ls = 0; ls < 40; ++ls, step *= 0.5) {
-      for (Index i = 0; i < n; ++i) trial[i] = x_[i] + step * dx[i];
-      project_contacts(trial, false);
-      const double pi = potential(trial, f_ext);
-      if (std::isfinite(pi) && pi <= pi0 + 1e-4 * step * g) {
-        accepted = true;
-        break;
-      }
-      if (ls == 0) {
-        // Near the solution the energy decrease falls below round-off; accept the full step when
-        // it reduces the force residual instead.
-        Vec3Array f_trial;
-        E.forces(trial, f_trial);
-        for (Index i : free_) f_trial[i] += f_ext[i];
-        filter(f_trial);
-        double r2 = 0.0;
-        for (Index i : free_) r2 += f_trial[i].squaredNorm();
-        if (std::isfinite(r2) && std::sqrt(r2) < 0.9 * residual_norm(r)) {
-          accepted = true;
-          break;
-        }
-      }
-    }
-    if (!accepted) {
+    if (!line_search(r, f_ext, dx, trial)) {
       rep.converged = false;
       break;
     }
@@ -393,20 +456,23 @@ StepReport QuasiStaticModel::solve(double s) {
       best = INFINITY;
     }
   }
+  finish_step(s, res, rep);
+  return rep;
+}
+
+void QuasiStaticModel::finish_step(double s, double res, StepReport& rep) {
   rep.residual = res;
   s_ = s;
   total_newton_ += rep.iterations;
   total_cg_ += rep.inner_iterations;
-  if (!rep.converged) {
-    ++unconverged_steps_;
-    const std::string msg = fmt::format(
-        "quasi_static: load factor {:.4g} did not converge (relative residual {:.3g} > {:.1g} after {} Newton "
-        "iterations)",
-        s, res, settings_.rel_tolerance, rep.iterations);
-    if (settings_.fail_on_divergence) throw NumericalError(msg);
-    spdlog::warn("{}", msg);
-  }
-  return rep;
+  if (rep.converged) return;
+  ++unconverged_steps_;
+  const std::string msg = fmt::format(
+      "quasi_static: load factor {:.4g} did not converge (relative residual {:.3g} > {:.1g} after {} Newton "
+      "iterations)",
+      s, res, settings_.rel_tolerance, rep.iterations);
+  if (settings_.fail_on_divergence) throw NumericalError(msg);
+  spdlog::warn("{}", msg);
 }
 
 StepReport QuasiStaticModel::advance(int k) {
@@ -421,7 +487,8 @@ nlohmann::json QuasiStaticModel::info() const {
           {"newton_iterations", total_newton_},
           {"cg_iterations", total_cg_},
           {"unconverged_steps", unconverged_steps_},
-          {"contact_passes", contact_passes_}};
+          {"contact_passes", contact_passes_},
+          {"frame_s", settings_.frame_s}};
 }
 
 }  // namespace vascsim

@@ -1,23 +1,28 @@
 #pragma once
 // `quasi_static`: static equilibrium at each load step by minimising the total potential
-// Pi(x) = U(x) - f_ext . x over the free nodes (MODEL.md decision 4). Truncated Newton: the Newton system
-// H dx = r is solved by preconditioned conjugate gradients on analytic Hessian-vector products, with the
-// linear-elastic stiffness of the virtual tetrahedra (incomplete or exact Cholesky, factorised once)
-// as the preconditioner; negative curvature stops CG early; a backtracking Armijo line search on Pi
-// globalises (an incomplete Cholesky factor by default, see QuasiStaticSettings). A load step starts from a linear predictor that carries the prescribed increment into the
-// free nodes, then a secant extrapolation along the load path. Converged when |r_free| <= tol * max(|reactions|, |f_ext|).
+// Pi(x) = U(x) - f_ext . x over the free nodes (MODEL decision 4; docs/model.md section 13). Truncated Newton:
+// the Newton system H dx = r is solved by preconditioned conjugate gradients on analytic Hessian-vector
+// products, with the linear-elastic stiffness of the virtual tetrahedra (incomplete or exact Cholesky,
+// factorised once) as the preconditioner; negative curvature stops CG early; a backtracking Armijo line
+// search on Pi globalises. A load step starts from a linear predictor that carries the prescribed increment
+// into the free nodes, then a secant extrapolation along the load path. Converged when
+// |r_free| <= tol * max(|reactions|, |f_ext|).
 //
-// Rigid obstacles (tools, the catheter) are frictionless one-sided contacts by an active set: a node that
-// enters a tool is put on its surface and its normal degree of freedom is held there (the residual, the CG
-// directions and the preconditioned vectors are filtered by I - n n^T, the "modified PCG" of Baraff &
-// Witkin 1998), so it can still slide along the tool. After Newton converges, a contact whose normal
-// reaction lambda = -r.n pulls on the tool (lambda < 0) is released and Newton continues; the step ends
-// when no node penetrates and no contact pulls. The tool force is sum lambda n over its contacts.
+// The problem's tools (the catheter) are frictionless one-sided contacts by an active set: a node that enters
+// a tool is put on its surface and its normal degree of freedom is held there (the residual, the CG directions
+// and the preconditioned vectors are filtered by I - n n^T, the "modified PCG" of Baraff & Witkin 1998), so it
+// can still slide along the tool. After Newton converges, a contact whose normal reaction lambda = -r.n pulls
+// on the tool (lambda < 0) is released and Newton continues; the step ends when no node penetrates and no
+// contact pulls. The tool force is sum lambda n over its contacts.
+//
+// Driven by a device (DeviceDrivenModel), every frame solves the equilibrium at the posed tools with the
+// other loads at full value (load factor 1); frame_s is the simulated time a frame stands for.
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 
-#include "vascsim/model/model.hpp"
+#include "vascsim/model/device_driven_model.hpp"
+#include "vascsim/model/registry.hpp"
 
 namespace vascsim {
 
@@ -31,11 +36,17 @@ struct QuasiStaticSettings {
   /// "cholesky" (exact factor of the tet stiffness: 5x fewer CG iterations, but its fill grows fast:
   /// 21 M nonzeros and 90 ms per solve at 23k nodes), "incomplete_cholesky" (cheap at any size) or "none".
   std::string preconditioner = "auto";
-  std::vector<RigidObstacle> obstacles;  ///< frictionless rigid tools, moved by the load factor
-  int max_contact_passes = 50;           ///< active-set changes after a converged Newton solve, per load step
+  int max_contact_passes = 50;  ///< active-set changes after a converged Newton solve, per load step
+  double frame_s = 1e-3;        ///< simulated time per frame when a device drives the model, s
 };
 
-class QuasiStaticModel final : public Model {
+/// Reads the `quasi_static` block of a scene (docs/scene-format.md).
+QuasiStaticSettings read_quasi_static_settings(JsonReader& block);
+
+/// The registry entry (registry.cpp).
+ModelEntry quasi_static_model_entry();
+
+class QuasiStaticModel final : public Model, public DeviceDrivenModel {
  public:
   QuasiStaticModel(const Problem& problem, const QuasiStaticSettings& settings);
   std::string name() const override { return "quasi_static"; }
@@ -44,20 +55,38 @@ class QuasiStaticModel final : public Model {
   const Vec3Array& positions() const override { return x_; }
   double load_factor() const override { return s_; }
   nlohmann::json info() const override;
-  /// Per obstacle at the last solve: sum lambda n over its contacts (force on the tissue), the moment about
+  /// Per tool at the last solve: sum lambda n over its contacts (force on the tissue), the moment about
   /// its tool point, the contact count.
   std::vector<ObstacleLoad> obstacle_loads() const override { return obstacle_load_; }
+  DeviceDrivenModel* device_driven() override { return this; }
+
+  // DeviceDrivenModel: a frame is the equilibrium at the posed tools (load factor 1).
+  void set_tool_pose(std::size_t tool, const Vec3& position_m, const Eigen::Quaterniond& orientation) override;
+  StepReport step() override;
+  double time() const override { return t_; }
+  double frame_length_s() const override { return settings_.frame_s; }
+  std::vector<ObstacleLoad> tool_loads() const override { return obstacle_load_; }
 
   /// Solves for equilibrium at load factor s starting from the current state (also used by experiments).
   StepReport solve(double s);
 
  private:
+  // Set-up.
+  void build_preconditioner();
+  // One load step, in the order solve() runs them.
+  void predict(double s, const Vec3Array& f_ext, StepReport& rep);
+  double residual(double s, const Vec3Array& f_ext, Vec3Array& r, Vec3Array& r_unfiltered);
+  bool line_search(const Vec3Array& r, const Vec3Array& f_ext, Vec3Array& dx, Vec3Array& trial);
+  void finish_step(double s, double res, StepReport& rep);
+
   double residual_norm(const Vec3Array& r) const;  // |r| over free nodes
   double potential(const Vec3Array& x, const Vec3Array& f_ext) const;
   // PCG on H_ff dx = rhs (free nodes); returns iterations. Stops at |res| <= eta |rhs| or negative curvature.
   int conjugate_gradients(const Vec3Array& x, const Vec3Array& rhs, double eta, Vec3Array& dx) const;
   void precondition(const Vec3Array& r, Vec3Array& z) const;
   // Contact (active set).
+  void place_tools(double s);       // geometry_ at load factor s (or the device poses)
+  Vec3 tool_point(std::size_t o, double s) const;
   void filter(Vec3Array& v) const;  // removes the normal component at nodes in contact
   // Puts every node in contact on its tool's surface at the current geometry; with `add`, also takes in
   // the free nodes that penetrate a tool. Returns the number taken in.
@@ -69,16 +98,19 @@ class QuasiStaticModel final : public Model {
   const Problem& problem_;
   QuasiStaticSettings settings_;
   Vec3Array x_, x_prev_;  // current and previous converged states (secant predictor)
-  double s_ = 0.0, s_prev_ = 0.0;
+  double s_ = 0.0, s_prev_ = 0.0, t_ = 0.0;
   std::vector<Index> free_;               // free node ids
   std::vector<Eigen::Index> free_slot_;   // node -> position in the reduced vector (-1 constrained)
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> cholesky_;
   Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> incomplete_;
   bool have_precond_ = false;
-  std::vector<int> contact_of_;             // per node: obstacle in contact, -1 none
+  std::vector<int> contact_of_;             // per node: tool in contact, -1 none
   Vec3Array contact_normal_;                // per node in contact: unit normal out of the tool
   std::vector<double> contact_lambda_;      // per node in contact: normal force -r.n at the last Newton iterate
-  std::vector<constraints::Capsule> geometry_;  // obstacles at the load factor being solved
+  std::vector<constraints::Capsule> geometry_;  // tools at the load factor being solved
+  std::vector<char> posed_;                     // per tool: placed by set_tool_pose
+  std::vector<constraints::Capsule> posed_geometry_;
+  std::vector<Vec3> posed_point_;
   std::vector<ObstacleLoad> obstacle_load_;
   long long contact_passes_ = 0;
   long long total_newton_ = 0, total_cg_ = 0;

@@ -1,15 +1,40 @@
 #include "vascsim/model/registry.hpp"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include "vascsim/core/error.hpp"
+#include "vascsim/model/explicit_model.hpp"
+#include "vascsim/model/paper_literal_model.hpp"
+#include "vascsim/model/quasi_static_model.hpp"
+#include "vascsim/model/xpbd_model.hpp"
 
 namespace vascsim {
 
-std::unique_ptr<Model> make_model(const std::string& name, const Problem& problem, const ModelSettings& settings) {
-  if (name == "explicit") return std::make_unique<ExplicitModel>(problem, settings.explicit_settings);
-  if (name == "quasi_static") return std::make_unique<QuasiStaticModel>(problem, settings.quasi_static);
-  if (name == "xpbd") return std::make_unique<XpbdModel>(problem, settings.xpbd);
-  if (name == "paper_literal") return std::make_unique<PaperLiteralModel>(problem, settings.paper_literal);
-  throw InputError("unknown model '" + name + "'; allowed: quasi_static, explicit, xpbd, paper_literal");
+const std::vector<ModelEntry>& model_registry() {
+  static const std::vector<ModelEntry> entries = {
+      quasi_static_model_entry(),
+      explicit_model_entry(),
+      xpbd_model_entry(),
+      paper_literal_model_entry(),
+  };
+  return entries;
+}
+
+std::vector<std::string> model_names() {
+  std::vector<std::string> names;
+  for (const ModelEntry& e : model_registry()) names.push_back(e.name);
+  return names;
+}
+
+const ModelEntry& find_model(const std::string& name) {
+  for (const ModelEntry& e : model_registry())
+    if (e.name == name) return e;
+  throw InputError(fmt::format("unknown model '{}'; allowed: {}", name, fmt::join(model_names(), ", ")));
+}
+
+std::unique_ptr<Model> make_model(const std::string& name, const Problem& problem, const std::any& settings) {
+  return find_model(name).make(problem, settings);
 }
 
 }  // namespace vascsim

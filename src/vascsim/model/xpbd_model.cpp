@@ -35,6 +35,47 @@ Colouring colour(const Stencils& stencils, Index num_nodes) {
 
 }  // namespace
 
+XpbdSettings read_xpbd_settings(JsonReader& xp) {
+  XpbdSettings s;
+  const TimeSchedule schedule = read_time_schedule(xp);
+  s.duration_s = schedule.duration_s;
+  s.ramp_time_s = schedule.ramp_time_s;
+  s.output_interval_s = schedule.output_interval_s;
+  s.step_s = xp.number("step_s", 1e-3, 1e-9, 1.0);
+  s.substeps = xp.integer("substeps", XpbdSettings{}.substeps, 1, 10000);
+  s.iterations = xp.integer("iterations", XpbdSettings{}.iterations, 1, 1000);
+  s.damping_per_s = xp.number("damping_per_s", 10.0, 0.0, 1e6);
+  s.elastic = xp.string("elastic", "meshless_strain", {"meshless_strain", "tet_neo_hookean"}) == "meshless_strain"
+                  ? XpbdElastic::MeshlessStrain
+                  : XpbdElastic::TetNeoHookean;
+  s.stretch_modulus_pa = xp.number("stretch_modulus_pa", 0.0, 0.0, 1e12);
+  s.energy_modulus_pa = xp.number("energy_modulus_pa", 0.0, 0.0, 1e12);
+  xp.finish();
+  return s;
+}
+
+ModelEntry xpbd_model_entry() {
+  ModelEntry e;
+  e.name = "xpbd";
+  e.summary =
+      "position-based real-time dynamics of the point-primitive energy (too soft on thin walls at real-time budgets)";
+  e.capabilities = {.dynamic = true, .takes_tools = true, .device_driven = true, .releases_regions = true};
+  e.read_settings = [](JsonReader& block) { return std::any(read_xpbd_settings(block)); };
+  e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
+    return std::make_unique<XpbdModel>(problem, settings_as<XpbdSettings>(settings));
+  };
+  e.schedule = [](const std::any& settings) {
+    const auto& s = settings_as<XpbdSettings>(settings);
+    return TimeSchedule{s.duration_s, s.ramp_time_s, s.output_interval_s};
+  };
+  e.law_restriction = [](const std::any& settings, const std::string& law) -> std::string {
+    if (law == "svk" || settings_as<XpbdSettings>(settings).elastic == XpbdElastic::MeshlessStrain) return "";
+    return fmt::format("with xpbd, '{}' needs xpbd.elastic = meshless_strain (the tet option is its own neo-Hookean)",
+                       law);
+  };
+  return e;
+}
+
 XpbdModel::XpbdModel(const Problem& problem, const XpbdSettings& s) : problem_(problem), settings_(s) {
   if (!(s.duration_s > 0.0)) throw InputError("xpbd: duration_s must be > 0");
   if (!(s.output_interval_s > 0.0)) throw InputError("xpbd: output_interval_s must be > 0");
@@ -69,10 +110,8 @@ XpbdModel::XpbdModel(const Problem& problem, const XpbdSettings& s) : problem_(p
     setup_meshless();
   else
     setup_tets();
-  for (const auto& o : s.obstacles)
-    if (!(o.radius_m > 0.0)) throw InputError(fmt::format("xpbd: obstacle '{}': radius_m must be > 0", o.name));
-  contact_lambda_.assign(x_.size() * s.obstacles.size(), 0.0);
-  const std::size_t no = s.obstacles.size();
+  const std::size_t no = problem.tools().size();
+  contact_lambda_.assign(x_.size() * no, 0.0);
   obstacle_load_.assign(no, ObstacleLoad{});
   obstacle_now_.resize(no);
   tool_now_.resize(no);
@@ -221,10 +260,7 @@ void XpbdModel::setup_barycentre() {
   if (tet_colours_.num_colours() == 0) tet_colours_ = colour(tets, disc.num_nodes());
 }
 
-double XpbdModel::load_factor_at(double t) const {
-  if (settings_.ramp_time_s <= 0.0) return 1.0;
-  return std::min(t / settings_.ramp_time_s, 1.0);
-}
+double XpbdModel::load_factor_at(double t) const { return ramped_load_factor(t, settings_.ramp_time_s); }
 
 void XpbdModel::project_node(Index i) {
   if (!node_active_[i]) return;
@@ -408,10 +444,11 @@ void XpbdModel::project_barycentre(Index t) {
 }
 
 void XpbdModel::place_obstacles(double s, double fraction) {
-  for (std::size_t o = 0; o < settings_.obstacles.size(); ++o) {
+  const auto& tools = problem_.tools();
+  for (std::size_t o = 0; o < tools.size(); ++o) {
     if (!posed_[o]) {
-      obstacle_now_[o] = obstacle_at(settings_.obstacles[o], s);
-      tool_now_[o] = tool_point_at(settings_.obstacles[o], s);
+      obstacle_now_[o] = obstacle_at(tools[o], s);
+      tool_now_[o] = tool_point_at(tools[o], s);
       continue;
     }
     const auto& from = pose_from_[o];
@@ -421,8 +458,8 @@ void XpbdModel::place_obstacles(double s, double fraction) {
   }
 }
 
-void XpbdModel::set_obstacle_pose(std::size_t o, const Vec3& position_m, const Eigen::Quaterniond& orientation) {
-  const constraints::Capsule g = obstacle_posed(settings_.obstacles.at(o), position_m, orientation);
+void XpbdModel::set_tool_pose(std::size_t o, const Vec3& position_m, const Eigen::Quaterniond& orientation) {
+  const constraints::Capsule g = obstacle_posed(problem_.tools().at(o), position_m, orientation);
   if (!posed_[o]) {
     // The first pose: no sweep from wherever the load factor had the obstacle.
     pose_from_[o] = g;
@@ -435,7 +472,7 @@ void XpbdModel::set_obstacle_pose(std::size_t o, const Vec3& position_m, const E
 
 void XpbdModel::project_contacts() {
   const Index n = static_cast<Index>(x_.size());
-  const std::size_t no = settings_.obstacles.size();
+  const std::size_t no = problem_.tools().size();
   // One constraint per (node, obstacle), touching one node only: no colouring needed.
 #pragma omp parallel for schedule(static) if (parallel_)
   for (Index i = 0; i < n; ++i) {
@@ -491,12 +528,12 @@ void XpbdModel::substep(double s_next) {
       sweep(elastic_colours_, [this](Index t) { project_tet(t); });
     if (!edges_.empty()) sweep(edge_colours_, [this](Index e) { project_edge(e); });
     if (!bary_rest_.empty()) sweep(tet_colours_, [this](Index t) { project_barycentre(t); });
-    if (!settings_.obstacles.empty()) project_contacts();
+    if (!problem_.tools().empty()) project_contacts();
   }
-  if (!settings_.obstacles.empty()) {
+  if (!problem_.tools().empty()) {
     // The load each obstacle exerted on the tissue: sum lambda n / h^2 with the final normals, and its
     // moment about the tool point (the force acts at the node, which is on the tool's surface).
-    const std::size_t no = settings_.obstacles.size();
+    const std::size_t no = problem_.tools().size();
     for (std::size_t o = 0; o < no; ++o) {
       ObstacleLoad load;
       for (Index i = 0; i < n; ++i) {

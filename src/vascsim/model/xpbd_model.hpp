@@ -30,7 +30,8 @@
 #include <vector>
 
 #include "vascsim/model/constraint_colouring.hpp"
-#include "vascsim/model/model.hpp"
+#include "vascsim/model/device_driven_model.hpp"
+#include "vascsim/model/registry.hpp"
 #include "vascsim/model/rigid_obstacle.hpp"
 
 namespace vascsim {
@@ -51,10 +52,15 @@ struct XpbdSettings {
   XpbdElastic elastic = XpbdElastic::MeshlessStrain;
   double stretch_modulus_pa = 0.0;  ///< E_s of the tet-edge stretching constraints, k_e = E_s l0 (0: off), Pa
   double energy_modulus_pa = 0.0;   ///< kappa_e of the per-spring barycentre constraints (0: off), Pa
-  std::vector<RigidObstacle> obstacles;  ///< rigid tools in contact with the tissue
 };
 
-class XpbdModel final : public Model {
+/// Reads the `xpbd` block of a scene (docs/scene-format.md).
+XpbdSettings read_xpbd_settings(JsonReader& block);
+
+/// The registry entry (registry.cpp).
+ModelEntry xpbd_model_entry();
+
+class XpbdModel final : public Model, public DeviceDrivenModel {
  public:
   XpbdModel(const Problem& problem, const XpbdSettings& settings);
   std::string name() const override { return "xpbd"; }
@@ -68,17 +74,20 @@ class XpbdModel final : public Model {
   /// Per obstacle: the force it exerted on the tissue over the last substep, sum lambda n / h^2 (N), its
   /// moment about the tool point and the nodes in contact.
   std::vector<ObstacleLoad> obstacle_loads() const override { return obstacle_load_; }
+  DeviceDrivenModel* device_driven() override { return this; }
 
-  /// Places obstacle o by a device pose (rigid_obstacle.hpp obstacle_posed) for the end of the next step;
+  /// Places tool o by a device pose (rigid_obstacle.hpp obstacle_posed) for the end of the next step;
   /// the substeps move it linearly from its previous pose (MODEL.md 3.3, "interpolate between ticks"). From
-  /// the first call on, the obstacle ignores its load-factor motion. Throws std::out_of_range for a bad o.
-  void set_obstacle_pose(std::size_t o, const Vec3& position_m, const Eigen::Quaterniond& orientation);
-  /// The geometry obstacle o had in the last substep.
+  /// the first call on, the tool ignores its load-factor motion. Throws std::out_of_range for a bad o.
+  void set_tool_pose(std::size_t o, const Vec3& position_m, const Eigen::Quaterniond& orientation) override;
+  /// The geometry tool o had in the last substep.
   const constraints::Capsule& obstacle_geometry(std::size_t o) const { return obstacle_now_.at(o); }
   /// One step of step_s (n_sub substeps) from the current time, for drivers that pace the model
   /// themselves (the haptic session). advance() is a sequence of these.
-  StepReport step();
-  double time() const { return t_; }
+  StepReport step() override;
+  double time() const override { return t_; }
+  double frame_length_s() const override { return step_; }
+  std::vector<ObstacleLoad> tool_loads() const override { return obstacle_load_; }
   double step_length() const { return step_; }
 
   const Vec3Array& velocities() const { return v_; }

@@ -3,12 +3,15 @@
 #include <cmath>
 #include <filesystem>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <fstream>
 #include <algorithm>
 #include <cctype>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/json_reader.hpp"
+#include "vascsim/model/materials/law_factory.hpp"
+#include "vascsim/model/registry.hpp"
 
 namespace vascsim {
 
@@ -219,12 +222,247 @@ RegionSpec read_region(JsonReader r) {
   return reg;
 }
 
-}  // namespace
-
-const std::vector<std::string>& model_names() {
-  static const std::vector<std::string> names = {"quasi_static", "explicit", "xpbd", "paper_literal"};
+// The names of the registered models that have a capability.
+std::vector<std::string> model_names_with(bool ModelCapabilities::*capability) {
+  std::vector<std::string> names;
+  for (const ModelEntry& e : model_registry())
+    if (e.capabilities.*capability) names.push_back(e.name);
   return names;
 }
+
+void read_material(JsonReader& root, Scene& sc) {
+  JsonReader mat = root.object("material");
+  sc.material_law = mat.string("law", "svk", materials::hyperelastic_law_names());
+  nlohmann::json law_parameters = nlohmann::json::object();
+  if (sc.material_law == "svk" || sc.material_law == "neo_hookean") {
+    sc.material.youngs_modulus_pa = mat.number("youngs_modulus_pa", 0.5e6, 1e-6, 1e12);
+    sc.material.poisson_ratio = mat.number("poisson_ratio", 0.45, -0.99, 0.499);
+    law_parameters = {{"youngs_modulus_pa", sc.material.youngs_modulus_pa},
+                      {"poisson_ratio", sc.material.poisson_ratio}};
+  } else if (sc.material_law == "mooney_rivlin") {
+    for (const char* k : {"c10_pa", "c01_pa"}) law_parameters[k] = mat.required_number(k, 0.0, 1e12);
+    law_parameters["bulk_modulus_pa"] = mat.required_number("bulk_modulus_pa", 1e-6, 1e15);
+  } else {  // hgo
+    law_parameters["shear_modulus_pa"] = mat.required_number("shear_modulus_pa", 1e-6, 1e12);
+    law_parameters["bulk_modulus_pa"] = mat.required_number("bulk_modulus_pa", 1e-6, 1e15);
+    law_parameters["k1_pa"] = mat.required_number("k1_pa", 0.0, 1e12);
+    law_parameters["k2"] = mat.required_number("k2", 0.0, 1e4);
+    law_parameters["fibre_angle_deg"] = mat.required_number("fibre_angle_deg", 0.0, 90.0);
+  }
+  sc.material.density_kg_m3 = mat.number("density_kg_m3", 1060.0, 1e-3, 1e5);
+  mat.finish();
+  if (sc.material_law != "svk") {
+    try {
+      sc.energy.law = materials::make_hyperelastic_law(sc.material_law, law_parameters);
+    } catch (const InputError& e) {
+      mat.fail("law", e.what());
+    }
+    // The discretisation, the stability estimates and the preconditioner use E and nu: those of the law at
+    // small strain (for hgo, of the ground matrix).
+    const double mu = sc.energy.law->small_strain_shear_modulus(), kappa = sc.energy.law->small_strain_bulk_modulus();
+    sc.material.youngs_modulus_pa = 9.0 * kappa * mu / (3.0 * kappa + mu);
+    sc.material.poisson_ratio = (3.0 * kappa - 2.0 * mu) / (2.0 * (3.0 * kappa + mu));
+    if (!(sc.material.poisson_ratio < 0.4999))
+      mat.fail("bulk_modulus_pa", fmt::format("gives a Poisson ratio of {:.6f} at small strain; it must be below 0.4999 "
+                                              "(lower the bulk modulus)",
+                                              sc.material.poisson_ratio));
+  }
+}
+
+void read_discretization(JsonReader& root, bool literal, Scene& sc) {
+  JsonReader disc = root.object("discretization");
+  sc.discretization.support_radius_factor = disc.number("support_radius_factor", 2.0, 1.01, 5.0);
+  sc.discretization.min_neighbours = disc.integer("min_neighbours", 12, 4, 200);
+  sc.discretization.min_eigen_ratio = disc.number("min_eigen_ratio", 1e-3, 1e-12, 1.0);
+  sc.discretization.max_growths = disc.integer("max_growths", 3, 0, 10);
+  sc.discretization.volume =
+      disc.string("volume", literal ? "mueller_kernel" : "tet_partition", {"tet_partition", "mueller_kernel"}) ==
+              "tet_partition"
+          ? VolumeRule::TetPartition
+          : VolumeRule::MuellerKernel;
+  disc.finish();
+}
+
+void read_energy(JsonReader& root, bool literal, Scene& sc) {
+  JsonReader en = root.object("energy");
+  const std::shared_ptr<const materials::HyperelasticLaw> law = sc.energy.law;
+  sc.energy.strain = en.string("strain", literal ? "mueller_no_half" : "green", {"green", "mueller_no_half"}) == "green"
+                         ? StrainMeasure::GreenHalf
+                         : StrainMeasure::MuellerNoHalf;
+  sc.energy.stabilizer_alpha = en.number("stabilizer_alpha", literal ? 0.0 : 0.1, 0.0, 10.0);
+  const double lambda = sc.material.lame_lambda();
+  sc.energy.volume_stiffness_pa = en.number("volume_stiffness_pa", 0.0, 0.0, std::max(lambda, 0.0));
+  en.finish();
+  sc.energy.law = law;
+  if (law && sc.energy.strain != StrainMeasure::GreenHalf)
+    en.fail("strain", fmt::format("the literal strain applies to material law 'svk' only (law is '{}')", sc.material_law));
+}
+
+void read_regions(JsonReader& root, Scene& sc) {
+  for (auto& r : root.array_of_objects("regions", false)) sc.regions.push_back(read_region(r));
+  for (std::size_t a = 0; a < sc.regions.size(); ++a)
+    for (std::size_t b = 0; b < a; ++b)
+      if (sc.regions[a].name == sc.regions[b].name)
+        root.fail(fmt::format("regions.{}.name", a), fmt::format("duplicate region name '{}'", sc.regions[a].name));
+}
+
+void read_probes(JsonReader& root, Scene& sc) {
+  for (auto& p : root.array_of_objects("probes", false)) {
+    PointProbeSpec ps;
+    ps.name = p.required_string("name");
+    if (!is_identifier(ps.name))
+      p.fail("name", fmt::format("'{}' is not allowed; use letters, digits and '_' (it names a CSV column)", ps.name));
+    for (const auto& r : sc.regions)
+      if (r.name == ps.name) p.fail("name", fmt::format("'{}' is already a region name", ps.name));
+    for (const auto& q : sc.probes)
+      if (q.name == ps.name) p.fail("name", fmt::format("duplicate probe name '{}'", ps.name));
+    ps.position_m = p.required_vec3("position_m");
+    ps.component = p.string("component", "magnitude", {"x", "y", "z", "magnitude"});
+    p.finish();
+    sc.probes.push_back(ps);
+  }
+}
+
+void read_tools(JsonReader& root, Scene& sc) {
+  for (auto& o : root.array_of_objects("obstacles", false)) {
+    RigidObstacle ob;
+    ob.name = o.required_string("name");
+    if (!is_identifier(ob.name))
+      o.fail("name", fmt::format("'{}' is not allowed; use letters, digits and '_' (it names CSV columns)", ob.name));
+    for (const auto& r : sc.regions)
+      if (r.name == ob.name) o.fail("name", fmt::format("'{}' is already a region name", ob.name));
+    for (const auto& p : sc.probes)
+      if (p.name == ob.name) o.fail("name", fmt::format("'{}' is already a probe name", ob.name));
+    for (const auto& q : sc.obstacles)
+      if (q.name == ob.name) o.fail("name", fmt::format("duplicate obstacle name '{}'", ob.name));
+    const std::string shape = o.string("shape", "sphere", {"sphere", "capsule", "catheter"});
+    if (shape == "catheter") {
+      // Diameter in metres or in French (1 Fr = 1/3 mm); 6 Fr by default.
+      if (o.has("diameter_m") && o.has("diameter_fr"))
+        o.fail("diameter_m", "give the diameter as diameter_m or as diameter_fr, not both");
+      const double diameter = o.has("diameter_m") ? o.required_number("diameter_m", 1e-6, 1.0)
+                                                  : o.number("diameter_fr", 6.0, 0.1, 100.0) * kMetresPerFrench;
+      const Vec3 tip = o.required_vec3("tip_m");
+      const Vec3 direction = o.required_vec3("direction");
+      if (!(direction.norm() > 0.0)) o.fail("direction", "must be a non-zero vector");
+      const double length = o.number("length_m", 0.02, 1e-6, 10.0);
+      if (length < diameter)
+        o.fail("length_m", fmt::format("{} m is shorter than the catheter's diameter ({} m)", length, diameter));
+      const std::string name = ob.name;
+      ob = make_catheter(name, tip, direction, diameter, length);
+      // The push: motion_m, or push_m along the catheter's direction.
+      if (o.has("motion_m") && o.has("push_m")) o.fail("push_m", "give motion_m or push_m, not both");
+      ob.motion_m = o.has("push_m") ? Vec3(o.number("push_m", 0.0, -10.0, 10.0) * direction.normalized())
+                                    : o.vec3("motion_m", Vec3::Zero());
+    } else {
+      ob.shape = shape == "sphere" ? RigidObstacle::Shape::Sphere : RigidObstacle::Shape::Capsule;
+      ob.radius_m = o.required_number("radius_m", 1e-12, 1e3);
+      if (ob.shape == RigidObstacle::Shape::Sphere) {
+        ob.a_m = o.required_vec3("centre_m");
+      } else {
+        ob.a_m = o.required_vec3("a_m");
+        ob.b_m = o.required_vec3("b_m");
+      }
+      ob.tool_point_m = ob.a_m;
+      ob.motion_m = o.vec3("motion_m", Vec3::Zero());
+    }
+    ob.node_radius_m = o.number("node_radius_m", 0.0, 0.0, 1.0);
+    o.finish();
+    sc.obstacles.push_back(ob);
+  }
+}
+
+// Every registered model's block, read by the model's own reader (so `--set other_model.key=...` is checked
+// too, and `--set model=...` finds its settings).
+void read_model_blocks(JsonReader& root, Scene& sc) {
+  for (const ModelEntry& e : model_registry()) {
+    JsonReader block = root.object(e.name);
+    sc.model_settings[e.name] = e.read_settings(block);
+  }
+}
+
+void read_haptics(JsonReader& root, const std::string& file, Scene& sc) {
+  if (root.has("haptics")) {
+    JsonReader h = root.object("haptics");
+    HapticsSpec& hs = sc.haptics;
+    hs.enabled = true;
+    hs.tool = h.string("tool", "");
+    JsonReader dev = h.object("device");
+    dev.string("type", "scripted", {"scripted"});
+    const std::filesystem::path traj = dev.required_string("trajectory");
+    hs.trajectory = traj.is_relative() ? (std::filesystem::path(file).parent_path() / traj).lexically_normal().string()
+                                       : traj.string();
+    dev.finish();
+    hs.mode = h.string("mode", "lockstep", {"lockstep", "realtime"});
+    hs.rate_hz = h.number("rate_hz", 1000.0, 1.0, 100000.0);
+    hs.ticks_per_step = h.integer("ticks_per_step", 1, 1, 1000);
+    hs.duration_s = h.number("duration_s", 0.0, 0.0, 1e5);
+    hs.force_limit_n = h.number("force_limit_n", 0.88, 0.0, 100.0);
+    hs.force_step_n = h.number("force_step_n", 0.1, 1e-6, 100.0);
+    hs.force_scale = h.number("force_scale", 1.0, 0.0, 1e9);
+    JsonReader c = h.object("coupling");
+    hs.proxy_mass_kg = c.number("proxy_mass_kg", 0.005, 1e-6, 100.0);
+    hs.coupling_stiffness_n_per_m = c.number("stiffness_n_per_m", 500.0, 1e-3, 1e6);
+    hs.coupling_damping_n_s_per_m = c.number("damping_n_s_per_m", -1.0, -1.0, 1e6);
+    c.finish();
+    h.finish();
+    if (!find_model(sc.model).capabilities.device_driven)
+      h.fail("mode", fmt::format("a haptic session needs a model a device can drive ({}; model is '{}')",
+                                 fmt::join(model_names_with(&ModelCapabilities::device_driven), ", "), sc.model));
+  }
+}
+
+void read_reference(JsonReader& root, Scene& sc) {
+  JsonReader ref = root.object("reference");
+  sc.reference.type = ref.string("type", "", {"timoshenko_cantilever"});
+  if (!sc.reference.type.empty()) {
+    if (sc.geometry.type != "beam") ref.fail("type", "timoshenko_cantilever needs geometry.type = \"beam\"");
+    sc.reference.region = ref.required_string("region");
+    bool found = false;
+    for (const auto& r : sc.regions) found = found || (r.name == sc.reference.region && r.bc == RegionBcType::Force);
+    if (!found) ref.fail("region", fmt::format("no force region named '{}'", sc.reference.region));
+  }
+  ref.finish();
+}
+
+void read_mapping_and_output(JsonReader& root, Scene& sc) {
+  JsonReader map = root.object("mapping");
+  sc.mapping.support_radius_factor =
+      map.number("support_radius_factor", MlsMapOptions{}.support_radius_factor, 1.5, 5.0);
+  sc.mapping.max_growths = map.integer("max_growths", MlsMapOptions{}.max_growths, 0, 20);
+  map.finish();
+
+  JsonReader out = root.object("output");
+  sc.output.vtk = out.boolean("vtk", false);
+  sc.output.surface = out.boolean("surface", false);
+  sc.output.vtk_every = out.integer("vtk_every", 1, 1, 1000000);
+  out.finish();
+}
+
+// What the chosen model cannot do, named at the key that asks for it (the registry's capabilities).
+void check_model_capabilities(JsonReader& root, Scene& sc) {
+  const ModelEntry& model = find_model(sc.model);
+  if (!sc.obstacles.empty() && !model.capabilities.takes_tools)
+    root.fail("obstacles", fmt::format("rigid tools are supported by the models {} (model is '{}')",
+                                       fmt::join(model_names_with(&ModelCapabilities::takes_tools), ", "), sc.model));
+  for (std::size_t r = 0; r < sc.regions.size(); ++r)
+    if (std::isfinite(sc.regions[r].release_time_s) && !model.capabilities.releases_regions)
+      root.fail(fmt::format("regions.{}.bc.release_time_s", r),
+                fmt::format("releasing a region is supported by the models {} (model is '{}')",
+                            fmt::join(model_names_with(&ModelCapabilities::releases_regions), ", "), sc.model));
+  if (model.law_restriction) {
+    const std::string why = model.law_restriction(sc.own_model_settings(), sc.material_law);
+    if (!why.empty()) {
+      std::vector<std::string> takers;
+      for (const ModelEntry& e : model_registry())
+        if (!e.law_restriction || e.law_restriction(sc.model_settings.at(e.name), sc.material_law).empty())
+          takers.push_back(e.name);
+      root.fail("material.law", fmt::format("{} (models that take it: {})", why, fmt::join(takers, ", ")));
+    }
+  }
+}
+
+}  // namespace
 
 void apply_override(nlohmann::json& doc, const std::string& assignment) {
   const auto eq = assignment.find('=');
@@ -282,238 +520,19 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   const bool literal = formulation == "paper_literal";
   if (!root.has("geometry")) root.fail("geometry", "missing; a geometry object is required");
   sc.geometry = read_geometry(root.object("geometry"));
-
-  JsonReader mat = root.object("material");
-  sc.material_law = mat.string("law", "svk", materials::hyperelastic_law_names());
-  nlohmann::json law_parameters = nlohmann::json::object();
-  if (sc.material_law == "svk" || sc.material_law == "neo_hookean") {
-    sc.material.youngs_modulus_pa = mat.number("youngs_modulus_pa", 0.5e6, 1e-6, 1e12);
-    sc.material.poisson_ratio = mat.number("poisson_ratio", 0.45, -0.99, 0.499);
-    law_parameters = {{"youngs_modulus_pa", sc.material.youngs_modulus_pa},
-                      {"poisson_ratio", sc.material.poisson_ratio}};
-  } else if (sc.material_law == "mooney_rivlin") {
-    for (const char* k : {"c10_pa", "c01_pa"}) law_parameters[k] = mat.required_number(k, 0.0, 1e12);
-    law_parameters["bulk_modulus_pa"] = mat.required_number("bulk_modulus_pa", 1e-6, 1e15);
-  } else {  // hgo
-    law_parameters["shear_modulus_pa"] = mat.required_number("shear_modulus_pa", 1e-6, 1e12);
-    law_parameters["bulk_modulus_pa"] = mat.required_number("bulk_modulus_pa", 1e-6, 1e15);
-    law_parameters["k1_pa"] = mat.required_number("k1_pa", 0.0, 1e12);
-    law_parameters["k2"] = mat.required_number("k2", 0.0, 1e4);
-    law_parameters["fibre_angle_deg"] = mat.required_number("fibre_angle_deg", 0.0, 90.0);
-  }
-  sc.material.density_kg_m3 = mat.number("density_kg_m3", 1060.0, 1e-3, 1e5);
-  mat.finish();
-  if (sc.material_law != "svk") {
-    try {
-      sc.energy.law = materials::make_hyperelastic_law(sc.material_law, law_parameters);
-    } catch (const InputError& e) {
-      mat.fail("law", e.what());
-    }
-    // The discretisation, the stability estimates and the preconditioner use E and nu: those of the law at
-    // small strain (for hgo, of the ground matrix).
-    const double mu = sc.energy.law->small_strain_shear_modulus(), kappa = sc.energy.law->small_strain_bulk_modulus();
-    sc.material.youngs_modulus_pa = 9.0 * kappa * mu / (3.0 * kappa + mu);
-    sc.material.poisson_ratio = (3.0 * kappa - 2.0 * mu) / (2.0 * (3.0 * kappa + mu));
-    if (!(sc.material.poisson_ratio < 0.4999))
-      mat.fail("bulk_modulus_pa", fmt::format("gives a Poisson ratio of {:.6f} at small strain; it must be below 0.4999 "
-                                              "(lower the bulk modulus)",
-                                              sc.material.poisson_ratio));
-  }
-
-  JsonReader disc = root.object("discretization");
-  sc.discretization.support_radius_factor = disc.number("support_radius_factor", 2.0, 1.01, 5.0);
-  sc.discretization.min_neighbours = disc.integer("min_neighbours", 12, 4, 200);
-  sc.discretization.min_eigen_ratio = disc.number("min_eigen_ratio", 1e-3, 1e-12, 1.0);
-  sc.discretization.max_growths = disc.integer("max_growths", 3, 0, 10);
-  sc.discretization.volume =
-      disc.string("volume", literal ? "mueller_kernel" : "tet_partition", {"tet_partition", "mueller_kernel"}) ==
-              "tet_partition"
-          ? VolumeRule::TetPartition
-          : VolumeRule::MuellerKernel;
-  disc.finish();
-
-  JsonReader en = root.object("energy");
-  const std::shared_ptr<const materials::HyperelasticLaw> law = sc.energy.law;
-  sc.energy.strain = en.string("strain", literal ? "mueller_no_half" : "green", {"green", "mueller_no_half"}) == "green"
-                         ? StrainMeasure::GreenHalf
-                         : StrainMeasure::MuellerNoHalf;
-  sc.energy.stabilizer_alpha = en.number("stabilizer_alpha", literal ? 0.0 : 0.1, 0.0, 10.0);
-  const double lambda = sc.material.lame_lambda();
-  sc.energy.volume_stiffness_pa = en.number("volume_stiffness_pa", 0.0, 0.0, std::max(lambda, 0.0));
-  en.finish();
-  sc.energy.law = law;
-  if (law && sc.energy.strain != StrainMeasure::GreenHalf)
-    en.fail("strain", fmt::format("the literal strain applies to material law 'svk' only (law is '{}')", sc.material_law));
-
-  for (auto& r : root.array_of_objects("regions", false)) sc.regions.push_back(read_region(r));
-  for (std::size_t a = 0; a < sc.regions.size(); ++a)
-    for (std::size_t b = 0; b < a; ++b)
-      if (sc.regions[a].name == sc.regions[b].name)
-        root.fail(fmt::format("regions.{}.name", a), fmt::format("duplicate region name '{}'", sc.regions[a].name));
-
-  for (auto& p : root.array_of_objects("probes", false)) {
-    PointProbeSpec ps;
-    ps.name = p.required_string("name");
-    if (!is_identifier(ps.name))
-      p.fail("name", fmt::format("'{}' is not allowed; use letters, digits and '_' (it names a CSV column)", ps.name));
-    for (const auto& r : sc.regions)
-      if (r.name == ps.name) p.fail("name", fmt::format("'{}' is already a region name", ps.name));
-    for (const auto& q : sc.probes)
-      if (q.name == ps.name) p.fail("name", fmt::format("duplicate probe name '{}'", ps.name));
-    ps.position_m = p.required_vec3("position_m");
-    ps.component = p.string("component", "magnitude", {"x", "y", "z", "magnitude"});
-    p.finish();
-    sc.probes.push_back(ps);
-  }
+  read_material(root, sc);
+  read_discretization(root, literal, sc);
+  read_energy(root, literal, sc);
+  read_regions(root, sc);
+  read_probes(root, sc);
   sc.gravity_m_s2 = root.vec3("gravity_m_s2", Vec3::Zero());
-
-  for (auto& o : root.array_of_objects("obstacles", false)) {
-    RigidObstacle ob;
-    ob.name = o.required_string("name");
-    if (!is_identifier(ob.name))
-      o.fail("name", fmt::format("'{}' is not allowed; use letters, digits and '_' (it names CSV columns)", ob.name));
-    for (const auto& r : sc.regions)
-      if (r.name == ob.name) o.fail("name", fmt::format("'{}' is already a region name", ob.name));
-    for (const auto& p : sc.probes)
-      if (p.name == ob.name) o.fail("name", fmt::format("'{}' is already a probe name", ob.name));
-    for (const auto& q : sc.obstacles)
-      if (q.name == ob.name) o.fail("name", fmt::format("duplicate obstacle name '{}'", ob.name));
-    const std::string shape = o.string("shape", "sphere", {"sphere", "capsule", "catheter"});
-    if (shape == "catheter") {
-      // Diameter in metres or in French (1 Fr = 1/3 mm); 6 Fr by default.
-      if (o.has("diameter_m") && o.has("diameter_fr"))
-        o.fail("diameter_m", "give the diameter as diameter_m or as diameter_fr, not both");
-      const double diameter = o.has("diameter_m") ? o.required_number("diameter_m", 1e-6, 1.0)
-                                                  : o.number("diameter_fr", 6.0, 0.1, 100.0) * kMetresPerFrench;
-      const Vec3 tip = o.required_vec3("tip_m");
-      const Vec3 direction = o.required_vec3("direction");
-      if (!(direction.norm() > 0.0)) o.fail("direction", "must be a non-zero vector");
-      const double length = o.number("length_m", 0.02, 1e-6, 10.0);
-      if (length < diameter)
-        o.fail("length_m", fmt::format("{} m is shorter than the catheter's diameter ({} m)", length, diameter));
-      const std::string name = ob.name;
-      ob = make_catheter(name, tip, direction, diameter, length);
-      // The push: motion_m, or push_m along the catheter's direction.
-      if (o.has("motion_m") && o.has("push_m")) o.fail("push_m", "give motion_m or push_m, not both");
-      ob.motion_m = o.has("push_m") ? Vec3(o.number("push_m", 0.0, -10.0, 10.0) * direction.normalized())
-                                    : o.vec3("motion_m", Vec3::Zero());
-    } else {
-      ob.shape = shape == "sphere" ? RigidObstacle::Shape::Sphere : RigidObstacle::Shape::Capsule;
-      ob.radius_m = o.required_number("radius_m", 1e-12, 1e3);
-      if (ob.shape == RigidObstacle::Shape::Sphere) {
-        ob.a_m = o.required_vec3("centre_m");
-      } else {
-        ob.a_m = o.required_vec3("a_m");
-        ob.b_m = o.required_vec3("b_m");
-      }
-      ob.tool_point_m = ob.a_m;
-      ob.motion_m = o.vec3("motion_m", Vec3::Zero());
-    }
-    ob.node_radius_m = o.number("node_radius_m", 0.0, 0.0, 1.0);
-    o.finish();
-    sc.obstacles.push_back(ob);
-  }
-
-  JsonReader qs = root.object("quasi_static");
-  sc.quasi_static.load_steps = qs.integer("load_steps", 10, 1, 100000);
-  sc.quasi_static.rel_tolerance = qs.number("rel_tolerance", 1e-8, 1e-14, 0.1);
-  sc.quasi_static.max_newton_iterations = qs.integer("max_newton_iterations", 60, 1, 10000);
-  sc.quasi_static.max_cg_iterations = qs.integer("max_cg_iterations", 2000, 1, 1000000);
-  sc.quasi_static.preconditioner =
-      qs.string("preconditioner", "auto", {"auto", "incomplete_cholesky", "cholesky", "none"});
-  qs.finish();
-
-  JsonReader ex = root.object("explicit");
-  sc.explicit_settings.duration_s = ex.number("duration_s", 0.02, 1e-9, 1e4);
-  sc.explicit_settings.ramp_time_s = ex.number("ramp_time_s", 0.01, 0.0, 1e4);
-  sc.explicit_settings.output_interval_s = ex.number("output_interval_s", 1e-3, 1e-9, 1e4);
-  sc.explicit_settings.damping_per_s = ex.number("damping_per_s", 10.0, 0.0, 1e6);
-  sc.explicit_settings.dt_s = ex.number("dt_s", 0.0, 0.0, 1.0);
-  sc.explicit_settings.safety = ex.number("safety", 0.5, 0.01, 0.95);
-  sc.explicit_settings.cfl_coefficient = ex.number("cfl_coefficient", 0.4, 0.01, 2.0);
-  sc.explicit_settings.power_iterations = ex.integer("power_iterations", 60, 1, 100000);
-  ex.finish();
-
-  if (root.has("haptics")) {
-    JsonReader h = root.object("haptics");
-    HapticsSpec& hs = sc.haptics;
-    hs.enabled = true;
-    hs.tool = h.string("tool", "");
-    JsonReader dev = h.object("device");
-    dev.string("type", "scripted", {"scripted"});
-    const std::filesystem::path traj = dev.required_string("trajectory");
-    hs.trajectory = traj.is_relative() ? (std::filesystem::path(file).parent_path() / traj).lexically_normal().string()
-                                       : traj.string();
-    dev.finish();
-    hs.mode = h.string("mode", "lockstep", {"lockstep", "realtime"});
-    hs.rate_hz = h.number("rate_hz", 1000.0, 1.0, 100000.0);
-    hs.ticks_per_step = h.integer("ticks_per_step", 1, 1, 1000);
-    hs.duration_s = h.number("duration_s", 0.0, 0.0, 1e5);
-    hs.force_limit_n = h.number("force_limit_n", 0.88, 0.0, 100.0);
-    hs.force_step_n = h.number("force_step_n", 0.1, 1e-6, 100.0);
-    hs.force_scale = h.number("force_scale", 1.0, 0.0, 1e9);
-    JsonReader c = h.object("coupling");
-    hs.proxy_mass_kg = c.number("proxy_mass_kg", 0.005, 1e-6, 100.0);
-    hs.coupling_stiffness_n_per_m = c.number("stiffness_n_per_m", 500.0, 1e-3, 1e6);
-    hs.coupling_damping_n_s_per_m = c.number("damping_n_s_per_m", -1.0, -1.0, 1e6);
-    c.finish();
-    h.finish();
-    if (sc.model != "xpbd") h.fail("mode", fmt::format("a haptic session needs model 'xpbd' (model is '{}')", sc.model));
-  }
-
-  JsonReader xp = root.object("xpbd");
-  sc.xpbd.duration_s = xp.number("duration_s", 0.02, 1e-9, 1e4);
-  sc.xpbd.ramp_time_s = xp.number("ramp_time_s", 0.01, 0.0, 1e4);
-  sc.xpbd.output_interval_s = xp.number("output_interval_s", 1e-3, 1e-9, 1e4);
-  sc.xpbd.step_s = xp.number("step_s", 1e-3, 1e-9, 1.0);
-  sc.xpbd.substeps = xp.integer("substeps", XpbdSettings{}.substeps, 1, 10000);
-  sc.xpbd.iterations = xp.integer("iterations", XpbdSettings{}.iterations, 1, 1000);
-  sc.xpbd.damping_per_s = xp.number("damping_per_s", 10.0, 0.0, 1e6);
-  sc.xpbd.elastic = xp.string("elastic", "meshless_strain", {"meshless_strain", "tet_neo_hookean"}) == "meshless_strain"
-                        ? XpbdElastic::MeshlessStrain
-                        : XpbdElastic::TetNeoHookean;
-  sc.xpbd.stretch_modulus_pa = xp.number("stretch_modulus_pa", 0.0, 0.0, 1e12);
-  sc.xpbd.energy_modulus_pa = xp.number("energy_modulus_pa", 0.0, 0.0, 1e12);
-  xp.finish();
-
-  JsonReader pl = root.object("paper_literal");
-  const PaperLiteralSettings pl_default;  // the defaults live in one place (paper_literal_model.hpp)
-  sc.paper_literal.duration_s = pl.number("duration_s", pl_default.duration_s, 1e-9, 1e4);
-  sc.paper_literal.ramp_time_s = pl.number("ramp_time_s", pl_default.ramp_time_s, 0.0, 1e4);
-  sc.paper_literal.output_interval_s = pl.number("output_interval_s", pl_default.output_interval_s, 1e-9, 1e4);
-  sc.paper_literal.step_s = pl.number("step_s", pl_default.step_s, 1e-9, 1.0);
-  sc.paper_literal.iterations = pl.integer("iterations", pl_default.iterations, 1, 1000);
-  sc.paper_literal.stretch_stiffness = pl.number("stretch_stiffness", pl_default.stretch_stiffness, 0.0, 1.0);
-  sc.paper_literal.energy_stiffness = pl.number("energy_stiffness", pl_default.energy_stiffness, 0.0, 1.0);
-  sc.paper_literal.stretch_pairs =
-      pl.string("stretch_pairs", "tet_edges", {"tet_edges", "neighbours"}) == "tet_edges" ? StretchPairs::TetEdges
-                                                                                           : StretchPairs::Neighbours;
-  sc.paper_literal.damping_per_s = pl.number("damping_per_s", pl_default.damping_per_s, 0.0, 1e6);
-  pl.finish();
-
-  JsonReader ref = root.object("reference");
-  sc.reference.type = ref.string("type", "", {"timoshenko_cantilever"});
-  if (!sc.reference.type.empty()) {
-    if (sc.geometry.type != "beam") ref.fail("type", "timoshenko_cantilever needs geometry.type = \"beam\"");
-    sc.reference.region = ref.required_string("region");
-    bool found = false;
-    for (const auto& r : sc.regions) found = found || (r.name == sc.reference.region && r.bc == RegionBcType::Force);
-    if (!found) ref.fail("region", fmt::format("no force region named '{}'", sc.reference.region));
-  }
-  ref.finish();
-
-  JsonReader map = root.object("mapping");
-  sc.mapping.support_radius_factor =
-      map.number("support_radius_factor", MlsMapOptions{}.support_radius_factor, 1.5, 5.0);
-  sc.mapping.max_growths = map.integer("max_growths", MlsMapOptions{}.max_growths, 0, 20);
-  map.finish();
-
-  JsonReader out = root.object("output");
-  sc.output.vtk = out.boolean("vtk", false);
-  sc.output.surface = out.boolean("surface", false);
-  sc.output.vtk_every = out.integer("vtk_every", 1, 1, 1000000);
-  out.finish();
+  read_tools(root, sc);
+  read_model_blocks(root, sc);
+  read_haptics(root, file, sc);
+  read_reference(root, sc);
+  read_mapping_and_output(root, sc);
   root.finish();
+  check_model_capabilities(root, sc);
   return sc;
 }
 

@@ -1,8 +1,12 @@
 #pragma once
 // A scene: everything one run needs, read and validated from a JSON file (docs/scene-format.md).
 // Loading applies command-line overrides (--set path.to.key=value) before validation, so an override
-// is checked exactly like a key in the file.
+// is checked exactly like a key in the file. The models' own settings blocks are read by the models'
+// registry entries (model/registry.hpp); this folder holds only the schema, its validation and the
+// overrides.
 
+#include <any>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <limits>
 #include <string>
@@ -11,12 +15,9 @@
 #include "vascsim/geometry/generators.hpp"
 #include "vascsim/mapping/mls_map.hpp"
 #include "vascsim/model/discretization.hpp"
-#include "vascsim/model/materials/law_factory.hpp"
-#include "vascsim/model/explicit_model.hpp"
-#include "vascsim/model/paper_literal_model.hpp"
 #include "vascsim/model/point_primitive_energy.hpp"
-#include "vascsim/model/quasi_static_model.hpp"
-#include "vascsim/model/xpbd_model.hpp"
+#include "vascsim/model/problem.hpp"
+#include "vascsim/model/rigid_obstacle.hpp"
 
 namespace vascsim {
 
@@ -87,8 +88,8 @@ struct ReferenceSpec {
   std::string region;  ///< the loaded region whose deflection is compared
 };
 
-/// A haptic session (docs/haptics.md): a device poses one tool through the 1 kHz haptic loop while the xpbd
-/// model deforms the tissue. Present when the scene has a "haptics" block.
+/// A haptic session (docs/haptics.md): a device poses one tool through the 1 kHz haptic loop while a
+/// device-driven model deforms the tissue. Present when the scene has a "haptics" block.
 struct HapticsSpec {
   bool enabled = false;
   std::string tool;                  ///< the obstacle the device poses ("" : the scene's only obstacle)
@@ -122,20 +123,24 @@ struct Scene {
   std::vector<RegionSpec> regions;
   std::vector<PointProbeSpec> probes;
   Vec3 gravity_m_s2 = Vec3::Zero();
-  std::vector<RigidObstacle> obstacles;  ///< rigid tools (xpbd and quasi_static)
-  ExplicitSettings explicit_settings;
-  QuasiStaticSettings quasi_static;
-  XpbdSettings xpbd;
-  PaperLiteralSettings paper_literal;
+  std::vector<RigidObstacle> obstacles;  ///< rigid tools, for models that take tools
+  /// Every registered model's settings, as its registry entry read them from its block (defaults when the
+  /// block is absent), keyed by model name: the scene's model uses its own, `--set model=...` another's.
+  std::map<std::string, std::any> model_settings;
   ReferenceSpec reference;
   MlsMapOptions mapping;  ///< the surface map (output.surface)
   OutputSpec output;
   HapticsSpec haptics;
   nlohmann::json resolved;  ///< the JSON after overrides (for summary.json)
-};
 
-/// The model names the scene's top-level key `model` accepts.
-const std::vector<std::string>& model_names();
+  /// The settings of model `name` as its settings struct S (e.g. scene.settings<XpbdSettings>("xpbd")).
+  template <class S>
+  const S& settings(const std::string& name) const {
+    return std::any_cast<const S&>(model_settings.at(name));
+  }
+  /// The settings of the scene's own model.
+  const std::any& own_model_settings() const { return model_settings.at(model); }
+};
 
 /// Applies one override "path.to.key=value" to a JSON document. The value is parsed as JSON when it
 /// can be (numbers, true/false, arrays), else taken as a string. Array elements are addressed by

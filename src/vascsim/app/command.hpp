@@ -1,0 +1,37 @@
+#pragma once
+// How the `vascsim` subcommands plug into run_cli (cli.cpp): each command file registers its subcommand(s)
+// on the CLI11 app and hands back the action to run when the user chose it. The action reads the options the
+// parse filled in, writes to the context's streams and returns the exit code; errors are exceptions that
+// run_cli maps to exit codes (InputError 2, NumericalError 3, anything else 1).
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <ostream>
+#include <vector>
+
+namespace vascsim {
+
+/// What every command shares: the output streams and the global options (-q, -v, -j).
+struct CliContext {
+  std::ostream& out;
+  std::ostream& err;
+  bool quiet = false;
+  bool verbose = false;
+  int threads = 0;  ///< -j; 0: OpenMP's default
+  /// True when `err` is this process's terminal (a redrawn progress bar instead of lines).
+  bool err_is_terminal() const;
+};
+
+/// A registered (sub)command: the CLI11 node and what to run when it was parsed.
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;
+};
+
+// One per command file.
+void add_run_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
+void add_experiment_commands(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
+void add_validate_commands(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
+void add_bench_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
+
+}  // namespace vascsim

@@ -1,0 +1,66 @@
+// `vascsim experiment ...`: the paper's experiments, one command each.
+
+#include <filesystem>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "vascsim/app/command.hpp"
+#include "vascsim/app/progress.hpp"
+#include "vascsim/app/step_status.hpp"
+#include "vascsim/experiments/force_displacement.hpp"
+
+namespace vascsim {
+
+namespace {
+
+struct ForceDisplacementFlags {
+  std::string scene, out, tool;
+  std::vector<std::string> sets;
+  bool no_plot = false;
+};
+
+int force_displacement(const ForceDisplacementFlags& flags, CliContext& ctx) {
+  const Scene scene = load_scene(flags.scene, flags.sets);
+  ForceDisplacementOptions opt;
+  opt.out_dir = flags.out.empty() ? std::filesystem::path("out") / (scene.name + "-force-displacement")
+                                  : std::filesystem::path(flags.out);
+  opt.tool = flags.tool;
+  opt.plot = !flags.no_plot;
+  spdlog::info("force-displacement: scene '{}' ({}), model {}, output {}", scene.name, scene.file, scene.model,
+               opt.out_dir.string());
+  Progress progress(ctx.err, ctx.err_is_terminal(), scene.name);
+  opt.on_step = [&](const StepRecord& r, int total) { progress.update(r.step, total, step_status(scene.model, r)); };
+  const ForceDisplacementResult res = run_force_displacement(scene, opt);
+  progress.finish();
+  const auto& rows = res.summary["force_displacement"]["rows"];
+  const auto& last = rows.back();
+  ctx.out << fmt::format("{}: tool '{}' at {:.4g} mm: {:.4g} mN ({} steps, model {}); wrote {}\n", scene.name,
+                         res.summary["force_displacement"]["tool"].get<std::string>(),
+                         last["displacement_m"].get<double>() * 1e3, last["force_n"].get<double>() * 1e3,
+                         rows.size() - 1, scene.model, res.csv.string());
+  if (!res.png.empty()) ctx.out << "wrote " << res.png.string() << "\n";
+  if (!res.plot_problem.empty()) ctx.out << "warning: no plot: " << res.plot_problem << "\n";
+  if (res.summary["unconverged_steps"].get<int>() > 0)
+    ctx.out << fmt::format("warning: {} load steps did not converge (see summary.json)\n",
+                           res.summary["unconverged_steps"].get<int>());
+  return 0;
+}
+
+}  // namespace
+
+void add_experiment_commands(CLI::App& app, CliContext& ctx, std::vector<Command>& commands) {
+  CLI::App* experiment = app.add_subcommand("experiment", "The paper's experiments, one command each");
+  experiment->require_subcommand(1);
+  auto fd = std::make_shared<ForceDisplacementFlags>();
+  CLI::App* fd_app = experiment->add_subcommand(
+      "force-displacement", "A tool (catheter) presses the vessel in displacement steps: force_displacement.csv "
+                            "and .png (the paper's Fig. 10: scenes/hand-dorsal-vein-catheter.json)");
+  fd_app->add_option("scene", fd->scene, "Scene JSON file with a moving tool in 'obstacles'")->required();
+  fd_app->add_option("--set", fd->sets, "Override a scene key: path.to.key=value (repeatable), e.g. model=xpbd");
+  fd_app->add_option("--out", fd->out, "Output folder (default: out/<scene name>-force-displacement)");
+  fd_app->add_option("--tool", fd->tool, "The obstacle that presses (default: the scene's only obstacle)");
+  fd_app->add_flag("--no-plot", fd->no_plot, "Write the CSV only (no matplotlib call)");
+  commands.push_back({fd_app, [fd, &ctx] { return force_displacement(*fd, ctx); }});
+}
+
+}  // namespace vascsim

@@ -1,0 +1,107 @@
+// `vascsim run SCENE.json`: a headless run of a scene (load steps or output times), or a haptic session when
+// the scene has a `haptics` block.
+
+#include <filesystem>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "vascsim/app/command.hpp"
+#include "vascsim/app/progress.hpp"
+#include "vascsim/app/step_status.hpp"
+#include "vascsim/core/error.hpp"
+#include "vascsim/run/haptic_session.hpp"
+#include "vascsim/run/runner.hpp"
+
+namespace vascsim {
+
+namespace {
+
+struct RunFlags {
+  std::string scene, out;
+  std::vector<std::string> sets;
+  std::string mode, record, replay;  // haptic sessions
+};
+
+int run_session(const Scene& scene, const std::filesystem::path& out_dir, const RunFlags& flags, CliContext& ctx) {
+  spdlog::info("scene '{}' ({}): haptic session, model {}, output {}", scene.name, scene.file, scene.model,
+               out_dir.string());
+  Progress progress(ctx.err, ctx.err_is_terminal(), scene.name);
+  HapticRunOptions opt;
+  opt.out_dir = out_dir;
+  opt.mode = flags.mode;
+  opt.record = flags.record;
+  opt.replay = flags.replay;
+  opt.on_progress = [&](double done, double total) {
+    progress.update(static_cast<int>(std::lround(1000.0 * done / total)), 1000,
+                    fmt::format("session t = {:.3f} of {:.3f} s", done, total));
+  };
+  const nlohmann::json summary = run_haptic_session(scene, opt);
+  progress.finish();
+  const auto& h = summary["haptics"];
+  const auto& loop = h["loop"];
+  ctx.out << fmt::format(
+      "{}: {} nodes, {:.3g} s session ({}), {} ticks at {:.1f} Hz (jitter p50/p99/max {:.3f}/{:.3f}/{:.3f} ms), {} "
+      "simulation steps at {:.1f} Hz, max force on the tool {:.4g} N; wrote {}\n",
+      scene.name, summary["nodes"].get<int>(), h["duration_s"].get<double>(), h["mode"].get<std::string>(),
+      h["ticks"].get<std::size_t>(), loop["achieved_rate_hz"].get<double>(), loop["jitter_p50_ms"].get<double>(),
+      loop["jitter_p99_ms"].get<double>(), loop["jitter_max_ms"].get<double>(),
+      h["simulation_steps"].get<std::size_t>(), h["deformation_rate_hz"].get<double>(),
+      h["max_force_on_tool_n"].get<double>(), (out_dir / "force_history.csv").string());
+  if (h.contains("replay"))
+    ctx.out << fmt::format("replay of {}: {} ticks compared, max force difference {:.3g} N, bit-identical: {}\n",
+                           h["replay"]["file"].get<std::string>(), h["replay"]["ticks_compared"].get<std::size_t>(),
+                           h["replay"]["max_force_difference_n"].get<double>(),
+                           h["replay"]["bit_identical"].get<bool>() ? "yes" : "no");
+  return 0;
+}
+
+int run_headless(const Scene& scene, const std::filesystem::path& out_dir, CliContext& ctx) {
+  spdlog::info("scene '{}' ({}), model {}, output {}", scene.name, scene.file, scene.model, out_dir.string());
+  Progress progress(ctx.err, ctx.err_is_terminal(), scene.name);
+  RunOptions opt;
+  opt.out_dir = out_dir;
+  opt.on_step = [&](const StepRecord& r, int total) { progress.update(r.step, total, step_status(scene.model, r)); };
+  const nlohmann::json summary = run_scene(scene, opt);
+  progress.finish();
+  ctx.out << fmt::format("{}: {} nodes, {} steps in {:.2f} s (setup {:.2f} s); wrote {}\n", scene.name,
+                         summary["nodes"].get<int>(), summary["steps"].size() - 1,
+                         summary["timings_s"]["total"].get<double>(), summary["timings_s"]["setup"].get<double>(),
+                         (out_dir / "summary.json").string());
+  if (summary.contains("reference")) {
+    const auto& ref = summary["reference"];
+    ctx.out << fmt::format("tip deflection {:.6g} m, Timoshenko reference {:.6g} m, ratio {:.4f}\n",
+                           ref["tip_deflection_m"].get<double>(), ref["reference_deflection_m"].get<double>(),
+                           ref["ratio"].get<double>());
+  }
+  if (summary["unconverged_steps"].get<int>() > 0)
+    ctx.out << fmt::format("warning: {} load steps did not converge (see summary.json)\n",
+                           summary["unconverged_steps"].get<int>());
+  return 0;
+}
+
+int run(const RunFlags& flags, CliContext& ctx) {
+  const Scene scene = load_scene(flags.scene, flags.sets);
+  const std::filesystem::path out_dir =
+      flags.out.empty() ? std::filesystem::path("out") / scene.name : std::filesystem::path(flags.out);
+  if (scene.haptics.enabled) return run_session(scene, out_dir, flags, ctx);
+  if (!flags.mode.empty() || !flags.record.empty() || !flags.replay.empty())
+    throw InputError(fmt::format("{}: --mode, --record and --replay need a scene with a 'haptics' block", scene.file));
+  return run_headless(scene, out_dir, ctx);
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands) {
+  auto flags = std::make_shared<RunFlags>();
+  CLI::App* run_app = app.add_subcommand("run", "Run a scene headless and write summary.json, probes.csv (and VTK)");
+  run_app->add_option("scene", flags->scene, "Scene JSON file (docs/scene-format.md)")->required();
+  run_app->add_option("--set", flags->sets, "Override a scene key: path.to.key=value (repeatable)");
+  run_app->add_option("--out", flags->out, "Output folder (default: out/<scene name>)");
+  run_app->add_option("--mode", flags->mode, "Haptic scenes: lockstep (deterministic) or realtime (haptic thread)")
+      ->check(CLI::IsMember({"lockstep", "realtime"}));
+  run_app->add_option("--record", flags->record, "Haptic scenes: also write the session recording to FILE");
+  run_app->add_option("--replay", flags->replay, "Haptic scenes: play a session recording instead of the trajectory");
+  commands.push_back({run_app, [flags, &ctx] { return run(*flags, ctx); }});
+}
+
+}  // namespace vascsim

@@ -1,0 +1,44 @@
+#pragma once
+// The narrow interface through which a device drives a model (the haptic session, the viewer): the tool's
+// pose goes in, one frame of simulated time passes, the tool's load and the wall's linearised response come
+// out. Drivers use only this; which model is behind it is the scene's choice (registry.hpp).
+
+#include <Eigen/Geometry>
+#include <optional>
+#include <vector>
+
+#include "vascsim/model/model.hpp"
+
+namespace vascsim {
+
+/// The tissue's linearised response to the tool around the state of the last frame.
+struct ToolLinearization {
+  /// dF/d(-p): how the force on the tool grows as the tool moves by -p (into the tissue), N/m, symmetric
+  /// positive semi-definite. For one frictionless contact of stiffness k along normal n: k n n^T.
+  Mat3 stiffness_n_per_m = Mat3::Zero();
+  /// Unit contact normal from the tissue towards the tool (the direction the tissue pushes); zero when there
+  /// is no single normal.
+  Vec3 normal = Vec3::Zero();
+};
+
+class DeviceDrivenModel {
+ public:
+  virtual ~DeviceDrivenModel() = default;
+  /// Poses tool `tool` (an index into Problem::tools()) for the end of the next frame: its tool point moves to
+  /// `position_m` and it is rotated by `orientation` (rigid_obstacle.hpp obstacle_posed). From the first call
+  /// on, the tool ignores its load-factor motion. Throws std::out_of_range for a bad index.
+  virtual void set_tool_pose(std::size_t tool, const Vec3& position_m, const Eigen::Quaterniond& orientation) = 0;
+  /// Advances one frame of frame_length_s() simulated time.
+  virtual StepReport step() = 0;
+  /// Simulated time at the end of the last frame, s.
+  virtual double time() const = 0;
+  /// Simulated time per frame, s.
+  virtual double frame_length_s() const = 0;
+  /// Per tool, the load it exchanged with the tissue in the last frame (the force it exerts on the tissue).
+  virtual std::vector<ObstacleLoad> tool_loads() const = 0;
+  /// The wall's linearised response at tool `tool` after the last frame, when the model computes one; nullopt:
+  /// the driver estimates it (a secant along the contact normal).
+  virtual std::optional<ToolLinearization> tool_linearization(std::size_t /*tool*/) const { return std::nullopt; }
+};
+
+}  // namespace vascsim

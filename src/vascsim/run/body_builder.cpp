@@ -1,0 +1,64 @@
+#include "vascsim/run/body_builder.hpp"
+
+#include <fmt/format.h>
+
+#include "vascsim/core/error.hpp"
+#include "vascsim/geometry/mesh_wall.hpp"
+#include "vascsim/geometry/swept_vessel.hpp"
+#include "vascsim/io/mesh_import.hpp"
+
+namespace vascsim {
+
+namespace {
+
+Body body_from_mesh(const MeshGeometrySpec& spec) {
+  const TriangleMesh mesh = import_triangle_mesh(spec.file, spec.units_m);
+  MeshWallSpec ws;
+  ws.kind = spec.kind;
+  ws.wall_thickness_m = spec.wall_thickness_m;
+  ws.node_spacing_m = spec.node_spacing_m;
+  ws.min_layers = spec.min_layers;
+  ws.source = spec.file;
+  return body_from_mesh_wall(make_mesh_wall(mesh, ws));
+}
+
+}  // namespace
+
+Body build_body(const GeometrySpec& spec) {
+  if (spec.type == "tube") {
+    SweptVesselSpec ss{spec.tube.outer_radius_m, spec.tube.wall_thickness_m, spec.tube.node_spacing_m,
+                       std::max(3, spec.tube.min_layers)};
+    return body_from_tube(make_tube(spec.tube), make_swept_vessel(straight_centerline(spec.tube.length_m), ss));
+  }
+  if (spec.type == "vessel") {
+    const CenterlineSpec& c = spec.centerline;
+    auto line = std::make_shared<const Centerline>(
+        c.type == "straight" ? straight_centerline(c.length_m)
+        : c.type == "bent"   ? bent_centerline(c.radius_of_curvature_m, c.angle_deg, c.leg_length_m)
+        : c.type == "s"      ? s_centerline(c.radius_of_curvature_m, c.angle_deg, c.leg_length_m)
+                             : Centerline(c.points_m));
+    SweptVesselSpec ss{spec.tube.outer_radius_m, spec.tube.wall_thickness_m, spec.tube.node_spacing_m,
+                       spec.tube.min_layers};
+    return body_from_swept_vessel(make_swept_vessel(*line, ss), line);
+  }
+  if (spec.type == "mesh") return body_from_mesh(spec.mesh);
+  NodeCloud c = make_box(spec.box);
+  if (spec.type == "beam") c.kind = "beam";
+  return body_from_lattice(std::move(c));
+}
+
+NodeCloud build_geometry(const GeometrySpec& spec) { return build_body(spec).cloud; }
+
+std::vector<materials::MaterialFrame> wall_frames(const Body& body, const Scene& scene) {
+  if (!body.wall || !body.wall->has_centerline())
+    throw InputError(fmt::format("{}: key 'material.law': '{}' takes its fibre directions from the vessel's "
+                                 "centre-line; geometry '{}' has none (use a tube or a vessel)",
+                                 scene.file, scene.material_law, scene.geometry.type));
+  const WallCoordinates& w = *body.wall;
+  std::vector<materials::MaterialFrame> frames(body.cloud.positions.size());
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    frames[i] = materials::make_material_frame(w.centerline->tangent(w.s_m[i]), w.outward[i]);
+  return frames;
+}
+
+}  // namespace vascsim

@@ -1,0 +1,64 @@
+#include "vascsim/run/contact_publisher.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "vascsim/core/stopwatch.hpp"
+
+namespace vascsim {
+
+ContactPublisher::ContactPublisher(DeviceDrivenModel& model, std::size_t tool, double force_scale,
+                                   double max_stiffness_n_per_m, LatestValue<ContactState>& to_haptics)
+    : model_(model), tool_(tool), scale_(force_scale), max_k_(max_stiffness_n_per_m), out_(to_haptics) {}
+
+FrameSample ContactPublisher::step(const ToolPose& pose) {
+  const Stopwatch clock;
+  model_.set_tool_pose(tool_, pose.position(), pose.orientation());
+  model_.step();
+  const ObstacleLoad load = model_.tool_loads()[tool_];
+  FrameSample s;
+  s.sim_time_s = model_.time();
+  s.pose_time_s = pose.time_s;
+  s.tool_position_m = pose.position();
+  s.force_n = -load.force_n;  // the tissue's force on the tool
+  s.torque_n_m = -load.torque_n_m;
+  s.contacts = load.contacts;
+  publish(pose, scale_ * s.force_n);
+  s.wall_s = clock.seconds();
+  return s;
+}
+
+Mat3 ContactPublisher::secant_stiffness(const ToolPose& pose, const Vec3& f, Vec3& n) {
+  const double magnitude = f.norm();
+  n = magnitude > 0.0 ? Vec3(f / magnitude) : Vec3::Zero();
+  if (magnitude == 0.0) {
+    k_ = 0.0;
+  } else if (have_previous_) {
+    // Secant along the normal: moving into the tissue (along -n) raises |F|.
+    const double dx = (pose.position() - previous_position_).dot(n);
+    if (std::abs(dx) > 1e-7) k_ = std::clamp(-(magnitude - previous_magnitude_) / dx, 0.0, max_k_);
+  }
+  have_previous_ = true;
+  previous_position_ = pose.position();
+  previous_magnitude_ = magnitude;
+  return normal_stiffness(n, k_);
+}
+
+void ContactPublisher::publish(const ToolPose& pose, const Vec3& f) {
+  ContactState c;
+  c.sequence = ++sequence_;
+  c.sim_time_s = model_.time();
+  c.tool = pose;
+  c.set_force(f);
+  if (const auto lin = model_.tool_linearization(tool_)) {
+    c.set_stiffness(scale_ * lin->stiffness_n_per_m);
+    c.set_normal(lin->normal);
+  } else {
+    Vec3 n;
+    c.set_stiffness(secant_stiffness(pose, f, n));
+    c.set_normal(n);
+  }
+  out_.write(c);
+}
+
+}  // namespace vascsim

@@ -1,0 +1,32 @@
+#pragma once
+// Headless run of a scene: drives a Simulation through every output point and writes, through the
+// OutputWriter, probes.csv (a row per output point, flushed as it goes), the optional VTK series
+// (vtk/nodes_NNNN.vtu + vtk/nodes.pvd, vtk/surface_NNNN.vtu + vtk/surface.pvd) and summary.json.
+
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+
+#include "vascsim/run/simulation.hpp"
+
+namespace vascsim {
+
+struct RunOptions {
+  std::filesystem::path out_dir;
+  /// Called after every output point with (record, total steps).
+  std::function<void(const StepRecord&, int)> on_step;
+};
+
+/// Runs the scene and returns summary.json's content (also written). Throws InputError / NumericalError.
+nlohmann::json run_scene(const Scene& scene, const RunOptions& options);
+
+/// summary.json's description of the MLS surface map of a run (the body must have a surface).
+nlohmann::json surface_map_info(Simulation& sim);
+
+/// summary.json's description of a run: scene, model, discretisation sizes, solver parameters, threads.
+nlohmann::json describe_run(const Scene& scene, Simulation& sim);
+
+/// Column names of probes.csv for a scene.
+std::vector<std::string> probe_columns(const Scene& scene);
+
+}  // namespace vascsim

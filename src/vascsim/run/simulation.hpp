@@ -1,0 +1,75 @@
+#pragma once
+// A Simulation assembles a validated Scene into geometry -> discretisation -> energy -> problem ->
+// model (by name, from the registry), and measures the named regions, probes and tools at every output
+// point. It knows nothing of files or terminals (runner.hpp, output_writer.hpp).
+
+#include <chrono>
+#include <memory>
+
+#include "vascsim/geometry/vessel_body.hpp"
+#include "vascsim/mapping/mls_map.hpp"
+#include "vascsim/model/model.hpp"
+#include "vascsim/run/body_builder.hpp"
+#include "vascsim/run/region_builder.hpp"
+#include "vascsim/scene/scene.hpp"
+
+namespace vascsim {
+
+/// A rigid obstacle at one output point.
+struct ObstacleMeasure {
+  double displacement_m = 0.0;     ///< s |motion|, m
+  Vec3 force_n = Vec3::Zero();     ///< force the obstacle exerts on the tissue, N
+  double force_projected_n = 0.0;  ///< force_n along the motion (its magnitude for a fixed obstacle), N
+  Vec3 torque_n_m = Vec3::Zero();  ///< moment of force_n about the tool point (the catheter tip), N m
+  int contacts = 0;                ///< nodes in contact
+};
+
+/// Everything measured at one output point.
+struct StepRecord {
+  int step = 0;  ///< 0 is the rest state
+  StepReport report;
+  std::vector<RegionMeasure> regions;  ///< in scene order
+  std::vector<double> probes;          ///< point probe displacements, m, in scene order
+  std::vector<ObstacleMeasure> obstacles;  ///< in scene order
+  double wall_s = 0.0;                 ///< wall-clock time of this step, s
+};
+
+class Simulation {
+ public:
+  explicit Simulation(const Scene& scene);
+
+  const Scene& scene() const { return scene_; }
+  const Discretization& discretization() const { return *disc_; }
+  const PointPrimitiveEnergy& energy() const { return *energy_; }
+  const Problem& problem() const { return *problem_; }
+  const Body& body() const { return *body_; }
+  /// The MLS surface map; built on first use (null when the body has no surface).
+  const MlsMap* surface_map();
+  /// Maps the current node positions to the render surface (needs a surface).
+  SurfaceFrame surface_frame();
+  Model& model() { return *model_; }
+  double setup_seconds() const { return setup_s_; }
+
+  /// The rest state (step 0).
+  StepRecord initial_record() const;
+  /// Advances the model to output point k (1..num_steps) and measures it.
+  StepRecord advance(int k);
+  /// Reference values of the scene (e.g. the Timoshenko deflection), for summary.json; null if none.
+  nlohmann::json reference(const StepRecord& last) const;
+
+ private:
+  void build();
+  StepRecord measure(int step, const StepReport& report) const;
+
+  Scene scene_;
+  std::unique_ptr<Body> body_;
+  std::unique_ptr<MlsMap> surface_map_;
+  std::unique_ptr<Discretization> disc_;
+  std::unique_ptr<PointPrimitiveEnergy> energy_;
+  std::unique_ptr<Problem> problem_;
+  std::unique_ptr<Model> model_;
+  std::vector<Index> probe_nodes_;
+  double setup_s_ = 0.0;
+};
+
+}  // namespace vascsim

@@ -1,0 +1,192 @@
+// The catheter tool and frictionless contact (docs/haptics.md): geometry, device posing, and MODEL.md T14 -
+// at equilibrium the force the tool exerts on the tissue balances the support reactions, and so does
+// its moment - for the quasi_static active set and for the xpbd contact constraints.
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "vascsim/core/error.hpp"
+#include "vascsim/model/quasi_static_model.hpp"
+#include "vascsim/model/xpbd_model.hpp"
+#include "vascsim/scene/scene.hpp"
+#include "vascsim/run/simulation.hpp"
+
+namespace vascsim {
+namespace {
+
+using json = nlohmann::json;
+
+TEST(Catheter, SixFrenchTipIsTheForemostPoint) {
+  const Vec3 tip(0.01, 0.0, 0.0), dir(0.0, 0.0, -2.0);
+  const RigidObstacle c = make_catheter("c", tip, dir, 6 * kMetresPerFrench, 0.02);
+  EXPECT_NEAR(c.radius_m, 1e-3, 1e-15);  // 6 Fr = 2 mm
+  const constraints::Capsule g = obstacle_at(c, 0.0);
+  // The tip lies on the surface; just beyond it is outside, just behind it inside (1e-12 m: round-off).
+  EXPECT_NEAR(obstacle_contact(g, tip).value, 0.0, 1e-15);
+  EXPECT_GT(obstacle_contact(g, tip + 1e-6 * Vec3::UnitZ() * -1.0).value, 0.0);
+  EXPECT_LT(obstacle_contact(g, tip + 1e-6 * Vec3::UnitZ()).value, 0.0);
+  // The shaft end is length_m behind the tip.
+  EXPECT_NEAR(obstacle_contact(g, tip + Vec3(0, 0, 0.02)).value, 0.0, 1e-15);
+  EXPECT_THROW(make_catheter("c", tip, Vec3::Zero(), 2e-3, 0.02), InputError);
+  EXPECT_THROW(make_catheter("c", tip, dir, 2e-3, 1e-3), InputError);
+}
+
+TEST(Catheter, DevicePoseReproducesTheRestPose) {
+  const Vec3 tip(0.001, 0.002, 0.003), dir(1.0, 2.0, -0.5);
+  const RigidObstacle c = make_catheter("c", tip, dir, 2e-3, 0.015);
+  const constraints::Capsule rest = obstacle_at(c, 0.0);
+  const constraints::Capsule posed = obstacle_posed(c, tip, orientation_pointing(dir));
+  EXPECT_LT((rest.a - posed.a).norm(), 1e-15);
+  EXPECT_LT((rest.b - posed.b).norm(), 1e-15);
+  // Turned to point along +x and moved: the tip follows the device position.
+  const constraints::Capsule turned = obstacle_posed(c, Vec3(0.1, 0, 0), orientation_pointing(Vec3::UnitX()));
+  EXPECT_LT((turned.a - Vec3(0.1 - 1e-3, 0, 0)).norm(), 1e-15);
+  EXPECT_LT((turned.b - Vec3(0.1 - 0.014, 0, 0)).norm(), 1e-15);
+}
+
+TEST(Catheter, SceneTakesFrenchOrMetresAndRejectsBoth) {
+  json doc = json::parse(R"({
+    "name": "cat", "model": "quasi_static",
+    "geometry": { "type": "box", "min_m": [0, 0, 0], "max_m": [0.004, 0.004, 0.002], "node_spacing_m": 0.001 },
+    "regions": [ { "name": "base", "select": { "type": "box", "max_m": [1, 1, 0] }, "bc": { "type": "fixed" } } ],
+    "obstacles": [ { "name": "catheter", "shape": "catheter", "tip_m": [0.002, 0.002, 0.003], "direction": [0, 0, -1],
+                     "push_m": 0.001 } ]
+  })");
+  const Scene s = parse_scene(doc, "cat");
+  ASSERT_EQ(s.obstacles.size(), 1u);
+  EXPECT_NEAR(s.obstacles[0].radius_m, 1e-3, 1e-15);  // default 6 Fr
+  EXPECT_LT((s.obstacles[0].motion_m - Vec3(0, 0, -0.001)).norm(), 1e-15);
+  json bad = doc;
+  bad["obstacles"][0]["diameter_m"] = 0.001;
+  bad["obstacles"][0]["diameter_fr"] = 3;
+  EXPECT_THROW(parse_scene(bad, "cat"), InputError);
+  bad = doc;
+  bad["obstacles"][0]["direction"] = {0, 0, 0};
+  EXPECT_THROW(parse_scene(bad, "cat"), InputError);
+  bad = doc;
+  bad["obstacles"][0]["length_m"] = 0.001;  // shorter than the 2 mm diameter
+  EXPECT_THROW(parse_scene(bad, "cat"), InputError);
+  bad = doc;
+  bad["model"] = "explicit";
+  EXPECT_THROW(Simulation(parse_scene(bad, "cat")), InputError);
+}
+
+// A 6 x 6 x 3 mm block (node spacing 0.5 mm: half the catheter's radius, docs/haptics.md), base fixed,
+// pressed 1 mm by a 6 Fr catheter lying across its top along x, tilted so the press is deeper at x = 6 mm
+// (0.9 mm) than at x = 0 (0.42 mm) and the moment is not trivially zero.
+json pressed_block(const std::string& model) {
+  json doc = json::parse(R"({
+    "name": "catheter-block",
+    "geometry": { "type": "box", "min_m": [0, 0, 0], "max_m": [0.006, 0.006, 0.003], "node_spacing_m": 0.0005 },
+    "material": { "youngs_modulus_pa": 3e5, "poisson_ratio": 0.45, "density_kg_m3": 1060 },
+    "regions": [ { "name": "base", "select": { "type": "box", "max_m": [1, 1, 0] }, "bc": { "type": "fixed" } } ],
+    "obstacles": [ { "name": "catheter", "shape": "catheter", "diameter_fr": 6, "length_m": 0.01,
+                     "tip_m": [0.0075, 0.0032, 0.00398], "direction": [1, 0, -0.08], "motion_m": [0, 0, -0.001] } ],
+    "quasi_static": { "load_steps": 3, "rel_tolerance": 1e-9 },
+    "xpbd": { "duration_s": 0.4, "ramp_time_s": 0.05, "output_interval_s": 0.05, "damping_per_s": 60 }
+  })");
+  doc["model"] = model;
+  return doc;
+}
+
+struct Balance {
+  Vec3 tool_force = Vec3::Zero(), support_force = Vec3::Zero(), tool_moment = Vec3::Zero(), support_moment = Vec3::Zero();
+  int contacts = 0;
+  double deepest_m = 0.0;
+};
+
+// Runs the scene to its end; the support's force and moment (about the tool point) from the nodal
+// reactions the model reports.
+Balance run_to_end(Simulation& sim) {
+  StepRecord rec;
+  for (int k = 1; k <= sim.model().num_steps(); ++k) rec = sim.advance(k);
+  EXPECT_TRUE(rec.report.converged);
+  Balance b;
+  b.tool_force = rec.obstacles.at(0).force_n;
+  b.tool_moment = rec.obstacles.at(0).torque_n_m;
+  b.contacts = rec.obstacles[0].contacts;
+  const RigidObstacle& ob = sim.scene().obstacles[0];
+  const Vec3 point = tool_point_at(ob, rec.report.load_factor);
+  const Vec3Array& x = sim.model().positions();
+  Vec3Array f;
+  if (const Vec3Array* fc = sim.model().constraint_forces())
+    f = *fc;  // xpbd: what the solver applied, sum lambda grad C / h^2
+  else
+    sim.energy().forces(x, f);  // quasi_static: the support balances the elastic force
+  for (Index i = 0; i < static_cast<Index>(x.size()); ++i) {
+    if (!sim.problem().constrained()[i]) continue;
+    // xpbd's constraint force on a fixed node is what the elastic constraints did to it: the support
+    // pushes back with the opposite. quasi_static: the support force is -f_int.
+    const Vec3 support = -f[i];
+    b.support_force += support;
+    b.support_moment += (x[i] - point).cross(support);
+  }
+  const constraints::Capsule g = obstacle_at(ob, rec.report.load_factor);
+  for (const auto& p : x) b.deepest_m = std::max(b.deepest_m, -obstacle_contact(g, p).value);
+  std::printf("[ catheter ] %s: tool force on tissue (%.5g, %.5g, %.5g) N, supports (%.5g, %.5g, %.5g) N; moment "
+              "(%.4g, %.4g, %.4g) vs (%.4g, %.4g, %.4g) N m; %d contacts\n",
+              sim.model().name().c_str(), b.tool_force.x(), b.tool_force.y(), b.tool_force.z(), b.support_force.x(),
+              b.support_force.y(), b.support_force.z(), b.tool_moment.x(), b.tool_moment.y(), b.tool_moment.z(),
+              b.support_moment.x(), b.support_moment.y(), b.support_moment.z(), b.contacts);
+  return b;
+}
+
+// T14 with the quasi_static active set. Tolerance 1 % (MODEL.md); the Newton residual of 1e-9 of the
+// reactions puts the actual balance far below it. The moment is compared against |F| x the block size,
+// the moment a 1 % force error would make.
+TEST(Catheter, QuasiStaticPressBalancesForceAndMoment) {
+  Simulation sim(parse_scene(pressed_block("quasi_static"), "catheter-block"));
+  const Balance b = run_to_end(sim);
+  EXPECT_GT(b.contacts, 3);
+  EXPECT_LT(b.tool_force.z(), 0.0);  // pushes down into the block
+  EXPECT_LT((b.tool_force + b.support_force).norm(), 1e-2 * b.tool_force.norm());
+  EXPECT_LT((b.tool_moment + b.support_moment).norm(), 1e-2 * b.tool_force.norm() * 0.006);
+  EXPECT_GT(b.tool_moment.norm(), 1e-2 * b.tool_force.norm() * 0.006);  // the tilt makes a moment
+  EXPECT_LT(b.deepest_m, 1e-12);  // frictionless contact holds nodes on the surface
+  // Frictionless: every contact force is normal to the tool, so the force is not along x (the axis) much.
+  EXPECT_LT(std::abs(b.tool_force.x()), 0.2 * b.tool_force.norm());
+}
+
+// The same press in xpbd, run to its steady state: force balance to 1 % (the remaining velocity is
+// ~0.1 % at 0.4 s with c = 60/s), and the moment to the same relative bound.
+TEST(Catheter, XpbdPressBalancesForceAndMomentSlow) {
+  Simulation sim(parse_scene(pressed_block("xpbd"), "catheter-block"));
+  const Balance b = run_to_end(sim);
+  EXPECT_GT(b.contacts, 3);
+  EXPECT_LT(b.tool_force.z(), 0.0);
+  EXPECT_LT((b.tool_force + b.support_force).norm(), 1e-2 * b.tool_force.norm());
+  EXPECT_LT((b.tool_moment + b.support_moment).norm(), 1e-2 * b.tool_force.norm() * 0.006);
+  EXPECT_LT(b.deepest_m, 1e-9);
+}
+
+// A device-posed catheter (the haptic session's path): set_tool_pose every step moves it down from
+// above the block; the tissue sees the posed tool, not the load-factor motion, and the substeps sweep it
+// so the force rises without a jump.
+TEST(Catheter, XpbdFollowsTheDevicePose) {
+  json doc = pressed_block("xpbd");
+  doc["obstacles"][0]["motion_m"] = {0.0, 0.0, 0.0};
+  Simulation sim(parse_scene(doc, "catheter-block"));
+  auto& model = dynamic_cast<XpbdModel&>(sim.model());
+  const Vec3 tip0(0.0075, 0.0032, 0.00398);
+  const Eigen::Quaterniond q = orientation_pointing(Vec3(1, 0, -0.08));
+  double previous = 0.0, largest_jump = 0.0;
+  for (int k = 1; k <= 130; ++k) {
+    const double depth = std::min(k, 100) * 1e-5;  // 1 mm over 100 ms, then hold
+    model.set_tool_pose(0, tip0 - Vec3(0, 0, depth), q);
+    model.step();
+    const double fz = -model.obstacle_loads()[0].force_n.z();
+    largest_jump = std::max(largest_jump, std::abs(fz - previous));
+    previous = fz;
+  }
+  const constraints::Capsule g = model.obstacle_geometry(0);
+  EXPECT_LT((g.a - (tip0 - Vec3(0, 0, 1e-3) - 1e-3 * (q * Vec3(0, 0, -1)))).norm(), 1e-12);
+  EXPECT_GT(previous, 0.0);
+  std::printf("[ catheter ] posed press: %.4g N at 1 mm, largest change per 1 ms step %.3g N\n", previous,
+              largest_jump);
+  EXPECT_LT(largest_jump, 0.25 * previous);  // no jump of a quarter of the final force in one step
+}
+
+}  // namespace
+}  // namespace vascsim

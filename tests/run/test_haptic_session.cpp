@@ -1,0 +1,158 @@
+// The haptic session (docs/haptics.md): the scripted device poses the catheter through the 1 kHz loop
+// while xpbd deforms a block. Lockstep sessions replay bit for bit from their recording; a realtime
+// session keeps its force finite and within the clamp; bad device files stop the CLI with exit code 2.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <unistd.h>
+#include <fstream>
+#include <sstream>
+
+#include "vascsim/app/cli.hpp"
+#include "vascsim/core/error.hpp"
+#include "vascsim/interaction/scripted_device.hpp"
+#include "vascsim/interaction/session_recording.hpp"
+#include "vascsim/run/haptic_session.hpp"
+
+namespace vascsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kData = fs::path(VASCSIM_SOURCE_DIR) / "tests" / "data";
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("vascsim-haptic-" + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+// force_history.csv without its last column (the wall time of each step, which no replay reproduces).
+std::string history_without_wall_time(const fs::path& f) {
+  std::ifstream in(f);
+  std::string line, text;
+  while (std::getline(in, line)) text += line.substr(0, line.rfind(',')) + "\n";
+  return text;
+}
+
+Scene block_scene(const std::vector<std::string>& sets = {}) {
+  return load_scene((kData / "haptic-block.json").string(), sets);
+}
+
+TEST(HapticSession, LockstepPressReplaysBitIdentically) {
+  const fs::path a = fresh_dir("record"), b = fresh_dir("replay");
+  HapticRunOptions first;
+  first.out_dir = a;
+  const auto s1 = run_haptic_session(block_scene(), first);
+  const auto& h = s1["haptics"];
+  EXPECT_EQ(h["ticks"].get<std::size_t>(), 251u);  // 0.25 s at 1 kHz, both ends
+  EXPECT_EQ(h["simulation_steps"].get<std::size_t>(), 251u);
+  // The catheter pressed 0.8 mm: the tissue pushes it back up (+z), and the device got a force.
+  const double fmax = h["max_force_on_tool_n"].get<double>();
+  EXPECT_GT(fmax, 1e-3);
+  EXPECT_EQ(h["loop"]["nan_events"].get<std::uint64_t>(), 0u);
+  const RecordedSession rec = read_session_recording(a / "session.csv");
+  ASSERT_EQ(rec.forces.size(), 251u);
+  double up = 0.0;
+  for (const auto& f : rec.forces) {
+    ASSERT_TRUE(f.force_n.allFinite());
+    EXPECT_LE(f.force_n.norm(), 0.88 + 1e-12);
+    up = std::max(up, f.force_n.z());
+  }
+  EXPECT_GT(up, 0.5 * fmax);  // the device is pushed up, as the tool is
+
+  HapticRunOptions again;
+  again.out_dir = b;
+  again.replay = a / "session.csv";
+  const auto s2 = run_haptic_session(block_scene(), again);
+  EXPECT_TRUE(s2["haptics"]["replay"]["bit_identical"].get<bool>());
+  EXPECT_EQ(s2["haptics"]["replay"]["max_force_difference_n"].get<double>(), 0.0);
+  // The same deformation: the force history (17 digits) is the same text.
+  const std::string history = history_without_wall_time(a / "force_history.csv");
+  EXPECT_EQ(std::count(history.begin(), history.end(), '\n'), 252);
+  EXPECT_EQ(history, history_without_wall_time(b / "force_history.csv"));
+  fs::remove_all(a);
+  fs::remove_all(b);
+}
+
+// The haptic thread at wall-clock 1 kHz while the simulation steps on this thread. Shared machine: only
+// generous bounds (rate within 20 % of nominal); what matters is no NaN and the clamp.
+TEST(HapticSession, RealtimePressStaysWithinTheClamp) {
+  const fs::path d = fresh_dir("realtime");
+  HapticRunOptions opt;
+  opt.out_dir = d;
+  opt.mode = "realtime";
+  const auto s = run_haptic_session(block_scene({"haptics.force_limit_n=0.05"}), opt);
+  const auto& loop = s["haptics"]["loop"];
+  std::printf("[ session  ] realtime: %.1f Hz, jitter p50/p99/max %.3f/%.3f/%.3f ms, %zu simulation steps at %.1f Hz, "
+              "force latency mean %.2f ms\n",
+              loop["achieved_rate_hz"].get<double>(), loop["jitter_p50_ms"].get<double>(),
+              loop["jitter_p99_ms"].get<double>(), loop["jitter_max_ms"].get<double>(),
+              s["haptics"]["simulation_steps"].get<std::size_t>(), s["haptics"]["deformation_rate_hz"].get<double>(),
+              loop["force_latency_mean_ms"].get<double>());
+  EXPECT_GT(loop["achieved_rate_hz"].get<double>(), 800.0);
+  EXPECT_LT(loop["achieved_rate_hz"].get<double>(), 1200.0);
+  EXPECT_EQ(loop["nan_events"].get<std::uint64_t>(), 0u);
+  EXPECT_GE(s["haptics"]["simulation_steps"].get<std::size_t>(), 1u);  // TSan builds step ~1 per 0.25 s
+  EXPECT_LE(loop["max_force_sent_n"].get<double>(), 0.05 + 1e-12);
+  fs::remove_all(d);
+}
+
+// Any Device can drive a session (the path a hardware device takes); it then needs haptics.duration_s.
+TEST(HapticSession, TakesAnExternalDevice) {
+  const fs::path d = fresh_dir("external");
+  ScriptedDevice device(read_trajectory(kData / "haptic-press.csv"));
+  HapticRunOptions opt;
+  opt.out_dir = d;
+  opt.device = &device;
+  EXPECT_THROW(run_haptic_session(block_scene(), opt), InputError);
+  const auto s = run_haptic_session(block_scene({"haptics.duration_s=0.02"}), opt);
+  EXPECT_EQ(s["haptics"]["ticks"].get<std::size_t>(), 21u);
+  EXPECT_EQ(device.sent_forces().size(), 21u);  // the loop sent every tick's force to this device
+  fs::remove_all(d);
+}
+
+int run(const std::vector<std::string>& args, std::string& err_text) {
+  std::ostringstream out, err;
+  const int rc = run_cli(args, out, err);
+  err_text = err.str();
+  return rc;
+}
+
+// Bad device files: one clear line naming the file (and the line), exit code 2, before any set-up.
+TEST(HapticSession, BadDeviceFilesExitWithCode2) {
+  const fs::path d = fresh_dir("bad");
+  const std::string header = "time_s,x_m,y_m,z_m\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"malformed.csv", header + "0,0.003,0.003\n"},
+      {"backwards.csv", header + "0,0.003,0.003,0.0032\n0.1,0.003,0.003,0.003\n0.05,0.003,0.003,0.003\n"},
+      {"nan.csv", header + "0,0.003,0.003,0.0032\n0.1,nan,0.003,0.003\n"},
+      {"empty.csv", header}};
+  for (const auto& [name, text] : cases) {
+    std::ofstream(d / name) << text;
+    std::string err;
+    const int rc = run({"-q", "run", (kData / "haptic-block.json").string(), "--out", (d / "out").string(),
+                        "--set", "haptics.device.trajectory=" + (d / name).string()},
+                       err);
+    EXPECT_EQ(rc, 2) << name << ": " << err;
+    EXPECT_NE(err.find(name), std::string::npos) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  }
+  std::string err;
+  EXPECT_EQ(run({"-q", "run", (kData / "haptic-block.json").string(), "--out", (d / "out").string(), "--set",
+                 "haptics.device.trajectory=" + (d / "missing.csv").string()},
+                err),
+            2);
+  EXPECT_NE(err.find("missing.csv"), std::string::npos) << err;
+  EXPECT_EQ(run({"-q", "run", (kData / "haptic-block.json").string(), "--out", (d / "out").string(), "--replay",
+                 (d / "nan.csv").string()},
+                err),
+            2);
+  fs::remove_all(d);
+}
+
+}  // namespace
+}  // namespace vascsim

@@ -188,5 +188,39 @@ TEST(Catheter, XpbdFollowsTheDevicePose) {
   EXPECT_LT(largest_jump, 0.25 * previous);  // no jump of a quarter of the final force in one step
 }
 
+// quasi_static driven by a device (DeviceDrivenModel, as a haptic session drives it): each frame is the
+// equilibrium at the posed tool. Posing the catheter to the depths of the load-stepped press gives the same
+// equilibrium force; the tolerance 1e-5 relative is far above the Newton residual of 1e-9 of the reactions
+// (the two runs take different predictors, so they agree to the solver tolerance, not bit for bit).
+TEST(Catheter, QuasiStaticDrivenByTheDevicePoseMatchesTheLoadSteps) {
+  Simulation stepped(parse_scene(pressed_block("quasi_static"), "catheter-block"));
+  StepRecord last;
+  for (int k = 1; k <= stepped.model().num_steps(); ++k) last = stepped.advance(k);
+  const Vec3 f_stepped = last.obstacles.at(0).force_n;
+
+  json doc = pressed_block("quasi_static");
+  doc["obstacles"][0]["motion_m"] = {0.0, 0.0, 0.0};
+  doc["quasi_static"]["frame_s"] = 0.002;
+  Simulation posed(parse_scene(doc, "catheter-block"));
+  DeviceDrivenModel* model = posed.model().device_driven();
+  ASSERT_NE(model, nullptr);
+  const Vec3 tip0(0.0075, 0.0032, 0.00398);
+  const Eigen::Quaterniond q = orientation_pointing(Vec3(1, 0, -0.08));
+  for (int k = 1; k <= 3; ++k) {
+    model->set_tool_pose(0, tip0 - Vec3(0, 0, k * 1e-3 / 3.0), q);
+    const StepReport r = model->step();
+    EXPECT_TRUE(r.converged);
+    EXPECT_NEAR(model->time(), 0.002 * k, 1e-15);
+  }
+  const Vec3 f_posed = model->tool_loads().at(0).force_n;
+  std::printf("[ catheter ] quasi_static posed: (%.6g, %.6g, %.6g) N, load-stepped (%.6g, %.6g, %.6g) N\n",
+              f_posed.x(), f_posed.y(), f_posed.z(), f_stepped.x(), f_stepped.y(), f_stepped.z());
+  EXPECT_LT((f_posed - f_stepped).norm(), 1e-5 * f_stepped.norm());
+  // The same pose again is the same equilibrium.
+  model->set_tool_pose(0, tip0 - Vec3(0, 0, 1e-3), q);
+  model->step();
+  EXPECT_LT((model->tool_loads().at(0).force_n - f_posed).norm(), 1e-5 * f_posed.norm());
+}
+
 }  // namespace
 }  // namespace vascsim

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <unistd.h>
 #include <fstream>
@@ -120,6 +121,50 @@ int run(const std::vector<std::string>& args, std::string& err_text) {
   const int rc = run_cli(args, out, err);
   err_text = err.str();
   return rc;
+}
+
+// Any model whose registry entry says a device can drive it runs a session: quasi_static, one equilibrium
+// per 50 ms frame (six frames, to keep the test short). The tool starts 0.2 mm above the block (no force at
+// the first frame) and presses 0.8 mm into it; the session replays bit for bit like xpbd's.
+TEST(HapticSession, QuasiStaticModelDrivesALockstepSession) {
+  const fs::path a = fresh_dir("qs-record"), b = fresh_dir("qs-replay");
+  const std::vector<std::string> sets = {"model=quasi_static", "quasi_static.frame_s=0.05",
+                                         "haptics.ticks_per_step=50"};
+  HapticRunOptions first;
+  first.out_dir = a;
+  const auto s1 = run_haptic_session(block_scene(sets), first);
+  EXPECT_EQ(s1["model"], "quasi_static");
+  EXPECT_EQ(s1["haptics"]["simulation_steps"].get<std::size_t>(), 6u);  // 251 ticks, one frame per 50
+  std::ifstream in(a / "force_history.csv");
+  std::string line;
+  std::getline(in, line);  // header
+  std::vector<double> forces;
+  while (std::getline(in, line)) {
+    std::stringstream row(line);
+    std::string cell;
+    for (int c = 0; c <= 8; ++c) std::getline(row, cell, ',');  // column 8: force_n
+    forces.push_back(std::stod(cell));
+  }
+  ASSERT_EQ(forces.size(), 6u);
+  EXPECT_EQ(forces.front(), 0.0);
+  for (double f : forces) EXPECT_TRUE(std::isfinite(f));
+  EXPECT_GT(*std::max_element(forces.begin(), forces.end()), 1e-3);
+  HapticRunOptions again;
+  again.out_dir = b;
+  again.replay = a / "session.csv";
+  const auto s2 = run_haptic_session(block_scene(sets), again);
+  EXPECT_TRUE(s2["haptics"]["replay"]["bit_identical"].get<bool>());
+}
+
+// A model a device cannot drive is refused by the scene, naming the models that can.
+TEST(HapticSession, ModelsNoDeviceCanDriveAreRefused) {
+  try {
+    block_scene({"model=explicit"});
+    ADD_FAILURE() << "explicit accepted for a haptic session";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("xpbd"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("haptics"), std::string::npos) << e.what();
+  }
 }
 
 // Bad device files: one clear line naming the file (and the line), exit code 2, before any set-up.

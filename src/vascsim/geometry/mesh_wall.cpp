@@ -4,7 +4,6 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -13,6 +12,7 @@
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/spatial_grid.hpp"
+#include "vascsim/core/stopwatch.hpp"
 #include "vascsim/geometry/vertex_normals.hpp"
 #include "vascsim/geometry/kuhn.hpp"
 
@@ -193,203 +193,205 @@ void lumen_wall_surface(const TriangleMesh& lumen, double t, MeshWall& w) {
   }
 }
 
-}  // namespace
-
-MeshWall make_mesh_wall(const TriangleMesh& input, const MeshWallSpec& spec) {
-  const auto start = std::chrono::steady_clock::now();
-  const std::string& name = spec.source;
-  auto require = [&](bool ok, const std::string& what) {
-    if (!ok) throw InputError(name + ": " + what);
-  };
-  require(spec.kind == "lumen" || spec.kind == "closed_wall",
-          fmt::format("mesh wall kind '{}' is unknown; use \"lumen\" or \"closed_wall\"", spec.kind));
-  const bool closed_wall = spec.kind == "closed_wall";
-  require(spec.min_layers >= 2, "min_layers must be >= 2 (MODEL.md decision 2 asks for >= 3)");
-  require(std::isfinite(spec.node_spacing_m) && spec.node_spacing_m > 0.0,
-          "node_spacing_m must be finite and > 0");
-  if (!closed_wall)
-    require(std::isfinite(spec.wall_thickness_m) && spec.wall_thickness_m > 0.0,
-            "wall_thickness_m must be finite and > 0");
-  check_mesh(input, name, closed_wall);
-
-  TriangleMesh mesh = input;
-  const MeshComponents comps = orient_outward(mesh);
-  const bool open = std::any_of(comps.closed.begin(), comps.closed.end(), [](char c) { return !c; });
-
-  MeshWall w;
-  TriangleMesh inner_mesh;
-  double t = spec.wall_thickness_m;
-  if (closed_wall) {
-    TriangleMesh outer_mesh;
-    inner_mesh.vertices = outer_mesh.vertices = mesh.vertices;
-    for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
-      (comps.nesting_depth[comps.of_triangle[f]] % 2 ? inner_mesh : outer_mesh)
-          .triangles.push_back(mesh.triangles[f]);
-    require(!inner_mesh.triangles.empty(),
-            fmt::format("closed_wall needs an inner surface inside the outer one, but none of the {} closed "
-                        "components lies inside another (use kind \"lumen\" for a lumen surface)",
-                        comps.count()));
-    t = thinnest_wall(inner_mesh, outer_mesh);
-    require(t > 0.0, "the inner and outer surfaces touch (thinnest wall 0)");
+// The lattice the wall nodes come from: spacing delta, `dims` points per axis from `origin`.
+struct Lattice {
+  Vec3 origin = Vec3::Zero();
+  double delta = 0.0;
+  Eigen::Array3d dims_real = Eigen::Array3d::Zero();
+  std::int64_t nx = 0, ny = 0, nz = 0;
+  double total() const { return dims_real.prod(); }
+  std::int64_t id(std::int64_t i, std::int64_t j, std::int64_t k) const { return i + nx * (j + ny * k); }
+  Vec3 point(std::int64_t id) const {
+    const std::int64_t i = id % nx, j = (id / nx) % ny, k = id / (nx * ny);
+    return Vec3(origin + delta * Vec3(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k)));
   }
-  // Delta = t / min_layers: with nodes snapped onto both surfaces an axis-aligned wall holds
-  // min_layers + 1 node planes. t / (min_layers - 1) (min_layers planes, as the swept vessel) measured
-  // min_layers - 1 in places on the aorta (measure_wall_layers: where a surface's snapped nodes were
-  // merged or their tets dropped, the depth span within Delta of the normal line falls short of t);
-  // t / min_layers measured >= min_layers on the tubes at every axis direction and on the aorta.
-  const double delta = std::min(spec.node_spacing_m, t / spec.min_layers);
-  w.thickness_m = t;
-  w.nominal_layers = static_cast<int>(std::floor(t / delta + 1e-9)) + 1;
+};
 
-  // Lattice over the mesh box, padded by the wall for "lumen" (the wall lies outside the lumen).
+[[noreturn]] void fail(const std::string& source, const std::string& what) { throw InputError(source + ": " + what); }
+
+void check_spec(const MeshWallSpec& spec) {
+  const std::string& name = spec.source;
+  if (spec.kind != "lumen" && spec.kind != "closed_wall")
+    fail(name, fmt::format("mesh wall kind '{}' is unknown; use \"lumen\" or \"closed_wall\"", spec.kind));
+  if (spec.min_layers < 2) fail(name, "min_layers must be >= 2 (3 or more recommended, docs/model.md)");
+  if (!(std::isfinite(spec.node_spacing_m) && spec.node_spacing_m > 0.0))
+    fail(name, "node_spacing_m must be finite and > 0");
+  if (spec.kind == "lumen" && !(std::isfinite(spec.wall_thickness_m) && spec.wall_thickness_m > 0.0))
+    fail(name, "wall_thickness_m must be finite and > 0");
+}
+
+// closed_wall: the inner (odd nesting depth) components of an oriented mesh, and the thinnest wall between
+// them and the outer ones.
+double split_closed_wall(const TriangleMesh& mesh, const MeshComponents& comps, const std::string& name,
+                         TriangleMesh& inner_mesh) {
+  TriangleMesh outer_mesh;
+  inner_mesh.vertices = outer_mesh.vertices = mesh.vertices;
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
+    (comps.nesting_depth[comps.of_triangle[f]] % 2 ? inner_mesh : outer_mesh).triangles.push_back(mesh.triangles[f]);
+  if (inner_mesh.triangles.empty())
+    fail(name, fmt::format("closed_wall needs an inner surface inside the outer one, but none of the {} closed "
+                           "components lies inside another (use kind \"lumen\" for a lumen surface)",
+                           comps.count()));
+  const double t = thinnest_wall(inner_mesh, outer_mesh);
+  if (!(t > 0.0)) fail(name, "the inner and outer surfaces touch (thinnest wall 0)");
+  return t;
+}
+
+// The lattice over the mesh box, padded by `pad` (the wall lies outside a lumen).
+Lattice make_lattice(const TriangleMesh& mesh, double pad, double delta, const std::string& name) {
   Eigen::AlignedBox3d box;
   for (const auto& tri : mesh.triangles)
     for (const Index v : tri) box.extend(mesh.vertices[v]);
-  const double pad = (closed_wall ? 0.0 : t) + delta;
-  const Vec3 origin = box.min() - Vec3::Constant(pad + kLatticeShift * delta);
-  const Vec3 extent = box.max() + Vec3::Constant(pad) - origin;
-  const Eigen::Array3d dims_real = (extent / delta).array().floor() + 2.0;
-  const double total = dims_real.prod();
-  require(
-      total <= kMaxLatticePoints,
-      fmt::format("the lattice at spacing {:.4g} m would have {:.3g} points; the limit is {:.0g} (increase "
-                  "node_spacing_m or wall_thickness_m)",
-                  delta, total, kMaxLatticePoints));
-  const Eigen::Vector3i dims = dims_real.cast<int>().matrix();
-  const auto nx = static_cast<std::int64_t>(dims[0]), ny = static_cast<std::int64_t>(dims[1]),
-             nz = static_cast<std::int64_t>(dims[2]);
-  auto lattice_id = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return i + nx * (j + ny * k); };
-  auto lattice_point = [&](std::int64_t id) {
-    const std::int64_t i = id % nx, j = (id / nx) % ny, k = id / (nx * ny);
-    return Vec3(origin +
-                delta * Vec3(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k)));
-  };
+  Lattice L;
+  L.delta = delta;
+  L.origin = box.min() - Vec3::Constant(pad + kLatticeShift * delta);
+  const Vec3 extent = box.max() + Vec3::Constant(pad) - L.origin;
+  L.dims_real = (extent / delta).array().floor() + 2.0;
+  if (!(L.total() <= kMaxLatticePoints))
+    fail(name, fmt::format("the lattice at spacing {:.4g} m would have {:.3g} points; the limit is {:.0g} (increase "
+                           "node_spacing_m or wall_thickness_m)",
+                           delta, L.total(), kMaxLatticePoints));
+  const Eigen::Vector3i dims = L.dims_real.cast<int>().matrix();
+  L.nx = dims[0];
+  L.ny = dims[1];
+  L.nz = dims[2];
+  return L;
+}
 
-  const MeshDistance surface(mesh);
-  std::optional<MeshDistance> inner;
-  if (closed_wall) inner.emplace(inner_mesh);
-  std::vector<char> triangle_is_inner(mesh.triangles.size(), 0);
-  for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
-    triangle_is_inner[f] = closed_wall && comps.nesting_depth[comps.of_triangle[f]] % 2 == 1;
-  WallSolid solid{&surface, inner ? &*inner : nullptr, closed_wall, open, t, delta, &triangle_is_inner};
-
-  // Candidates: for "lumen", lattice points within t + Delta of some triangle's box (a band that holds
-  // the wall and its snap band); for "closed_wall" every lattice point (the solid may be thick).
-  std::vector<std::int64_t> candidates;
-  if (!closed_wall) {
-    std::vector<char> mark(static_cast<std::size_t>(total), 0);
-    const double reach = t + delta;
-    for (const auto& tri : mesh.triangles) {
-      Eigen::AlignedBox3d tb;
-      for (const Index v : tri) tb.extend(mesh.vertices[v]);
-      const Eigen::Array3d lo = ((tb.min().array() - reach - origin.array()) / delta).ceil().max(0.0);
-      const Eigen::Array3d hi =
-          ((tb.max().array() + reach - origin.array()) / delta).floor().min(dims_real - 1.0);
-      for (auto k = static_cast<std::int64_t>(lo[2]); k <= static_cast<std::int64_t>(hi[2]); ++k)
-        for (auto j = static_cast<std::int64_t>(lo[1]); j <= static_cast<std::int64_t>(hi[1]); ++j)
-          for (auto i = static_cast<std::int64_t>(lo[0]); i <= static_cast<std::int64_t>(hi[0]); ++i)
-            mark[static_cast<std::size_t>(lattice_id(i, j, k))] = 1;
-    }
-    for (std::size_t c = 0; c < mark.size(); ++c)
-      if (mark[c]) candidates.push_back(static_cast<std::int64_t>(c));
+// "lumen": the lattice points within `reach` of some triangle's box (a band that holds the wall and its
+// snap band), in lattice order.
+std::vector<std::int64_t> band_candidates(const TriangleMesh& mesh, const Lattice& L, double reach) {
+  std::vector<char> mark(static_cast<std::size_t>(L.total()), 0);
+  for (const auto& tri : mesh.triangles) {
+    Eigen::AlignedBox3d tb;
+    for (const Index v : tri) tb.extend(mesh.vertices[v]);
+    const Eigen::Array3d lo = ((tb.min().array() - reach - L.origin.array()) / L.delta).ceil().max(0.0);
+    const Eigen::Array3d hi = ((tb.max().array() + reach - L.origin.array()) / L.delta).floor().min(L.dims_real - 1.0);
+    for (auto k = static_cast<std::int64_t>(lo[2]); k <= static_cast<std::int64_t>(hi[2]); ++k)
+      for (auto j = static_cast<std::int64_t>(lo[1]); j <= static_cast<std::int64_t>(hi[1]); ++j)
+        for (auto i = static_cast<std::int64_t>(lo[0]); i <= static_cast<std::int64_t>(hi[0]); ++i)
+          mark[static_cast<std::size_t>(L.id(i, j, k))] = 1;
   }
+  std::vector<std::int64_t> candidates;
+  for (std::size_t c = 0; c < mark.size(); ++c)
+    if (mark[c]) candidates.push_back(static_cast<std::int64_t>(c));
+  return candidates;
+}
 
-  // Nodes: lattice points of the solid and its snap band, evaluated in parallel chunks (bounded
-  // memory), numbered serially in lattice order (deterministic for any thread count).
+// The lattice points of the solid and its snap band, with their snapped positions.
+struct LatticeNodes {
+  std::vector<Index> node_of;  // per lattice point: node, -1 none
+  std::vector<std::int64_t> lattice;
+  std::vector<double> slack, depth;
+  std::vector<WallSolid::State> state;
+  Vec3Array pos, outward;
+  std::int64_t size() const { return static_cast<std::int64_t>(lattice.size()); }
+};
+
+// Evaluated in parallel chunks (bounded memory), numbered serially in lattice order (deterministic for any
+// thread count). `candidates` empty: every lattice point.
+LatticeNodes collect_nodes(const WallSolid& solid, const Lattice& L, const std::vector<std::int64_t>& candidates,
+                           bool all_points) {
   using State = WallSolid::State;
-  std::vector<Index> node_of(static_cast<std::size_t>(total), -1);
-  std::vector<std::int64_t> node_lattice;
-  std::vector<double> node_slack, node_depth;
-  std::vector<State> node_state;
-  Vec3Array node_pos, node_out;
+  LatticeNodes nodes;
+  nodes.node_of.assign(static_cast<std::size_t>(L.total()), -1);
   constexpr std::int64_t kChunk = 1 << 16;
   std::vector<WallSolid::NodeInfo> info(static_cast<std::size_t>(kChunk));
-  const auto ncand =
-      closed_wall ? static_cast<std::int64_t>(total) : static_cast<std::int64_t>(candidates.size());
-  auto candidate = [&](std::int64_t c) { return closed_wall ? c : candidates[static_cast<std::size_t>(c)]; };
+  const auto ncand = all_points ? static_cast<std::int64_t>(L.total()) : static_cast<std::int64_t>(candidates.size());
+  auto candidate = [&](std::int64_t c) { return all_points ? c : candidates[static_cast<std::size_t>(c)]; };
   for (std::int64_t c0 = 0; c0 < ncand; c0 += kChunk) {
     const std::int64_t c1 = std::min(ncand, c0 + kChunk);
 #pragma omp parallel for schedule(dynamic, 256)
-    for (std::int64_t c = c0; c < c1; ++c) info[c - c0] = solid.node(lattice_point(candidate(c)));
+    for (std::int64_t c = c0; c < c1; ++c) info[c - c0] = solid.node(L.point(candidate(c)));
     for (std::int64_t c = c0; c < c1; ++c) {
       const auto& n = info[c - c0];
       if (n.state == State::out) continue;
       const std::int64_t id = candidate(c);
-      node_of[static_cast<std::size_t>(id)] = static_cast<Index>(node_lattice.size());
-      node_lattice.push_back(id);
-      node_pos.push_back(n.pos);
-      node_state.push_back(n.state);
-      node_slack.push_back(n.slack);
-      node_depth.push_back(n.depth);
-      node_out.push_back(n.outward);
+      nodes.node_of[static_cast<std::size_t>(id)] = static_cast<Index>(nodes.lattice.size());
+      nodes.lattice.push_back(id);
+      nodes.pos.push_back(n.pos);
+      nodes.state.push_back(n.state);
+      nodes.slack.push_back(n.slack);
+      nodes.depth.push_back(n.depth);
+      nodes.outward.push_back(n.outward);
     }
   }
+  return nodes;
+}
 
-  // Merge snapped nodes closer than kMergeFraction Delta into the first of them (lattice order, so
-  // deterministic): an unsnapped node is >= Delta / 2 from any surface and lattice points are Delta
-  // apart, so only snapped pairs can come close. A hash of cells of edge r_merge finds them.
-  const auto nn = static_cast<std::int64_t>(node_lattice.size());
+// Merges snapped nodes closer than kMergeFraction Delta into the first of them (lattice order, so
+// deterministic): an unsnapped node is >= Delta / 2 from any surface and lattice points are Delta apart, so
+// only snapped pairs can come close. A hash of cells of edge r_merge finds them. Returns the alias of every
+// node (itself, or the node it merged into) and counts the merges.
+std::vector<Index> merge_snapped_nodes(const LatticeNodes& nodes, const Lattice& L, std::int64_t& merged) {
+  const std::int64_t nn = nodes.size();
   std::vector<Index> alias(static_cast<std::size_t>(nn));
-  std::int64_t merged = 0;
-  {
-    const double r_merge = kMergeFraction * delta;
-    auto key = [&](const Eigen::Vector3i& c) {
-      return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c[0])) * 73856093u) ^
-             (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c[1])) * 19349663u) ^
-             (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c[2])) * 83492791u);
-    };
-    std::unordered_map<std::uint64_t, std::vector<Index>> cells;
-    for (std::int64_t n = 0; n < nn; ++n) {
-      alias[n] = static_cast<Index>(n);
-      if (node_state[n] == State::interior) continue;
-      const Eigen::Vector3i c = ((node_pos[n] - origin) / r_merge).array().floor().cast<int>().matrix();
-      Index rep = -1;
-      for (int dz = -1; dz <= 1 && rep < 0; ++dz)
-        for (int dy = -1; dy <= 1 && rep < 0; ++dy)
-          for (int dx = -1; dx <= 1 && rep < 0; ++dx) {
-            const auto it = cells.find(key(c + Eigen::Vector3i(dx, dy, dz)));
-            if (it == cells.end()) continue;
-            for (const Index m : it->second)
-              if ((node_pos[m] - node_pos[n]).norm() < r_merge) {
-                rep = m;
-                break;
-              }
-          }
-      if (rep >= 0) {
-        alias[n] = rep;
-        ++merged;
-      } else {
-        cells[key(c)].push_back(static_cast<Index>(n));
-      }
+  merged = 0;
+  const double r_merge = kMergeFraction * L.delta;
+  auto key = [&](const Eigen::Vector3i& c) {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c[0])) * 73856093u) ^
+           (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c[1])) * 19349663u) ^
+           (static_cast<std::uint64_t>(static_cast<std::uint32_t>(c[2])) * 83492791u);
+  };
+  std::unordered_map<std::uint64_t, std::vector<Index>> cells;
+  for (std::int64_t n = 0; n < nn; ++n) {
+    alias[n] = static_cast<Index>(n);
+    if (nodes.state[n] == WallSolid::State::interior) continue;
+    const Eigen::Vector3i c = ((nodes.pos[n] - L.origin) / r_merge).array().floor().cast<int>().matrix();
+    Index rep = -1;
+    for (int dz = -1; dz <= 1 && rep < 0; ++dz)
+      for (int dy = -1; dy <= 1 && rep < 0; ++dy)
+        for (int dx = -1; dx <= 1 && rep < 0; ++dx) {
+          const auto it = cells.find(key(c + Eigen::Vector3i(dx, dy, dz)));
+          if (it == cells.end()) continue;
+          for (const Index m : it->second)
+            if ((nodes.pos[m] - nodes.pos[n]).norm() < r_merge) {
+              rep = m;
+              break;
+            }
+        }
+    if (rep >= 0) {
+      alias[n] = rep;
+      ++merged;
+    } else {
+      cells[key(c)].push_back(static_cast<Index>(n));
     }
   }
+  return alias;
+}
 
-  // Tets: a Kuhn tet of the lattice, with the snapped and merged vertex positions, is kept when its
-  // four vertices are distinct nodes, its quality is >= kMinQuality (so it is positively oriented),
-  // its centroid is inside the solid and no edge leaves the solid by more than kEdgeGrazeFraction
-  // Delta at its midpoint (so no tet spans the lumen or a gap between walls; both up to the chord sag
-  // of a curved surface). The Lipschitz bound skips the midpoint query when an endpoint is deep
-  // enough: slack(mid) >= slack(end) - |edge| / 2.
+// The eight corner nodes (after merging) of the lattice cell whose lowest corner is node n; -1 where the
+// cell leaves the lattice or a corner is no node.
+std::array<Index, 8> cell_corners(const LatticeNodes& nodes, const Lattice& L, const std::vector<Index>& alias,
+                                  std::int64_t n) {
+  std::array<Index, 8> corner;
+  corner.fill(-1);
+  const std::int64_t id = nodes.lattice[n];
+  const std::int64_t i = id % L.nx, j = (id / L.nx) % L.ny, k = id / (L.nx * L.ny);
+  if (i + 1 >= L.nx || j + 1 >= L.ny || k + 1 >= L.nz) return corner;
+  for (int m = 0; m < 8; ++m) {
+    const Index v = nodes.node_of[static_cast<std::size_t>(L.id(i + (m & 1), j + ((m >> 1) & 1), k + ((m >> 2) & 1)))];
+    corner[m] = v < 0 ? v : alias[v];
+  }
+  return corner;
+}
+
+// The Kuhn tets of the lattice cells, with the snapped and merged vertex positions, that the wall keeps: four
+// distinct nodes, quality >= kMinQuality (so positively oriented), the centroid inside the solid and no edge
+// leaving the solid by more than kEdgeGrazeFraction Delta at its midpoint (so no tet spans the lumen or a gap
+// between walls; both up to the chord sag of a curved surface). The Lipschitz bound skips the midpoint query
+// when an endpoint is deep enough: slack(mid) >= slack(end) - |edge| / 2. Counts the low-quality drops.
+std::vector<Tet> keep_tets(const WallSolid& solid, const LatticeNodes& nodes, const Lattice& L,
+                           const std::vector<Index>& alias, std::int64_t& dropped_low_quality) {
   const auto kuhn = positive_kuhn_tets();
-  const double graze = kEdgeGrazeFraction * delta;
+  const double graze = kEdgeGrazeFraction * L.delta;
+  const std::int64_t nn = nodes.size();
   std::vector<std::uint8_t> keep(static_cast<std::size_t>(nn), 0);
   std::vector<std::int64_t> low_quality(static_cast<std::size_t>(nn), 0);
-  auto cell_corners = [&](std::int64_t n) {
-    std::array<Index, 8> corner;
-    corner.fill(-1);
-    const std::int64_t id = node_lattice[n];
-    const std::int64_t i = id % nx, j = (id / nx) % ny, k = id / (nx * ny);
-    if (i + 1 >= nx || j + 1 >= ny || k + 1 >= nz) return corner;
-    for (int m = 0; m < 8; ++m) {
-      const Index v =
-          node_of[static_cast<std::size_t>(lattice_id(i + (m & 1), j + ((m >> 1) & 1), k + ((m >> 2) & 1)))];
-      corner[m] = v < 0 ? v : alias[v];
-    }
-    return corner;
-  };
+  const Vec3Array& pos = nodes.pos;
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::int64_t n = 0; n < nn; ++n) {
-    const std::array<Index, 8> corner = cell_corners(n);
+    const std::array<Index, 8> corner = cell_corners(nodes, L, alias, n);
     if (corner[0] < 0 || corner[7] < 0 || corner[0] == corner[7]) continue;
     std::uint8_t mask = 0;
     for (std::size_t q = 0; q < kuhn.size(); ++q) {
@@ -399,7 +401,7 @@ MeshWall make_mesh_wall(const TriangleMesh& input, const MeshWallSpec& spec) {
       if (tet[0] == tet[1] || tet[0] == tet[2] || tet[0] == tet[3] || tet[1] == tet[2] || tet[1] == tet[3] ||
           tet[2] == tet[3])
         continue;  // collapsed by a merge
-      const Vec3 &a = node_pos[tet[0]], &b = node_pos[tet[1]], &c = node_pos[tet[2]], &d = node_pos[tet[3]];
+      const Vec3 &a = pos[tet[0]], &b = pos[tet[1]], &c = pos[tet[2]], &d = pos[tet[3]];
       if (tet_quality(a, b, c, d) < kMinQuality) {
         ++low_quality[n];
         continue;
@@ -408,49 +410,54 @@ MeshWall make_mesh_wall(const TriangleMesh& input, const MeshWallSpec& spec) {
       bool ok = true;
       for (int u = 0; u < 4 && ok; ++u)
         for (int v = u + 1; v < 4 && ok; ++v) {
-          const double half = 0.5 * (node_pos[tet[u]] - node_pos[tet[v]]).norm();
-          if (std::max(node_slack[tet[u]], node_slack[tet[v]]) - half >= -graze) continue;
-          ok = solid.slack(0.5 * (node_pos[tet[u]] + node_pos[tet[v]])) >= -graze;
+          const double half = 0.5 * (pos[tet[u]] - pos[tet[v]]).norm();
+          if (std::max(nodes.slack[tet[u]], nodes.slack[tet[v]]) - half >= -graze) continue;
+          ok = solid.slack(0.5 * (pos[tet[u]] + pos[tet[v]])) >= -graze;
         }
       if (ok) mask = static_cast<std::uint8_t>(mask | (1u << q));
     }
     keep[n] = mask;
   }
-
-  // Keep only nodes used by a kept tet, renumbered in lattice order.
   std::vector<Tet> tets;
   for (std::int64_t n = 0; n < nn; ++n) {
     if (!keep[n]) continue;
-    const std::array<Index, 8> corner = cell_corners(n);
+    const std::array<Index, 8> corner = cell_corners(nodes, L, alias, n);
     for (std::size_t q = 0; q < kuhn.size(); ++q)
       if (keep[n] & (1u << q))
         tets.push_back({corner[kuhn[q][0]], corner[kuhn[q][1]], corner[kuhn[q][2]], corner[kuhn[q][3]]});
   }
-  require(!tets.empty(),
-          fmt::format("the wall keeps no tetrahedron at lattice spacing {:.4g} m (wall thickness "
-                      "{:.4g} m); decrease node_spacing_m",
-                      delta, t));
-  std::vector<Index> renumber(static_cast<std::size_t>(nn), -1);
+  dropped_low_quality = 0;
+  for (const auto c : low_quality) dropped_low_quality += c;
+  return tets;
+}
+
+// The node cloud of the kept tets: only nodes a tet uses, renumbered in lattice order, with their wall
+// coordinates.
+void build_wall_cloud(const LatticeNodes& nodes, std::vector<Tet> tets, double delta, MeshWall& w) {
+  using State = WallSolid::State;
+  std::vector<Index> renumber(static_cast<std::size_t>(nodes.size()), -1);
   for (const Tet& tet : tets)
     for (const Index v : tet) renumber[v] = 0;
   NodeCloud& cloud = w.cloud;
-  for (std::int64_t n = 0; n < nn; ++n) {
+  for (std::int64_t n = 0; n < nodes.size(); ++n) {
     if (renumber[n] < 0) continue;
     renumber[n] = static_cast<Index>(cloud.positions.size());
-    cloud.positions.push_back(node_pos[n]);
-    w.depth_m.push_back(node_depth[n]);
-    w.outward.push_back(node_out[n]);
-    w.node_surface.push_back(node_state[n] == State::inner ? 1 : node_state[n] == State::outer ? 2 : 0);
-    cloud.box.extend(node_pos[n]);
+    cloud.positions.push_back(nodes.pos[n]);
+    w.depth_m.push_back(nodes.depth[n]);
+    w.outward.push_back(nodes.outward[n]);
+    w.node_surface.push_back(nodes.state[n] == State::inner ? 1 : nodes.state[n] == State::outer ? 2 : 0);
+    cloud.box.extend(nodes.pos[n]);
   }
   for (Tet& tet : tets)
     for (Index& v : tet) v = renumber[v];
   cloud.tets = std::move(tets);
   cloud.kind = "mesh_wall";
   cloud.spacing_m = delta;
-  std::int64_t dropped_low_quality = 0;
-  for (const auto c : low_quality) dropped_low_quality += c;
+}
 
+// The render surface: a closed wall's own surfaces, or a lumen's wall (lumen_wall_surface).
+void build_wall_surface(const TriangleMesh& mesh, const MeshComponents& comps, bool closed_wall, double t,
+                        const std::string& name, MeshWall& w) {
   if (closed_wall) {
     w.triangles = mesh.triangles;
     w.surface_vertices = mesh.vertices;
@@ -459,20 +466,66 @@ MeshWall make_mesh_wall(const TriangleMesh& input, const MeshWallSpec& spec) {
     for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
       if (comps.nesting_depth[comps.of_triangle[f]] % 2 == 0)
         for (const Index v : mesh.triangles[f]) w.surface_is_outer[v] = 1;
-  } else {
-    lumen_wall_surface(mesh, t, w);
-    if (w.outer_foldovers > 0)
-      spdlog::warn(
-          "{}: {} of {} outer-surface triangles fold over (the lumen curves tighter than the wall "
-          "thickness {:.4g} m there); the rendering surface self-intersects locally",
-          name, w.outer_foldovers, mesh.triangles.size(), t);
+    return;
   }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  spdlog::info(
-      "{}: mesh wall ({}{}): {} nodes ({} snapped nodes merged), {} tets ({} below quality {} dropped), "
-      "lattice spacing {:.4g} m, wall {:.4g} m, {} nominal layers, {:.2f} s",
-      name, spec.kind, open ? ", open ends" : "", cloud.positions.size(), merged, cloud.tets.size(),
-      dropped_low_quality, kMinQuality, delta, t, w.nominal_layers, seconds);
+  lumen_wall_surface(mesh, t, w);
+  if (w.outer_foldovers > 0)
+    spdlog::warn("{}: {} of {} outer-surface triangles fold over (the lumen curves tighter than the wall "
+                 "thickness {:.4g} m there); the rendering surface self-intersects locally",
+                 name, w.outer_foldovers, mesh.triangles.size(), t);
+}
+
+}  // namespace
+
+MeshWall make_mesh_wall(const TriangleMesh& input, const MeshWallSpec& spec) {
+  const Stopwatch clock;
+  const std::string& name = spec.source;
+  check_spec(spec);
+  const bool closed_wall = spec.kind == "closed_wall";
+  check_mesh(input, name, closed_wall);
+  TriangleMesh mesh = input;
+  const MeshComponents comps = orient_outward(mesh);
+  const bool open = std::any_of(comps.closed.begin(), comps.closed.end(), [](char c) { return !c; });
+
+  MeshWall w;
+  TriangleMesh inner_mesh;
+  const double t = closed_wall ? split_closed_wall(mesh, comps, name, inner_mesh) : spec.wall_thickness_m;
+  // Delta = t / min_layers: with nodes snapped onto both surfaces an axis-aligned wall holds
+  // min_layers + 1 node planes. t / (min_layers - 1) (min_layers planes, as the swept vessel) measured
+  // min_layers - 1 in places on the aorta (measure_wall_layers: where a surface's snapped nodes were
+  // merged or their tets dropped, the depth span within Delta of the normal line falls short of t);
+  // t / min_layers measured >= min_layers on the tubes at every axis direction and on the aorta.
+  const double delta = std::min(spec.node_spacing_m, t / spec.min_layers);
+  w.thickness_m = t;
+  w.nominal_layers = static_cast<int>(std::floor(t / delta + 1e-9)) + 1;
+  const Lattice lattice = make_lattice(mesh, (closed_wall ? 0.0 : t) + delta, delta, name);
+
+  const MeshDistance surface(mesh);
+  std::optional<MeshDistance> inner;
+  if (closed_wall) inner.emplace(inner_mesh);
+  std::vector<char> triangle_is_inner(mesh.triangles.size(), 0);
+  for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
+    triangle_is_inner[f] = closed_wall && comps.nesting_depth[comps.of_triangle[f]] % 2 == 1;
+  const WallSolid solid{&surface, inner ? &*inner : nullptr, closed_wall, open, t, delta, &triangle_is_inner};
+
+  // Candidates: for "lumen", the band around the triangles; for "closed_wall" every lattice point (the solid
+  // may be thick).
+  const std::vector<std::int64_t> candidates =
+      closed_wall ? std::vector<std::int64_t>{} : band_candidates(mesh, lattice, t + delta);
+  const LatticeNodes nodes = collect_nodes(solid, lattice, candidates, closed_wall);
+  std::int64_t merged = 0, dropped_low_quality = 0;
+  const std::vector<Index> alias = merge_snapped_nodes(nodes, lattice, merged);
+  std::vector<Tet> tets = keep_tets(solid, nodes, lattice, alias, dropped_low_quality);
+  if (tets.empty())
+    fail(name, fmt::format("the wall keeps no tetrahedron at lattice spacing {:.4g} m (wall thickness {:.4g} m); "
+                           "decrease node_spacing_m",
+                           delta, t));
+  build_wall_cloud(nodes, std::move(tets), delta, w);
+  build_wall_surface(mesh, comps, closed_wall, t, name, w);
+  spdlog::info("{}: mesh wall ({}{}): {} nodes ({} snapped nodes merged), {} tets ({} below quality {} dropped), "
+               "lattice spacing {:.4g} m, wall {:.4g} m, {} nominal layers, {:.2f} s",
+               name, spec.kind, open ? ", open ends" : "", w.cloud.positions.size(), merged, w.cloud.tets.size(),
+               dropped_low_quality, kMinQuality, delta, t, w.nominal_layers, clock.seconds());
   return w;
 }
 

@@ -65,14 +65,73 @@ std::vector<std::string> column_names(const Table& t) {
 
 }  // namespace
 
+namespace {
+
+// The header line: which optional column groups the file has. Returns false if it is not recognised.
+bool parse_header(const std::vector<std::string_view>& cells, Table& t) {
+  std::size_t at = 0;
+  const bool ok = take(cells, at, kBase);
+  t.has_orientation = ok && take(cells, at, kQuat);
+  if (ok && at < cells.size() && cells[at] == "buttons") {
+    t.has_buttons = true;
+    ++at;
+  }
+  t.has_forces = ok && take(cells, at, kForce);
+  return ok && at == cells.size();
+}
+
+// One data row into the table; `fail` throws naming the line.
+template <class Fail>
+void parse_row(const std::vector<std::string_view>& cells, const std::vector<std::string>& columns, int line_no,
+               Table& t, const Fail& fail) {
+  if (cells.size() != columns.size())
+    fail(fmt::format("expected {} comma-separated values ({}), found {}", columns.size(), fmt::join(columns, ","),
+                     cells.size()));
+  std::array<double, 11> v{};  // every column except buttons, in header order
+  std::uint32_t buttons = 0;
+  std::size_t nv = 0;
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const std::string_view cell = cells[c];
+    const char* end = cell.data() + cell.size();
+    if (columns[c] == "buttons") {
+      const auto r = std::from_chars(cell.data(), end, buttons);
+      if (cell.empty() || r.ec != std::errc() || r.ptr != end)
+        fail(fmt::format("column 'buttons': '{}' is not an integer in [0, {}] (a bit mask)", cell,
+                         std::numeric_limits<std::uint32_t>::max()));
+      continue;
+    }
+    double x = 0.0;
+    const auto r = std::from_chars(cell.data(), end, x);
+    if (cell.empty() || r.ec == std::errc::invalid_argument || r.ptr != end)
+      fail(fmt::format("column '{}': '{}' is not a number; every value must be a finite decimal number", columns[c],
+                       cell));
+    if (r.ec == std::errc::result_out_of_range || !std::isfinite(x))
+      fail(fmt::format("column '{}': value '{}' is not finite; NaN and infinite values are not allowed", columns[c],
+                       cell));
+    v[nv++] = x;
+  }
+  DevicePose p;
+  p.time_s = v[0];
+  p.position_m = Vec3(v[1], v[2], v[3]);
+  std::size_t next = 4;
+  if (t.has_orientation) {
+    p.orientation = Eigen::Quaterniond(v[4], v[5], v[6], v[7]);  // Eigen's constructor order is w, x, y, z
+    next = 8;
+  }
+  p.buttons = buttons;
+  t.poses.push_back(p);
+  t.lines.push_back(line_no);
+  if (t.has_forces) t.forces_n.emplace_back(v[next], v[next + 1], v[next + 2]);
+}
+
+}  // namespace
+
 Table read(const std::filesystem::path& file) {
   const std::string name = file.string();
   std::ifstream in(file);
   if (!in)
     throw InputError(fmt::format(
-        "{}: cannot open the file (missing or unreadable); expected a CSV file with the header {}", name,
-        kLayout));
-
+        "{}: cannot open the file (missing or unreadable); expected a CSV file with the header {}", name, kLayout));
   Table t;
   std::vector<std::string> columns;
   std::string line;
@@ -80,73 +139,23 @@ Table read(const std::filesystem::path& file) {
   const auto fail = [&](const std::string& what) {
     throw InputError(fmt::format("{}: line {}: {}", name, line_no, what));
   };
-
   while (std::getline(in, line)) {
     ++line_no;
     const std::string_view text = trim(line);
     // Blank lines and '#' comment lines carry no data (a recording may start with a comment).
     if (text.empty() || text.front() == '#') continue;
     const auto cells = split(text);
-
-    if (columns.empty()) {
-      std::size_t at = 0;
-      const bool ok = take(cells, at, kBase);
-      t.has_orientation = ok && take(cells, at, kQuat);
-      if (ok && at < cells.size() && cells[at] == "buttons") {
-        t.has_buttons = true;
-        ++at;
-      }
-      t.has_forces = ok && take(cells, at, kForce);
-      if (!ok || at != cells.size())
-        fail(fmt::format("header '{}' is not recognised; expected {} (names in this order)", text, kLayout));
-      columns = column_names(t);
+    if (!columns.empty()) {
+      parse_row(cells, columns, line_no, t, fail);
       continue;
     }
-
-    if (cells.size() != columns.size())
-      fail(fmt::format("expected {} comma-separated values ({}), found {}", columns.size(),
-                       fmt::join(columns, ","), cells.size()));
-    std::array<double, 11> v{};  // every column except buttons, in header order
-    std::uint32_t buttons = 0;
-    std::size_t nv = 0;
-    for (std::size_t c = 0; c < cells.size(); ++c) {
-      const std::string_view cell = cells[c];
-      const char* end = cell.data() + cell.size();
-      if (columns[c] == "buttons") {
-        const auto r = std::from_chars(cell.data(), end, buttons);
-        if (cell.empty() || r.ec != std::errc() || r.ptr != end)
-          fail(fmt::format("column 'buttons': '{}' is not an integer in [0, {}] (a bit mask)", cell,
-                           std::numeric_limits<std::uint32_t>::max()));
-        continue;
-      }
-      double x = 0.0;
-      const auto r = std::from_chars(cell.data(), end, x);
-      if (cell.empty() || r.ec == std::errc::invalid_argument || r.ptr != end)
-        fail(fmt::format("column '{}': '{}' is not a number; every value must be a finite decimal number",
-                         columns[c], cell));
-      if (r.ec == std::errc::result_out_of_range || !std::isfinite(x))
-        fail(fmt::format("column '{}': value '{}' is not finite; NaN and infinite values are not allowed",
-                         columns[c], cell));
-      v[nv++] = x;
-    }
-
-    DevicePose p;
-    p.time_s = v[0];
-    p.position_m = Vec3(v[1], v[2], v[3]);
-    std::size_t next = 4;
-    if (t.has_orientation) {
-      p.orientation = Eigen::Quaterniond(v[4], v[5], v[6], v[7]);  // Eigen's constructor order is w, x, y, z
-      next = 8;
-    }
-    p.buttons = buttons;
-    t.poses.push_back(p);
-    t.lines.push_back(line_no);
-    if (t.has_forces) t.forces_n.emplace_back(v[next], v[next + 1], v[next + 2]);
+    if (!parse_header(cells, t))
+      fail(fmt::format("header '{}' is not recognised; expected {} (names in this order)", text, kLayout));
+    columns = column_names(t);
   }
   if (in.bad()) throw InputError(fmt::format("{}: read error after line {}", name, line_no));
   if (columns.empty())
-    throw InputError(
-        fmt::format("{}: the file is empty (no header line); expected the header {}", name, kLayout));
+    throw InputError(fmt::format("{}: the file is empty (no header line); expected the header {}", name, kLayout));
   return t;
 }
 

@@ -12,6 +12,8 @@
 
 #include "vascsim/app/progress.hpp"
 #include "vascsim/core/error.hpp"
+#include "vascsim/experiments/ahp_evaluation.hpp"
+#include "vascsim/experiments/ahp_report.hpp"
 #include "vascsim/experiments/cantilever.hpp"
 #include "vascsim/experiments/force_displacement.hpp"
 #include "vascsim/experiments/mls_validation.hpp"
@@ -238,6 +240,31 @@ int command_bench(RealtimeBenchOptions opt, const std::vector<std::string>& outs
   return 0;
 }
 
+struct AhpFlags {
+  std::string hierarchy, bands, ratings, measurements, out = "out/ahp";
+  bool no_plot = false, paper_weights = false;
+};
+
+int command_ahp(const AhpFlags& f, std::ostream& out) {
+  const std::filesystem::path data = ahp::default_data_dir();
+  ahp::AhpInputs in;
+  in.hierarchy = f.hierarchy.empty() ? data / "paper-hierarchy.json" : std::filesystem::path(f.hierarchy);
+  in.bands = f.bands.empty() ? data / "paper-bands.json" : std::filesystem::path(f.bands);
+  in.ratings = f.ratings.empty() ? data / "paper-ratings.json" : std::filesystem::path(f.ratings);
+  if (!f.measurements.empty()) in.measurements = f.measurements;
+  in.paper_weights = f.paper_weights;
+  const ahp::AhpReport report = ahp::run_ahp(in);
+  ahp::OutputOptions opt;
+  opt.out_dir = f.out;
+  opt.plot = !f.no_plot;
+  const ahp::Outputs written = ahp::write_outputs(report, opt);
+  out << ahp::markdown(report) << "\n";
+  for (const auto& p : written.files) out << "wrote " << p.string() << "\n";
+  if (!written.png.empty()) out << "wrote " << written.png.string() << "\n";
+  if (!written.plot_problem.empty()) out << "warning: no plot: " << written.plot_problem << "\n";
+  return 0;
+}
+
 }  // namespace
 
 int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
@@ -308,8 +335,22 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   fd->add_option("--tool", fd_tool, "The obstacle that presses (default: the scene's only obstacle)");
   fd->add_flag("--no-plot", fd_no_plot, "Write the CSV only (no matplotlib call)");
 
+  auto* ahp_cmd = app.add_subcommand(
+      "ahp", "The paper's AHP evaluation (Tables 1-3, Eq. 40): weights and consistency of the pairwise matrices, the "
+             "score table of all models and a figure (docs/ahp.md); default inputs: the bundled data/ahp files");
+  AhpFlags ahp_flags;
+  ahp_cmd->add_option("--hierarchy", ahp_flags.hierarchy, "Hierarchy with pairwise matrices (default: paper-hierarchy.json)");
+  ahp_cmd->add_option("--bands", ahp_flags.bands, "Evaluation standard, Table 2 (default: paper-bands.json)");
+  ahp_cmd->add_option("--ratings", ahp_flags.ratings, "Indicator ratings per model (default: paper-ratings.json)");
+  ahp_cmd->add_option("--measurements", ahp_flags.measurements,
+                      "Measured figures per model (data/ahp/measurements.schema.json; default: none)");
+  ahp_cmd->add_option("--out", ahp_flags.out, "Output folder")->capture_default_str();
+  ahp_cmd->add_flag("--no-plot", ahp_flags.no_plot, "Write the tables only (no matplotlib call)");
+  ahp_cmd->add_flag("--paper-weights", ahp_flags.paper_weights,
+                    "Use Table 1's printed W_i in Eq. 40 instead of the weights computed from the matrices");
+
   // Global options (-q, -v, -j) are accepted after the subcommand too.
-  for (auto* sub : {run, validate, cant, mls, bench, experiment, fd}) sub->fallthrough();
+  for (auto* sub : {run, validate, cant, mls, bench, experiment, fd, ahp_cmd}) sub->fallthrough();
   std::vector<std::string> rev(args.rbegin(), args.rend());
   try {
     app.parse(rev);
@@ -335,6 +376,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
     if (cant->parsed()) return command_validate_cantilever(out_dir, sizes, out, err);
     if (fd->parsed()) return command_force_displacement(scene_path, sets, out_dir, fd_tool, !fd_no_plot, out, err);
     if (mls->parsed()) return command_validate_mls(mls_scenes, sets, mls_tight, out_dir, out);
+    if (ahp_cmd->parsed()) return command_ahp(ahp_flags, out);
     if (bench->parsed()) {
       if (bench_threads->count() == 0 && threads > 0) bench_opt.threads = {threads};
       return command_bench(bench_opt, bench_out, quiet, verbose, out, err);

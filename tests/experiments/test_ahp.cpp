@@ -108,6 +108,18 @@ TEST(AhpMatrix, ThreeByThreeClosedForm) {
   const std::string msg = input_error([&] { check_pairwise(a, JudgementScale::saaty, src({"I5", "I6", "I7"})); });
   EXPECT_NE(msg.find("test.json: key 'criteria.1.matrix' (C2 indicators)"), std::string::npos) << msg;
   EXPECT_NE(msg.find("CR = 0.1874 > 0.1"), std::string::npos) << msg;
+
+  // Either side of the 0.1 limit: d = 2.5 (a = 5, b = 2, c = 1) gives CR = 0.0810, accepted; d = 3 (a = 3,
+  // b = 1, c = 1) gives CR = 0.1169, rejected.
+  auto closed_cr = [](double d) { return (std::cbrt(d) + 1.0 / std::cbrt(d) - 2.0) / 2.0 / 0.58; };
+  const PairwiseAnalysis ok = check_pairwise(matrix({{1, 5, 2}, {0.2, 1, 1}, {0.5, 1, 1}}), JudgementScale::saaty, src());
+  EXPECT_NEAR(ok.cr, closed_cr(2.5), 1e-12);
+  EXPECT_LT(ok.cr, 0.1);
+  const Eigen::MatrixXd over = matrix({{1, 3, 1}, {1.0 / 3, 1, 1}, {1, 1, 1}});
+  EXPECT_NEAR(analyse_pairwise(over).cr, closed_cr(3.0), 1e-12);
+  EXPECT_GT(analyse_pairwise(over).cr, 0.1);
+  EXPECT_NE(input_error([&] { check_pairwise(over, JudgementScale::saaty, src()); }).find("CR = 0.1169 > 0.1"),
+            std::string::npos);
 }
 
 TEST(AhpMatrix, SaatyHouseExample) {

@@ -46,6 +46,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   add_validate_commands(app, ctx, commands);
   add_bench_command(app, ctx, commands);
   add_experiment_commands(app, ctx, commands);
+  add_ahp_command(app, ctx, commands);
   fall_through(app);
 
   std::vector<std::string> rev(args.rbegin(), args.rend());

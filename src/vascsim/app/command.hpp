@@ -33,5 +33,6 @@ void add_run_command(CLI::App& app, CliContext& ctx, std::vector<Command>& comma
 void add_experiment_commands(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 void add_validate_commands(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 void add_bench_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
+void add_ahp_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 
 }  // namespace vascsim

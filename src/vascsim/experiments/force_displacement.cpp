@@ -6,25 +6,11 @@
 #include <spdlog/spdlog.h>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/experiments/plot_script.hpp"
 #include "vascsim/run/output_writer.hpp"
 #include "vascsim/run/runner.hpp"
 
-#ifndef VASCSIM_SOURCE_DIR
-#define VASCSIM_SOURCE_DIR "."
-#endif
-
 namespace vascsim {
-
-namespace {
-
-// Quotes a path for /bin/sh.
-std::string shell_quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-}  // namespace
 
 std::vector<std::string> force_displacement_columns() {
   return {"step",      "displacement_m", "force_n",      "force_x_n",    "force_y_n", "force_z_n",
@@ -67,24 +53,17 @@ ForceDisplacementResult run_force_displacement(const Scene& scene, const ForceDi
   result.summary["force_displacement"] = {{"tool", ob.name}, {"csv", result.csv.filename().string()}, {"rows", rows}};
 
   if (options.plot) {
-    const fs::path script =
-        options.plot_script.empty() ? fs::path(VASCSIM_SOURCE_DIR) / "scripts" / "plot_force_displacement.py" : options.plot_script;
+    const fs::path script = options.plot_script.empty() ? source_script("plot_force_displacement.py") : options.plot_script;
     const fs::path png = options.out_dir / "force_displacement.png";
-    if (!fs::exists(script)) {
-      result.plot_problem = fmt::format("{} not found", script.string());
-    } else {
-      const std::string cmd = fmt::format("{} {} {} --out {} --label {} --title {}", shell_quote(options.python),
-                                          shell_quote(script.string()), shell_quote(result.csv.string()),
-                                          shell_quote(png.string()), shell_quote(scene.model),
-                                          shell_quote(scene.name));
-      const int rc = std::system((cmd + " > /dev/null").c_str());
-      if (rc == 0)
-        result.png = png;
-      else
-        result.plot_problem = fmt::format("the plot script failed (exit status {}): {}", rc, cmd);
-    }
-    if (!result.plot_problem.empty()) result.summary["force_displacement"]["plot_problem"] = result.plot_problem;
-    else result.summary["force_displacement"]["png"] = png.filename().string();
+    const PlotOutcome plot = run_plot_script(
+        script, {result.csv.string(), "--out", png.string(), "--label", scene.model, "--title", scene.name}, png,
+        options.python);
+    result.png = plot.png;
+    result.plot_problem = plot.problem;
+    if (!result.plot_problem.empty())
+      result.summary["force_displacement"]["plot_problem"] = result.plot_problem;
+    else
+      result.summary["force_displacement"]["png"] = png.filename().string();
   }
   out.write_summary(result.summary);
   return result;

@@ -1,0 +1,54 @@
+#include "vascsim/experiments/plot_script.hpp"
+
+#include <cstdlib>
+#include <fmt/format.h>
+
+#ifndef VASCSIM_SOURCE_DIR
+#define VASCSIM_SOURCE_DIR "."
+#endif
+
+namespace vascsim {
+
+namespace {
+
+// Quotes a word for /bin/sh.
+std::string shell_quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) {
+    if (c == '\'')
+      q.append("'\\''");
+    else
+      q.push_back(c);
+  }
+  q.push_back('\'');
+  return q;
+}
+
+}  // namespace
+
+std::filesystem::path source_path(const std::string& relative) {
+  return std::filesystem::path(VASCSIM_SOURCE_DIR) / relative;
+}
+
+std::filesystem::path source_script(const std::string& name) { return source_path("scripts") / name; }
+
+PlotOutcome run_plot_script(const std::filesystem::path& script, const std::vector<std::string>& args,
+                            const std::filesystem::path& png, const std::string& python) {
+  PlotOutcome out;
+  if (!std::filesystem::exists(script)) {
+    out.problem = fmt::format("{} not found", script.string());
+    return out;
+  }
+  std::string cmd = shell_quote(python);
+  cmd.append(" ").append(shell_quote(script.string()));
+  for (const auto& a : args) cmd.append(" ").append(shell_quote(a));
+  const std::string quiet = fmt::format("{} > /dev/null", cmd);
+  const int rc = std::system(quiet.c_str());
+  if (rc == 0)
+    out.png = png;
+  else
+    out.problem = fmt::format("the plot script failed (exit status {}): {}", rc, cmd);
+  return out;
+}
+
+}  // namespace vascsim

@@ -18,10 +18,12 @@
 // Driven by a device (DeviceDrivenModel), every frame solves the equilibrium at the posed tools with the
 // other loads at full value (load factor 1); frame_s is the simulated time a frame stands for.
 
-#include <Eigen/IterativeLinearSolvers>
-#include <Eigen/SparseCholesky>
+#include <memory>
 
+#include "vascsim/model/contact_active_set.hpp"
 #include "vascsim/model/device_driven_model.hpp"
+#include "vascsim/model/equilibrium_preconditioner.hpp"
+#include "vascsim/model/newton_equilibrium.hpp"
 #include "vascsim/model/registry.hpp"
 
 namespace vascsim {
@@ -71,44 +73,21 @@ class QuasiStaticModel final : public Model, public DeviceDrivenModel {
   StepReport solve(double s);
 
  private:
-  // Set-up.
-  void build_preconditioner();
   // One load step, in the order solve() runs them.
   void predict(double s, const Vec3Array& f_ext, StepReport& rep);
-  double residual(double s, const Vec3Array& f_ext, Vec3Array& r, Vec3Array& r_unfiltered);
-  bool line_search(const Vec3Array& r, const Vec3Array& f_ext, Vec3Array& dx, Vec3Array& trial);
   void finish_step(double s, double res, StepReport& rep);
-
-  double residual_norm(const Vec3Array& r) const;  // |r| over free nodes
-  double potential(const Vec3Array& x, const Vec3Array& f_ext) const;
-  // PCG on H_ff dx = rhs (free nodes); returns iterations. Stops at |res| <= eta |rhs| or negative curvature.
-  int conjugate_gradients(const Vec3Array& x, const Vec3Array& rhs, double eta, Vec3Array& dx) const;
-  void precondition(const Vec3Array& r, Vec3Array& z) const;
-  // Contact (active set).
-  void place_tools(double s);       // geometry_ at load factor s (or the device poses)
-  Vec3 tool_point(std::size_t o, double s) const;
-  void filter(Vec3Array& v) const;  // removes the normal component at nodes in contact
-  // Puts every node in contact on its tool's surface at the current geometry; with `add`, also takes in
-  // the free nodes that penetrate a tool. Returns the number taken in.
-  int project_contacts(Vec3Array& x, bool add);
-  void add_contact_curvature(const Vec3Array& x, const Vec3Array& p, Vec3Array& Hp) const;
-  int release_pulling_contacts(const Vec3Array& r);  // lambda = -r.n < 0: released; returns how many
-  void measure_contacts(const Vec3Array& r, double s);
+  void place_tools(double s);  // the contact geometry at load factor s (or the device poses)
+  std::vector<Vec3> tool_points(double s) const;
 
   const Problem& problem_;
   QuasiStaticSettings settings_;
   Vec3Array x_, x_prev_;  // current and previous converged states (secant predictor)
   double s_ = 0.0, s_prev_ = 0.0, t_ = 0.0;
-  std::vector<Index> free_;               // free node ids
-  std::vector<Eigen::Index> free_slot_;   // node -> position in the reduced vector (-1 constrained)
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> cholesky_;
-  Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> incomplete_;
-  bool have_precond_ = false;
-  std::vector<int> contact_of_;             // per node: tool in contact, -1 none
-  Vec3Array contact_normal_;                // per node in contact: unit normal out of the tool
-  std::vector<double> contact_lambda_;      // per node in contact: normal force -r.n at the last Newton iterate
-  std::vector<constraints::Capsule> geometry_;  // tools at the load factor being solved
-  std::vector<char> posed_;                     // per tool: placed by set_tool_pose
+  FreeDofs free_;
+  ContactActiveSet contacts_;
+  NewtonEquilibrium newton_;
+  std::unique_ptr<EquilibriumPreconditioner> preconditioner_;
+  std::vector<char> posed_;  // per tool: placed by set_tool_pose
   std::vector<constraints::Capsule> posed_geometry_;
   std::vector<Vec3> posed_point_;
   std::vector<ObstacleLoad> obstacle_load_;

@@ -1,0 +1,44 @@
+#pragma once
+// Preconditioners of the equilibrium solvers' conjugate gradients (newton_equilibrium.hpp): z = P^{-1} r on
+// the free nodes, with P a sparse factorisation of a matrix close to the Newton matrix (the tangent
+// stiffness, plus M/h^2 for backward Euler). The solver filters contact normals around it.
+
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseCholesky>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "vascsim/model/free_dofs.hpp"
+
+namespace vascsim {
+
+class EquilibriumPreconditioner {
+ public:
+  virtual ~EquilibriumPreconditioner() = default;
+  /// z = P^{-1} r on the free nodes (z is sized like r; prescribed entries zero). False when there is no
+  /// usable factor (the solver then uses z = r).
+  virtual bool apply(const Vec3Array& r, Vec3Array& z) const = 0;
+  /// For summary.json: what P is and what it cost.
+  virtual nlohmann::json info() const = 0;
+};
+
+/// P = a factor of the virtual tetrahedra's linear-elastic stiffness on the free nodes (exact sparse Cholesky
+/// or incomplete Cholesky). Cheap to build, but a poor match for the meshless Hessian on thin walls (hundreds
+/// of CG iterations per Newton step on the vein).
+class TetStiffnessPreconditioner final : public EquilibriumPreconditioner {
+ public:
+  /// kind: "cholesky", "incomplete_cholesky" or "none".
+  TetStiffnessPreconditioner(const Problem& problem, const FreeDofs& free, const std::string& kind);
+  bool apply(const Vec3Array& r, Vec3Array& z) const override;
+  nlohmann::json info() const override;
+
+ private:
+  const FreeDofs& free_;
+  std::string kind_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> cholesky_;
+  Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> incomplete_;
+  bool ready_ = false;
+};
+
+}  // namespace vascsim

@@ -1,0 +1,240 @@
+#include "vascsim/model/newton_equilibrium.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "vascsim/core/error.hpp"
+
+namespace vascsim {
+
+namespace {
+double dot(const Vec3Array& a, const Vec3Array& b) {
+  double s = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) s += a[i].dot(b[i]);
+  return s;
+}
+}  // namespace
+
+NewtonEquilibrium::NewtonEquilibrium(const Problem& problem, const FreeDofs& free, ContactActiveSet& contacts,
+                                     const NewtonSettings& settings)
+    : problem_(problem), free_(free), contacts_(contacts), settings_(settings) {}
+
+double NewtonEquilibrium::residual_norm(const Vec3Array& r) const {
+  double s = 0.0;
+  for (Index i : free_.nodes) s += r[i].squaredNorm();
+  return std::sqrt(s);
+}
+
+double NewtonEquilibrium::potential(const Vec3Array& x, const Vec3Array& f_ext, const InertiaTerm& inertia) const {
+  const Vec3Array& X = problem_.discretization().rest_positions();
+  double work = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) work += f_ext[i].dot(x[i] - X[i]);
+  double kinetic = 0.0;
+  if (inertia.active()) {
+    const auto& m = problem_.discretization().masses();
+    const Vec3Array& a = *inertia.anchor;
+    for (Index i : free_.nodes) kinetic += m[i] * (x[i] - a[i]).squaredNorm();
+    kinetic *= 0.5 * inertia.inv_h2;
+  }
+  return problem_.energy().energy(x).total() - work + kinetic;
+}
+
+void NewtonEquilibrium::precondition(const Vec3Array& r, Vec3Array& z) const {
+  if (preconditioner_ == nullptr || !preconditioner_->apply(r, z)) {
+    z.assign(r.size(), Vec3::Zero());
+    for (Index i : free_.nodes) z[i] = r[i];
+  }
+  contacts_.filter(z);
+}
+
+void NewtonEquilibrium::hessian_product(const PointPrimitiveEnergy::Linearization& lin, const Vec3Array& x,
+                                        const Vec3Array& p, const InertiaTerm& inertia, Vec3Array& Hp) const {
+  problem_.energy().hessian_product(lin, p, Hp);
+  for (std::size_t i = 0; i < Hp.size(); ++i)
+    if (problem_.constrained()[i]) Hp[i].setZero();
+  if (inertia.active()) {
+    const auto& m = problem_.discretization().masses();
+    for (Index i : free_.nodes) Hp[i] += (inertia.inv_h2 * m[i]) * p[i];
+  }
+  contacts_.add_curvature(x, p, Hp);
+  contacts_.filter(Hp);
+}
+
+int NewtonEquilibrium::conjugate_gradients(const Vec3Array& x, const Vec3Array& rhs, double eta,
+                                           const InertiaTerm& inertia, Vec3Array& dx,
+                                           SteadyClock::time_point deadline) const {
+  const std::size_t n = x.size();
+  dx.assign(n, Vec3::Zero());
+  Vec3Array r(n, Vec3::Zero()), z, p, Hp;
+  const auto lin = problem_.energy().linearize(x);
+  for (Index i : free_.nodes) r[i] = rhs[i];
+  contacts_.filter(r);
+  const double target = eta * residual_norm(r);
+  precondition(r, z);
+  p = z;
+  double rz = dot(r, z);
+  int it = 0;
+  for (; it < settings_.max_cg_iterations; ++it) {
+    hessian_product(lin, x, p, inertia, Hp);
+    const double pHp = dot(p, Hp);
+    if (!(pHp > 0.0)) {
+      // Negative curvature (SVK under compression): keep what we have, or the preconditioned gradient.
+      if (it == 0) dx = z;
+      break;
+    }
+    const double alpha = rz / pHp;
+    for (std::size_t i = 0; i < n; ++i) {
+      dx[i] += alpha * p[i];
+      r[i] -= alpha * Hp[i];
+    }
+    if (residual_norm(r) <= target || SteadyClock::now() >= deadline) {
+      ++it;
+      break;
+    }
+    precondition(r, z);
+    const double rz_next = dot(r, z);
+    const double beta = rz_next / rz;
+    rz = rz_next;
+    for (std::size_t i = 0; i < n; ++i) p[i] = z[i] + beta * p[i];
+  }
+  return it;
+}
+
+double NewtonEquilibrium::residual(Vec3Array& x, double s, const Vec3Array& f_ext, const InertiaTerm& inertia,
+                                   Vec3Array& r) {
+  // r = f_int + f_ext - inertial force; scaled by the largest of the reactions (supports and tools), the
+  // applied loads and the inertial forces.
+  const Index n = problem_.discretization().num_nodes();
+  Vec3Array f_int;
+  problem_.energy().forces(x, f_int);
+  double reaction2 = 0.0, ext2 = 0.0, inertial2 = 0.0;
+  const auto& m = problem_.discretization().masses();
+  for (Index i = 0; i < n; ++i) {
+    r[i] = f_int[i] + f_ext[i];
+    ext2 += f_ext[i].squaredNorm();
+    if (problem_.constrained()[i]) {
+      reaction2 += r[i].squaredNorm();
+    } else if (inertia.active()) {
+      const Vec3 f_inertia = (inertia.inv_h2 * m[i]) * (x[i] - (*inertia.anchor)[i]);
+      r[i] -= f_inertia;
+      inertial2 += f_inertia.squaredNorm();
+    }
+    if (contacts_.in_contact(i)) reaction2 += std::pow(r[i].dot(contacts_.normal(i)), 2);
+  }
+  const double scale = std::max(std::sqrt(std::max({reaction2, ext2, inertial2})), 1e-300);
+  r_unfiltered_ = r;
+  if (!contacts_.empty()) {
+    contacts_.update_lambdas(r);
+    contacts_.filter(r);
+  }
+  const double res = residual_norm(r) / scale;
+  if (!std::isfinite(res)) throw NumericalError(fmt::format("non-finite residual at load factor {:.4g}", s));
+  return res;
+}
+
+bool NewtonEquilibrium::line_search(const Vec3Array& x, const Vec3Array& r, const Vec3Array& f_ext,
+                                    const InertiaTerm& inertia, Vec3Array& dx, Vec3Array& trial) {
+  // Backtracking Armijo line search on Pi: the directional derivative is -r . dx.
+  const Index n = problem_.discretization().num_nodes();
+  const double slope = -dot(r, dx);
+  if (!(slope < 0.0)) {
+    for (Index i : free_.nodes) dx[i] = r[i];  // not a descent direction: fall back to the gradient
+  }
+  const double pi0 = potential(x, f_ext, inertia);
+  const double g = std::min(-dot(r, dx), 0.0);
+  double step = 1.0;
+  for (int ls = 0; ls < 40; ++ls, step *= 0.5) {
+    for (Index i = 0; i < n; ++i) trial[i] = x[i] + step * dx[i];
+    contacts_.project(trial, false);
+    const double pi = potential(trial, f_ext, inertia);
+    if (std::isfinite(pi) && pi <= pi0 + 1e-4 * step * g) return true;
+    if (ls == 0) {
+      // Near the solution the energy decrease falls below round-off; accept the full step when it reduces
+      // the force residual instead.
+      Vec3Array f_trial;
+      problem_.energy().forces(trial, f_trial);
+      const auto& m = problem_.discretization().masses();
+      for (Index i : free_.nodes) {
+        f_trial[i] += f_ext[i];
+        if (inertia.active()) f_trial[i] -= (inertia.inv_h2 * m[i]) * (trial[i] - (*inertia.anchor)[i]);
+      }
+      contacts_.filter(f_trial);
+      double r2 = 0.0;
+      for (Index i : free_.nodes) r2 += f_trial[i].squaredNorm();
+      if (std::isfinite(r2) && std::sqrt(r2) < 0.9 * residual_norm(r)) return true;
+    }
+  }
+  return false;
+}
+
+NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f_ext, const InertiaTerm& inertia,
+                                      SteadyClock::time_point deadline) {
+  const Index n = problem_.discretization().num_nodes();
+  NewtonResult out;
+  Vec3Array r(n), dx, trial(n);
+  double best = INFINITY;
+  int stalled = 0;
+  for (int it = 0;; ++it) {
+    out.residual = residual(x, s, f_ext, inertia, r);
+    if (spdlog::should_log(spdlog::level::debug))
+      spdlog::debug("equilibrium: s = {:.4g}, Newton {}: relative residual {:.3e}{}", s, it, out.residual,
+                    contacts_.empty() ? std::string()
+                                      : fmt::format(" ({} contacts, {} pulling)", contacts_.active(), contacts_.pulling()));
+    // Nearly converged for this active set (1e-3, well before the tolerance, so that Newton does not polish
+    // a set that is about to change): release the contacts that pull on a tool and iterate again; done when
+    // converged and nothing pulls.
+    if (!contacts_.empty() && out.residual <= std::max(settings_.rel_tolerance, 1e-3)) {
+      const int released = contacts_.release_pulling(r_unfiltered_);
+      if (released > 0) {
+        spdlog::debug("equilibrium: s = {:.4g}: released {} contacts that pulled", s, released);
+        if (++out.contact_passes > settings_.max_contact_passes) {
+          out.converged = false;
+          out.loads_measured = true;
+          break;
+        }
+        stalled = 0;
+        best = INFINITY;
+        continue;
+      }
+    }
+    if (out.residual <= settings_.rel_tolerance) {
+      out.loads_measured = true;
+      break;
+    }
+    // Positions carry about 1e-16 relative precision, which floors the attainable residual; stop when three
+    // Newton steps in a row gain less than 10 %.
+    stalled = out.residual < 0.9 * best ? 0 : stalled + 1;
+    best = std::min(best, out.residual);
+    const bool out_of_time = SteadyClock::now() >= deadline;
+    if (it == settings_.max_newton_iterations || stalled >= 3 || out_of_time) {
+      out.converged = false;
+      out.out_of_time = out_of_time;
+      out.loads_measured = true;
+      break;
+    }
+    ++out.iterations;
+    // Forcing term: Eisenstat-Walker-style sqrt(res), but no tighter than the step needs to reach the
+    // tolerance (the last Newton step would otherwise overshoot it by orders of magnitude).
+    const double eta =
+        std::clamp(std::max(std::sqrt(out.residual), 0.3 * settings_.rel_tolerance / out.residual), 1e-6, 0.1);
+    const int cg = conjugate_gradients(x, r, eta, inertia, dx, deadline);
+    out.cg_iterations += cg;
+    spdlog::debug("equilibrium:   CG {} iterations (eta {:.1e})", cg, eta);
+    if (!line_search(x, r, f_ext, inertia, dx, trial)) {
+      out.converged = false;
+      break;
+    }
+    x.swap(trial);
+    // Nodes the step pushed into a tool join the active set on its surface.
+    if (const int added = contacts_.project(x, true); added > 0) {
+      spdlog::debug("equilibrium:   {} nodes entered a tool", added);
+      stalled = 0;
+      best = INFINITY;
+    }
+  }
+  return out;
+}
+
+}  // namespace vascsim

@@ -1,0 +1,86 @@
+#pragma once
+// The equilibrium solve shared by `quasi_static` and `implicit` (docs/model.md sections 13 and 24): minimise
+//   Pi(x) = U(x) - f_ext . (x - X) [+ 1/(2 h^2) sum_i m_i |x_i - a_i|^2]      over the free nodes,
+// the bracket being backward Euler's inertia around a = x_n + h v_n (the implicit model; absent for a static
+// solve), with the tools' frictionless contact by an active set (contact_active_set.hpp).
+//
+// Truncated Newton: each Newton system (K(x) [+ M/h^2]) dx = r is solved by preconditioned conjugate gradients
+// on analytic Hessian-vector products (equilibrium_preconditioner.hpp: a factor of a matrix close to the
+// Newton matrix); negative curvature stops CG early; a backtracking Armijo line search on Pi globalises; near
+// convergence contacts that pull are released. Converged when |r_free| <= tol * max(|reactions|, |f_ext|,
+// |inertial forces|). A deadline stops the iterations early (the real-time budget); the residual reached is
+// reported either way.
+
+#include <limits>
+
+#include "vascsim/core/stopwatch.hpp"
+#include "vascsim/model/contact_active_set.hpp"
+#include "vascsim/model/equilibrium_preconditioner.hpp"
+
+namespace vascsim {
+
+struct NewtonSettings {
+  double rel_tolerance = 1e-8;     ///< relative force residual at convergence
+  int max_newton_iterations = 60;  ///< per solve
+  int max_cg_iterations = 2000;    ///< per Newton iteration
+  int max_contact_passes = 50;     ///< active-set changes after a converged Newton solve, per solve
+};
+
+/// Backward Euler's inertia term: 1/(2 h^2) sum_i m_i |x_i - a_i|^2 over the free nodes.
+struct InertiaTerm {
+  double inv_h2 = 0.0;                ///< 1/h^2, 1/s^2
+  const Vec3Array* anchor = nullptr;  ///< a = x_n + h v_n, m; null: a static solve
+  bool active() const { return anchor != nullptr && inv_h2 > 0.0; }
+};
+
+struct NewtonResult {
+  int iterations = 0;      ///< Newton iterations
+  int cg_iterations = 0;   ///< conjugate-gradient iterations, all Newton iterations together
+  int contact_passes = 0;  ///< active-set releases
+  double residual = 0.0;   ///< relative residual reached
+  bool converged = true;
+  bool out_of_time = false;  ///< stopped at the deadline
+  bool loads_measured = false;  ///< the contact reactions of the final state are in last_residual()
+};
+
+class NewtonEquilibrium {
+ public:
+  NewtonEquilibrium(const Problem& problem, const FreeDofs& free, ContactActiveSet& contacts,
+                    const NewtonSettings& settings);
+  void set_preconditioner(const EquilibriumPreconditioner* preconditioner) { preconditioner_ = preconditioner; }
+
+  /// Newton iterations from x (changed in place) to the equilibrium at load factor s with external forces f_ext
+  /// (N per node), stopping at the tolerance, the iteration limits or the deadline.
+  NewtonResult solve(Vec3Array& x, double s, const Vec3Array& f_ext, const InertiaTerm& inertia,
+                     SteadyClock::time_point deadline = SteadyClock::time_point::max());
+
+  /// PCG on the Newton matrix at x (filtered at the contacts): dx with H dx = rhs to |res| <= eta |rhs|.
+  /// Returns the iterations. Stops at negative curvature or the deadline.
+  int conjugate_gradients(const Vec3Array& x, const Vec3Array& rhs, double eta, const InertiaTerm& inertia,
+                          Vec3Array& dx, SteadyClock::time_point deadline = SteadyClock::time_point::max()) const;
+  /// Pi(x) (J), the work term on displacements (f . X would swamp the differences the line search compares).
+  double potential(const Vec3Array& x, const Vec3Array& f_ext, const InertiaTerm& inertia) const;
+  /// |r| over the free nodes.
+  double residual_norm(const Vec3Array& r) const;
+  /// The unfiltered residual f_int + f_ext - inertia of the last evaluation (the contacts' reactions are
+  /// -r.n); on prescribed nodes it is the support reaction.
+  const Vec3Array& last_residual() const { return r_unfiltered_; }
+  const FreeDofs& free() const { return free_; }
+
+ private:
+  double residual(Vec3Array& x, double s, const Vec3Array& f_ext, const InertiaTerm& inertia, Vec3Array& r);
+  void precondition(const Vec3Array& r, Vec3Array& z) const;
+  void hessian_product(const PointPrimitiveEnergy::Linearization& lin, const Vec3Array& x, const Vec3Array& p,
+                       const InertiaTerm& inertia, Vec3Array& Hp) const;
+  bool line_search(const Vec3Array& x, const Vec3Array& r, const Vec3Array& f_ext, const InertiaTerm& inertia,
+                   Vec3Array& dx, Vec3Array& trial);
+
+  const Problem& problem_;
+  const FreeDofs& free_;
+  ContactActiveSet& contacts_;
+  NewtonSettings settings_;
+  const EquilibriumPreconditioner* preconditioner_ = nullptr;
+  Vec3Array r_unfiltered_;
+};
+
+}  // namespace vascsim

@@ -124,7 +124,7 @@ TEST(EnergyHessian, IsSymmetricAndTheLowerTriangleStorageMatches) {
   const Discretization disc(test::lattice(4, 0.2, 13), mat);
   const Vec3Array x = large_deformation(disc.rest_positions(), 9);
   const PointPrimitiveEnergy energy(disc, term_cases(mat).back().options);  // neo-Hookean, k_v, stabiliser
-  EnergyHessian full(energy), lower(energy, {HessianStencil::Full, false, true});
+  EnergyHessian full(energy), lower(energy, {HessianStencil::Full, false, true, CompactLumping::Polar});
   full.assemble(x);
   lower.assemble(x);
   const Eigen::MatrixXd F(full.matrix()), L(lower.matrix());
@@ -188,7 +188,7 @@ TEST(EnergyHessian, PsdProjectionMakesCompressedSvkSemiDefiniteAndLeavesRestAlon
   // geometric term S_zz ~ -4 mu outweighs the material term mu for shear along z).
   Vec3Array x = disc.rest_positions();
   for (auto& p : x) p.z() *= 0.5;
-  EnergyHessian exact(energy), projected(energy, {HessianStencil::Full, true, false});
+  EnergyHessian exact(energy), projected(energy, {HessianStencil::Full, true, false, CompactLumping::Polar});
   exact.assemble(x);
   projected.assemble(x);
   const auto [exact_min, exact_max] = extreme_eigenvalues(Eigen::MatrixXd(exact.matrix()));
@@ -212,7 +212,7 @@ TEST(EnergyHessian, CompactStencilKeepsThePairsAndItsLumpingOnlyAddsStiffness) {
   const Discretization disc(test::lattice(4, 0.2, 17), mat);
   const PointPrimitiveEnergy energy(disc, term_cases(mat).back().options);
   const Vec3Array x = large_deformation(disc.rest_positions(), 4);
-  EnergyHessian full(energy), compact(energy, {HessianStencil::Compact, false, false});
+  EnergyHessian full(energy), compact(energy, {HessianStencil::Compact, false, false, CompactLumping::Polar});
   full.assemble(x);
   compact.assemble(x);
   // Pattern: the diagonal plus every stencil pair, both ways (neighbour sets may be one-sided).
@@ -246,6 +246,49 @@ TEST(EnergyHessian, CompactStencilKeepsThePairsAndItsLumpingOnlyAddsStiffness) {
   record("full_min_over_max", hmin / hmax);
 }
 
+TEST(EnergyHessian, CompactLumpingRulesOnTheDiagonal) {
+  // Each rule, checked block by block against the dense full Hessian: the diagonal block of node k is
+  // H_kk plus, over the dropped blocks B = H_kl, sum (B B^T)^(1/2) (Polar), sym(sum B) (RowSum) or nothing (Drop).
+  const Material mat = test::tissue(1e5);
+  const Discretization disc(test::lattice(4, 0.2, 22), mat);
+  const PointPrimitiveEnergy energy(disc, {});
+  const Vec3Array x = large_deformation(disc.rest_positions(), 23);
+  EnergyHessian full(energy);
+  full.assemble(x);
+  const Eigen::MatrixXd F(full.matrix());
+  const PairTable& P = disc.pairs();
+  const Index n = disc.num_nodes();
+  std::vector<std::set<Index>> kept(static_cast<std::size_t>(n));
+  for (Index i = 0; i < n; ++i)
+    for (Index e = P.row_start[i]; e < P.row_start[i + 1]; ++e) {
+      kept[static_cast<std::size_t>(i)].insert(P.col[e]);
+      kept[static_cast<std::size_t>(P.col[e])].insert(i);
+    }
+  for (CompactLumping rule : {CompactLumping::Polar, CompactLumping::RowSum, CompactLumping::Drop}) {
+    EnergyHessian compact(energy, {HessianStencil::Compact, false, false, rule});
+    compact.assemble(x);
+    const Eigen::MatrixXd C(compact.matrix());
+    double err = 0.0;
+    for (Index k = 0; k < n; ++k) {
+      Mat3 expected = F.block<3, 3>(3 * k, 3 * k), sum = Mat3::Zero();
+      for (Index l = 0; l < n; ++l) {
+        if (l == k || kept[static_cast<std::size_t>(k)].count(l)) continue;
+        const Mat3 B = F.block<3, 3>(3 * k, 3 * l);
+        sum += B;
+        if (rule == CompactLumping::Polar) {
+          Eigen::SelfAdjointEigenSolver<Mat3> es(B * B.transpose());
+          expected += es.operatorSqrt();
+        }
+      }
+      if (rule == CompactLumping::RowSum) expected += 0.5 * (sum + sum.transpose());
+      err = std::max(err, (C.block<3, 3>(3 * k, 3 * k) - expected).cwiseAbs().maxCoeff());
+    }
+    // Two eigen-solvers (closed-form 3x3 in the library, iterative here) on the same products: ~1e-13
+    // of the largest entry for near-repeated eigenvalues; 1e-10.
+    EXPECT_LE(err, 1e-10 * F.cwiseAbs().maxCoeff()) << static_cast<int>(rule);
+  }
+}
+
 TEST(EnergyHessian, ClampedRestHessianFactorsAndInvertsTheHessianProduct) {
   // The preconditioner use: clamp one face, assemble at rest, factor (supernodal Cholesky) and check that
   // one solve inverts the matrix-free Hessian, and that the compact variant is positive definite as well.
@@ -257,7 +300,7 @@ TEST(EnergyHessian, ClampedRestHessianFactorsAndInvertsTheHessianProduct) {
   for (std::size_t i = 0; i < slot.size(); ++i)
     if (disc.rest_positions()[i].z() > 0.5 * kDelta) slot[i] = next++;
   for (HessianStencil st : {HessianStencil::Full, HessianStencil::Compact}) {
-    EnergyHessian H(energy, {st, false, true}, slot);
+    EnergyHessian H(energy, {st, false, true, CompactLumping::Polar}, slot);
     H.assemble(disc.rest_positions());
     SparseCholesky chol;
     ASSERT_NO_THROW(chol.compute(H.matrix()));
@@ -283,7 +326,7 @@ TEST(EnergyHessian, ParallelRefillEqualsSerial) {
   const Discretization disc(test::lattice(12, 0.2, 20), mat);
   const PointPrimitiveEnergy energy(disc, {});
   const Vec3Array x = large_deformation(disc.rest_positions(), 21);
-  EnergyHessian H(energy, {HessianStencil::Compact, true, false});
+  EnergyHessian H(energy, {HessianStencil::Compact, true, false, CompactLumping::Polar});
   const int threads = omp_get_max_threads();
   omp_set_num_threads(1);
   H.assemble(x);

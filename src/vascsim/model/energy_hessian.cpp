@@ -343,10 +343,15 @@ void EnergyHessian::assemble(const Vec3Array& x, const std::vector<double>& diag
       const std::size_t diag = static_cast<std::size_t>(row_diag_[static_cast<std::size_t>(r)]);
       if (!diagonal_shift.empty())
         row[diag].diagonal().array() += diagonal_shift[static_cast<std::size_t>(row_node_[static_cast<std::size_t>(r)])];
-      if (compact) {
+      if (compact && opt_.lumping == CompactLumping::Polar) {
         // Lump every dropped block B = H_kl as (B B^T)^(1/2) on this diagonal; row l adds (B^T B)^(1/2) to its own.
         for (std::size_t p = 0; p < len; ++p)
           if (!row_keep_[static_cast<std::size_t>(b0) + p]) row[diag] += psd_sqrt(row[p] * row[p].transpose());
+      } else if (compact && opt_.lumping == CompactLumping::RowSum) {
+        Mat3 dropped = Mat3::Zero();
+        for (std::size_t p = 0; p < len; ++p)
+          if (!row_keep_[static_cast<std::size_t>(b0) + p]) dropped += row[p];
+        row[diag] += 0.5 * (dropped + dropped.transpose());
       }
       // Write out, transposed into block column r (see the constructor).
       const Index stride = col_stride_[static_cast<std::size_t>(r)];

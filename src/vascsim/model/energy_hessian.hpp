@@ -38,6 +38,14 @@ enum class HessianStencil {
   Compact  ///< stencil pairs and the diagonal; dropped blocks lumped onto the diagonal (header comment)
 };
 
+/// What the compact stencil does with the blocks it drops (B = H_kl, l not a stencil neighbour of k).
+enum class CompactLumping {
+  Polar,   ///< (B B^T)^(1/2) onto node k's diagonal block: H_compact >= H, so SPD is kept (header comment)
+  RowSum,  ///< sym(sum of the dropped B) onto node k's diagonal block: keeps H t ~ 0 for rigid translations t
+           ///< (the row sums), but positive definiteness is not guaranteed
+  Drop     ///< nothing: the stencil blocks of H only (positive definiteness not guaranteed)
+};
+
 struct EnergyHessianOptions {
   HessianStencil stencil = HessianStencil::Full;
   /// Clamp the negative eigenvalues of every node's 9x9 elastic tangent (strain + k_v) to zero.
@@ -46,6 +54,7 @@ struct EnergyHessianOptions {
   /// Cholesky factorisation reads (it reads the scalar lower triangle); about half the memory and the write
   /// traffic. The arithmetic is the same (a block row needs its whole sum).
   bool lower_triangle_only = false;
+  CompactLumping lumping = CompactLumping::Polar;  ///< Compact only
 };
 
 class EnergyHessian {

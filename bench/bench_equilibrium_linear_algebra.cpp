@@ -263,17 +263,17 @@ struct Row {
 
 void print_row(const Row& r) {
   fmt::print("| {:>6} | {:<8} | {:>5} | {:>9.3g} | {:>9.3g} | {:>8} | {:>7.1f} | {:>7.1f} | {:>7.1f} | {:>8.1f} | {:>8.1f} | {:>7.2f} | "
-             "{:>6} | {:>6} | {:>12} | {:>9.0f} | {:>12} |{}\n",
+             "{:>6} | {:>6} | {:>12} | {:>9.0f} | {:>12} | {:>9.0f} | {:>6.0f} |{}\n",
              r.nodes, r.candidate, r.shifted ? "M/h2" : "-", r.nnz_a, r.nnz_l, r.ordering, r.symbolic_ms, r.assemble_ms,
              r.assemble_psd_ms, r.analyse_ms, r.factor_ms, r.solve_ms, fmt_pcg(r.a), fmt_pcg(r.a1), fmt_pcg(r.b),
-             r.b.seconds * 1e3, fmt_pcg(r.c), r.failure.empty() ? "" : " " + r.failure);
+             r.b.seconds * 1e3, fmt_pcg(r.c), r.c.seconds * 1e3, r.stored_l * 8e-6, r.failure.empty() ? "" : " " + r.failure);
   std::fflush(stdout);
 }
 
 void print_header() {
   fmt::print("| nodes  | cand.    | shift | nnz(A)    | nnz(L)    | ordering | sym ms  | asm ms  | asm+psd | analyse  | factor   | solve   "
-             "| it(a)  | it(a1) | it(b)        | pcg(b) ms | it(c)        |\n");
-  fmt::print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+             "| it(a)  | it(a1) | it(b)        | pcg(b) ms | it(c)        | pcg(c) ms | L MB   |\n");
+  fmt::print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
 }
 
 void run_size(const Args& args, double spacing, std::vector<Row>& rows) {
@@ -302,8 +302,8 @@ void run_size(const Args& args, double spacing, std::vector<Row>& rows) {
   {
     Vec3Array v(static_cast<std::size_t>(n), Vec3(1e-6, -2e-6, 0.5e-6)), out;
     const auto lin = energy.linearize(X);
-    const double hv_lin = time_median(std::max(args.repeats, 5), [&] { energy.hessian_product(lin, v, out); });
-    const double hv_full = time_median(std::max(args.repeats, 5), [&] { energy.hessian_product(X, v, out); });
+    const double hv_lin = time_median(std::max(args.repeats, 11), [&] { energy.hessian_product(lin, v, out); });
+    const double hv_full = time_median(std::max(args.repeats, 11), [&] { energy.hessian_product(X, v, out); });
     fmt::print("hessian_product: {:.2f} ms with a stored linearisation (per CG iteration), {:.2f} ms including it\n",
                hv_lin * 1e3, hv_full * 1e3);
   }
@@ -483,6 +483,16 @@ void run_size(const Args& args, double spacing, std::vector<Row>& rows) {
     omp_set_num_threads(saved);
     fmt::print("\nfull Hessian refill (PSD-projected): 1 thread {:.1f} ms, 2 threads {:.1f} ms (speed-up {:.2f})\n",
                t[0].second * 1e3, t[1].second * 1e3, t[0].second / t[1].second);
+    // The factorisation on 1 and 2 BLAS threads (OpenBLAS only; the reference BLAS has one).
+    const int blas_saved = blas_threads();
+    SparseCholesky chol;
+    chol.analyse(H.matrix());
+    for (int th : {1, 2}) {
+      if (!set_blas_threads(th) && th > 1) break;
+      fmt::print("full Hessian factorize, {} BLAS thread(s): {:.1f} ms\n", th,
+                 1e3 * time_median(args.repeats, [&] { chol.factorize(H.matrix()); }));
+    }
+    set_blas_threads(blas_saved);
   }
 }
 

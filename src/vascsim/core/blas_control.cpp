@@ -1,0 +1,43 @@
+#include "vascsim/core/blas_control.hpp"
+
+#include <dlfcn.h>
+
+#include <climits>
+#include <cstdlib>
+
+namespace vascsim {
+
+namespace {
+// Symbols are looked up in everything the process has loaded (the BLAS comes in with libcholmod).
+void* symbol(const char* name) { return dlsym(RTLD_DEFAULT, name); }
+}  // namespace
+
+std::string blas_library() {
+  void* f = symbol("dgemm_");
+  Dl_info info;
+  if (!f || !dladdr(f, &info) || !info.dli_fname) return {};
+  char resolved[PATH_MAX];
+  return realpath(info.dli_fname, resolved) ? std::string(resolved) : std::string(info.dli_fname);
+}
+
+std::string blas_config() {
+  using Fn = char* (*)();
+  auto f = reinterpret_cast<Fn>(symbol("openblas_get_config"));
+  return f ? std::string(f()) : std::string();
+}
+
+bool set_blas_threads(int threads) {
+  using Fn = void (*)(int);
+  auto f = reinterpret_cast<Fn>(symbol("openblas_set_num_threads"));
+  if (!f) return false;
+  f(threads);
+  return true;
+}
+
+int blas_threads() {
+  using Fn = int (*)();
+  auto f = reinterpret_cast<Fn>(symbol("openblas_get_num_threads"));
+  return f ? f() : 1;
+}
+
+}  // namespace vascsim

@@ -1,0 +1,368 @@
+#include "vascsim/model/energy_hessian.hpp"
+
+#include <omp.h>
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <fmt/format.h>
+#include <limits>
+
+#include "vascsim/core/error.hpp"
+
+namespace vascsim {
+
+namespace {
+
+// Below this many block rows a parallel region costs more than it saves.
+constexpr Index kParallelMinRows = 2048;
+
+using Mat9 = Eigen::Matrix<double, 9, 9>;
+
+// vec index of a 3x3 entry (a, c): column-major, as Eigen stores Mat3.
+constexpr int vec_index(int a, int c) { return a + 3 * c; }
+
+// d cof(F) along dF (MODEL.md 1.9a: the columns of cof are cross products of the columns of F).
+Mat3 cofactor_derivative(const Mat3& F, const Mat3& dF) {
+  Mat3 C;
+  C.col(0) = dF.col(1).cross(F.col(2)) + F.col(1).cross(dF.col(2));
+  C.col(1) = dF.col(2).cross(F.col(0)) + F.col(2).cross(dF.col(0));
+  C.col(2) = dF.col(0).cross(F.col(1)) + F.col(0).cross(dF.col(1));
+  return C;
+}
+
+// The 9x9 matrix of a linear map dF -> dP, column (b, d) = vec(dP(e_b e_d^T)).
+template <class Fn>
+Mat9 tangent_of(const Fn& dP) {
+  Mat9 C;
+  for (int d = 0; d < 3; ++d)
+    for (int b = 0; b < 3; ++b) {
+      Mat3 dF = Mat3::Zero();
+      dF(b, d) = 1.0;
+      const Mat3 P = dP(dF);
+      C.col(vec_index(b, d)) = Eigen::Map<const Eigen::Matrix<double, 9, 1>>(P.data());
+    }
+  return C;
+}
+
+// Symmetric square root of a symmetric positive semi-definite 3x3 matrix.
+Mat3 psd_sqrt(const Mat3& A) {
+  Eigen::SelfAdjointEigenSolver<Mat3> es;
+  es.computeDirect(A);
+  const Vec3 s = es.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+  return es.eigenvectors() * s.asDiagonal() * es.eigenvectors().transpose();
+}
+
+}  // namespace
+
+EnergyHessian::EnergyHessian(const PointPrimitiveEnergy& energy, const EnergyHessianOptions& options,
+                             std::vector<Index> node_slot)
+    : energy_(energy), opt_(options), slot_(std::move(node_slot)) {
+  const Discretization& disc = energy.discretization();
+  const Index n = disc.num_nodes();
+  const PairTable& P = disc.pairs();
+  const PairTable& T = disc.transposed();
+  if (slot_.empty()) {
+    slot_.resize(static_cast<std::size_t>(n));
+    for (Index i = 0; i < n; ++i) slot_[static_cast<std::size_t>(i)] = i;
+  }
+  if (slot_.size() != static_cast<std::size_t>(n))
+    throw std::invalid_argument(fmt::format("EnergyHessian: {} node slots for {} nodes", slot_.size(), n));
+  Index nrows = 0;
+  for (Index s : slot_) nrows += s >= 0 ? 1 : 0;
+  row_node_.assign(static_cast<std::size_t>(nrows), -1);
+  for (Index i = 0; i < n; ++i) {
+    const Index s = slot_[static_cast<std::size_t>(i)];
+    if (s < -1 || s >= nrows || (s >= 0 && row_node_[static_cast<std::size_t>(s)] >= 0))
+      throw std::invalid_argument("EnergyHessian: node slots must number the kept nodes 0..n-1, each once");
+    if (s >= 0) row_node_[static_cast<std::size_t>(s)] = i;
+  }
+
+  // Stencil of node i: i itself, then N_i (the order of PairTable row i).
+  auto stencil_size = [&](Index i) { return 1 + P.row_size(i); };
+  auto stencil_node = [&](Index i, Index a) { return a == 0 ? i : P.col[P.row_start[i] + a - 1]; };
+
+  // Pass 1: per block row, the coupled block columns (union of the stencils that hold the row's node) and
+  // the number of terms and map entries.
+  row_start_.assign(static_cast<std::size_t>(nrows) + 1, 0);
+  contrib_start_.assign(static_cast<std::size_t>(nrows) + 1, 0);
+  std::vector<std::int64_t> map_count(static_cast<std::size_t>(nrows) + 1, 0);
+  std::vector<std::vector<Index>> cols(static_cast<std::size_t>(nrows));
+  {
+    std::vector<char> mark(static_cast<std::size_t>(nrows), 0);
+    for (Index r = 0; r < nrows; ++r) {
+      const Index k = row_node_[static_cast<std::size_t>(r)];
+      auto& c = cols[static_cast<std::size_t>(r)];
+      auto add_stencil = [&](Index i) {
+        for (Index a = 0; a < stencil_size(i); ++a) {
+          const Index s = slot_[static_cast<std::size_t>(stencil_node(i, a))];
+          if (s >= 0 && !mark[static_cast<std::size_t>(s)]) {
+            mark[static_cast<std::size_t>(s)] = 1;
+            c.push_back(s);
+          }
+        }
+        map_count[static_cast<std::size_t>(r) + 1] += stencil_size(i);
+      };
+      add_stencil(k);
+      for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e) add_stencil(T.col[e]);
+      for (Index s : c) mark[static_cast<std::size_t>(s)] = 0;
+      std::sort(c.begin(), c.end());
+      if (c.size() >= kSkip)
+        throw std::invalid_argument(fmt::format("EnergyHessian: block row of node {} couples {} blocks (limit {})", k,
+                                                c.size(), kSkip - 1));
+      row_start_[static_cast<std::size_t>(r) + 1] = row_start_[static_cast<std::size_t>(r)] + static_cast<std::int64_t>(c.size());
+      contrib_start_[static_cast<std::size_t>(r) + 1] =
+          contrib_start_[static_cast<std::size_t>(r)] + 1 + T.row_size(k);
+      map_count[static_cast<std::size_t>(r) + 1] += map_count[static_cast<std::size_t>(r)];
+    }
+  }
+  const std::int64_t nblocks = row_start_.back();
+  row_col_.resize(static_cast<std::size_t>(nblocks));
+  row_diag_.resize(static_cast<std::size_t>(nrows));
+  row_keep_.assign(static_cast<std::size_t>(nblocks), opt_.stencil == HessianStencil::Full ? 1 : 0);
+  contrib_node_.resize(static_cast<std::size_t>(contrib_start_.back()));
+  contrib_d_.resize(static_cast<std::size_t>(contrib_start_.back()));
+  contrib_map_.resize(static_cast<std::size_t>(contrib_start_.back()));
+  map_.resize(static_cast<std::size_t>(map_count.back()));
+
+  // Pass 2: the scatter map (parallel over rows; each row owns its ranges). pos: slot -> position in row.
+#pragma omp parallel if (nrows >= kParallelMinRows)
+  {
+    std::vector<std::uint16_t> pos(static_cast<std::size_t>(nrows), kSkip);
+#pragma omp for schedule(dynamic, 64)
+    for (Index r = 0; r < nrows; ++r) {
+      const Index k = row_node_[static_cast<std::size_t>(r)];
+      const auto& c = cols[static_cast<std::size_t>(r)];
+      const std::int64_t base = row_start_[static_cast<std::size_t>(r)];
+      for (std::size_t p = 0; p < c.size(); ++p) {
+        row_col_[static_cast<std::size_t>(base) + p] = c[p];
+        pos[static_cast<std::size_t>(c[p])] = static_cast<std::uint16_t>(p);
+        if (c[p] == r) row_diag_[static_cast<std::size_t>(r)] = static_cast<Index>(p);
+      }
+      if (opt_.stencil == HessianStencil::Compact) {
+        // Kept: the diagonal and the stencil pairs, l in N_k (row k of the pairs) or k in N_l (transposed row).
+        row_keep_[static_cast<std::size_t>(base + row_diag_[static_cast<std::size_t>(r)])] = 1;
+        for (const PairTable* tab : {&P, &T})
+          for (Index e = tab->row_start[k]; e < tab->row_start[k + 1]; ++e) {
+            const Index s = slot_[static_cast<std::size_t>(tab->col[e])];
+            if (s >= 0) row_keep_[static_cast<std::size_t>(base + pos[static_cast<std::size_t>(s)])] = 1;
+          }
+      }
+      std::int64_t m = map_count[static_cast<std::size_t>(r)];
+      std::int64_t t = contrib_start_[static_cast<std::size_t>(r)];
+      auto add_term = [&](Index i, const Vec3& d_ik) {
+        contrib_node_[static_cast<std::size_t>(t)] = i;
+        contrib_d_[static_cast<std::size_t>(t)] = d_ik;
+        contrib_map_[static_cast<std::size_t>(t)] = m;
+        ++t;
+        for (Index a = 0; a < stencil_size(i); ++a) {
+          const Index s = slot_[static_cast<std::size_t>(stencil_node(i, a))];
+          map_[static_cast<std::size_t>(m++)] = s >= 0 ? pos[static_cast<std::size_t>(s)] : kSkip;
+        }
+      };
+      add_term(k, disc.self_d()[static_cast<std::size_t>(k)]);
+      for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e) add_term(T.col[e], T.d[e]);
+      for (Index s : c) pos[static_cast<std::size_t>(s)] = kSkip;
+    }
+  }
+  cols.clear();
+  cols.shrink_to_fit();
+
+  // The stored pattern: block column r holds the kept blocks of block row r (the pattern is symmetric),
+  // from the diagonal down only if lower_triangle_only. H is symmetric, so block column r is block row r
+  // transposed: entry (3 l + a, 3 r + b) = H_rl(b, a).
+  row_dest_.assign(static_cast<std::size_t>(nblocks), -1);
+  col_stride_.resize(static_cast<std::size_t>(nrows));
+  std::vector<std::int64_t> col_base(static_cast<std::size_t>(nrows) + 1, 0);
+  for (Index r = 0; r < nrows; ++r) {
+    Index stored = 0;
+    for (std::int64_t b = row_start_[static_cast<std::size_t>(r)]; b < row_start_[static_cast<std::size_t>(r) + 1]; ++b)
+      if (row_keep_[static_cast<std::size_t>(b)] && (!opt_.lower_triangle_only || row_col_[static_cast<std::size_t>(b)] >= r))
+        row_dest_[static_cast<std::size_t>(b)] = col_base[static_cast<std::size_t>(r)] + 3 * stored++;
+    col_stride_[static_cast<std::size_t>(r)] = 3 * stored;
+    col_base[static_cast<std::size_t>(r) + 1] = col_base[static_cast<std::size_t>(r)] + 9 * stored;
+  }
+  if (col_base.back() > std::numeric_limits<int>::max())
+    throw std::invalid_argument(fmt::format("EnergyHessian: {} nonzeros exceed the 32-bit index range", col_base.back()));
+  const Eigen::Index dim = 3 * static_cast<Eigen::Index>(nrows);
+  H_.resize(dim, dim);
+  H_.resizeNonZeros(static_cast<Eigen::Index>(col_base.back()));
+  int* outer = H_.outerIndexPtr();
+  int* inner = H_.innerIndexPtr();
+  for (Index r = 0; r < nrows; ++r) {
+    const std::int64_t base = col_base[static_cast<std::size_t>(r)];
+    const Index stride = col_stride_[static_cast<std::size_t>(r)];
+    for (int b = 0; b < 3; ++b) outer[3 * r + b] = static_cast<int>(base + b * stride);
+    for (std::int64_t q = row_start_[static_cast<std::size_t>(r)]; q < row_start_[static_cast<std::size_t>(r) + 1]; ++q) {
+      const std::int64_t dest = row_dest_[static_cast<std::size_t>(q)];
+      if (dest < 0) continue;
+      for (int b = 0; b < 3; ++b)
+        for (int a = 0; a < 3; ++a) inner[dest + b * stride + a] = 3 * row_col_[static_cast<std::size_t>(q)] + a;
+    }
+  }
+  outer[dim] = static_cast<int>(col_base.back());
+  std::fill(H_.valuePtr(), H_.valuePtr() + H_.nonZeros(), 0.0);
+
+  stab_.assign(static_cast<std::size_t>(nblocks), 0.0);
+  if (energy.options().stabilizer_alpha > 0.0) add_stabilizer_blocks();
+  tangent_.resize(static_cast<std::size_t>(n));
+}
+
+void EnergyHessian::add_stabilizer_blocks() {
+  // MODEL.md 1.9b: U_hg,i = c_i/2 sum_j w_ij |r_ij|^2 with r_ij = (x_j - x_i) - F_i X_ij and
+  // F_i X_ij = sum_l (x_l - x_i) (d_il . X_ij). Over the stencil (i, N_i) the residuals are r = R x with
+  // R = (I - Q) [-1 | I], Q_jl = d_il . X_ij, so the Hessian is c_i R^T W R (times I_3): constant.
+  const Discretization& disc = energy_.discretization();
+  const PairTable& P = disc.pairs();
+  const Vec3Array& X = disc.rest_positions();
+  const Index n = disc.num_nodes();
+  const auto& c = energy_.stabilizer_coefficients();
+  // Where term (row of stencil node a, energy i) sits: scan the rows once, indexed by (i, a).
+  std::vector<std::int64_t> stencil_start(static_cast<std::size_t>(n) + 1, 0);
+  for (Index i = 0; i < n; ++i) stencil_start[static_cast<std::size_t>(i) + 1] = stencil_start[static_cast<std::size_t>(i)] + 1 + P.row_size(i);
+  std::vector<std::int64_t> term_of(static_cast<std::size_t>(stencil_start.back()), -1);
+  for (Index r = 0; r < num_block_rows(); ++r) {
+    const Index k = row_node_[static_cast<std::size_t>(r)];
+    for (std::int64_t t = contrib_start_[static_cast<std::size_t>(r)]; t < contrib_start_[static_cast<std::size_t>(r) + 1]; ++t) {
+      const Index i = contrib_node_[static_cast<std::size_t>(t)];
+      Index a = 0;
+      if (k != i) a = 1 + static_cast<Index>(std::lower_bound(P.col.begin() + P.row_start[i], P.col.begin() + P.row_start[i + 1], k) -
+                                              (P.col.begin() + P.row_start[i]));
+      term_of[static_cast<std::size_t>(stencil_start[static_cast<std::size_t>(i)] + a)] = t;
+    }
+  }
+  Eigen::MatrixXd R, S;
+  for (Index i = 0; i < n; ++i) {
+    const Index K = P.row_size(i);
+    const Index e0 = P.row_start[i];
+    R.setZero(K, K + 1);
+    for (Index j = 0; j < K; ++j) {
+      const Vec3 Xij = X[static_cast<std::size_t>(P.col[e0 + j])] - X[static_cast<std::size_t>(i)];
+      double row_sum = 0.0;
+      for (Index l = 0; l < K; ++l) {
+        const double v = (j == l ? 1.0 : 0.0) - P.d[static_cast<std::size_t>(e0 + l)].dot(Xij);
+        R(j, 1 + l) = v;
+        row_sum += v;
+      }
+      R(j, 0) = -row_sum;
+    }
+    const Eigen::Map<const Eigen::VectorXd> w(P.w.data() + e0, K);
+    S.noalias() = c[static_cast<std::size_t>(i)] * R.transpose() * w.asDiagonal() * R;
+    for (Index a = 0; a <= K; ++a) {
+      const std::int64_t t = term_of[static_cast<std::size_t>(stencil_start[static_cast<std::size_t>(i)] + a)];
+      if (t < 0) continue;  // node a of the stencil is eliminated
+      const Index r = slot_[static_cast<std::size_t>(a == 0 ? i : P.col[e0 + a - 1])];
+      const std::uint16_t* m = map_.data() + contrib_map_[static_cast<std::size_t>(t)];
+      for (Index b = 0; b <= K; ++b)
+        if (m[b] != kSkip) stab_[static_cast<std::size_t>(row_start_[static_cast<std::size_t>(r)] + m[b])] += S(a, b);
+    }
+  }
+}
+
+void EnergyHessian::compute_tangents(const Vec3Array& x) {
+  const Discretization& disc = energy_.discretization();
+  const EnergyOptions& eo = energy_.options();
+  const Index n = disc.num_nodes();
+  const double lambda = energy_.strain_lambda(), mu = energy_.shear_modulus(), kv = eo.volume_stiffness_pa;
+  // Literal strain (MODEL.md 1.7): eps = 2E and sigma = 2S, so U_lit = 4 U_SVK and its tangent is 4x.
+  const double svk_scale = eo.strain == StrainMeasure::GreenHalf ? 1.0 : 4.0;
+  const Mat3 I = Mat3::Identity();
+#pragma omp parallel for schedule(static) if (n >= kParallelMinRows)
+  for (Index i = 0; i < n; ++i) {
+    const Mat3 F = disc.deformation_gradient(i, x);
+    Mat9 C;
+    if (eo.law) {
+      const materials::MaterialFrame* frame = eo.frames.empty() ? nullptr : &eo.frames[static_cast<std::size_t>(i)];
+      C = tangent_of([&](const Mat3& dF) { return eo.law->first_piola_derivative(F, dF, frame); });
+    } else {
+      // SVK: P = F S, S = lambda tr(E) I + 2 mu E, E = 1/2 (F^T F - I) (Eqs. 5-7 with the 1/2).
+      const Mat3 E = 0.5 * (F.transpose() * F - I);
+      const Mat3 S = lambda * E.trace() * I + 2.0 * mu * E;
+      C = svk_scale * tangent_of([&](const Mat3& dF) {
+            const Mat3 dE = 0.5 * (dF.transpose() * F + F.transpose() * dF);
+            return Mat3(dF * S + F * (lambda * dE.trace() * I + 2.0 * mu * dE));
+          });
+    }
+    if (kv > 0.0) {
+      // MODEL.md 1.9a: P_v = k_v (J - 1) cof(F), dP_v = k_v [(cof : dF) cof + (J - 1) dcof[dF]].
+      const double J = F.determinant();
+      const Mat3 cof = cofactor(F);
+      C += tangent_of([&](const Mat3& dF) {
+        return Mat3(kv * (cof.cwiseProduct(dF).sum() * cof + (J - 1.0) * cofactor_derivative(F, dF)));
+      });
+    }
+    // Exact tangents are symmetric; symmetrise the rounding (into a new matrix: C^T must not alias C).
+    const Mat9 Csym = (0.5 * disc.volumes()[static_cast<std::size_t>(i)]) * (C + C.transpose());
+    C = Csym;
+    if (opt_.project_psd) {
+      Eigen::SelfAdjointEigenSolver<Mat9> es(C);
+      if (es.eigenvalues()(0) < 0.0)
+        C = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
+    }
+    tangent_[static_cast<std::size_t>(i)] = C;
+  }
+}
+
+void EnergyHessian::assemble(const Vec3Array& x, const std::vector<double>& diagonal_shift) {
+  const Discretization& disc = energy_.discretization();
+  const PairTable& P = disc.pairs();
+  if (x.size() != static_cast<std::size_t>(disc.num_nodes()))
+    throw std::invalid_argument(fmt::format("EnergyHessian::assemble: {} positions for {} nodes", x.size(), disc.num_nodes()));
+  if (!diagonal_shift.empty() && diagonal_shift.size() != x.size())
+    throw std::invalid_argument("EnergyHessian::assemble: diagonal_shift needs one value per node");
+  compute_tangents(x);
+  const Index nrows = num_block_rows();
+  const bool compact = opt_.stencil == HessianStencil::Compact;
+  double* values = H_.valuePtr();
+  const int threads = nrows >= kParallelMinRows ? omp_get_max_threads() : 1;
+  if (static_cast<int>(scratch_.size()) < threads) scratch_.resize(static_cast<std::size_t>(threads));
+
+#pragma omp parallel num_threads(threads)
+  {
+    std::vector<Mat3>& row = scratch_[static_cast<std::size_t>(omp_get_thread_num())];
+#pragma omp for schedule(dynamic, 64)
+    for (Index r = 0; r < nrows; ++r) {
+      const std::int64_t b0 = row_start_[static_cast<std::size_t>(r)];
+      const std::size_t len = static_cast<std::size_t>(row_start_[static_cast<std::size_t>(r) + 1] - b0);
+      row.resize(std::max(row.size(), len));
+      for (std::size_t p = 0; p < len; ++p) row[p] = stab_[static_cast<std::size_t>(b0) + p] * Mat3::Identity();
+      // Gather: every energy i whose stencil holds this row's node k adds, for each l of its stencil,
+      // H_kl^(i) = sum_d d_il[d] U_d with U = sum_c d_ik[c] C_i[(., c), (., .)] (3 x 9).
+      for (std::int64_t t = contrib_start_[static_cast<std::size_t>(r)]; t < contrib_start_[static_cast<std::size_t>(r) + 1]; ++t) {
+        const Index i = contrib_node_[static_cast<std::size_t>(t)];
+        const Mat9& C = tangent_[static_cast<std::size_t>(i)];
+        const Vec3& dk = contrib_d_[static_cast<std::size_t>(t)];
+        const Eigen::Matrix<double, 3, 9> U = dk[0] * C.middleRows<3>(0) + dk[1] * C.middleRows<3>(3) + dk[2] * C.middleRows<3>(6);
+        const std::uint16_t* m = map_.data() + contrib_map_[static_cast<std::size_t>(t)];
+        auto add = [&](std::uint16_t p, const Vec3& dl) {
+          if (p != kSkip) row[p] += dl[0] * U.middleCols<3>(0) + dl[1] * U.middleCols<3>(3) + dl[2] * U.middleCols<3>(6);
+        };
+        add(m[0], disc.self_d()[static_cast<std::size_t>(i)]);
+        const Index e0 = P.row_start[i], K = P.row_size(i);
+        for (Index a = 0; a < K; ++a) add(m[1 + a], P.d[static_cast<std::size_t>(e0 + a)]);
+      }
+      const std::size_t diag = static_cast<std::size_t>(row_diag_[static_cast<std::size_t>(r)]);
+      if (!diagonal_shift.empty())
+        row[diag].diagonal().array() += diagonal_shift[static_cast<std::size_t>(row_node_[static_cast<std::size_t>(r)])];
+      if (compact && opt_.lumping == CompactLumping::Polar) {
+        // Lump every dropped block B = H_kl as (B B^T)^(1/2) on this diagonal; row l adds (B^T B)^(1/2) to its own.
+        for (std::size_t p = 0; p < len; ++p)
+          if (!row_keep_[static_cast<std::size_t>(b0) + p]) row[diag] += psd_sqrt(row[p] * row[p].transpose());
+      } else if (compact && opt_.lumping == CompactLumping::RowSum) {
+        Mat3 dropped = Mat3::Zero();
+        for (std::size_t p = 0; p < len; ++p)
+          if (!row_keep_[static_cast<std::size_t>(b0) + p]) dropped += row[p];
+        row[diag] += 0.5 * (dropped + dropped.transpose());
+      }
+      // Write out, transposed into block column r (see the constructor).
+      const Index stride = col_stride_[static_cast<std::size_t>(r)];
+      for (std::size_t p = 0; p < len; ++p) {
+        const std::int64_t dest = row_dest_[static_cast<std::size_t>(b0) + p];
+        if (dest < 0) continue;
+        for (int b = 0; b < 3; ++b)
+          for (int a = 0; a < 3; ++a) values[dest + b * stride + a] = row[p](b, a);
+      }
+    }
+  }
+}
+
+}  // namespace vascsim

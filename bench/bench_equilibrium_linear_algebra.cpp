@@ -39,8 +39,9 @@
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/sparse_cholesky.hpp"
 #include "vascsim/model/energy_hessian.hpp"
+#include "vascsim/model/quasi_static_model.hpp"
 #include "vascsim/model/tet_stiffness.hpp"
-#include "vascsim/scene/simulation.hpp"
+#include "vascsim/run/simulation.hpp"
 
 namespace {
 
@@ -309,7 +310,7 @@ void run_size(const Args& args, double spacing, std::vector<Row>& rows) {
   }
 
   // (a) at rest: rhs = -(K dp)_f, dp the prescribed increment of load step 1.
-  const int steps = scene.quasi_static.load_steps;
+  const int steps = scene.settings<QuasiStaticSettings>("quasi_static").load_steps;
   const double s1 = 1.0 / steps;
   Vec3Array dp(static_cast<std::size_t>(n), Vec3::Zero()), Kdp;
   for (Index i = 0; i < n; ++i)

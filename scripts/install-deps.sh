@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev nlohmann-json3-dev libcli11-dev libfmt-dev libspdlog-dev
-  libgtest-dev libgmock-dev libbenchmark-dev libassimp-dev libsuitesparse-dev
+  libgtest-dev libgmock-dev libbenchmark-dev libassimp-dev libsuitesparse-dev libopenblas0-pthread
   python3 python3-matplotlib python3-numpy python3-meshio
 )
 

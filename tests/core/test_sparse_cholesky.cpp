@@ -6,7 +6,7 @@
 
 #include <random>
 
-#include "../test_support.hpp"
+#include "support/test_support.hpp"
 #include "vascsim/core/blas_control.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/sparse_cholesky.hpp"

@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "../test_support.hpp"
+#include "support/test_support.hpp"
 #include "vascsim/core/sparse_cholesky.hpp"
 #include "vascsim/model/energy_hessian.hpp"
 #include "vascsim/model/materials/law_factory.hpp"

@@ -155,22 +155,33 @@ void SparseCholesky::compute(const Eigen::SparseMatrix<double>& A) {
 }
 
 void SparseCholesky::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  solve_columns(b.data(), 1);
+  x.resize(rows_);
+  std::memcpy(x.data(), cm_->X->x, static_cast<std::size_t>(rows_) * sizeof(double));
+}
+
+void SparseCholesky::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) {
+  if (B.rows() != rows_) throw std::invalid_argument("SparseCholesky::solve: right-hand sides of the wrong size");
+  X.resize(rows_, B.cols());
+  if (B.cols() == 0) return;
+  solve_columns(B.data(), B.cols());
+  std::memcpy(X.data(), cm_->X->x, static_cast<std::size_t>(rows_ * B.cols()) * sizeof(double));
+}
+
+void SparseCholesky::solve_columns(const double* b, Eigen::Index columns) {
   if (!factorized_) throw std::logic_error("SparseCholesky::solve without a factor");
-  if (b.size() != rows_) throw std::invalid_argument("SparseCholesky::solve: right-hand side of the wrong size");
   const auto t0 = std::chrono::steady_clock::now();
   cholmod_dense B;
   std::memset(&B, 0, sizeof(B));
   B.nrow = static_cast<std::size_t>(rows_);
-  B.ncol = 1;
-  B.nzmax = static_cast<std::size_t>(rows_);
+  B.ncol = static_cast<std::size_t>(columns);
+  B.nzmax = static_cast<std::size_t>(rows_ * columns);
   B.d = static_cast<std::size_t>(rows_);
-  B.x = const_cast<double*>(b.data());
+  B.x = const_cast<double*>(b);
   B.xtype = CHOLMOD_REAL;
   B.dtype = CHOLMOD_DOUBLE;
   if (!cholmod_solve2(CHOLMOD_A, cm_->L, &B, nullptr, &cm_->X, nullptr, &cm_->Y, &cm_->E, &cm_->c))
     throw NumericalError(fmt::format("sparse Cholesky: solve failed (CHOLMOD status {})", cm_->c.status));
-  x.resize(rows_);
-  std::memcpy(x.data(), cm_->X->x, static_cast<std::size_t>(rows_) * sizeof(double));
   stats_.solve_s = seconds_since(t0);
 }
 

@@ -11,6 +11,7 @@
 //
 // Not thread-safe: one object per thread (a solve writes the object's workspace).
 
+#include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <memory>
 #include <string>
@@ -64,6 +65,8 @@ class SparseCholesky {
 
   /// x = A^{-1} b. Needs a factor (std::logic_error otherwise).
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
+  /// X = A^{-1} B for several right-hand sides at once (the supernodal solve then runs in BLAS-3 kernels).
+  void solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X);
 
   bool analysed() const;
   bool factorized() const { return factorized_; }
@@ -72,6 +75,7 @@ class SparseCholesky {
   const SparseCholeskyOptions& options() const { return options_; }
 
  private:
+  void solve_columns(const double* b, Eigen::Index columns);  // into cm_->X
   struct Cholmod;  // the CHOLMOD state (keeps cholmod.h out of this header)
   SparseCholeskyOptions options_;
   std::unique_ptr<Cholmod> cm_;

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/tensor_algebra.hpp"
 
 namespace vascsim {
 
@@ -20,15 +21,6 @@ using Mat9 = Eigen::Matrix<double, 9, 9>;
 
 // vec index of a 3x3 entry (a, c): column-major, as Eigen stores Mat3.
 constexpr int vec_index(int a, int c) { return a + 3 * c; }
-
-// d cof(F) along dF (MODEL.md 1.9a: the columns of cof are cross products of the columns of F).
-Mat3 cofactor_derivative(const Mat3& F, const Mat3& dF) {
-  Mat3 C;
-  C.col(0) = dF.col(1).cross(F.col(2)) + F.col(1).cross(dF.col(2));
-  C.col(1) = dF.col(2).cross(F.col(0)) + F.col(2).cross(dF.col(0));
-  C.col(2) = dF.col(0).cross(F.col(1)) + F.col(0).cross(dF.col(1));
-  return C;
-}
 
 // The 9x9 matrix of a linear map dF -> dP, column (b, d) = vec(dP(e_b e_d^T)).
 template <class Fn>

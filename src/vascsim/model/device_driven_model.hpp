@@ -39,6 +39,10 @@ class DeviceDrivenModel {
   /// The wall's linearised response at tool `tool` after the last frame, when the model computes one; nullopt:
   /// the driver estimates it (a secant along the contact normal).
   virtual std::optional<ToolLinearization> tool_linearization(std::size_t /*tool*/) const { return std::nullopt; }
+  /// A realtime driver (wall-clock haptic session, viewer) lets the model trade determinism for latency: time
+  /// budgets per frame, background refactorisation. Off by default: every frame is then a deterministic
+  /// function of the inputs, so lockstep sessions replay bit for bit.
+  virtual void set_realtime(bool /*realtime*/) {}
 };
 
 }  // namespace vascsim

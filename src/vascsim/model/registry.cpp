@@ -5,6 +5,7 @@
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/model/explicit_model.hpp"
+#include "vascsim/model/implicit_model.hpp"
 #include "vascsim/model/paper_literal_model.hpp"
 #include "vascsim/model/quasi_static_model.hpp"
 #include "vascsim/model/xpbd_model.hpp"
@@ -17,6 +18,7 @@ const std::vector<ModelEntry>& model_registry() {
       explicit_model_entry(),
       xpbd_model_entry(),
       paper_literal_model_entry(),
+      implicit_model_entry(),
   };
   return entries;
 }

@@ -1,0 +1,310 @@
+#include "vascsim/model/implicit_model.hpp"
+
+#include <omp.h>
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "vascsim/core/blas_control.hpp"
+#include "vascsim/core/error.hpp"
+
+namespace vascsim {
+
+// A factor of the Newton matrix at a state, and the tools' linearisations computed with it.
+struct ImplicitModel::Factor {
+  std::unique_ptr<MeshlessFactor> factor;
+  Vec3Array x;                                          // the state it was built at
+  std::vector<Vec3> tool_points;                        // the tools' points then
+  std::vector<std::vector<std::pair<Index, Vec3>>> contacts;  // per tool: (node, normal out of the tool)
+  std::vector<std::optional<ToolLinearization>> linearization;  // per tool
+};
+
+ImplicitSettings read_implicit_settings(JsonReader& b) {
+  const ImplicitSettings d;
+  ImplicitSettings s;
+  const TimeSchedule schedule = read_time_schedule(b, {d.duration_s, d.ramp_time_s, d.output_interval_s});
+  s.duration_s = schedule.duration_s;
+  s.ramp_time_s = schedule.ramp_time_s;
+  s.output_interval_s = schedule.output_interval_s;
+  s.frame_s = b.number("frame_s", d.frame_s, 1e-6, 1.0);
+  s.rel_tolerance = b.number("rel_tolerance", d.rel_tolerance, 1e-14, 0.1);
+  s.max_newton_iterations = b.integer("max_newton_iterations", d.max_newton_iterations, 1, 1000);
+  s.max_cg_iterations = b.integer("max_cg_iterations", d.max_cg_iterations, 1, 100000);
+  s.time_budget_s = b.number("time_budget_s", d.time_budget_s, 0.0, 10.0);
+  s.preconditioner = b.string("preconditioner", d.preconditioner, {"meshless", "tet"});
+  s.refactor_cg_iterations = b.integer("refactor_cg_iterations", d.refactor_cg_iterations, 1, 100000);
+  s.refactor_travel = b.number("refactor_travel", d.refactor_travel, 0.0, 1e6);
+  b.finish();
+  return s;
+}
+
+ModelEntry implicit_model_entry() {
+  ModelEntry e;
+  e.name = "implicit";
+  e.summary = "real-time equilibrium: backward Euler solved by Newton-CG with a sparse Cholesky factor of the "
+              "meshless Hessian (the real-time default)";
+  e.capabilities = {.dynamic = true, .takes_tools = true, .device_driven = true, .releases_regions = false};
+  e.read_settings = [](JsonReader& block) { return std::any(read_implicit_settings(block)); };
+  e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
+    return std::make_unique<ImplicitModel>(problem, settings_as<ImplicitSettings>(settings));
+  };
+  e.schedule = [](const std::any& settings) {
+    const auto& s = settings_as<ImplicitSettings>(settings);
+    return TimeSchedule{s.duration_s, s.ramp_time_s, s.output_interval_s};
+  };
+  return e;
+}
+
+ImplicitModel::ImplicitModel(const Problem& problem, const ImplicitSettings& settings)
+    : problem_(problem),
+      settings_(settings),
+      x_(problem.discretization().rest_positions()),
+      free_(problem),
+      contacts_(problem, free_),
+      newton_(problem, free_, contacts_,
+              NewtonSettings{settings.rel_tolerance, settings.max_newton_iterations, settings.max_cg_iterations, 50}) {
+  if (!(settings.frame_s > 0.0) || !(settings.output_interval_s > 0.0) || !(settings.duration_s > 0.0))
+    throw InputError("implicit: frame_s, output_interval_s and duration_s must be > 0");
+  if (problem.num_constrained() == 0)
+    throw InputError("key 'regions': the implicit model needs a fixed or displacement region (supports)");
+  // Whole frames per output interval, so output times are exact.
+  const long long per_output = static_cast<long long>(std::ceil(settings.output_interval_s / settings.frame_s - 1e-9));
+  h_ = settings.output_interval_s / static_cast<double>(per_output);
+  num_steps_ = static_cast<int>(std::ceil(settings.duration_s / settings.output_interval_s - 1e-9));
+  v_.assign(x_.size(), Vec3::Zero());
+  spacing_ = problem.discretization().mean_spacing();
+  const std::size_t tools = problem.tools().size();
+  posed_.assign(tools, 0);
+  pose_geometry_.resize(tools);
+  pose_point_.assign(tools, Vec3::Zero());
+  loads_.assign(tools, ObstacleLoad{});
+  place_tools(0.0);
+  if (settings.preconditioner == "tet") {
+    tet_ = std::make_unique<TetStiffnessPreconditioner>(problem, free_, "cholesky");
+    newton_.set_preconditioner(tet_.get());
+  } else {
+    install(build_factor(x_));
+  }
+  spdlog::info("implicit: frame {:.4g} s, {} frames per output, {} outputs; preconditioner {}", h_, per_output,
+               num_steps_, settings.preconditioner == "tet" ? std::string("tet stiffness")
+                                                             : fmt::format("meshless factor, nnz(L) {:.3g}, {:.2f} s",
+                                                                           factor_->factor->stats().nnz_l,
+                                                                           factor_->factor->build_seconds()));
+}
+
+ImplicitModel::~ImplicitModel() {
+  if (pending_.valid()) pending_.wait();  // the job reads this model's problem
+}
+
+void ImplicitModel::set_realtime(bool realtime) {
+  realtime_ = realtime;
+  // One BLAS thread: an OpenBLAS pool spinning on both cores would starve the haptic thread.
+  if (realtime) set_blas_threads(1);
+}
+
+void ImplicitModel::place_tools(double s) {
+  const auto& tools = problem_.tools();
+  for (std::size_t o = 0; o < tools.size(); ++o) contacts_.place(o, posed_[o] ? pose_geometry_[o] : obstacle_at(tools[o], s));
+}
+
+std::vector<Vec3> ImplicitModel::tool_points(double s) const {
+  std::vector<Vec3> p;
+  for (std::size_t o = 0; o < problem_.tools().size(); ++o)
+    p.push_back(posed_[o] ? pose_point_[o] : tool_point_at(problem_.tools()[o], s));
+  return p;
+}
+
+void ImplicitModel::set_tool_pose(std::size_t tool, const Vec3& position_m, const Eigen::Quaterniond& orientation) {
+  pose_geometry_.at(tool) = obstacle_posed(problem_.tools().at(tool), position_m, orientation);
+  pose_point_[tool] = position_m;
+  posed_[tool] = 1;
+}
+
+std::unique_ptr<ImplicitModel::Factor> ImplicitModel::build_factor(const Vec3Array& x) const {
+  auto f = std::make_unique<Factor>();
+  MeshlessFactorOptions o;
+  o.inv_h2 = 1.0 / (h_ * h_);
+  f->factor = std::make_unique<MeshlessFactor>(problem_, free_, o);
+  f->factor->refactor(x);
+  f->x = x;
+  return f;
+}
+
+void ImplicitModel::linearize(Factor& f) const {
+  // W = N P^{-1} N^T over the tool's contacts (N: row c = the normal n_c at contact c's node), and
+  // K_t = N^T W^{-1} N: a translation dp of the tool closes every gap by n_c . dp, the contacts answer with
+  // d lambda = W^{-1} N dp, and the tissue's force changes by sum_c n_c d lambda_c (docs/model.md 24.3).
+  f.linearization.assign(f.contacts.size(), std::nullopt);
+  for (std::size_t o = 0; o < f.contacts.size(); ++o) {
+    const auto& cs = f.contacts[o];
+    const auto m = static_cast<Eigen::Index>(cs.size());
+    ToolLinearization lin;
+    if (m > 0) {
+      Eigen::MatrixXd B = Eigen::MatrixXd::Zero(free_.size(), m), X;
+      Eigen::MatrixXd N(m, 3);
+      for (Eigen::Index c = 0; c < m; ++c) {
+        const Index slot = free_.slot[static_cast<std::size_t>(cs[static_cast<std::size_t>(c)].first)];
+        const Vec3& n = cs[static_cast<std::size_t>(c)].second;
+        B.block<3, 1>(3 * static_cast<Eigen::Index>(slot), c) = n;
+        N.row(c) = n.transpose();
+      }
+      f.factor->solve(B, X);
+      const Eigen::MatrixXd W = B.transpose() * X;  // m x m, m^3/N... compliance, m/N
+      const Eigen::LDLT<Eigen::MatrixXd> ldlt(W);
+      const Eigen::MatrixXd WinvN = ldlt.solve(N);
+      lin.stiffness_n_per_m = N.transpose() * WinvN;
+      lin.stiffness_n_per_m = 0.5 * (lin.stiffness_n_per_m + lin.stiffness_n_per_m.transpose()).eval();
+      Vec3 force_on_tissue = Vec3::Zero();
+      for (const auto& c : cs) force_on_tissue += c.second;
+      if (force_on_tissue.norm() > 0.0) lin.normal = -force_on_tissue.normalized();
+    }
+    f.linearization[o] = lin;
+  }
+}
+
+void ImplicitModel::install(std::unique_ptr<Factor> f) {
+  factor_ = std::move(f);
+  factor_tool_points_ = factor_->tool_points.empty() ? tool_points(s_) : factor_->tool_points;
+  newton_.set_preconditioner(factor_->factor.get());
+  ++factorisations_;
+}
+
+void ImplicitModel::poll_background() {
+  if (pending_.valid() && pending_.wait_for(std::chrono::seconds(0)) == std::future_status::ready)
+    install(pending_.get());
+}
+
+void ImplicitModel::relinearize_now() {
+  if (!factor_) return;
+  if (pending_.valid()) pending_.wait();
+  auto f = build_factor(x_);
+  f->tool_points = tool_points(s_);
+  f->contacts.assign(problem_.tools().size(), {});
+  for (Index i : free_.nodes)
+    if (contacts_.in_contact(i)) f->contacts[static_cast<std::size_t>(contacts_.tool_of(i))].emplace_back(i, contacts_.normal(i));
+  linearize(*f);
+  install(std::move(f));
+}
+
+void ImplicitModel::maybe_refactor(const NewtonResult& r) {
+  if (!factor_) return;
+  const int cg_per_newton = r.iterations > 0 ? r.cg_iterations / r.iterations : 0;
+  bool drifted = cg_per_newton > settings_.refactor_cg_iterations;
+  const std::vector<Vec3> points = tool_points(s_);
+  for (std::size_t o = 0; o < points.size() && !drifted; ++o)
+    drifted = settings_.refactor_travel > 0.0 && (points[o] - factor_tool_points_[o]).norm() > settings_.refactor_travel * spacing_;
+  if (!drifted || pending_.valid()) return;
+  // The state and contact set to build the factor and the linearisation at (a snapshot: the frames go on).
+  std::vector<std::vector<std::pair<Index, Vec3>>> contacts(problem_.tools().size());
+  for (Index i : free_.nodes)
+    if (contacts_.in_contact(i)) contacts[static_cast<std::size_t>(contacts_.tool_of(i))].emplace_back(i, contacts_.normal(i));
+  auto job = [this, x = x_, points, contacts = std::move(contacts)]() {
+    omp_set_num_threads(1);  // this thread only: the frames keep the other core
+    auto f = build_factor(x);
+    f->tool_points = points;
+    f->contacts = contacts;
+    linearize(*f);
+    return f;
+  };
+  factor_tool_points_ = points;  // no second trigger for the same travel while this one builds
+  if (realtime_)
+    pending_ = std::async(std::launch::async, std::move(job));
+  else
+    install(job());
+}
+
+void ImplicitModel::prepare_frame(double s) {
+  // Warm start at a = x_n + h v_n (the inertial prediction), prescribed nodes at their positions at s, tools
+  // placed; nodes the tools now enter go onto their surfaces.
+  const Index n = problem_.discretization().num_nodes();
+  x_old_ = x_;
+  anchor_.resize(x_.size());
+  for (Index i = 0; i < n; ++i) {
+    anchor_[i] = x_[i] + h_ * v_[i];
+    x_[i] = problem_.constrained()[i] ? problem_.prescribed_position(i, s) : anchor_[i];
+  }
+  place_tools(s);
+  contacts_.project(x_, true);
+}
+
+StepReport ImplicitModel::step() {
+  poll_background();
+  const double t_next = t_ + h_;
+  const double s_next = ramped_load_factor(t_next, settings_.ramp_time_s);
+  Vec3Array f_ext;
+  problem_.external_forces(s_next, f_ext);
+  prepare_frame(s_next);
+  const auto deadline = realtime_ && settings_.time_budget_s > 0.0
+                            ? SteadyClock::now() + std::chrono::duration_cast<SteadyClock::duration>(
+                                                       std::chrono::duration<double>(settings_.time_budget_s))
+                            : SteadyClock::time_point::max();
+  const NewtonResult r = newton_.solve(x_, s_next, f_ext, InertiaTerm{1.0 / (h_ * h_), &anchor_}, deadline);
+  for (std::size_t i = 0; i < x_.size(); ++i) v_[i] = (x_[i] - x_old_[i]) / h_;
+  if (!contacts_.empty()) loads_ = contacts_.loads(newton_.last_residual(), x_, tool_points(s_next));
+  t_ = t_next;
+  s_ = s_next;
+  for (const auto& p : x_)
+    if (!p.allFinite()) throw NumericalError(fmt::format("implicit: the state became non-finite at t = {:.6g} s", t_));
+  ++frames_;
+  newton_total_ += r.iterations;
+  cg_total_ += r.cg_iterations;
+  out_of_time_ += r.out_of_time ? 1 : 0;
+  unconverged_ += r.converged ? 0 : 1;
+  last_residual_ = r.residual;
+  worst_residual_ = std::max(worst_residual_, r.residual);
+  maybe_refactor(r);
+  StepReport rep;
+  rep.time_s = t_;
+  rep.load_factor = s_;
+  rep.iterations = r.iterations;
+  rep.inner_iterations = r.cg_iterations;
+  rep.residual = r.residual;
+  rep.converged = r.converged;
+  return rep;
+}
+
+StepReport ImplicitModel::advance(int k) {
+  const double t_end = std::min(k * settings_.output_interval_s, settings_.duration_s);
+  StepReport r, sum;
+  sum.converged = true;
+  while (t_ < t_end - 0.5 * h_) {
+    r = step();
+    sum.iterations += r.iterations;
+    sum.inner_iterations += r.inner_iterations;
+    sum.residual = std::max(sum.residual, r.residual);
+    sum.converged = sum.converged && r.converged;
+  }
+  sum.time_s = t_;
+  sum.load_factor = s_;
+  return sum;
+}
+
+std::optional<ToolLinearization> ImplicitModel::tool_linearization(std::size_t tool) const {
+  if (!factor_ || tool >= factor_->linearization.size()) return std::nullopt;
+  return factor_->linearization[tool];
+}
+
+nlohmann::json ImplicitModel::info() const {
+  nlohmann::json j = {{"model", "implicit"},
+                      {"frame_s", h_},
+                      {"frames", frames_},
+                      {"rel_tolerance", settings_.rel_tolerance},
+                      {"newton_iterations", newton_total_},
+                      {"cg_iterations", cg_total_},
+                      {"frames_out_of_time", out_of_time_},
+                      {"frames_not_converged", unconverged_},
+                      {"last_residual", last_residual_},
+                      {"worst_residual", worst_residual_},
+                      {"factorisations", factorisations_},
+                      {"time_budget_s", settings_.time_budget_s},
+                      {"duration_s", settings_.duration_s},
+                      {"ramp_time_s", settings_.ramp_time_s},
+                      {"output_interval_s", settings_.output_interval_s}};
+  j["preconditioner"] = factor_ ? factor_->factor->info() : tet_->info();
+  return j;
+}
+
+}  // namespace vascsim

@@ -1,0 +1,114 @@
+#pragma once
+// `implicit`: the real-time equilibrium model (docs/model.md section 24). Every frame of length h it minimises
+// the backward-Euler energy of the point-primitive model,
+//     x_{n+1} = argmin  1/(2 h^2) |x - a|^2_M + U(x) - f_ext . x,      a = x_n + h v_n,
+// with the prescribed boundary conditions and the tools' frictionless contact, by Newton-PCG
+// (newton_equilibrium.hpp) warm-started at a. At haptic time scales the vessel wall is quasi-static (its
+// stiffness per node exceeds its inertia m/h^2 by 10^3-10^4), so the answer is the equilibrium, and the cost
+// is linear algebra: CG is preconditioned by a sparse Cholesky factor of the assembled meshless Hessian plus
+// M/h^2 (meshless_factor.hpp), refactored when the CG counts say the tangent has drifted or the tool has
+// travelled far since the factor was built - in the background during a realtime session (the previous factor
+// serves until the new one is ready), synchronously otherwise (deterministic runs replay bit for bit).
+//
+// Between frames the haptic thread extrapolates the force with the wall's linearised response at the tool
+// (tool_linearization): the contact-space compliance W = N P^{-1} N^T of the tool's contacts (N: one row per
+// contact, its normal at its node; P the current factor, one multi-column back-solve) and the tool stiffness
+// K_t = N_t^T W^{-1} N_t (N_t: the contact normals as seen by a translation of the tool).
+//
+// In a realtime session (set_realtime) a frame may stop at its time budget; the residual reached is reported
+// in every StepReport.
+
+#include <future>
+#include <memory>
+
+#include "vascsim/model/contact_active_set.hpp"
+#include "vascsim/model/device_driven_model.hpp"
+#include "vascsim/model/meshless_factor.hpp"
+#include "vascsim/model/newton_equilibrium.hpp"
+#include "vascsim/model/registry.hpp"
+
+namespace vascsim {
+
+struct ImplicitSettings {
+  double duration_s = 0.02;          ///< simulated time, s
+  double ramp_time_s = 0.01;         ///< loads ramp linearly to full over this time, then hold (0: at once), s
+  double output_interval_s = 0.01;   ///< time between output points, s (rounded to whole frames)
+  double frame_s = 0.01;             ///< backward-Euler step h, one frame, s
+  double rel_tolerance = 1e-6;       ///< relative force residual at which a frame stops
+  int max_newton_iterations = 8;     ///< per frame
+  int max_cg_iterations = 60;        ///< per Newton iteration
+  double time_budget_s = 0.0;        ///< realtime sessions: a frame stops at this wall time (0: no budget), s
+  std::string preconditioner = "meshless";  ///< "meshless" (factor of the Hessian) or "tet" (linear tets)
+  int refactor_cg_iterations = 12;   ///< refactor when a Newton iteration needed more CG iterations than this
+  double refactor_travel = 0.5;      ///< ... or a tool travelled this many node spacings since the factor
+};
+
+/// Reads the `implicit` block of a scene (docs/scene-format.md).
+ImplicitSettings read_implicit_settings(JsonReader& block);
+
+/// The registry entry (registry.cpp).
+ModelEntry implicit_model_entry();
+
+class ImplicitModel final : public Model, public DeviceDrivenModel {
+ public:
+  ImplicitModel(const Problem& problem, const ImplicitSettings& settings);
+  ~ImplicitModel() override;
+  std::string name() const override { return "implicit"; }
+  int num_steps() const override { return num_steps_; }
+  StepReport advance(int k) override;
+  const Vec3Array& positions() const override { return x_; }
+  double load_factor() const override { return s_; }
+  nlohmann::json info() const override;
+  std::vector<ObstacleLoad> obstacle_loads() const override { return loads_; }
+  DeviceDrivenModel* device_driven() override { return this; }
+
+  void set_tool_pose(std::size_t tool, const Vec3& position_m, const Eigen::Quaterniond& orientation) override;
+  StepReport step() override;
+  double time() const override { return t_; }
+  double frame_length_s() const override { return h_; }
+  std::vector<ObstacleLoad> tool_loads() const override { return loads_; }
+  std::optional<ToolLinearization> tool_linearization(std::size_t tool) const override;
+  void set_realtime(bool realtime) override;
+
+  const Vec3Array& velocities() const { return v_; }
+  /// Factors built so far (the one at rest included).
+  int factorisations() const { return factorisations_; }
+  /// Recomputes every tool's linearisation now, with a factor built at the current state (tests, experiments).
+  void relinearize_now();
+
+ private:
+  struct Factor;  // a factor and the linearisation computed with it
+  void place_tools(double s);
+  std::vector<Vec3> tool_points(double s) const;
+  void prepare_frame(double s);                 // prescribed nodes, warm start, tools, contacts
+  void maybe_refactor(const NewtonResult& r);  // the drift triggers
+  std::unique_ptr<Factor> build_factor(const Vec3Array& x) const;
+  void install(std::unique_ptr<Factor> f);
+  void poll_background();
+  void linearize(Factor& f) const;              // every tool's linearisation at the factor's state
+
+  const Problem& problem_;
+  ImplicitSettings settings_;
+  double h_ = 0.0;
+  int num_steps_ = 0;
+  double t_ = 0.0, s_ = 0.0;
+  bool realtime_ = false;
+  Vec3Array x_, v_, anchor_, x_old_;
+  FreeDofs free_;
+  ContactActiveSet contacts_;
+  NewtonEquilibrium newton_;
+  std::unique_ptr<EquilibriumPreconditioner> tet_;  // "tet" preconditioner
+  std::unique_ptr<Factor> factor_;                  // "meshless": the factor in use
+  std::future<std::unique_ptr<Factor>> pending_;    // a factor being built in the background
+  std::vector<char> posed_;
+  std::vector<constraints::Capsule> pose_geometry_;
+  std::vector<Vec3> pose_point_;
+  std::vector<Vec3> factor_tool_points_;  // tool points when the factor in use was built
+  std::vector<ObstacleLoad> loads_;
+  double spacing_ = 0.0;
+  int factorisations_ = 0;
+  long long frames_ = 0, newton_total_ = 0, cg_total_ = 0, out_of_time_ = 0, unconverged_ = 0;
+  double last_residual_ = 0.0, worst_residual_ = 0.0;
+};
+
+}  // namespace vascsim

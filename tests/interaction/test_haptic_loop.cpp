@@ -408,7 +408,9 @@ TEST(HapticLoop, RunsAt1kHzWithASlowSimulationThread) {
   const nlohmann::json j = s;
   EXPECT_EQ(j.at("ticks").get<std::uint64_t>(), s.ticks);
   std::cout << "[haptic loop 2 s] " << j.dump() << "\n";
-  for (const auto& [key, value] : j.items()) test::record(key, value.get<double>());
+  for (const auto& [key, value] : j.items())
+    if (value.is_number()) test::record(key, value.get<double>());
+  EXPECT_FALSE(s.scheduling.empty());  // the thread reported what the scheduler gave it
 }
 
 TEST(HapticLoop, RecordedSessionReplaysBitIdenticallyThroughTick) {

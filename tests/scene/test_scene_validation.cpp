@@ -264,8 +264,8 @@ TEST(SceneValidation, MissingRequiredKey) {
 TEST(SceneValidation, UnknownEnumValue) {
   {
     json s = tiny_box();
-    s["model"] = "implicit";
-    expect_scene_error(s, "model", {"unknown value 'implicit'", "quasi_static, explicit"});
+    s["model"] = "implicit_euler";
+    expect_scene_error(s, "model", {"unknown value 'implicit_euler'", "quasi_static, explicit"});
   }
   {
     json s = tiny_box();
@@ -350,7 +350,7 @@ TEST(SceneValidation, SetIsValidatedLikeTheFile) {
                      {path + ": ", "key 'material.poisson_ratio'", "found a string"});
   expect_input_error(path, {"--set", "material.poisson_ratio=0.5"},
                      {path + ": ", "key 'material.poisson_ratio'", "out of range"});
-  expect_input_error(path, {"--set", "model=implicit"}, {path + ": ", "key 'model'", "unknown value"});
+  expect_input_error(path, {"--set", "model=implicit_euler"}, {path + ": ", "key 'model'", "unknown value"});
 }
 
 TEST(SceneValidation, DuplicateRegionName) {

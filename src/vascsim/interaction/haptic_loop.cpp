@@ -1,5 +1,7 @@
 #include "vascsim/interaction/haptic_loop.hpp"
 
+#include "vascsim/interaction/realtime_thread.hpp"
+
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -36,7 +38,8 @@ void to_json(nlohmann::json& json, const HapticStats& s) {
                         {"clamp_events", s.clamp_events},
                         {"step_limit_events", s.step_limit_events},
                         {"proxy_recoveries", s.proxy_recoveries},
-                        {"max_force_sent_n", s.max_force_sent_n}};
+                        {"max_force_sent_n", s.max_force_sent_n},
+                        {"scheduling", s.scheduling}};
 }
 
 HapticLoop::HapticLoop(Device& device, VirtualCoupling coupling, ForceOutputFilter filter,
@@ -88,6 +91,12 @@ void HapticLoop::stop() {
 }
 
 void HapticLoop::run() {
+  if (options_.realtime_priority > 0) {
+    const RealtimeSchedulingResult r = request_realtime_scheduling(options_.realtime_priority);
+    sched_error_.store(r.error, std::memory_order_relaxed);
+    sched_slack_.store(r.timer_slack, std::memory_order_relaxed);
+    sched_priority_.store(r.fifo ? r.priority : 0, std::memory_order_release);
+  }
   using Clock = std::chrono::steady_clock;
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(period_s_));
   const Clock::time_point start = Clock::now();
@@ -164,6 +173,14 @@ HapticStats HapticLoop::stats() const {
   s.step_limit_events = filter_.step_limit_events();
   s.proxy_recoveries = proxy_recoveries_.load(std::memory_order_relaxed);
   s.max_force_sent_n = filter_.max_force_sent_n();
+  if (const int priority = sched_priority_.load(std::memory_order_acquire); priority >= 0) {
+    RealtimeSchedulingResult r;
+    r.fifo = priority > 0;
+    r.priority = priority;
+    r.error = sched_error_.load(std::memory_order_relaxed);
+    r.timer_slack = sched_slack_.load(std::memory_order_relaxed);
+    s.scheduling = r.describe();
+  }
   return s;
 }
 

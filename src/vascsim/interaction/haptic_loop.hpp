@@ -19,6 +19,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <thread>
 
 #include <nlohmann/json_fwd.hpp>
@@ -40,6 +41,9 @@ struct HapticLoopOptions {
   /// The time passed to the first threaded tick; later ticks add the steady_clock time since start().
   /// For a ScriptedDevice this is where its trajectory starts playing.
   double start_time_s = 0.0;
+  /// The thread asks for SCHED_FIFO at this priority (and a 1 us timer slack) when it starts; 0: it does not
+  /// ask. Granted or not is in HapticStats::scheduling.
+  int realtime_priority = 80;
 };
 
 /// A summary of the loop so far; see docs/haptics.md for how to read it. Times from the tick times, so
@@ -63,6 +67,8 @@ struct HapticStats {
   std::uint64_t step_limit_events = 0;  ///< ticks whose force change was limited
   std::uint64_t proxy_recoveries = 0;   ///< ticks with a non-finite contact force or proxy state
   double max_force_sent_n = 0.0;
+  /// What the haptic thread got from the scheduler (realtime_thread.hpp); "" before the thread ran.
+  std::string scheduling;
 };
 
 /// Keys as the field names; for summary.json.
@@ -180,6 +186,9 @@ class HapticLoop {
   std::atomic<std::uint64_t> ticks_{0}, contact_updates_{0}, late_restarts_{0};
   std::atomic<std::uint64_t> proxy_recoveries_{0};  // mirrors coupling_.recoveries() for other threads
   std::atomic<double> first_time_s_{0.0}, latest_time_s_{0.0};
+  // What the thread got from the scheduler: -1 not asked yet, then SCHED_FIFO priority or 0, and the refusal.
+  std::atomic<int> sched_priority_{-1}, sched_error_{0};
+  std::atomic<bool> sched_slack_{false};
   FixedHistogram<5000> jitter_ms_{1e-3};   // 1 us bins up to 5 ms
   FixedHistogram<1000> latency_ms_{0.1};   // 0.1 ms bins up to 100 ms
 };

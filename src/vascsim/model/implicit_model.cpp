@@ -35,7 +35,9 @@ ImplicitSettings read_implicit_settings(JsonReader& b) {
   s.max_cg_iterations = b.integer("max_cg_iterations", d.max_cg_iterations, 1, 100000);
   s.time_budget_s = b.number("time_budget_s", d.time_budget_s, 0.0, 10.0);
   s.preconditioner = b.string("preconditioner", d.preconditioner, {"meshless", "tet"});
+  s.line_search = b.boolean("line_search", d.line_search);
   s.refactor_cg_iterations = b.integer("refactor_cg_iterations", d.refactor_cg_iterations, 1, 100000);
+  s.refactor_residual = b.number("refactor_residual", d.refactor_residual, 0.0, 1e6);
   s.refactor_travel = b.number("refactor_travel", d.refactor_travel, 0.0, 1e6);
   b.finish();
   return s;
@@ -65,7 +67,8 @@ ImplicitModel::ImplicitModel(const Problem& problem, const ImplicitSettings& set
       free_(problem),
       contacts_(problem, free_),
       newton_(problem, free_, contacts_,
-              NewtonSettings{settings.rel_tolerance, settings.max_newton_iterations, settings.max_cg_iterations, 50}) {
+              NewtonSettings{settings.rel_tolerance, settings.max_newton_iterations, settings.max_cg_iterations, 50,
+                             settings.line_search}) {
   if (!(settings.frame_s > 0.0) || !(settings.output_interval_s > 0.0) || !(settings.duration_s > 0.0))
     throw InputError("implicit: frame_s, output_interval_s and duration_s must be > 0");
   if (problem.num_constrained() == 0)
@@ -192,7 +195,8 @@ void ImplicitModel::relinearize_now() {
 void ImplicitModel::maybe_refactor(const NewtonResult& r) {
   if (!factor_) return;
   const int cg_per_newton = r.iterations > 0 ? r.cg_iterations / r.iterations : 0;
-  bool drifted = cg_per_newton > settings_.refactor_cg_iterations;
+  bool drifted = cg_per_newton > settings_.refactor_cg_iterations ||
+                 (settings_.refactor_residual > 0.0 && r.residual > settings_.refactor_residual);
   const std::vector<Vec3> points = tool_points(s_);
   for (std::size_t o = 0; o < points.size() && !drifted; ++o)
     drifted = settings_.refactor_travel > 0.0 && (points[o] - factor_tool_points_[o]).norm() > settings_.refactor_travel * spacing_;

@@ -39,7 +39,9 @@ struct ImplicitSettings {
   int max_cg_iterations = 60;        ///< per Newton iteration
   double time_budget_s = 0.0;        ///< realtime sessions: a frame stops at this wall time (0: no budget), s
   std::string preconditioner = "meshless";  ///< "meshless" (factor of the Hessian) or "tet" (linear tets)
-  int refactor_cg_iterations = 12;   ///< refactor when a Newton iteration needed more CG iterations than this
+  bool line_search = true;           ///< Armijo line search in every Newton iteration (off: whole steps)
+  int refactor_cg_iterations = 12;   ///< refactor when a Newton iteration needed more CG iterations than this,
+  double refactor_residual = 1e-2;   ///< ... or a frame ended above this relative residual,
   double refactor_travel = 0.5;      ///< ... or a tool travelled this many node spacings since the factor
 };
 

@@ -222,11 +222,16 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
     const int cg = conjugate_gradients(x, r, eta, inertia, dx, deadline);
     out.cg_iterations += cg;
     spdlog::debug("equilibrium:   CG {} iterations (eta {:.1e})", cg, eta);
-    if (!line_search(x, r, f_ext, inertia, dx, trial)) {
-      out.converged = false;
-      break;
+    if (settings_.line_search) {
+      if (!line_search(x, r, f_ext, inertia, dx, trial)) {
+        out.converged = false;
+        break;
+      }
+      x.swap(trial);
+    } else {
+      for (std::size_t i = 0; i < x.size(); ++i) x[i] += dx[i];
+      contacts_.project(x, false);
     }
-    x.swap(trial);
     // Nodes the step pushed into a tool join the active set on its surface.
     if (const int added = contacts_.project(x, true); added > 0) {
       spdlog::debug("equilibrium:   {} nodes entered a tool", added);

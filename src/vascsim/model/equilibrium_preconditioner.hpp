@@ -21,6 +21,12 @@ class EquilibriumPreconditioner {
   virtual bool apply(const Vec3Array& r, Vec3Array& z) const = 0;
   /// For summary.json: what P is and what it cost.
   virtual nlohmann::json info() const = 0;
+  /// X = P^{-1} B on packed free-node vectors (several columns at once), for the contact correction
+  /// (contact_correction.hpp). False when P cannot (then contacts are only filtered).
+  virtual bool solve_columns(const Eigen::MatrixXd& /*B*/, Eigen::MatrixXd& /*X*/) const { return false; }
+  /// Changes whenever P does (a refactorisation), unique over every preconditioner of the process, so cached
+  /// products with P^{-1} can tell they are stale.
+  virtual long long version() const { return 0; }
 };
 
 /// P = a factor of the virtual tetrahedra's linear-elastic stiffness on the free nodes (exact sparse Cholesky

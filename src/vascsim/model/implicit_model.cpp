@@ -5,6 +5,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -36,6 +37,7 @@ ImplicitSettings read_implicit_settings(JsonReader& b) {
   s.time_budget_s = b.number("time_budget_s", d.time_budget_s, 0.0, 10.0);
   s.preconditioner = b.string("preconditioner", d.preconditioner, {"meshless", "tet"});
   s.line_search = b.boolean("line_search", d.line_search);
+  s.refactor_cg_rate = b.number("refactor_cg_rate", d.refactor_cg_rate, 0.0, 1.0);
   s.refactor_cg_iterations = b.integer("refactor_cg_iterations", d.refactor_cg_iterations, 1, 100000);
   s.refactor_residual = b.number("refactor_residual", d.refactor_residual, 0.0, 1e6);
   s.refactor_travel = b.number("refactor_travel", d.refactor_travel, 0.0, 1e6);
@@ -195,7 +197,7 @@ void ImplicitModel::relinearize_now() {
 void ImplicitModel::maybe_refactor(const NewtonResult& r) {
   if (!factor_) return;
   const int cg_per_newton = r.iterations > 0 ? r.cg_iterations / r.iterations : 0;
-  bool drifted = cg_per_newton > settings_.refactor_cg_iterations ||
+  bool drifted = cg_per_newton > settings_.refactor_cg_iterations || r.cg_rate > settings_.refactor_cg_rate ||
                  (settings_.refactor_residual > 0.0 && r.residual > settings_.refactor_residual);
   const std::vector<Vec3> points = tool_points(s_);
   for (std::size_t o = 0; o < points.size() && !drifted; ++o)

@@ -40,8 +40,11 @@ struct ImplicitSettings {
   double time_budget_s = 0.0;        ///< realtime sessions: a frame stops at this wall time (0: no budget), s
   std::string preconditioner = "meshless";  ///< "meshless" (factor of the Hessian) or "tet" (linear tets)
   bool line_search = true;           ///< Armijo line search in every Newton iteration (off: whole steps)
-  int refactor_cg_iterations = 12;   ///< refactor when a Newton iteration needed more CG iterations than this,
-  double refactor_residual = 1e-2;   ///< ... or a frame ended above this relative residual,
+  /// Refactor when CG reduced the residual by less than this per iteration (NewtonResult::cg_rate: about 0.1
+  /// with a fresh factor, towards 1 as it goes stale),
+  double refactor_cg_rate = 0.3;
+  int refactor_cg_iterations = 12;   ///< ... or a Newton iteration needed more CG iterations than this,
+  double refactor_residual = 0.0;    ///< ... or a frame ended above this relative residual (0: not a trigger),
   double refactor_travel = 0.5;      ///< ... or a tool travelled this many node spacings since the factor
 };
 

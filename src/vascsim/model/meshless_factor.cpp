@@ -1,5 +1,7 @@
 #include "vascsim/model/meshless_factor.hpp"
 
+#include <atomic>
+
 #include "vascsim/core/stopwatch.hpp"
 
 namespace vascsim {
@@ -33,6 +35,8 @@ void MeshlessFactor::refactor(const Vec3Array& x) {
   cholesky_.factorize(hessian_.matrix());
   build_s_ = clock.seconds();
   ++builds_;
+  static std::atomic<long long> factors_built{0};
+  version_ = ++factors_built;
 }
 
 bool MeshlessFactor::apply(const Vec3Array& r, Vec3Array& z) const {

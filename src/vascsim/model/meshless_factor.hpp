@@ -36,6 +36,12 @@ class MeshlessFactor final : public EquilibriumPreconditioner {
   bool apply(const Vec3Array& r, Vec3Array& z) const override;
   /// X = P^{-1} B on packed free-node vectors, several columns at once.
   void solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) const;
+  bool solve_columns(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) const override {
+    if (!ready()) return false;
+    solve(B, X);
+    return true;
+  }
+  long long version() const override { return version_; }
   nlohmann::json info() const override;
   /// Wall time of the last refactor (assembly + factorisation), s.
   double build_seconds() const { return build_s_; }
@@ -50,6 +56,7 @@ class MeshlessFactor final : public EquilibriumPreconditioner {
   mutable Eigen::VectorXd b_, y_;
   double build_s_ = 0.0;
   int builds_ = 0;
+  long long version_ = 0;  // unique over every factor of the process (contact_correction.hpp caches by it)
 };
 
 }  // namespace vascsim

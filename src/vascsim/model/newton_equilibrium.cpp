@@ -19,7 +19,10 @@ double dot(const Vec3Array& a, const Vec3Array& b) {
 
 NewtonEquilibrium::NewtonEquilibrium(const Problem& problem, const FreeDofs& free, ContactActiveSet& contacts,
                                      const NewtonSettings& settings)
-    : problem_(problem), free_(free), contacts_(contacts), settings_(settings) {}
+    : problem_(problem), free_(free), contacts_(contacts), settings_(settings), correction_(free, contacts) {
+  const Discretization& disc = problem.discretization();
+  force_floor_ = 1e-8 * disc.material().youngs_modulus_pa * disc.mean_spacing() * disc.mean_spacing();
+}
 
 double NewtonEquilibrium::residual_norm(const Vec3Array& r) const {
   double s = 0.0;
@@ -45,6 +48,8 @@ void NewtonEquilibrium::precondition(const Vec3Array& r, Vec3Array& z) const {
   if (preconditioner_ == nullptr || !preconditioner_->apply(r, z)) {
     z.assign(r.size(), Vec3::Zero());
     for (Index i : free_.nodes) z[i] = r[i];
+  } else if (use_correction_) {
+    correction_.apply(z);
   }
   contacts_.filter(z);
 }
@@ -64,14 +69,17 @@ void NewtonEquilibrium::hessian_product(const PointPrimitiveEnergy::Linearizatio
 
 int NewtonEquilibrium::conjugate_gradients(const Vec3Array& x, const Vec3Array& rhs, double eta,
                                            const InertiaTerm& inertia, Vec3Array& dx,
-                                           SteadyClock::time_point deadline) const {
+                                           SteadyClock::time_point deadline, double* reduction) const {
   const std::size_t n = x.size();
   dx.assign(n, Vec3::Zero());
   Vec3Array r(n, Vec3::Zero()), z, p, Hp;
   const auto lin = problem_.energy().linearize(x);
+  use_correction_ = preconditioner_ != nullptr && !contacts_.empty() && correction_.update(*preconditioner_);
   for (Index i : free_.nodes) r[i] = rhs[i];
   contacts_.filter(r);
-  const double target = eta * residual_norm(r);
+  const double r0 = residual_norm(r);
+  const double target = eta * r0;
+  if (reduction) *reduction = 1.0;
   precondition(r, z);
   p = z;
   double rz = dot(r, z);
@@ -89,7 +97,9 @@ int NewtonEquilibrium::conjugate_gradients(const Vec3Array& x, const Vec3Array& 
       dx[i] += alpha * p[i];
       r[i] -= alpha * Hp[i];
     }
-    if (residual_norm(r) <= target || SteadyClock::now() >= deadline) {
+    const double rk = residual_norm(r);
+    if (reduction && r0 > 0.0) *reduction = rk / r0;
+    if (rk <= target || SteadyClock::now() >= deadline) {
       ++it;
       break;
     }
@@ -123,7 +133,7 @@ double NewtonEquilibrium::residual(Vec3Array& x, double s, const Vec3Array& f_ex
     }
     if (contacts_.in_contact(i)) reaction2 += std::pow(r[i].dot(contacts_.normal(i)), 2);
   }
-  const double scale = std::max(std::sqrt(std::max({reaction2, ext2, inertial2})), 1e-300);
+  const double scale = std::max(std::sqrt(std::max({reaction2, ext2, inertial2})), std::max(force_floor_, 1e-300));
   r_unfiltered_ = r;
   if (!contacts_.empty()) {
     contacts_.update_lambdas(r);
@@ -185,7 +195,7 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
     // Nearly converged for this active set (1e-3, well before the tolerance, so that Newton does not polish
     // a set that is about to change): release the contacts that pull on a tool and iterate again; done when
     // converged and nothing pulls.
-    if (!contacts_.empty() && out.residual <= std::max(settings_.rel_tolerance, 1e-3)) {
+    if (!contacts_.empty() && out.residual <= std::max(settings_.rel_tolerance, settings_.release_below_residual)) {
       const int released = contacts_.release_pulling(r_unfiltered_);
       if (released > 0) {
         spdlog::debug("equilibrium: s = {:.4g}: released {} contacts that pulled", s, released);
@@ -219,8 +229,10 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
     // tolerance (the last Newton step would otherwise overshoot it by orders of magnitude).
     const double eta =
         std::clamp(std::max(std::sqrt(out.residual), 0.3 * settings_.rel_tolerance / out.residual), 1e-6, 0.1);
-    const int cg = conjugate_gradients(x, r, eta, inertia, dx, deadline);
+    double reduction = 1.0;
+    const int cg = conjugate_gradients(x, r, eta, inertia, dx, deadline, &reduction);
     out.cg_iterations += cg;
+    if (cg > 0 && reduction > 0.0) out.cg_rate = std::max(out.cg_rate, std::pow(reduction, 1.0 / cg));
     spdlog::debug("equilibrium:   CG {} iterations (eta {:.1e})", cg, eta);
     if (settings_.line_search) {
       if (!line_search(x, r, f_ext, inertia, dx, trial)) {
@@ -230,7 +242,6 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
       x.swap(trial);
     } else {
       for (std::size_t i = 0; i < x.size(); ++i) x[i] += dx[i];
-      contacts_.project(x, false);
     }
     // Nodes the step pushed into a tool join the active set on its surface.
     if (const int added = contacts_.project(x, true); added > 0) {

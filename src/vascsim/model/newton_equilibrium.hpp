@@ -15,6 +15,7 @@
 
 #include "vascsim/core/stopwatch.hpp"
 #include "vascsim/model/contact_active_set.hpp"
+#include "vascsim/model/contact_correction.hpp"
 #include "vascsim/model/equilibrium_preconditioner.hpp"
 
 namespace vascsim {
@@ -28,6 +29,10 @@ struct NewtonSettings {
   /// is taken whole, which saves an energy evaluation per iteration when the increments are small (real-time
   /// frames warm-started from the last equilibrium).
   bool line_search = true;
+  /// Contacts that pull are released once the relative residual is below this (1e-3: well before the
+  /// tolerance, so that Newton does not polish an active set that is about to change). A real-time frame,
+  /// which stops after a few iterations, releases at any residual (infinity).
+  double release_below_residual = 1e-3;
 };
 
 /// Backward Euler's inertia term: 1/(2 h^2) sum_i m_i |x_i - a_i|^2 over the free nodes.
@@ -45,13 +50,23 @@ struct NewtonResult {
   bool converged = true;
   bool out_of_time = false;  ///< stopped at the deadline
   bool loads_measured = false;  ///< the contact reactions of the final state are in last_residual()
+  /// How well the preconditioner matched the Newton matrix: the geometric mean, over the CG iterations of the
+  /// solve, of the residual reduction per iteration (|r_k| / |r_0|)^(1/k); 0 when CG never ran. About 0.1 or
+  /// less with a factor of the current matrix, approaching 1 as the factor goes stale.
+  double cg_rate = 0.0;
 };
 
 class NewtonEquilibrium {
  public:
   NewtonEquilibrium(const Problem& problem, const FreeDofs& free, ContactActiveSet& contacts,
                     const NewtonSettings& settings);
+  /// Residuals below this force (N) count as zero load: an unloaded frame is converged, not "infinitely" far
+  /// from equilibrium. Default: 1e-8 of E Delta^2, the force that strains one neighbourhood by 100 %.
+  void set_force_floor(double newton) { force_floor_ = newton; }
   void set_preconditioner(const EquilibriumPreconditioner* preconditioner) { preconditioner_ = preconditioner; }
+  /// The contact compliance W over the contacts of the last solve, with the nodes and normals it belongs to
+  /// (empty when the preconditioner has no multi-column solves).
+  const ContactCorrection& contact_correction() const { return correction_; }
 
   /// Newton iterations from x (changed in place) to the equilibrium at load factor s with external forces f_ext
   /// (N per node), stopping at the tolerance, the iteration limits or the deadline.
@@ -61,7 +76,8 @@ class NewtonEquilibrium {
   /// PCG on the Newton matrix at x (filtered at the contacts): dx with H dx = rhs to |res| <= eta |rhs|.
   /// Returns the iterations. Stops at negative curvature or the deadline.
   int conjugate_gradients(const Vec3Array& x, const Vec3Array& rhs, double eta, const InertiaTerm& inertia,
-                          Vec3Array& dx, SteadyClock::time_point deadline = SteadyClock::time_point::max()) const;
+                          Vec3Array& dx, SteadyClock::time_point deadline = SteadyClock::time_point::max(),
+                          double* reduction = nullptr) const;
   /// Pi(x) (J), the work term on displacements (f . X would swamp the differences the line search compares).
   double potential(const Vec3Array& x, const Vec3Array& f_ext, const InertiaTerm& inertia) const;
   /// |r| over the free nodes.
@@ -85,6 +101,9 @@ class NewtonEquilibrium {
   NewtonSettings settings_;
   const EquilibriumPreconditioner* preconditioner_ = nullptr;
   Vec3Array r_unfiltered_;
+  double force_floor_ = 0.0;
+  mutable ContactCorrection correction_;  // cached per contact set and factor (contact_correction.hpp)
+  mutable bool use_correction_ = false;
 };
 
 }  // namespace vascsim

@@ -14,7 +14,7 @@ ContactPublisher::ContactPublisher(DeviceDrivenModel& model, std::size_t tool, d
 FrameSample ContactPublisher::step(const ToolPose& pose) {
   const Stopwatch clock;
   model_.set_tool_pose(tool_, pose.position(), pose.orientation());
-  model_.step();
+  const StepReport report = model_.step();
   const ObstacleLoad load = model_.tool_loads()[tool_];
   FrameSample s;
   s.sim_time_s = model_.time();
@@ -23,6 +23,8 @@ FrameSample ContactPublisher::step(const ToolPose& pose) {
   s.force_n = -load.force_n;  // the tissue's force on the tool
   s.torque_n_m = -load.torque_n_m;
   s.contacts = load.contacts;
+  s.residual = report.residual;
+  s.converged = report.converged;
   publish(pose, scale_ * s.force_n);
   s.wall_s = clock.seconds();
   return s;

@@ -20,6 +20,8 @@ struct FrameSample {
   Vec3 force_n = Vec3::Zero();     ///< the force the tissue exerts on the tool, N
   Vec3 torque_n_m = Vec3::Zero();  ///< its moment about the tool point, N m
   int contacts = 0;
+  double residual = 0.0;           ///< relative force residual the frame reached (0 for models without one)
+  bool converged = true;           ///< the frame reached its tolerance
   double wall_s = 0.0;             ///< wall-clock time of the frame, s
 };
 

@@ -45,7 +45,7 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
 
 /// The header of force_history.csv: per frame, the simulated time, the time of the pose it used, the tool
 /// position (m), the force the tissue exerts on the tool (N) and its moment about the tool point (N m), the
-/// contacts and the frame's wall time (ms).
+/// contacts, the relative residual the frame reached and whether it converged, and the frame's wall time (ms).
 std::vector<std::string> force_history_columns();
 
 }  // namespace vascsim

@@ -2,7 +2,6 @@
 
 #include <omp.h>
 
-#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -19,8 +18,6 @@ struct ImplicitModel::Factor {
   std::unique_ptr<MeshlessFactor> factor;
   Vec3Array x;                                          // the state it was built at
   std::vector<Vec3> tool_points;                        // the tools' points then
-  std::vector<std::vector<std::pair<Index, Vec3>>> contacts;  // per tool: (node, normal out of the tool)
-  std::vector<std::optional<ToolLinearization>> linearization;  // per tool
 };
 
 ImplicitSettings read_implicit_settings(JsonReader& b) {
@@ -138,35 +135,26 @@ std::unique_ptr<ImplicitModel::Factor> ImplicitModel::build_factor(const Vec3Arr
   return f;
 }
 
-void ImplicitModel::linearize(Factor& f) const {
-  // W = N P^{-1} N^T over the tool's contacts (N: row c = the normal n_c at contact c's node), and
-  // K_t = N^T W^{-1} N: a translation dp of the tool closes every gap by n_c . dp, the contacts answer with
-  // d lambda = W^{-1} N dp, and the tissue's force changes by sum_c n_c d lambda_c (docs/model.md 24.3).
-  f.linearization.assign(f.contacts.size(), std::nullopt);
-  for (std::size_t o = 0; o < f.contacts.size(); ++o) {
-    const auto& cs = f.contacts[o];
-    const auto m = static_cast<Eigen::Index>(cs.size());
+void ImplicitModel::linearize() {
+  // With the contact compliance W = N P^{-1} N^T of the last frame's contacts (contact_correction.hpp), a
+  // translation dp of tool o closes its contacts' gaps by n_c . dp; they answer with d lambda = W^{-1} N_o dp
+  // while the other contacts hold, so the tissue's force changes by K dp, K = N_o^T W^{-1} N_o (docs/model.md
+  // 24.3). P is the factor in use: exact when it was built at this state, otherwise off by its drift.
+  const auto& tools = problem_.tools();
+  linearization_.assign(tools.size(), std::nullopt);
+  if (!factor_ || tools.empty()) return;
+  const ContactCorrection& w = newton_.contact_correction();
+  for (std::size_t o = 0; o < tools.size(); ++o) {
     ToolLinearization lin;
-    if (m > 0) {
-      Eigen::MatrixXd B = Eigen::MatrixXd::Zero(free_.size(), m), X;
-      Eigen::MatrixXd N(m, 3);
-      for (Eigen::Index c = 0; c < m; ++c) {
-        const Index slot = free_.slot[static_cast<std::size_t>(cs[static_cast<std::size_t>(c)].first)];
-        const Vec3& n = cs[static_cast<std::size_t>(c)].second;
-        B.block<3, 1>(3 * static_cast<Eigen::Index>(slot), c) = n;
-        N.row(c) = n.transpose();
-      }
-      f.factor->solve(B, X);
-      const Eigen::MatrixXd W = B.transpose() * X;  // m x m, m^3/N... compliance, m/N
-      const Eigen::LDLT<Eigen::MatrixXd> ldlt(W);
-      const Eigen::MatrixXd WinvN = ldlt.solve(N);
-      lin.stiffness_n_per_m = N.transpose() * WinvN;
-      lin.stiffness_n_per_m = 0.5 * (lin.stiffness_n_per_m + lin.stiffness_n_per_m.transpose()).eval();
-      Vec3 force_on_tissue = Vec3::Zero();
-      for (const auto& c : cs) force_on_tissue += c.second;
-      if (force_on_tissue.norm() > 0.0) lin.normal = -force_on_tissue.normalized();
+    if (w.valid() && !w.nodes().empty()) {
+      std::vector<char> mask(w.nodes().size(), 0);
+      for (std::size_t c = 0; c < mask.size(); ++c)
+        mask[c] = contacts_.in_contact(w.nodes()[c]) && contacts_.tool_of(w.nodes()[c]) == static_cast<int>(o);
+      lin.stiffness_n_per_m = w.tool_stiffness(mask, x_);
     }
-    f.linearization[o] = lin;
+    // The direction the tissue pushes the tool: against the force the tool exerts on it.
+    if (loads_[o].force_n.norm() > 0.0) lin.normal = -loads_[o].force_n.normalized();
+    linearization_[o] = lin;
   }
 }
 
@@ -184,14 +172,12 @@ void ImplicitModel::poll_background() {
 
 void ImplicitModel::relinearize_now() {
   if (!factor_) return;
-  if (pending_.valid()) pending_.wait();
+  if (pending_.valid()) install(pending_.get());
   auto f = build_factor(x_);
   f->tool_points = tool_points(s_);
-  f->contacts.assign(problem_.tools().size(), {});
-  for (Index i : free_.nodes)
-    if (contacts_.in_contact(i)) f->contacts[static_cast<std::size_t>(contacts_.tool_of(i))].emplace_back(i, contacts_.normal(i));
-  linearize(*f);
   install(std::move(f));
+  newton_.update_contact_correction();
+  linearize();
 }
 
 void ImplicitModel::maybe_refactor(const NewtonResult& r) {
@@ -203,16 +189,11 @@ void ImplicitModel::maybe_refactor(const NewtonResult& r) {
   for (std::size_t o = 0; o < points.size() && !drifted; ++o)
     drifted = settings_.refactor_travel > 0.0 && (points[o] - factor_tool_points_[o]).norm() > settings_.refactor_travel * spacing_;
   if (!drifted || pending_.valid()) return;
-  // The state and contact set to build the factor and the linearisation at (a snapshot: the frames go on).
-  std::vector<std::vector<std::pair<Index, Vec3>>> contacts(problem_.tools().size());
-  for (Index i : free_.nodes)
-    if (contacts_.in_contact(i)) contacts[static_cast<std::size_t>(contacts_.tool_of(i))].emplace_back(i, contacts_.normal(i));
-  auto job = [this, x = x_, points, contacts = std::move(contacts)]() {
+  // The state to build the factor at (a copy: the frames go on meanwhile).
+  auto job = [this, x = x_, points]() {
     omp_set_num_threads(1);  // this thread only: the frames keep the other core
     auto f = build_factor(x);
     f->tool_points = points;
-    f->contacts = contacts;
-    linearize(*f);
     return f;
   };
   factor_tool_points_ = points;  // no second trigger for the same travel while this one builds
@@ -262,6 +243,7 @@ StepReport ImplicitModel::step() {
   last_residual_ = r.residual;
   worst_residual_ = std::max(worst_residual_, r.residual);
   maybe_refactor(r);
+  linearize();
   StepReport rep;
   rep.time_s = t_;
   rep.load_factor = s_;
@@ -289,8 +271,7 @@ StepReport ImplicitModel::advance(int k) {
 }
 
 std::optional<ToolLinearization> ImplicitModel::tool_linearization(std::size_t tool) const {
-  if (!factor_ || tool >= factor_->linearization.size()) return std::nullopt;
-  return factor_->linearization[tool];
+  return tool < linearization_.size() ? linearization_[tool] : std::nullopt;
 }
 
 nlohmann::json ImplicitModel::info() const {

@@ -11,9 +11,9 @@
 // serves until the new one is ready), synchronously otherwise (deterministic runs replay bit for bit).
 //
 // Between frames the haptic thread extrapolates the force with the wall's linearised response at the tool
-// (tool_linearization): the contact-space compliance W = N P^{-1} N^T of the tool's contacts (N: one row per
-// contact, its normal at its node; P the current factor, one multi-column back-solve) and the tool stiffness
-// K_t = N_t^T W^{-1} N_t (N_t: the contact normals as seen by a translation of the tool).
+// (tool_linearization): from the contact-space compliance W = N P^{-1} N^T of the contacts (N: one row per
+// contact, its normal at its node; P the current factor; contact_correction.hpp builds W for the solver
+// anyway), the tool stiffness K_t = N_t^T W^{-1} N_t (N_t: the tool's contact normals, zero for the others).
 //
 // In a realtime session (set_realtime) a frame may stop at its time budget; the residual reached is reported
 // in every StepReport.
@@ -90,7 +90,7 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   std::unique_ptr<Factor> build_factor(const Vec3Array& x) const;
   void install(std::unique_ptr<Factor> f);
   void poll_background();
-  void linearize(Factor& f) const;              // every tool's linearisation at the factor's state
+  void linearize();                             // every tool's linearisation from the contact compliance
 
   const Problem& problem_;
   ImplicitSettings settings_;
@@ -110,6 +110,7 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   std::vector<Vec3> pose_point_;
   std::vector<Vec3> factor_tool_points_;  // tool points when the factor in use was built
   std::vector<ObstacleLoad> loads_;
+  std::vector<std::optional<ToolLinearization>> linearization_;  // per tool, after the last frame
   double spacing_ = 0.0;
   int factorisations_ = 0;
   long long frames_ = 0, newton_total_ = 0, cg_total_ = 0, out_of_time_ = 0, unconverged_ = 0;

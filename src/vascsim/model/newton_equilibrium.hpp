@@ -67,6 +67,11 @@ class NewtonEquilibrium {
   /// The contact compliance W over the contacts of the last solve, with the nodes and normals it belongs to
   /// (empty when the preconditioner has no multi-column solves).
   const ContactCorrection& contact_correction() const { return correction_; }
+  /// Rebuilds the contact correction for the current contacts and preconditioner now (it is otherwise rebuilt
+  /// by the next CG solve). False when there is none.
+  bool update_contact_correction() const {
+    return preconditioner_ != nullptr && !contacts_.empty() && correction_.update(*preconditioner_);
+  }
 
   /// Newton iterations from x (changed in place) to the equilibrium at load factor s with external forces f_ext
   /// (N per node), stopping at the tolerance, the iteration limits or the deadline.

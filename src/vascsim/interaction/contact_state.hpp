@@ -38,7 +38,16 @@ struct ToolPose {
 /// then, if a contact normal n is given, drops an attractive normal component (n . F < 0): a one-sided
 /// contact pushes but never pulls, so extrapolating past the point of separation gives zero normal force
 /// instead of glue.
+///
+/// A model that knows the wall's compliance at the contacts (the implicit model, docs/haptics.md) also
+/// publishes candidate contacts: the nodes in contact and those about to touch, each with its normal, its gap
+/// and its normal force, and their contact-space compliance W. force_at then re-solves the small unilateral
+/// problem at p (0 <= lambda, gap(lambda, p) >= 0, lambda gap = 0, with gap_c = g_c - n_c . dp +
+/// sum_d W_cd (lambda_d - lambda*_d)) by projected Gauss-Seidel and adds what contacts opening or closing
+/// change with respect to the held set that K describes.
 struct ContactState {
+  /// Most candidate contacts one state carries (the nearest to the tool first).
+  static constexpr int kMaxCandidates = 24;
   std::uint64_t sequence = 0;  ///< 1, 2, ... per simulation step; 0: no state yet (force_at is zero)
   double sim_time_s = 0.0;     ///< simulation time of the step
   /// The tool pose the step used (copied from the ToolPose it read). Its time_s is on the haptic clock,
@@ -52,6 +61,14 @@ struct ContactState {
   /// Unit contact normal, pointing from the tissue towards the tool (the direction the tissue pushes);
   /// zero when there is no single normal (then the extrapolation is not made one-sided).
   std::array<double, 3> normal{};
+  /// Candidate contacts (0: none; force_at uses K alone). Per candidate c: the unit normal out of the tool into
+  /// the tissue, its gap to the tool at p_sim (0 for a contact, m) and its normal force on the tissue (N).
+  int candidates = 0;
+  std::array<double, 3 * kMaxCandidates> candidate_normal{};
+  std::array<double, kMaxCandidates> candidate_gap_m{};
+  std::array<double, kMaxCandidates> candidate_force_n{};
+  /// W_cd: the normal displacement at c per unit normal force at d, m/N, row-major kMaxCandidates^2.
+  std::array<double, kMaxCandidates * kMaxCandidates> compliance_m_per_n{};
 
   Vec3 force() const { return {force_n[0], force_n[1], force_n[2]}; }
   Mat3 stiffness() const {
@@ -70,14 +87,32 @@ struct ContactState {
   void set_normal(const Vec3& n) { normal = {n.x(), n.y(), n.z()}; }
 
   /// The extrapolated force on the tool at position `p_m` (see above). Zero before the first state.
-  /// `stiffness_scale` (in [0, 1]) lets a controller soften K to what it can render stably.
+  /// `stiffness_scale` (in [0, 1]) lets a controller soften K (and the candidates' response) to what it can
+  /// render stably.
   Vec3 force_at(const Vec3& p_m, double stiffness_scale = 1.0) const {
     if (sequence == 0) return Vec3::Zero();
     Vec3 f = force() + stiffness_scale * (stiffness() * (tool.position() - p_m));
+    if (candidates > 0) f -= stiffness_scale * set_change_force(p_m - tool.position());
     const Vec3 n = contact_normal();
     const double fn = n.dot(f);
     if (fn < 0.0) f -= fn * n;  // n = 0 leaves f unchanged
     return f;
+  }
+
+  /// The change of the force on the tissue that contacts opening and closing add when the tool moves by dp
+  /// from p_sim: (unilateral solution) - (the held set's linear solution), N. Both by Gauss-Seidel sweeps.
+  Vec3 set_change_force(const Vec3& dp) const;
+
+  void set_candidate(int c, const Vec3& normal_into_tissue, double gap_m, double force_n) {
+    candidate_normal[static_cast<std::size_t>(3 * c)] = normal_into_tissue.x();
+    candidate_normal[static_cast<std::size_t>(3 * c + 1)] = normal_into_tissue.y();
+    candidate_normal[static_cast<std::size_t>(3 * c + 2)] = normal_into_tissue.z();
+    candidate_gap_m[static_cast<std::size_t>(c)] = gap_m;
+    candidate_force_n[static_cast<std::size_t>(c)] = force_n;
+  }
+  double& compliance(int c, int d) { return compliance_m_per_n[static_cast<std::size_t>(c * kMaxCandidates + d)]; }
+  double compliance(int c, int d) const {
+    return compliance_m_per_n[static_cast<std::size_t>(c * kMaxCandidates + d)];
   }
 };
 

@@ -11,6 +11,13 @@
 
 namespace vascsim {
 
+/// A node in contact with the tool or about to touch it, for the haptic thread's unilateral re-solve.
+struct ContactCandidate {
+  Vec3 normal = Vec3::Zero();  ///< unit, out of the tool into the tissue
+  double gap_m = 0.0;          ///< distance to the tool's surface (0 in contact), m
+  double force_n = 0.0;        ///< normal force the tool exerts on it (0 when open), N
+};
+
 /// The tissue's linearised response to the tool around the state of the last frame.
 struct ToolLinearization {
   /// dF/d(-p): how the force on the tool grows as the tool moves by -p (into the tissue), N/m, symmetric
@@ -19,6 +26,10 @@ struct ToolLinearization {
   /// Unit contact normal from the tissue towards the tool (the direction the tissue pushes); zero when there
   /// is no single normal.
   Vec3 normal = Vec3::Zero();
+  /// Contacts and near contacts with their compliance W (m/N; W_cd: normal displacement at c per unit normal
+  /// force at d), so contacts can open and close between frames; empty when the model has none.
+  std::vector<ContactCandidate> candidates;
+  Eigen::MatrixXd compliance_m_per_n;
 };
 
 class DeviceDrivenModel {

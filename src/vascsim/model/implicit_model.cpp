@@ -34,6 +34,7 @@ ImplicitSettings read_implicit_settings(JsonReader& b) {
   s.time_budget_s = b.number("time_budget_s", d.time_budget_s, 0.0, 10.0);
   s.preconditioner = b.string("preconditioner", d.preconditioner, {"meshless", "tet"});
   s.line_search = b.boolean("line_search", d.line_search);
+  s.haptic_candidates = b.integer("haptic_candidates", d.haptic_candidates, 0, 24);
   s.refactor_cg_rate = b.number("refactor_cg_rate", d.refactor_cg_rate, 0.0, 1.0);
   s.refactor_cg_iterations = b.integer("refactor_cg_iterations", d.refactor_cg_iterations, 1, 100000);
   s.refactor_residual = b.number("refactor_residual", d.refactor_residual, 0.0, 1e6);
@@ -84,6 +85,9 @@ ImplicitModel::ImplicitModel(const Problem& problem, const ImplicitSettings& set
   pose_point_.assign(tools, Vec3::Zero());
   loads_.assign(tools, ObstacleLoad{});
   place_tools(0.0);
+  // Candidates within half a node spacing of a tool: more than a tool moves in a frame at hand speed.
+  candidates_ = std::make_unique<HapticCandidates>(free_, settings.haptic_candidates,
+                                                   0.5 * problem.discretization().mean_spacing());
   if (settings.preconditioner == "tet") {
     tet_ = std::make_unique<TetStiffnessPreconditioner>(problem, free_, "cholesky");
     newton_.set_preconditioner(tet_.get());
@@ -154,6 +158,7 @@ void ImplicitModel::linearize() {
     }
     // The direction the tissue pushes the tool: against the force the tool exerts on it.
     if (loads_[o].force_n.norm() > 0.0) lin.normal = -loads_[o].force_n.normalized();
+    if (candidates_) candidates_->fill(o, contacts_, x_, *factor_->factor, lin);
     linearization_[o] = lin;
   }
 }

@@ -23,6 +23,7 @@
 
 #include "vascsim/model/contact_active_set.hpp"
 #include "vascsim/model/device_driven_model.hpp"
+#include "vascsim/model/haptic_candidates.hpp"
 #include "vascsim/model/meshless_factor.hpp"
 #include "vascsim/model/newton_equilibrium.hpp"
 #include "vascsim/model/registry.hpp"
@@ -40,6 +41,7 @@ struct ImplicitSettings {
   double time_budget_s = 0.0;        ///< realtime sessions: a frame stops at this wall time (0: no budget), s
   std::string preconditioner = "meshless";  ///< "meshless" (factor of the Hessian) or "tet" (linear tets)
   bool line_search = true;           ///< Armijo line search in every Newton iteration (off: whole steps)
+  int haptic_candidates = 24;        ///< contacts and near contacts handed to the haptic thread (0: K only)
   /// Refactor when CG reduced the residual by less than this per iteration (NewtonResult::cg_rate: about 0.1
   /// with a fresh factor, towards 1 as it goes stale),
   double refactor_cg_rate = 0.3;
@@ -111,6 +113,7 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   std::vector<Vec3> factor_tool_points_;  // tool points when the factor in use was built
   std::vector<ObstacleLoad> loads_;
   std::vector<std::optional<ToolLinearization>> linearization_;  // per tool, after the last frame
+  std::unique_ptr<HapticCandidates> candidates_;
   double spacing_ = 0.0;
   int factorisations_ = 0;
   long long frames_ = 0, newton_total_ = 0, cg_total_ = 0, out_of_time_ = 0, unconverged_ = 0;

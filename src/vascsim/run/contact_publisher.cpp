@@ -55,6 +55,14 @@ void ContactPublisher::publish(const ToolPose& pose, const Vec3& f) {
   if (const auto lin = model_.tool_linearization(tool_)) {
     c.set_stiffness(scale_ * lin->stiffness_n_per_m);
     c.set_normal(lin->normal);
+    // Candidate contacts in device units: forces scale by the feedback scale, compliances by its inverse.
+    const int m = std::min<int>(static_cast<int>(lin->candidates.size()), ContactState::kMaxCandidates);
+    c.candidates = scale_ > 0.0 ? m : 0;
+    for (int i = 0; i < c.candidates; ++i) {
+      const ContactCandidate& k = lin->candidates[static_cast<std::size_t>(i)];
+      c.set_candidate(i, k.normal, k.gap_m, scale_ * k.force_n);
+      for (int j = 0; j < m; ++j) c.compliance(i, j) = lin->compliance_m_per_n(i, j) / scale_;
+    }
   } else {
     Vec3 n;
     c.set_stiffness(secant_stiffness(pose, f, n));

@@ -489,7 +489,7 @@ TEST(SceneFiles, Defaults) {
   EXPECT_DOUBLE_EQ(sc.discretization.support_radius_factor, 2.0);
   EXPECT_EQ(sc.discretization.min_neighbours, 12);
   EXPECT_DOUBLE_EQ(sc.settings<ExplicitSettings>("explicit").duration_s, 0.02);
-  EXPECT_EQ(sc.settings<QuasiStaticSettings>("quasi_static").preconditioner, "auto");
+  EXPECT_EQ(sc.settings<QuasiStaticSettings>("quasi_static").preconditioner, "meshless");
   EXPECT_FALSE(sc.output.vtk);
   EXPECT_EQ(sc.output.vtk_every, 1);
   ASSERT_EQ(sc.regions.size(), 2u);

@@ -15,7 +15,9 @@ QuasiStaticSettings read_quasi_static_settings(JsonReader& qs) {
   s.rel_tolerance = qs.number("rel_tolerance", 1e-8, 1e-14, 0.1);
   s.max_newton_iterations = qs.integer("max_newton_iterations", 60, 1, 10000);
   s.max_cg_iterations = qs.integer("max_cg_iterations", 2000, 1, 1000000);
-  s.preconditioner = qs.string("preconditioner", "auto", {"auto", "incomplete_cholesky", "cholesky", "none"});
+  s.preconditioner =
+      qs.string("preconditioner", "meshless", {"meshless", "auto", "incomplete_cholesky", "cholesky", "none"});
+  s.refactor_cg_iterations = qs.integer("refactor_cg_iterations", 10, 1, 100000);
   s.frame_s = qs.number("frame_s", 1e-3, 1e-6, 10.0);
   qs.finish();
   return s;
@@ -55,7 +57,14 @@ QuasiStaticModel::QuasiStaticModel(const Problem& problem, const QuasiStaticSett
   obstacle_load_.assign(tools, ObstacleLoad{});
   if (settings_.preconditioner == "auto")
     settings_.preconditioner = free_.nodes.size() <= 10000 ? "cholesky" : "incomplete_cholesky";
-  preconditioner_ = std::make_unique<TetStiffnessPreconditioner>(problem, free_, settings_.preconditioner);
+  if (settings_.preconditioner == "meshless") {
+    auto factor = std::make_unique<MeshlessFactor>(problem, free_, MeshlessFactorOptions{});
+    factor->refactor(x_);
+    meshless_ = factor.get();
+    preconditioner_ = std::move(factor);
+  } else {
+    preconditioner_ = std::make_unique<TetStiffnessPreconditioner>(problem, free_, settings_.preconditioner);
+  }
   newton_.set_preconditioner(preconditioner_.get());
 }
 
@@ -151,6 +160,12 @@ StepReport QuasiStaticModel::solve(double s) {
   rep.converged = r.converged;
   rep.residual = r.residual;
   contact_passes_ += r.contact_passes;
+  // The tangent has drifted from the factor's (CG needed many iterations): refactor at this equilibrium, the
+  // start of the next load step.
+  if (meshless_ && r.iterations > 0 && r.cg_iterations > settings_.refactor_cg_iterations * r.iterations) {
+    meshless_->refactor(x_);
+    ++refactorisations_;
+  }
   finish_step(s, r.residual, rep);
   return rep;
 }
@@ -178,6 +193,7 @@ nlohmann::json QuasiStaticModel::info() const {
           {"load_steps", settings_.load_steps},
           {"rel_tolerance", settings_.rel_tolerance},
           {"preconditioner", preconditioner_->info()},
+          {"refactorisations", refactorisations_},
           {"newton_iterations", total_newton_},
           {"cg_iterations", total_cg_},
           {"unconverged_steps", unconverged_steps_},

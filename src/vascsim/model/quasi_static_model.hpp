@@ -23,6 +23,7 @@
 #include "vascsim/model/contact_active_set.hpp"
 #include "vascsim/model/device_driven_model.hpp"
 #include "vascsim/model/equilibrium_preconditioner.hpp"
+#include "vascsim/model/meshless_factor.hpp"
 #include "vascsim/model/newton_equilibrium.hpp"
 #include "vascsim/model/registry.hpp"
 
@@ -34,10 +35,14 @@ struct QuasiStaticSettings {
   int max_newton_iterations = 60;   ///< per load step
   int max_cg_iterations = 2000;     ///< per Newton iteration
   bool fail_on_divergence = false;  ///< throw instead of reporting a load step that did not converge
-  /// "auto" (default: "cholesky" up to 10,000 free nodes, else "incomplete_cholesky"),
-  /// "cholesky" (exact factor of the tet stiffness: 5x fewer CG iterations, but its fill grows fast:
-  /// 21 M nonzeros and 90 ms per solve at 23k nodes), "incomplete_cholesky" (cheap at any size) or "none".
-  std::string preconditioner = "auto";
+  /// "meshless" (default: a supernodal Cholesky factor of the assembled meshless Hessian, meshless_factor.hpp,
+  /// refactored at the converged state of a load step whose Newton iterations needed more than
+  /// refactor_cg_iterations CG iterations on average), or a factor of the virtual tets' linear stiffness:
+  /// "cholesky" (exact; its fill grows fast: 21 M nonzeros and 90 ms per solve at 23k nodes),
+  /// "incomplete_cholesky" (cheap at any size); "auto" picks one of these two by size (10,000 free nodes);
+  /// "none".
+  std::string preconditioner = "meshless";
+  int refactor_cg_iterations = 10;  ///< meshless: refactor after a load step that averaged more CG per Newton
   int max_contact_passes = 50;  ///< active-set changes after a converged Newton solve, per load step
   double frame_s = 1e-3;        ///< simulated time per frame when a device drives the model, s
 };
@@ -87,6 +92,8 @@ class QuasiStaticModel final : public Model, public DeviceDrivenModel {
   ContactActiveSet contacts_;
   NewtonEquilibrium newton_;
   std::unique_ptr<EquilibriumPreconditioner> preconditioner_;
+  MeshlessFactor* meshless_ = nullptr;  // preconditioner_ when it is the meshless factor
+  int refactorisations_ = 0;
   std::vector<char> posed_;  // per tool: placed by set_tool_pose
   std::vector<constraints::Capsule> posed_geometry_;
   std::vector<Vec3> posed_point_;

@@ -1,0 +1,103 @@
+#!/usr/bin/env python3
+"""Force error against node count for the real-time vessel scenes (docs/validation.md, "Real-time resolutions").
+
+For each vessel scene it runs quasi_static at the scene's own (fine) node spacing and at coarser ones, and the
+scene's real-time variant (scenes/realtime/, the implicit model) at its resolution; it reports, per spacing, the
+node count, the final force of the pushed region or tool, its error against the fine quasi_static force (the
+discretisation error) and, for the real-time variant, the implicit model's final force against quasi_static at
+the same resolution (the solver error).
+
+    /usr/bin/python3 scripts/realtime_resolution_table.py --vascsim build/vascsim --out out/realtime-resolution
+
+Each run is an ordinary `vascsim run`; the raw outputs stay in the output folder.
+"""
+import argparse
+import json
+import pathlib
+import subprocess
+import sys
+import time
+
+CASES = [
+    # name, scene, measured region or tool, spacings (m; the first is the scene's own), real-time variant
+    ("hand dorsal vein, bonded indenter", "scenes/hand-dorsal-vein.json", "indenter",
+     [0.15e-3, 0.2e-3, 0.3e-3, 0.35e-3], "scenes/realtime/hand-dorsal-vein.json"),
+    ("bent aorta, bonded indenter", "scenes/aorta-bent.json", "indenter",
+     [1.0e-3, 1.5e-3, 2.2e-3], "scenes/realtime/aorta-bent.json"),
+    ("retinal artery, bonded indenter", "scenes/retinal-artery-twice-bent.json", "indenter",
+     [10e-6, 15e-6, 20e-6], "scenes/realtime/retinal-artery-twice-bent.json"),
+    ("hand dorsal vein, 6 Fr catheter (Fig. 10)", "scenes/hand-dorsal-vein-catheter.json", "catheter",
+     [0.15e-3, 0.2e-3, 0.3e-3], None),
+]
+
+
+def run(vascsim, scene, out, sets):
+    cmd = [vascsim, "-q", "run", scene, "--out", str(out)]
+    for s in sets:
+        cmd += ["--set", s]
+    t0 = time.time()
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    if proc.returncode != 0:
+        sys.exit(f"{' '.join(cmd)} failed ({proc.returncode}): {proc.stderr.strip()}")
+    summary = json.loads((out / "summary.json").read_text())
+    return summary, time.time() - t0
+
+
+def final_force(summary, name):
+    return summary["steps"][-1]["regions"][name]["force_n"]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--vascsim", default="build/vascsim")
+    ap.add_argument("--out", default="out/realtime-resolution")
+    ap.add_argument("--only", help="run only the cases whose name contains this text")
+    args = ap.parse_args()
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    rows = []
+    common = ["discretization.max_growths=10", "mapping.max_growths=6", "output.surface=false", "output.vtk=false"]
+    for label, scene, region, spacings, realtime in CASES:
+        if args.only and args.only not in label:
+            continue
+        fine = None
+        for k, h in enumerate(spacings):
+            folder = out / f"{pathlib.Path(scene).stem}-{h * 1e6:.0f}um"
+            summary, seconds = run(args.vascsim, scene, folder,
+                                   common + ["model=quasi_static", f"geometry.node_spacing_m={h!r}"])
+            force = final_force(summary, region)
+            fine = force if k == 0 else fine
+            row = {"case": label, "spacing_m": h, "nodes": summary["nodes"], "model": "quasi_static",
+                   "force_n": force, "error_vs_fine": force / fine - 1.0, "seconds": seconds,
+                   "unconverged_steps": summary["unconverged_steps"]}
+            rows.append(row)
+            print(f"{label}: {h * 1e3:.3g} mm, {row['nodes']} nodes: {force:.6g} N ({100 * row['error_vs_fine']:+.1f} %), "
+                  f"{seconds:.0f} s", flush=True)
+        if realtime:
+            rt = json.loads(pathlib.Path(realtime).read_text())
+            h = rt["geometry"]["node_spacing_m"]
+            summary, seconds = run(args.vascsim, realtime, out / f"realtime-{pathlib.Path(realtime).stem}",
+                                   common)
+            force = final_force(summary, region)
+            same = next(r for r in rows if r["case"] == label and abs(r["spacing_m"] - h) < 1e-12)
+            row = {"case": label, "spacing_m": h, "nodes": summary["nodes"], "model": "implicit",
+                   "force_n": force, "error_vs_fine": force / fine - 1.0,
+                   "error_vs_quasi_static_same_resolution": force / same["force_n"] - 1.0, "seconds": seconds,
+                   "frames": summary["solver"]["frames"], "worst_residual": summary["solver"]["worst_residual"]}
+            rows.append(row)
+            print(f"{label}: real-time variant, {row['nodes']} nodes: {force:.6g} N "
+                  f"({100 * row['error_vs_quasi_static_same_resolution']:+.2f} % against quasi_static there)", flush=True)
+    (out / "table.json").write_text(json.dumps(rows, indent=2) + "\n")
+    lines = ["| case | spacing | nodes | model | final force | vs fine quasi_static | vs quasi_static, same nodes |",
+             "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        same = r.get("error_vs_quasi_static_same_resolution")
+        lines.append(f"| {r['case']} | {r['spacing_m'] * 1e3:.3g} mm | {r['nodes']:,} | {r['model']} | "
+                     f"{r['force_n']:.4g} N | {100 * r['error_vs_fine']:+.1f} % | "
+                     f"{'' if same is None else f'{100 * same:+.2f} %'} |")
+    (out / "table.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,5 +1,6 @@
 #include "vascsim/render/render_frame.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -10,7 +11,24 @@
 
 namespace vascsim::render {
 
+Float3 arrow_vector_m(const ForceArrow& arrow, const Bounds& scene) {
+  const float threshold = std::max(arrow.threshold_n, 1e-9f);
+  const float per_newton = arrow.length_per_newton_m > 0.0f ? arrow.length_per_newton_m
+                                                             : 0.3f * static_cast<float>(scene.radius()) / threshold;
+  return arrow.force_n * per_newton;
+}
+
 Bounds frame_bounds(const RenderFrame& frame) {
+  Bounds b = scene_bounds(frame);
+  if (frame.force) {
+    const Vec3 head = (frame.force->origin_m + arrow_vector_m(*frame.force, b)).cast<double>();
+    b.min = b.min.cwiseMin(head);
+    b.max = b.max.cwiseMax(head);
+  }
+  return b;
+}
+
+Bounds scene_bounds(const RenderFrame& frame) {
   Eigen::Vector3d lo = Vec3::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector3d hi = -lo;
   for (const Float3& p : frame.positions_m) {

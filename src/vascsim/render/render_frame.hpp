@@ -82,13 +82,18 @@ struct RenderFrame {
   std::size_t triangle_count() const { return triangles.size(); }
 };
 
-/// Axis-aligned bounds of the surface, tools included. Empty frame: a unit box at the origin.
+/// Axis-aligned bounds. Empty frame: a unit box at the origin.
 struct Bounds {
   Vec3 min = -Vec3::Ones(), max = Vec3::Ones();
   Vec3 centre() const { return 0.5 * (min + max); }
   double radius() const { return 0.5 * (max - min).norm(); }
 };
+/// Bounds of the surface and the tools (what sets the arrow's automatic scale).
+Bounds scene_bounds(const RenderFrame& frame);
+/// scene_bounds() extended to the force arrow's head: what the camera frames.
 Bounds frame_bounds(const RenderFrame& frame);
+/// The arrow as drawn, m: force x length_per_newton_m, or with the automatic scale (see ForceArrow).
+Float3 arrow_vector_m(const ForceArrow& arrow, const Bounds& scene);
 
 /// Unit area-weighted vertex normals of `positions` over `triangles` (the renderer's fallback).
 void compute_normals(const std::vector<Float3>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles,

@@ -224,7 +224,7 @@ void Renderer::upload(const RenderFrame& frame, bool measure) {
     bytes += stream(GL_ELEMENT_ARRAY_BUFFER, m.lumen_ebo, lumen);
   }
   m.uv_aspect = frame.uv_aspect > 0.0f ? frame.uv_aspect : 1.0f;
-  m.bounds = frame_bounds(frame);
+  m.bounds = scene_bounds(frame);
 
   // Tools and the force arrow.
   m.solid_mesh.clear();
@@ -239,16 +239,13 @@ void Renderer::upload(const RenderFrame& frame, bool measure) {
   m.arrow_count = 0;
   if (frame.force) {
     const ForceArrow& f = *frame.force;
-    const float magnitude = f.force_n.norm();
-    const float threshold = std::max(f.threshold_n, 1e-9f);
+    const float ratio = f.force_n.norm() / std::max(f.threshold_n, 1e-9f);
     const float scene = static_cast<float>(m.bounds.radius());
-    const float per_newton = f.length_per_newton_m > 0.0f ? f.length_per_newton_m : 0.3f * scene / threshold;
-    const float ratio = magnitude / threshold;
     // Green below 80 % of the threshold, amber up to it, red above.
     m.arrow_colour = ratio > 1.0f ? Float3(0.92f, 0.16f, 0.12f)
                      : ratio > 0.8f ? Float3(0.98f, 0.68f, 0.12f)
                                     : Float3(0.25f, 0.85f, 0.35f);
-    append_arrow(m.solid_mesh, f.origin_m, f.force_n * per_newton, 0.012f * scene);
+    append_arrow(m.solid_mesh, f.origin_m, arrow_vector_m(f, m.bounds), 0.012f * scene);
     m.arrow_count = m.solid_mesh.triangles.size() - m.arrow_first;
   }
   glBindVertexArray(m.solid_vao);

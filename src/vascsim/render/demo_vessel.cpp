@@ -11,11 +11,12 @@ namespace vascsim::render {
 
 namespace {
 
-// Wall triangles of a swept vessel with spacing h: 2 x 2 x nt x (nz - 1) on the walls, + 2 x 2 x nt
-// on the end rings (a ring of quads per layer gap; an estimate is enough to pick h).
+// Wall triangles of a swept vessel with spacing h: 2 x 2 x nt x (nz - 1) on the two walls plus the end
+// rings, nt = circumference / h, nz = length / h; the factor 3.6 instead of 4 matches the swept vessel's
+// rounding of nt and nz (measured).
 double spacing_for(const DemoVesselSpec& s, double length) {
   const double circumference = 2.0 * std::numbers::pi * s.outer_radius_m;
-  return std::sqrt(4.0 * circumference * length / std::max(s.target_triangles, 100));
+  return std::sqrt(3.6 * circumference * length / std::max(s.target_triangles, 100));
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <random>
 
 #include "vascsim/render/gl_program.hpp"
 #include "vascsim/render/lumen_caps.hpp"
@@ -40,12 +41,16 @@ Float3 to_float(const Vec3& v) { return v.cast<float>(); }
 
 struct Renderer::Impl {
   GlProgram surface, solid, overlay, accumulate, composite;
+  GLuint baked_texture = 0;  // the procedural wall, baked once
+  GLuint grain_texture = 0;  // fluoroscopy quantum mottle: a tile of uniform noise
 
-  // Wall surface: one VAO for the lit pass (all attributes), one for the lumen (positions + lumen EBO).
+  // Wall surface: one VAO for the lit pass (all attributes), one for the fluoroscopy pass (positions and
+  // its own index buffer: the triangles with an outer vertex, then the inner wall, then the lumen caps).
   GLuint surface_vao = 0, lumen_vao = 0;
   GLuint position_vbo = 0, normal_vbo = 0, uv_vbo = 0, outer_vbo = 0, scalar_vbo = 0;
   GLuint triangle_ebo = 0, lumen_ebo = 0;
-  std::size_t vertices = 0, triangles = 0, lumen_triangles = 0;
+  std::size_t vertices = 0, triangles = 0;
+  std::size_t fluoro_wall = 0, fluoro_inner = 0, fluoro_caps = 0;  // triangles in the three ranges
   std::uint64_t topology_version = ~std::uint64_t{0};
   bool has_uv = false, has_outer = false, has_scalar = false;
   float uv_aspect = 1.0f;
@@ -83,6 +88,8 @@ struct Renderer::Impl {
         overlay("overlay", shaders::overlay_vertex(), shaders::overlay_fragment()),
         accumulate("fluoro_accumulate", shaders::fluoro_accumulate_vertex(), shaders::fluoro_accumulate_fragment()),
         composite("fluoro_composite", shaders::fullscreen_vertex(), shaders::fluoro_composite_fragment()) {
+    bake_wall_texture();
+    make_grain_texture();
     GLuint b[12];
     glGenBuffers(12, b);
     position_vbo = b[0], normal_vbo = b[1], uv_vbo = b[2], outer_vbo = b[3], scalar_vbo = b[4];
@@ -124,6 +131,53 @@ struct Renderer::Impl {
     if (accum_fbo != 0) glDeleteFramebuffers(1, &accum_fbo);
     if (accum_texture != 0) glDeleteTextures(1, &accum_texture);
     if (wall_texture != 0) glDeleteTextures(1, &wall_texture);
+    glDeleteTextures(1, &baked_texture);
+    glDeleteTextures(1, &grain_texture);
+  }
+
+  void make_grain_texture() {
+    constexpr int kSize = 256;
+    std::vector<float> values(kSize * kSize);
+    std::mt19937 rng(20210327u);
+    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+    for (float& v : values) v = uniform(rng);
+    glGenTextures(1, &grain_texture);
+    glBindTexture(GL_TEXTURE_2D, grain_texture);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, kSize, kSize, 0, GL_RED, GL_FLOAT, values.data());
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glBindTexture(GL_TEXTURE_2D, 0);
+  }
+
+  // Renders the procedural wall tile into a mipmapped, repeating texture.
+  void bake_wall_texture() {
+    constexpr int kSize = 1024;
+    GlProgram bake("wall_bake", shaders::fullscreen_vertex(), shaders::wall_bake_fragment());
+    glGenTextures(1, &baked_texture);
+    glBindTexture(GL_TEXTURE_2D, baked_texture);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, kSize, kSize, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    GLuint fbo = 0, vao = 0;
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, baked_texture, 0);
+    glViewport(0, 0, kSize, kSize);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    bake.use();
+    glGenVertexArrays(1, &vao);
+    glBindVertexArray(vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    glDeleteVertexArrays(1, &vao);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDeleteFramebuffers(1, &fbo);
+    glGenerateMipmap(GL_TEXTURE_2D);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glUseProgram(0);
   }
 
   static void attribute(GLuint index, GLuint vbo, int size, GLenum type, GLboolean normalized) {
@@ -218,10 +272,20 @@ void Renderer::upload(const RenderFrame& frame, bool measure) {
     m.has_outer = !frame.outer.empty();
     if (m.has_outer) bytes += stream(GL_ARRAY_BUFFER, m.outer_vbo, frame.outer);
     m.use_array(3, m.has_outer);
-    const auto lumen = lumen_surface(frame.triangles, frame.outer);
-    m.lumen_triangles = lumen.size();
+    // The inner wall bounds both the wall solid and the lumen: drawn once with the difference of the two
+    // weights instead of twice.
+    const auto lumen = lumen_surface(frame.triangles, frame.outer);  // inner triangles, then the caps
+    std::vector<std::array<std::uint32_t, 3>> fluoro;
+    fluoro.reserve(frame.triangles.size() + lumen.size());
+    for (const auto& t : frame.triangles)
+      if (frame.outer.empty() || frame.outer[t[0]] != 0 || frame.outer[t[1]] != 0 || frame.outer[t[2]] != 0)
+        fluoro.push_back(t);
+    m.fluoro_wall = fluoro.size();
+    m.fluoro_inner = frame.triangles.size() - m.fluoro_wall;
+    m.fluoro_caps = lumen.size() - m.fluoro_inner;
+    fluoro.insert(fluoro.end(), lumen.begin(), lumen.end());
     glBindVertexArray(m.lumen_vao);
-    bytes += stream(GL_ELEMENT_ARRAY_BUFFER, m.lumen_ebo, lumen);
+    bytes += stream(GL_ELEMENT_ARRAY_BUFFER, m.lumen_ebo, fluoro);
   }
   m.uv_aspect = frame.uv_aspect > 0.0f ? frame.uv_aspect : 1.0f;
   m.bounds = scene_bounds(frame);
@@ -301,16 +365,19 @@ void Renderer::draw(const OrbitCamera& camera, const RenderSettings& settings, u
     m.accumulate.set("u_front_is_entry", 1);
     const FluoroSettings& f = settings.fluoro;
     if (settings.show_surface && m.triangles > 0) {
-      // The wall solid (outward-oriented, closed).
-      m.accumulate.set("u_weight", f.mu_tissue_per_m);
-      glBindVertexArray(m.surface_vao);
-      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(3 * m.triangles), GL_UNSIGNED_INT, nullptr);
-      if (m.lumen_triangles > 0) {
-        // The lumen (oriented inwards, hence the negative weight).
-        m.accumulate.set("u_weight", -(f.contrast_filled ? f.mu_contrast_per_m : f.mu_tissue_per_m));
-        glBindVertexArray(m.lumen_vao);
-        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(3 * m.lumen_triangles), GL_UNSIGNED_INT, nullptr);
-      }
+      // Wall solid (outward-oriented, closed) with mu_tissue, plus the lumen (the inner wall and the caps,
+      // oriented inwards, hence negative) with mu_lumen: the inner wall carries mu_tissue - mu_lumen.
+      const float mu_lumen = f.contrast_filled ? f.mu_contrast_per_m : f.mu_tissue_per_m;
+      auto range = [&](std::size_t first, std::size_t count, float weight) {
+        if (count == 0) return;
+        m.accumulate.set("u_weight", weight);
+        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(3 * count), GL_UNSIGNED_INT,
+                       reinterpret_cast<const void*>(3 * first * sizeof(std::uint32_t)));
+      };
+      glBindVertexArray(m.lumen_vao);
+      range(0, m.fluoro_wall, f.mu_tissue_per_m);
+      range(m.fluoro_wall, m.fluoro_inner, f.mu_tissue_per_m - mu_lumen);
+      range(m.fluoro_wall + m.fluoro_inner, m.fluoro_caps, -mu_lumen);
     }
     if (settings.show_tools && m.tool_triangles > 0) {
       m.accumulate.set("u_weight", f.mu_tool_per_m);
@@ -327,9 +394,16 @@ void Renderer::draw(const OrbitCamera& camera, const RenderSettings& settings, u
     m.composite.set("u_floor", f.floor);
     m.composite.set("u_vignette", f.vignette);
     m.composite.set("u_noise", f.noise);
-    m.composite.set("u_seed", static_cast<unsigned>(settings.frame_index * 2654435761u + 12345u));
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, m.grain_texture);
+    m.composite.set("u_grain", 1);
+    const std::uint32_t seed = settings.frame_index * 2654435761u;
+    glUniform2i(glGetUniformLocation(m.composite.id(), "u_grain_offset"), static_cast<int>(seed >> 24),
+                static_cast<int>((seed >> 16) & 255u));
     glBindVertexArray(m.empty_vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, 0);
   } else {
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
@@ -339,6 +413,13 @@ void Renderer::draw(const OrbitCamera& camera, const RenderSettings& settings, u
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDisable(GL_BLEND);
+    // The wall and the tools are closed, outward-oriented solids: seen from outside their material only
+    // front faces are visible, so culling the back faces halves the fragments. The cutaway opens the wall
+    // (its cut shows back faces): no culling then.
+    if (!settings.cutaway) {
+      glEnable(GL_CULL_FACE);
+      glCullFace(GL_BACK);
+    }
 
     if (settings.show_surface && m.triangles > 0) {
       m.surface.use();
@@ -348,12 +429,14 @@ void Renderer::draw(const OrbitCamera& camera, const RenderSettings& settings, u
       m.surface.set("u_fill_light", fill);
       m.surface.set("u_uv_aspect", m.uv_aspect);
       const bool colour_map = settings.show_colour_map && m.has_scalar;
-      m.surface.set("u_colour_mode", colour_map ? 1 : (m.wall_texture != 0 ? 2 : 0));
+      m.surface.set("u_colour_mode", colour_map ? 1 : 0);
       m.surface.set("u_scalar_range", Float2(m.scalar_info.min, m.scalar_info.max));
+      const bool baked = m.wall_texture == 0;
       glActiveTexture(GL_TEXTURE0);
-      glBindTexture(GL_TEXTURE_2D, m.wall_texture);
+      glBindTexture(GL_TEXTURE_2D, baked ? m.baked_texture : m.wall_texture);
       m.surface.set("u_texture", 0);
-      m.surface.set("u_texture_cells", m.texture_repeats);
+      m.surface.set("u_baked", baked ? 1 : 0);
+      m.surface.set("u_texture_cells", baked ? 1.0f : m.texture_repeats);
       if (settings.cutaway) {
         // Keep the half of the wall behind the plane through the target that faces the camera.
         const Vec3 n = towards_eye;
@@ -401,6 +484,7 @@ void Renderer::draw(const OrbitCamera& camera, const RenderSettings& settings, u
       }
     }
 
+    glDisable(GL_CULL_FACE);
     if ((settings.show_nodes && m.nodes > 0) || (settings.show_tets && m.tet_edges > 0)) {
       m.overlay.use();
       m.overlay.set("u_view_proj", view_proj);

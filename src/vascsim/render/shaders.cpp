@@ -7,7 +7,7 @@ namespace vascsim::render::shaders {
 namespace {
 
 // Integer hash and value noise shared by the wall texture and the fluoroscopy grain. The noise lattice
-// wraps in y with a given period, so a pattern in (u, v) is seamless around the vessel.
+// wraps with a given period in x and y, so a pattern on a tile is seamless when the tile repeats.
 const char* kNoise = R"(
 uint mix_bits(uint h) {
   h ^= h >> 16; h *= 0x7feb352du;
@@ -15,27 +15,27 @@ uint mix_bits(uint h) {
   h ^= h >> 16;
   return h;
 }
-float cell_value(ivec2 c, int period_y) {
-  int y = ((c.y % period_y) + period_y) % period_y;
-  uint h = mix_bits(uint(c.x) * 0x9e3779b1u + mix_bits(uint(y) + 0x632be5abu));
+float cell_value(ivec2 c, ivec2 period) {
+  ivec2 w = ((c % period) + period) % period;
+  uint h = mix_bits(uint(w.x) * 0x9e3779b1u + mix_bits(uint(w.y) + 0x632be5abu));
   return float(h >> 8) * (1.0 / 16777216.0);
 }
-float value_noise(vec2 p, int period_y) {
+float value_noise(vec2 p, ivec2 period) {
   ivec2 i = ivec2(floor(p));
   vec2 f = p - floor(p);
   vec2 w = f * f * (3.0 - 2.0 * f);
-  float a = cell_value(i, period_y), b = cell_value(i + ivec2(1, 0), period_y);
-  float c = cell_value(i + ivec2(0, 1), period_y), d = cell_value(i + ivec2(1, 1), period_y);
+  float a = cell_value(i, period), b = cell_value(i + ivec2(1, 0), period);
+  float c = cell_value(i + ivec2(0, 1), period), d = cell_value(i + ivec2(1, 1), period);
   return mix(mix(a, b, w.x), mix(c, d, w.x), w.y);
 }
 // Sum of `octaves` noises, each twice the frequency and half the amplitude; in [0, 1].
-float layered_noise(vec2 p, int period_y, int octaves) {
+float layered_noise(vec2 p, ivec2 period, int octaves) {
   float sum = 0.0, amp = 0.5, norm = 0.0;
   for (int k = 0; k < octaves; ++k) {
-    sum += amp * value_noise(p, period_y);
+    sum += amp * value_noise(p, period);
     norm += amp;
     p *= 2.0;
-    period_y *= 2;
+    period *= 2;
     amp *= 0.5;
   }
   return sum / norm;
@@ -82,51 +82,17 @@ uniform vec3 u_eye;
 uniform vec3 u_key_light;   // unit vector towards the key light
 uniform vec3 u_fill_light;  // unit vector towards the fill light
 uniform float u_uv_aspect;  // vessel length / circumference
-uniform int u_colour_mode;  // 0: procedural wall, 1: colour map, 2: texture image
+uniform int u_colour_mode;  // 0: wall texture, 1: colour map
+uniform bool u_baked;       // the texture is the baked procedural wall (alpha: intima detail)
 uniform vec2 u_scalar_range;
 uniform sampler2D u_texture;
-uniform float u_texture_cells;  // texture repeats around the vessel
+uniform float u_texture_cells;  // texture tiles around the vessel
 out vec4 o_colour;
-)") + kNoise + colour_map_glsl() +
+)") + colour_map_glsl() +
          R"(
 const float kTwoPi = 6.28318530718;
-const int kCells = 10;  // noise cells around the circumference (even: the warp uses half)
 
-vec3 to_linear(vec3 c) { return pow(c, vec3(2.2)); }
-
-// Thin meandering lines where a noise field crosses one half: the vasa vasorum.
-float streaks(vec2 q, int period, float width, float footprint) {
-  // (The noise period must equal the extent of p.y around the vessel: q * 0.5 wraps with period / 2.)
-  vec2 warp = vec2(layered_noise(q * 0.5 + vec2(3.1, 0.0), period / 2, 3),
-                   layered_noise(q * 0.5 + vec2(17.3, 0.0), period / 2, 3));
-  float n = layered_noise(q + 1.6 * warp, period, 4);
-  float w = max(width, footprint);
-  float line = 1.0 - smoothstep(0.0, w, abs(n - 0.5));
-  // Lines thinner than a pixel fade to their mean instead of flickering.
-  return line * width / w;
-}
-
-vec3 wall_colour(vec2 q, float footprint, bool outer_wall) {
-  float blotch = layered_noise(q * 0.5, kCells / 2, 3);
-  float fine = layered_noise(q * 8.0, kCells * 8, 2);
-  float detail = 1.0 - smoothstep(0.15, 0.6, footprint * 8.0);
-  // A faint helical fibre texture of the media/adventitia.
-  float fibre_phase = kTwoPi * (q.y * 14.0 + q.x * 3.0) + 4.0 * fine;
-  float fibres = (0.5 + 0.5 * sin(fibre_phase)) * (1.0 - smoothstep(0.02, 0.08, footprint));
-  if (outer_wall) {
-    vec3 tissue = mix(vec3(0.80, 0.40, 0.38), vec3(0.88, 0.66, 0.50), 0.45 * smoothstep(0.45, 0.8, blotch));
-    tissue *= 0.92 + 0.16 * mix(0.5, fine, detail);
-    tissue *= 1.0 - 0.07 * fibres;
-    // Vessels of the vessel wall: long meandering lines mostly along the axis, and finer side branches.
-    vec2 along = vec2(q.x * 0.35, q.y);
-    float vv = max(streaks(along, kCells, 0.03, footprint * 1.2),
-                   0.6 * streaks(q * 2.0 + vec2(11.0, 0.0), kCells * 2, 0.022, footprint * 3.0));
-    return mix(tissue, vec3(0.50, 0.06, 0.09), 0.85 * vv);
-  }
-  // The intima: smooth, paler, bluish.
-  vec3 intima = vec3(0.52, 0.47, 0.66) * (0.95 + 0.08 * mix(0.5, fine, detail));
-  return intima * (1.0 - 0.05 * fibres);
-}
+vec3 to_linear(vec3 c) { return c * c; }  // gamma 2: close to sRGB, and cheap
 
 void main() {
   // v from the interpolated (cos, sin) pair, and its screen derivatives without the seam's jump.
@@ -135,21 +101,23 @@ void main() {
   float r2 = max(dot(cs, cs), 1e-6);
   vec2 dv = vec2(cs.x * dFdx(cs.y) - cs.y * dFdx(cs.x), cs.x * dFdy(cs.y) - cs.y * dFdy(cs.x)) / (kTwoPi * r2);
   vec2 du = vec2(dFdx(v_param.x), dFdy(v_param.x));
-  vec2 q = vec2(v_param.x * u_uv_aspect, v) * float(kCells);
-  float footprint = max(length(du) * u_uv_aspect, length(dv)) * float(kCells);
 
   bool outer_wall = v_outer > 0.5;
   vec3 albedo;
   if (u_colour_mode == 1) {
     float t = (v_scalar - u_scalar_range.x) / max(u_scalar_range.y - u_scalar_range.x, 1e-30);
     albedo = colour_map(t);
-  } else if (u_colour_mode == 2) {
-    vec2 tc = vec2(v_param.x * u_uv_aspect, v) * u_texture_cells;
-    albedo = textureGrad(u_texture, tc, vec2(du.x * u_uv_aspect, dv.x) * u_texture_cells,
-                         vec2(du.y * u_uv_aspect, dv.y) * u_texture_cells).rgb;
-    if (!outer_wall) albedo *= vec3(0.70, 0.72, 0.95);
   } else {
-    albedo = wall_colour(q, footprint, outer_wall);
+    // One tile is one circumference square: u * aspect along, v around.
+    vec2 tc = vec2(v_param.x * u_uv_aspect, v) * u_texture_cells;
+    vec4 texel = textureGrad(u_texture, tc, vec2(du.x * u_uv_aspect, dv.x) * u_texture_cells,
+                             vec2(du.y * u_uv_aspect, dv.y) * u_texture_cells);
+    if (outer_wall)
+      albedo = texel.rgb;
+    else if (u_baked)
+      albedo = vec3(0.52, 0.47, 0.66) * (0.9 + 0.16 * texel.a);  // the intima: smooth, paler, bluish
+    else
+      albedo = texel.rgb * vec3(0.70, 0.72, 0.95);
   }
   vec3 base = to_linear(albedo);
   vec3 n = normalize(v_normal);
@@ -165,7 +133,48 @@ void main() {
   float shininess = outer_wall ? 40.0 : 90.0;
   float spec = pow(max(dot(n, h), 0.0), shininess) * (outer_wall ? 0.22 : 0.45) * step(0.0, dot(n, u_key_light));
   vec3 lit = base * (0.16 + 0.80 * key + 0.25 * fill) + vec3(spec);
-  o_colour = vec4(pow(lit, vec3(1.0 / 2.2)), 1.0);
+  o_colour = vec4(sqrt(lit), 1.0);
+}
+)";
+}
+
+// The procedural wall, baked once into a tile (one circumference square, kCells x kCells noise cells,
+// periodic both ways) that the surface shader samples with mipmaps: cheap per fragment, and filtered.
+// rgb: the outer wall (adventitia, sRGB); a: fine detail for the intima.
+std::string wall_bake_fragment() {
+  return std::string(R"(#version 330 core
+in vec2 v_uv;
+out vec4 o_colour;
+)") + kNoise +
+         R"(
+const float kTwoPi = 6.28318530718;
+const int kCells = 10;  // noise cells across the tile (even: the warp uses half)
+
+// Thin meandering lines where a noise field crosses one half: the vasa vasorum. The distance to the
+// crossing, in texels, is |n - 0.5| over the gradient, so a line keeps its width where the field is flat.
+// The periods must be the extent of q across the tile in cells; q * 0.5 wraps with period / 2.
+float streaks(vec2 q, ivec2 period, float half_width_texels) {
+  vec2 warp = vec2(layered_noise(q * 0.5 + vec2(3.1, 0.0), period / 2, 3),
+                   layered_noise(q * 0.5 + vec2(17.3, 0.0), period / 2, 3));
+  float n = layered_noise(q + 1.6 * warp, period, 4);
+  float distance = abs(n - 0.5) / max(length(vec2(dFdx(n), dFdy(n))), 1e-6);
+  return 1.0 - smoothstep(0.3 * half_width_texels, half_width_texels, distance);
+}
+
+void main() {
+  vec2 q = v_uv * float(kCells);
+  ivec2 cells = ivec2(kCells);
+  float blotch = layered_noise(q * 0.5, cells / 2, 3);
+  float fine = layered_noise(q * 8.0, cells * 8, 2);
+  // A faint helical fibre texture of the media/adventitia.
+  float fibres = 0.5 + 0.5 * sin(kTwoPi * (q.y * 14.0 + q.x * 3.0) + 4.0 * fine);
+  vec3 tissue = mix(vec3(0.80, 0.40, 0.38), vec3(0.88, 0.66, 0.50), 0.45 * smoothstep(0.45, 0.8, blotch));
+  tissue *= (0.92 + 0.16 * fine) * (1.0 - 0.07 * fibres);
+  // Vessels of the vessel wall: long lines mostly along the axis (x stretched by 0.4), finer branches.
+  float vv = max(streaks(vec2(q.x * 0.4, q.y), ivec2(kCells * 2 / 5, kCells), 3.0),
+                 0.6 * streaks(q * 2.0 + vec2(11.0, 0.0), cells * 2, 1.6));
+  vec3 outer = mix(tissue, vec3(0.50, 0.06, 0.09), 0.85 * vv);
+  o_colour = vec4(outer, clamp(fine * (1.0 - 0.3 * fibres), 0.0, 1.0));
 }
 )";
 }
@@ -275,24 +284,24 @@ void main() {
 }
 
 std::string fluoro_composite_fragment() {
-  return std::string(R"(#version 330 core
+  return R"(#version 330 core
 in vec2 v_uv;
 uniform sampler2D u_attenuation;
+uniform sampler2D u_grain;   // 256 x 256 uniform noise in [0, 1], wrapped
+uniform ivec2 u_grain_offset;  // changes every frame
 uniform float u_background;  // grey level with nothing in the beam
 uniform float u_floor;       // grey level behind an opaque object (scatter, display black level)
 uniform float u_vignette;    // darkening towards the corners
 uniform float u_noise;       // quantum mottle amplitude
-uniform uint u_seed;
 out vec4 o_colour;
-)") + kNoise + R"(
 void main() {
-  float a = max(texelFetch(u_attenuation, ivec2(gl_FragCoord.xy), 0).r, 0.0);
+  ivec2 px = ivec2(gl_FragCoord.xy);
+  float a = max(texelFetch(u_attenuation, px, 0).r, 0.0);
   float transmitted = exp(-a);
   vec2 c = v_uv - 0.5;
   float field = u_background * (1.0 - u_vignette * dot(c, c) * 2.0);
   float grey = u_floor + (field - u_floor) * transmitted;
-  ivec2 px = ivec2(gl_FragCoord.xy);
-  float grain = cell_value(px + ivec2(int(u_seed % 977u) * 131, int(u_seed % 541u) * 71), 1 << 30) - 0.5;
+  float grain = texelFetch(u_grain, (px + u_grain_offset) & 255, 0).r - 0.5;
   grey += u_noise * grain * sqrt(max(grey, 0.0));
   o_colour = vec4(vec3(clamp(grey, 0.0, 1.0)), 1.0);
 }

@@ -128,7 +128,7 @@ HudRequests Hud::draw(const HudStats& s, HudControls& c, const ScalarField* lege
       const float top = std::max({*std::max_element(s.force_history_n.begin(), s.force_history_n.end()),
                                   static_cast<float>(s.force_threshold_n), 1e-6f});
       ImGui::PlotLines("##force", s.force_history_n.data(), static_cast<int>(s.force_history_n.size()), 0,
-                       "force (N)", 0.0f, 1.1f * top, ImVec2(-1.0f, 60.0f));
+                       "force (N)", 0.0f, 1.1f * top, ImVec2(ImGui::GetContentRegionAvail().x, 60.0f));
     }
 
     if (ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) {

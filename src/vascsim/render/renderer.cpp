@@ -438,8 +438,12 @@ void Renderer::draw(const OrbitCamera& camera, const RenderSettings& settings, u
       m.surface.set("u_baked", baked ? 1 : 0);
       m.surface.set("u_texture_cells", baked ? 1.0f : m.texture_repeats);
       if (settings.cutaway) {
-        // Keep the half of the wall behind the plane through the target that faces the camera.
-        const Vec3 n = towards_eye;
+        // Keep the half of the wall behind a plane through the target facing the camera. The plane contains
+        // the superior axis (the camera's pitch is taken out of its normal), so a vessel lying in the
+        // coronal plane is cut along its centre-line from any pitch.
+        const Vec3 superior = camera.patient().superior.normalized();
+        Vec3 n = towards_eye - towards_eye.dot(superior) * superior;
+        n = n.norm() > 1e-6 ? Vec3(n.normalized()) : towards_eye;
         m.surface.set("u_clip_plane", Eigen::Vector4f(static_cast<float>(-n.x()), static_cast<float>(-n.y()),
                                                       static_cast<float>(-n.z()),
                                                       static_cast<float>(n.dot(pose.target_m))));

@@ -43,7 +43,8 @@ struct RenderSettings {
   bool show_nodes = false;
   bool show_tets = false;
   bool show_colour_map = false;  ///< needs frame.scalar
-  bool cutaway = false;          ///< lit: cut away the half of the wall nearer the camera
+  bool cutaway = false;          ///< lit: cut away the wall's half in front of a plane through the target
+                                 ///< that contains the superior axis and faces the camera
   Float3 background = Float3(0.10f, 0.11f, 0.14f);  ///< lit view, sRGB
   FluoroSettings fluoro;
   /// glFinish() between the phases, so the timing split is what the GPU (llvmpipe: the CPU) spent; costs

@@ -29,10 +29,12 @@ test: test-release test-sanitize test-threads
 test-release: build
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
 
-# The unit tests again under AddressSanitizer + UndefinedBehaviorSanitizer (-O1, asserts on).
+# The unit tests again under AddressSanitizer + UndefinedBehaviorSanitizer (-O1, asserts on). Without the
+# viewer: its tests (label "render") run in the Release build only, and this also checks that the library
+# builds without any GL package.
 test-sanitize: deps
 	cmake -S . -B $(ASAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" \
-	  -DVASCSIM_SANITIZE=address,undefined -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_WERROR=ON
+	  -DVASCSIM_SANITIZE=address,undefined -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_BUILD_VIEWER=OFF -DVASCSIM_WERROR=ON
 	cmake --build $(ASAN_DIR) -j $(JOBS)
 	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -L unit
@@ -44,7 +46,7 @@ test-sanitize: deps
 THREADED_TESTS ?= LatestValue*:HapticLoop*:VirtualCoupling*:ForceOutput*:MouseMapping*:HapticSession.Realtime*
 test-threads: deps
 	cmake -S . -B $(TSAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVASCSIM_SANITIZE=thread \
-	  -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_WERROR=ON
+	  -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_BUILD_VIEWER=OFF -DVASCSIM_WERROR=ON
 	cmake --build $(TSAN_DIR) -j $(JOBS) --target vascsim_tests
 	OMP_NUM_THREADS=1 TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 $(TSAN_DIR)/tests/vascsim_tests \
 	  --gtest_filter='$(THREADED_TESTS)'

@@ -66,6 +66,7 @@ ImplicitModel::ImplicitModel(const Problem& problem, const ImplicitSettings& set
       x_(problem.discretization().rest_positions()),
       free_(problem),
       contacts_(problem, free_),
+      tools_(problem.tools()),
       newton_(problem, free_, contacts_,
               NewtonSettings{settings.rel_tolerance, settings.max_newton_iterations, settings.max_cg_iterations, 50,
                              settings.line_search}) {
@@ -79,11 +80,7 @@ ImplicitModel::ImplicitModel(const Problem& problem, const ImplicitSettings& set
   num_steps_ = static_cast<int>(std::ceil(settings.duration_s / settings.output_interval_s - 1e-9));
   v_.assign(x_.size(), Vec3::Zero());
   spacing_ = problem.discretization().mean_spacing();
-  const std::size_t tools = problem.tools().size();
-  posed_.assign(tools, 0);
-  pose_geometry_.resize(tools);
-  pose_point_.assign(tools, Vec3::Zero());
-  loads_.assign(tools, ObstacleLoad{});
+  loads_.assign(problem.tools().size(), ObstacleLoad{});
   place_tools(0.0);
   // Candidates within half a node spacing of a tool: more than a tool moves in a frame at hand speed.
   candidates_ = std::make_unique<HapticCandidates>(free_, settings.haptic_candidates,
@@ -112,21 +109,11 @@ void ImplicitModel::set_realtime(bool realtime) {
 }
 
 void ImplicitModel::place_tools(double s) {
-  const auto& tools = problem_.tools();
-  for (std::size_t o = 0; o < tools.size(); ++o) contacts_.place(o, posed_[o] ? pose_geometry_[o] : obstacle_at(tools[o], s));
-}
-
-std::vector<Vec3> ImplicitModel::tool_points(double s) const {
-  std::vector<Vec3> p;
-  for (std::size_t o = 0; o < problem_.tools().size(); ++o)
-    p.push_back(posed_[o] ? pose_point_[o] : tool_point_at(problem_.tools()[o], s));
-  return p;
+  for (std::size_t o = 0; o < tools_.size(); ++o) contacts_.place(o, tools_.geometry(o, s));
 }
 
 void ImplicitModel::set_tool_pose(std::size_t tool, const Vec3& position_m, const Eigen::Quaterniond& orientation) {
-  pose_geometry_.at(tool) = obstacle_posed(problem_.tools().at(tool), position_m, orientation);
-  pose_point_[tool] = position_m;
-  posed_[tool] = 1;
+  tools_.pose(tool, position_m, orientation);
 }
 
 std::unique_ptr<ImplicitModel::Factor> ImplicitModel::build_factor(const Vec3Array& x) const {
@@ -165,7 +152,7 @@ void ImplicitModel::linearize() {
 
 void ImplicitModel::install(std::unique_ptr<Factor> f) {
   factor_ = std::move(f);
-  factor_tool_points_ = factor_->tool_points.empty() ? tool_points(s_) : factor_->tool_points;
+  factor_tool_points_ = factor_->tool_points.empty() ? tools_.points(s_) : factor_->tool_points;
   newton_.set_preconditioner(factor_->factor.get());
   ++factorisations_;
 }
@@ -179,7 +166,7 @@ void ImplicitModel::relinearize_now() {
   if (!factor_) return;
   if (pending_.valid()) install(pending_.get());
   auto f = build_factor(x_);
-  f->tool_points = tool_points(s_);
+  f->tool_points = tools_.points(s_);
   install(std::move(f));
   newton_.update_contact_correction();
   linearize();
@@ -190,7 +177,7 @@ void ImplicitModel::maybe_refactor(const NewtonResult& r) {
   const int cg_per_newton = r.iterations > 0 ? r.cg_iterations / r.iterations : 0;
   bool drifted = cg_per_newton > settings_.refactor_cg_iterations || r.cg_rate > settings_.refactor_cg_rate ||
                  (settings_.refactor_residual > 0.0 && r.residual > settings_.refactor_residual);
-  const std::vector<Vec3> points = tool_points(s_);
+  const std::vector<Vec3> points = tools_.points(s_);
   for (std::size_t o = 0; o < points.size() && !drifted; ++o)
     drifted = settings_.refactor_travel > 0.0 && (points[o] - factor_tool_points_[o]).norm() > settings_.refactor_travel * spacing_;
   if (!drifted || pending_.valid()) return;
@@ -235,7 +222,7 @@ StepReport ImplicitModel::step() {
                             : SteadyClock::time_point::max();
   const NewtonResult r = newton_.solve(x_, s_next, f_ext, InertiaTerm{1.0 / (h_ * h_), &anchor_}, deadline);
   for (std::size_t i = 0; i < x_.size(); ++i) v_[i] = (x_[i] - x_old_[i]) / h_;
-  if (!contacts_.empty()) loads_ = contacts_.loads(newton_.last_residual(), x_, tool_points(s_next));
+  if (!contacts_.empty()) loads_ = contacts_.loads(newton_.last_residual(), x_, tools_.points(s_next));
   t_ = t_next;
   s_ = s_next;
   for (const auto& p : x_)

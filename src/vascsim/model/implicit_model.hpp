@@ -27,6 +27,7 @@
 #include "vascsim/model/meshless_factor.hpp"
 #include "vascsim/model/newton_equilibrium.hpp"
 #include "vascsim/model/registry.hpp"
+#include "vascsim/model/tool_placement.hpp"
 
 namespace vascsim {
 
@@ -86,7 +87,6 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
  private:
   struct Factor;  // a factor and the linearisation computed with it
   void place_tools(double s);
-  std::vector<Vec3> tool_points(double s) const;
   void prepare_frame(double s);                 // prescribed nodes, warm start, tools, contacts
   void maybe_refactor(const NewtonResult& r);  // the drift triggers
   std::unique_ptr<Factor> build_factor(const Vec3Array& x) const;
@@ -103,13 +103,11 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   Vec3Array x_, v_, anchor_, x_old_;
   FreeDofs free_;
   ContactActiveSet contacts_;
+  ToolPlacement tools_;
   NewtonEquilibrium newton_;
   std::unique_ptr<EquilibriumPreconditioner> tet_;  // "tet" preconditioner
   std::unique_ptr<Factor> factor_;                  // "meshless": the factor in use
   std::future<std::unique_ptr<Factor>> pending_;    // a factor being built in the background
-  std::vector<char> posed_;
-  std::vector<constraints::Capsule> pose_geometry_;
-  std::vector<Vec3> pose_point_;
   std::vector<Vec3> factor_tool_points_;  // tool points when the factor in use was built
   std::vector<ObstacleLoad> loads_;
   std::vector<std::optional<ToolLinearization>> linearization_;  // per tool, after the last frame

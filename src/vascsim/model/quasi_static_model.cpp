@@ -41,6 +41,7 @@ QuasiStaticModel::QuasiStaticModel(const Problem& problem, const QuasiStaticSett
       x_(problem.discretization().rest_positions()),
       free_(problem),
       contacts_(problem, free_),
+      tools_(problem.tools()),
       newton_(problem, free_, contacts_,
               NewtonSettings{settings.rel_tolerance, settings.max_newton_iterations, settings.max_cg_iterations,
                              settings.max_contact_passes}) {
@@ -49,12 +50,8 @@ QuasiStaticModel::QuasiStaticModel(const Problem& problem, const QuasiStaticSett
   if (!(settings.frame_s > 0.0)) throw InputError("quasi_static: frame_s must be > 0");
   if (problem.num_constrained() == 0)
     throw InputError("key 'regions': quasi_static needs a fixed or displacement region; a static solution needs supports");
-  const std::size_t tools = problem.tools().size();
-  posed_.assign(tools, 0);
-  posed_geometry_.resize(tools);
-  posed_point_.assign(tools, Vec3::Zero());
   place_tools(0.0);
-  obstacle_load_.assign(tools, ObstacleLoad{});
+  obstacle_load_.assign(problem.tools().size(), ObstacleLoad{});
   if (settings_.preconditioner == "auto")
     settings_.preconditioner = free_.nodes.size() <= 10000 ? "cholesky" : "incomplete_cholesky";
   if (settings_.preconditioner == "meshless") {
@@ -69,22 +66,11 @@ QuasiStaticModel::QuasiStaticModel(const Problem& problem, const QuasiStaticSett
 }
 
 void QuasiStaticModel::place_tools(double s) {
-  const auto& tools = problem_.tools();
-  for (std::size_t o = 0; o < tools.size(); ++o)
-    contacts_.place(o, posed_[o] ? posed_geometry_[o] : obstacle_at(tools[o], s));
-}
-
-std::vector<Vec3> QuasiStaticModel::tool_points(double s) const {
-  std::vector<Vec3> p;
-  for (std::size_t o = 0; o < problem_.tools().size(); ++o)
-    p.push_back(posed_[o] ? posed_point_[o] : tool_point_at(problem_.tools()[o], s));
-  return p;
+  for (std::size_t o = 0; o < tools_.size(); ++o) contacts_.place(o, tools_.geometry(o, s));
 }
 
 void QuasiStaticModel::set_tool_pose(std::size_t tool, const Vec3& position_m, const Eigen::Quaterniond& orientation) {
-  posed_geometry_.at(tool) = obstacle_posed(problem_.tools().at(tool), position_m, orientation);
-  posed_point_[tool] = position_m;
-  posed_[tool] = 1;
+  tools_.pose(tool, position_m, orientation);
 }
 
 StepReport QuasiStaticModel::step() {
@@ -154,7 +140,7 @@ StepReport QuasiStaticModel::solve(double s) {
   problem_.external_forces(s, f_ext);
   predict(s, f_ext, rep);
   const NewtonResult r = newton_.solve(x_, s, f_ext, InertiaTerm{});
-  if (r.loads_measured && !contacts_.empty()) obstacle_load_ = contacts_.loads(newton_.last_residual(), x_, tool_points(s));
+  if (r.loads_measured && !contacts_.empty()) obstacle_load_ = contacts_.loads(newton_.last_residual(), x_, tools_.points(s));
   rep.iterations = r.iterations;
   rep.inner_iterations += r.cg_iterations;
   rep.converged = r.converged;

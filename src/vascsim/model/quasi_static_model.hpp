@@ -26,6 +26,7 @@
 #include "vascsim/model/meshless_factor.hpp"
 #include "vascsim/model/newton_equilibrium.hpp"
 #include "vascsim/model/registry.hpp"
+#include "vascsim/model/tool_placement.hpp"
 
 namespace vascsim {
 
@@ -82,7 +83,6 @@ class QuasiStaticModel final : public Model, public DeviceDrivenModel {
   void predict(double s, const Vec3Array& f_ext, StepReport& rep);
   void finish_step(double s, double res, StepReport& rep);
   void place_tools(double s);  // the contact geometry at load factor s (or the device poses)
-  std::vector<Vec3> tool_points(double s) const;
 
   const Problem& problem_;
   QuasiStaticSettings settings_;
@@ -90,13 +90,11 @@ class QuasiStaticModel final : public Model, public DeviceDrivenModel {
   double s_ = 0.0, s_prev_ = 0.0, t_ = 0.0;
   FreeDofs free_;
   ContactActiveSet contacts_;
+  ToolPlacement tools_;
   NewtonEquilibrium newton_;
   std::unique_ptr<EquilibriumPreconditioner> preconditioner_;
   MeshlessFactor* meshless_ = nullptr;  // preconditioner_ when it is the meshless factor
   int refactorisations_ = 0;
-  std::vector<char> posed_;  // per tool: placed by set_tool_pose
-  std::vector<constraints::Capsule> posed_geometry_;
-  std::vector<Vec3> posed_point_;
   std::vector<ObstacleLoad> obstacle_load_;
   long long contact_passes_ = 0;
   long long total_newton_ = 0, total_cg_ = 0;

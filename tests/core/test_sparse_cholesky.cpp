@@ -78,6 +78,32 @@ TEST(SparseCholesky, SolvesToRoundingWithEveryOrderingSupernodalAndSimplicial) {
     }
 }
 
+// The float copy of the factor (single_precision_factor.hpp) against the double solve. A float solve has a
+// relative error of about cond(A) * 6e-8 (rounding of L and of every operation): cond(A) = (12 + 0.5) /
+// (0.18 + 0.5) ~ 18 here, so 1e-5 leaves a margin of about 10 and still fails a solve that mixes up a
+// permutation or a supernode (errors of order 1). Every ordering: the permutations differ.
+TEST(SparseCholesky, SinglePrecisionSolvesAgreeWithTheDoubleFactorToFloatRounding) {
+  const Eigen::SparseMatrix<double> A = laplacian(12, 0.5);
+  const Eigen::VectorXd b = random_vector(A.rows(), 7);
+  for (CholeskyOrdering ord : {CholeskyOrdering::Amd, CholeskyOrdering::Metis, CholeskyOrdering::Natural}) {
+    SparseCholesky exact({ord, true, false}), single({ord, true, true});
+    exact.compute(A);
+    single.compute(A);
+    Eigen::VectorXd x, y;
+    exact.solve(b, x);
+    single.solve(b, y);
+    EXPECT_LE((y - x).norm() / x.norm(), 1e-5) << to_string(ord);
+    EXPECT_GT((y - x).norm(), 0.0) << "the float path was not taken";
+    // Refactoring new values refreshes the copy.
+    const Eigen::SparseMatrix<double> B = laplacian(12, 2.0);
+    exact.factorize(B);
+    single.factorize(B);
+    exact.solve(b, x);
+    single.solve(b, y);
+    EXPECT_LE((y - x).norm() / x.norm(), 1e-5) << to_string(ord) << " after refactoring";
+  }
+}
+
 TEST(SparseCholesky, ReadsOnlyTheLowerTriangle) {
   const Eigen::SparseMatrix<double> A = laplacian(8, 0.5);
   Eigen::SparseMatrix<double> lower = A.triangularView<Eigen::Lower>();

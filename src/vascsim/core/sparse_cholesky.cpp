@@ -147,6 +147,21 @@ void SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
   factorized_ = true;
   stats_.supernodal = cm_->L->is_super != 0;
   stats_.stored_l = static_cast<double>(cm_->L->is_super ? cm_->L->xsize : cm_->L->nzmax);
+  if (options_.single_precision_solves && stats_.supernodal) copy_to_single_precision();
+}
+
+void SparseCholesky::copy_to_single_precision() {
+  const cholmod_factor& L = *cm_->L;
+  SupernodalFactorView v;
+  v.n = static_cast<int>(L.n);
+  v.supernodes = static_cast<int>(L.nsuper);
+  v.perm = static_cast<const int*>(L.Perm);
+  v.super = static_cast<const int*>(L.super);
+  v.row_start = static_cast<const int*>(L.pi);
+  v.value_start = static_cast<const int*>(L.px);
+  v.rows = static_cast<const int*>(L.s);
+  v.values = static_cast<const double*>(L.x);
+  single_.assign(v);
 }
 
 void SparseCholesky::compute(const Eigen::SparseMatrix<double>& A) {
@@ -155,6 +170,12 @@ void SparseCholesky::compute(const Eigen::SparseMatrix<double>& A) {
 }
 
 void SparseCholesky::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  if (!single_.empty() && factorized_) {
+    const auto t0 = std::chrono::steady_clock::now();
+    single_.solve(b, x);
+    stats_.solve_s = seconds_since(t0);
+    return;
+  }
   solve_columns(b.data(), 1);
   x.resize(rows_);
   std::memcpy(x.data(), cm_->X->x, static_cast<std::size_t>(rows_) * sizeof(double));

@@ -20,7 +20,7 @@ MeshlessFactor::MeshlessFactor(const Problem& problem, const FreeDofs& free, con
     : free_(free),
       options_(options),
       hessian_(problem.energy(), hessian_options(options), free.slot),
-      cholesky_(SparseCholeskyOptions{options.ordering, true}) {
+      cholesky_(SparseCholeskyOptions{options.ordering, true, options.single_precision_solves}) {
   if (options.inv_h2 > 0.0) {
     const auto& m = problem.discretization().masses();
     shift_.resize(m.size());

@@ -4,6 +4,7 @@
 
 #include <climits>
 #include <cstdlib>
+#include <mutex>
 
 namespace vascsim {
 
@@ -38,6 +39,15 @@ int blas_threads() {
   using Fn = int (*)();
   auto f = reinterpret_cast<Fn>(symbol("openblas_get_num_threads"));
   return f ? f() : 1;
+}
+
+int apply_default_blas_threads() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    if (std::getenv("OPENBLAS_NUM_THREADS") == nullptr && std::getenv("OMP_NUM_THREADS") == nullptr)
+      set_blas_threads(1);
+  });
+  return blas_threads();
 }
 
 }  // namespace vascsim

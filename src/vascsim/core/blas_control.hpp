@@ -28,4 +28,11 @@ bool set_blas_threads(int threads);
 /// The thread count the BLAS will use: OpenBLAS's openblas_get_num_threads, else 1.
 int blas_threads();
 
+/// vascsim's default, applied once per process by the first sparse factorisation: one BLAS thread, unless the
+/// environment asks for a count (OPENBLAS_NUM_THREADS or OMP_NUM_THREADS set). Measured on 2 cores: the
+/// supernodal factors of the equilibrium solvers took 1.0-1.9x longer with 2 OpenBLAS threads than with 1
+/// (bench/results), and with another process on the machine the pool's spinning turned a 20 s run into 46 s
+/// (30 s of it in the kernel's sched_yield). Returns the thread count in force afterwards.
+int apply_default_blas_threads();
+
 }  // namespace vascsim

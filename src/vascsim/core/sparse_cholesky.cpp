@@ -1,5 +1,7 @@
 #include "vascsim/core/sparse_cholesky.hpp"
 
+#include "vascsim/core/blas_control.hpp"
+
 #include <cholmod.h>
 
 #include <chrono>
@@ -83,6 +85,7 @@ struct SparseCholesky::Cholmod {
 
 SparseCholesky::SparseCholesky(const SparseCholeskyOptions& options)
     : options_(options), cm_(std::make_unique<Cholmod>()) {
+  apply_default_blas_threads();
   cholmod_common& c = cm_->c;
   c.print = 0;  // failures are reported by exceptions, not on stderr
   c.error_handler = nullptr;

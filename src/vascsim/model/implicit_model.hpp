@@ -89,7 +89,8 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   void place_tools(double s);
   void prepare_frame(double s);                 // prescribed nodes, warm start, tools, contacts
   void maybe_refactor(const NewtonResult& r);  // the drift triggers
-  std::unique_ptr<Factor> build_factor(const Vec3Array& x) const;
+  /// A factor at x, refilling `reuse` (a factor no frame uses any more) when given.
+  std::unique_ptr<Factor> build_factor(const Vec3Array& x, std::unique_ptr<Factor> reuse = nullptr) const;
   void install(std::unique_ptr<Factor> f);
   void poll_background();
   void linearize();                             // every tool's linearisation from the contact compliance
@@ -107,6 +108,7 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   NewtonEquilibrium newton_;
   std::unique_ptr<EquilibriumPreconditioner> tet_;  // "tet" preconditioner
   std::unique_ptr<Factor> factor_;                  // "meshless": the factor in use
+  std::unique_ptr<Factor> spare_;                   // the one it replaced, refilled by the next refactorisation
   std::future<std::unique_ptr<Factor>> pending_;    // a factor being built in the background
   std::vector<Vec3> factor_tool_points_;  // tool points when the factor in use was built
   std::vector<ObstacleLoad> loads_;

@@ -134,7 +134,8 @@ Vec3 HapticLoop::tick(double time_s) {
   tool.buttons = pose.buttons;
   to_sim_.write(tool);
 
-  if (options_.record != nullptr) options_.record->record(pose, sent);
+  if (options_.record != nullptr)
+    options_.record->record(pose, sent, coupling_.proxy_position_m(), coupling_.contact_force_n());
 
   // Statistics.
   const std::uint64_t n = ticks_.load(std::memory_order_relaxed);

@@ -17,10 +17,13 @@
 
 namespace vascsim {
 
-/// One haptic tick: the pose the loop read and the force it sent in that tick.
+/// One haptic tick: the pose the loop read and the force it sent in that tick; and, for analysis (not part of
+/// the replay file), where the tool (the coupling's proxy) was and the tissue's force on it at that tick.
 struct RecordedTick {
   DevicePose pose;
   Vec3 force_n = Vec3::Zero();
+  Vec3 tool_m = Vec3::Zero();
+  Vec3 tissue_force_n = Vec3::Zero();
 };
 
 class SessionRecording {
@@ -32,7 +35,10 @@ class SessionRecording {
   void reserve(std::size_t ticks) { ticks_.reserve(ticks); }
   /// Appends one tick. It allocates nothing while size() < capacity(). Past that point the buffer
   /// grows by doubling: this still works, but costs one copy of the whole buffer.
-  void record(const DevicePose& pose, const Vec3& sent_force_n) { ticks_.push_back({pose, sent_force_n}); }
+  void record(const DevicePose& pose, const Vec3& sent_force_n, const Vec3& tool_m = Vec3::Zero(),
+              const Vec3& tissue_force_n = Vec3::Zero()) {
+    ticks_.push_back({pose, sent_force_n, tool_m, tissue_force_n});
+  }
   void clear() { ticks_.clear(); }
 
   std::size_t size() const { return ticks_.size(); }
@@ -48,6 +54,9 @@ class SessionRecording {
   /// Writes time_s,x_m,y_m,z_m,qw,qx,qy,qz,buttons,fx_n,fy_n,fz_n with %.17g. The file reads back
   /// to the same doubles.
   void write_csv(const std::filesystem::path& file) const;
+  /// Writes the per-tick analysis table (haptic_ticks.csv): time_s, the device position (m), the tool position
+  /// (m), the tissue's force on the tool at that tick (N) and the force sent to the device (N), %.17g.
+  void write_ticks_csv(const std::filesystem::path& file) const;
 
  private:
   std::vector<RecordedTick> ticks_;

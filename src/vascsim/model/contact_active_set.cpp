@@ -1,5 +1,7 @@
 #include "vascsim/model/contact_active_set.hpp"
 
+#include <algorithm>
+
 #include <cmath>
 
 namespace vascsim {
@@ -87,8 +89,10 @@ std::vector<ObstacleLoad> ContactActiveSet::loads(const Vec3Array& r, const Vec3
   for (Index i : free_.nodes) {
     const int o = contact_of_[i];
     if (o < 0) continue;
-    // Equilibrium in the normal direction: r_i + lambda n_i = 0.
-    const Vec3 f = (-r[i].dot(normal_[i])) * normal_[i];
+    // Equilibrium in the normal direction: r_i + lambda n_i = 0. A frictionless contact only pushes: a node
+    // that pulls (lambda < 0, only before the active set has settled: a real-time frame that ended early)
+    // carries no load rather than a glue force.
+    const Vec3 f = std::max(0.0, -r[i].dot(normal_[i])) * normal_[i];
     ObstacleLoad& load = out[static_cast<std::size_t>(o)];
     load.force_n += f;
     load.torque_n_m += (x[i] - tool_points[static_cast<std::size_t>(o)]).cross(f);

@@ -43,6 +43,21 @@ ImplicitSettings read_implicit_settings(JsonReader& b) {
   return s;
 }
 
+namespace {
+NewtonSettings newton_settings(const ImplicitSettings& s) {
+  NewtonSettings n;
+  n.rel_tolerance = s.rel_tolerance;
+  n.max_newton_iterations = s.max_newton_iterations;
+  n.max_cg_iterations = s.max_cg_iterations;
+  n.max_contact_passes = 50;
+  n.line_search = s.line_search;
+  // A frame has a few iterations, not the hundreds of a load step: a contact that pulls is let go at once,
+  // whatever the residual, or a frame that ends early reports the pull as force (a tool that the tissue glues).
+  n.release_below_residual = 1e-3;
+  return n;
+}
+}  // namespace
+
 ModelEntry implicit_model_entry() {
   ModelEntry e;
   e.name = "implicit";
@@ -67,9 +82,7 @@ ImplicitModel::ImplicitModel(const Problem& problem, const ImplicitSettings& set
       free_(problem),
       contacts_(problem, free_),
       tools_(problem.tools()),
-      newton_(problem, free_, contacts_,
-              NewtonSettings{settings.rel_tolerance, settings.max_newton_iterations, settings.max_cg_iterations, 50,
-                             settings.line_search}) {
+      newton_(problem, free_, contacts_, newton_settings(settings)) {
   if (!(settings.frame_s > 0.0) || !(settings.output_interval_s > 0.0) || !(settings.duration_s > 0.0))
     throw InputError("implicit: frame_s, output_interval_s and duration_s must be > 0");
   if (problem.num_constrained() == 0)

@@ -213,9 +213,9 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
       out.loads_measured = true;
       break;
     }
-    // Positions carry about 1e-16 relative precision, which floors the attainable residual; stop when three
-    // Newton steps in a row gain less than 10 %.
-    stalled = out.residual < 0.9 * best ? 0 : stalled + 1;
+    // The position-precision floor (NewtonSettings::stall_below_residual): three Newton steps in a row that gain
+    // less than 10 % there end the solve.
+    stalled = out.residual < 0.9 * best || out.residual > settings_.stall_below_residual ? 0 : stalled + 1;
     best = std::min(best, out.residual);
     const bool out_of_time = SteadyClock::now() >= deadline;
     if (it == settings_.max_newton_iterations || stalled >= 3 || out_of_time) {

@@ -33,6 +33,10 @@ struct NewtonSettings {
   /// tolerance, so that Newton does not polish an active set that is about to change). A real-time frame,
   /// which stops after a few iterations, releases at any residual (infinity).
   double release_below_residual = 1e-3;
+  /// Positions carry about 1e-16 relative precision, which floors the attainable residual: below this relative
+  /// residual, three Newton steps in a row that gain less than 10 % end the solve (not converged, at the floor).
+  /// Above it a slow stretch is progress (a contact settling), not the floor.
+  double stall_below_residual = 1e-5;
 };
 
 /// Backward Euler's inertia term: 1/(2 h^2) sum_i m_i |x_i - a_i|^2 over the free nodes.

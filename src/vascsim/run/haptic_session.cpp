@@ -312,6 +312,7 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   CsvTable history_csv = out.table("force_history.csv", force_history_columns());
   for (const auto& s : history) history_csv.add_row(history_row(s));
   h.recording->write_csv(out.path("session.csv"));
+  h.recording->write_ticks_csv(out.path("haptic_ticks.csv"));
   if (!options.record.empty()) h.recording->write_csv(options.record);
 
   nlohmann::json summary = describe_run(scene, sim);
@@ -319,6 +320,7 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   summary["timings_s"] = {{"setup", setup_s}, {"session", run_s}, {"total", total.seconds()}};
   summary["outputs"] = {{"force_history_csv", "force_history.csv"},
                         {"session_csv", "session.csv"},
+                        {"haptic_ticks_csv", "haptic_ticks.csv"},
                         {"surface", surface ? surface_series.pvd_relative() : ""}};
   out.write_summary(summary);
   return summary;

@@ -14,7 +14,8 @@
 //    as fast as it can (never ahead of the wall clock); only the two LatestValue hand-offs are shared.
 //
 // Output folder: force_history.csv (one row per simulation step: the tool pose it used and the force the
-// tissue exerts on the tool), haptic_ticks.csv (one row per tick: device pose, sent force), summary.json
+// tissue exerts on the tool), haptic_ticks.csv (one row per tick: device and tool positions, the tissue's force
+// on the tool at that tick, the force sent), session.csv (the recording, which --replay plays), summary.json
 // with the loop statistics, and optionally the session recording and the surface series.
 
 #include <filesystem>

@@ -133,11 +133,13 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
   pairs_.w.resize(npairs);
   self_d_.assign(n, Vec3::Zero());
   moment_trace_.assign(n, 0.0);
+  moment_.assign(n, Mat3::Zero());
 #pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) {
     const Trial& t = trials[i];
     const Mat3 Ainv = t.A.inverse();  // well conditioned by the guard above (double precision)
     moment_trace_[i] = t.A.trace();
+    moment_[i] = t.A;
     Vec3 dsum = Vec3::Zero();
     for (std::size_t a = 0; a < t.nbr.size(); ++a) {
       const Index e = pairs_.row_start[i] + static_cast<Index>(a);
@@ -206,16 +208,28 @@ double Discretization::mean_neighbours() const {
 }
 
 Mat3 Discretization::displacement_gradient(Index i, const Vec3Array& u, bool eq3_literal_sign) const {
-  Mat3 G = Mat3::Zero();
-  for (Index e = pairs_.row_start[i]; e < pairs_.row_start[i + 1]; ++e)
-    G += (u[pairs_.col[e]] - u[i]) * pairs_.d[e].transpose();
+  const Mat3 G = deformation_gradient(i, u);  // the same sum: sum_j (u_j - u_i) d_ij^T
   return eq3_literal_sign ? Mat3(-G) : G;
 }
 
 Mat3 Discretization::deformation_gradient(Index i, const Vec3Array& x) const {
-  Mat3 F = Mat3::Zero();
-  for (Index e = pairs_.row_start[i]; e < pairs_.row_start[i + 1]; ++e)
-    F += (x[pairs_.col[e]] - x[i]) * pairs_.d[e].transpose();
+  // sum_j (x_j - x_i) d_ij^T, accumulated column by column in three local vectors: the outer product written
+  // as one Eigen expression goes through a stack temporary whose reloads stall store forwarding (2-4x slower,
+  // docs/performance.md section 5).
+  const Index* col = pairs_.col.data();
+  const Vec3* d = pairs_.d.data();
+  const Vec3 xi = x[i];
+  Vec3 c0 = Vec3::Zero(), c1 = Vec3::Zero(), c2 = Vec3::Zero();
+  for (Index e = pairs_.row_start[i], end = pairs_.row_start[i + 1]; e < end; ++e) {
+    const Vec3 dx = x[col[e]] - xi;
+    c0 += d[e].x() * dx;
+    c1 += d[e].y() * dx;
+    c2 += d[e].z() * dx;
+  }
+  Mat3 F;
+  F.col(0) = c0;
+  F.col(1) = c1;
+  F.col(2) = c2;
   return F;
 }
 

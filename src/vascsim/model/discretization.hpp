@@ -50,6 +50,8 @@ class Discretization {
   const Vec3Array& self_d() const { return self_d_; }
   /// tr(A_i), 1/m (used by the stabiliser's c_i).
   const std::vector<double>& moment_trace() const { return moment_trace_; }
+  /// A_i = sum_j w_ij X_ij X_ij^T, 1/m (the moment matrix of Eq. 4; d_ij = w_ij A_i^{-1} X_ij).
+  const std::vector<Mat3>& moment_matrices() const { return moment_; }
 
   const std::vector<double>& volumes() const { return V_; }  ///< V_i, m^3
   const std::vector<double>& masses() const { return m_; }   ///< m_i = rho V_i, kg
@@ -81,6 +83,7 @@ class Discretization {
   PairTable pairs_, transposed_;
   Vec3Array self_d_;
   std::vector<double> moment_trace_, V_, m_, h_;
+  std::vector<Mat3> moment_;
   double mean_spacing_ = 0.0, min_spacing_ = 0.0, tet_volume_ = 0.0;
   int grown_nodes_ = 0;
 };

@@ -8,6 +8,17 @@
 
 namespace vascsim {
 
+// Per thread (a real-time model's background factorisation and its frames may evaluate the same energy at once):
+// the per-node buffers of forces() and hessian_product(), kept between calls so that no call allocates.
+PointPrimitiveEnergy::Workspace& PointPrimitiveEnergy::workspace(Index n) {
+  thread_local Workspace ws;
+  if (static_cast<Index>(ws.Q.size()) < n) {
+    ws.Q.resize(static_cast<std::size_t>(n));
+    ws.own.resize(static_cast<std::size_t>(n));
+  }
+  return ws;
+}
+
 PointPrimitiveEnergy::PointPrimitiveEnergy(const Discretization& disc, const EnergyOptions& options)
     : disc_(disc), opt_(options) {
   const Material& m = disc.material();
@@ -32,6 +43,14 @@ PointPrimitiveEnergy::PointPrimitiveEnergy(const Discretization& disc, const Ene
   stab_c_.resize(n);
   for (Index i = 0; i < n; ++i)
     stab_c_[i] = opt_.stabilizer_alpha * mu_ * disc.volumes()[i] / disc.moment_trace()[i];
+  // The stabiliser folded into the stress gather (docs/model.md section 9.2): c_i A_i per node, c_i w_ik per
+  // transposed pair.
+  stab_cA_.resize(n);
+  for (Index i = 0; i < n; ++i) stab_cA_[i] = stab_c_[i] * disc.moment_matrices()[i];
+  const PairTable& T = disc.transposed();
+  stab_cw_.resize(T.col.size());
+  for (Index k = 0; k < n; ++k)
+    for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e) stab_cw_[e] = stab_c_[T.col[e]] * T.w[e];
 }
 
 Mat3 PointPrimitiveEnergy::weighted_stress(Index i, const Mat3& F, EnergyBreakdown* e) const {
@@ -94,40 +113,57 @@ Mat3 PointPrimitiveEnergy::weighted_stress_derivative(Index i, const Mat3& F, co
   return dPt;
 }
 
-double PointPrimitiveEnergy::gather(const std::vector<Mat3>& Ptilde, const std::vector<Mat3>& F_fit,
-                                    const Vec3Array& y, Vec3Array& out) const {
+// With d_ij = w_ij A_i^{-1} X_ij, the stabiliser's fit terms are w_ij F_i X_ij = F_i A_i d_ij and
+// sum_j w_ij X_ij = -A_i d_ii, so its forces fold into the stress gather:
+//   f_k = -Q_k d_kk - sum_{i: k in N_i} Q_i d_ik + own_k - sum_{i: k in N_i} c_i w_ik (y_k - y_i),
+//   Q_i = Ptilde_i - c_i F_i A_i,   own_k = c_k sum_j w_kj (y_j - y_k).
+// One pass over the transposed pairs, one 3x3 product and one axpy per pair.
+void PointPrimitiveEnergy::folded_gather(const std::vector<Mat3>& Q, const Vec3Array& own, const Vec3Array& y,
+                                         Vec3Array& out) const {
   const Index n = disc_.num_nodes();
-  const PairTable& P = disc_.pairs();
   const PairTable& T = disc_.transposed();
-  const Vec3Array& X = disc_.rest_positions();
   const bool stab = opt_.stabilizer_alpha > 0.0;
   out.resize(n);
-  double stab_energy = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : stab_energy) if (n >= kParallelMinNodes)
+#pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
   for (Index k = 0; k < n; ++k) {
-    Vec3 f = -(Ptilde[k] * disc_.self_d()[k]);
-    for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e) f -= Ptilde[T.col[e]] * T.d[e];
-    if (stab) {
-      // Own fit: f_k += c_k sum_j w_kj r_kj; fits of others: f_k -= c_i w_ik r_ik (MODEL.md 1.9b).
-      // The same residuals give node k's stabiliser energy (c_k/2) sum_j w_kj |r_kj|^2.
-      Vec3 own = Vec3::Zero();
-      double own_energy = 0.0;
-      for (Index e = P.row_start[k]; e < P.row_start[k + 1]; ++e) {
-        const Index j = P.col[e];
-        const Vec3 r = (y[j] - y[k]) - F_fit[k] * (X[j] - X[k]);
-        own += P.w[e] * r;
-        own_energy += P.w[e] * r.squaredNorm();
-      }
-      f += stab_c_[k] * own;
-      stab_energy += 0.5 * stab_c_[k] * own_energy;
-      for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e) {
-        const Index i = T.col[e];
-        f -= stab_c_[i] * T.w[e] * ((y[k] - y[i]) - F_fit[i] * (X[k] - X[i]));
-      }
+    Vec3 f = -(Q[k] * disc_.self_d()[k]);
+    Vec3 pull = Vec3::Zero();
+    const Vec3 yk = y[k];
+    for (Index e = T.row_start[k], end = T.row_start[k + 1]; e < end; ++e) {
+      const Index i = T.col[e];
+      f.noalias() -= Q[i] * T.d[e];
+      if (stab) pull += stab_cw_[e] * (yk - y[i]);
     }
-    out[k] = f;
+    out[k] = stab ? Vec3(f + own[k] - pull) : f;
   }
-  return stab_energy;
+}
+
+// Pass 1 for node i: the gradient sum_j (y_j - y_i) d_ij^T and, for the stabiliser, sum_j w_ij (y_j - y_i) and
+// sum_j w_ij |y_j - y_i|^2 from the same differences.
+Mat3 PointPrimitiveEnergy::gradient_and_moments(Index i, const Vec3Array& y, Vec3& weighted_sum,
+                                                double& weighted_squares) const {
+  const PairTable& P = disc_.pairs();
+  const Index* col = P.col.data();
+  const Vec3* d = P.d.data();
+  const double* w = P.w.data();
+  const Vec3 yi = y[i];
+  Vec3 c0 = Vec3::Zero(), c1 = Vec3::Zero(), c2 = Vec3::Zero(), sw = Vec3::Zero();
+  double sq = 0.0;
+  for (Index e = P.row_start[i], end = P.row_start[i + 1]; e < end; ++e) {
+    const Vec3 dy = y[col[e]] - yi;
+    c0 += d[e].x() * dy;
+    c1 += d[e].y() * dy;
+    c2 += d[e].z() * dy;
+    sw += w[e] * dy;
+    sq += w[e] * dy.squaredNorm();
+  }
+  Mat3 G;
+  G.col(0) = c0;
+  G.col(1) = c1;
+  G.col(2) = c2;
+  weighted_sum = sw;
+  weighted_squares = sq;
+  return G;
 }
 
 double PointPrimitiveEnergy::stabilizer_energy(const std::vector<Mat3>& F, const Vec3Array& x) const {
@@ -168,17 +204,29 @@ EnergyBreakdown PointPrimitiveEnergy::energy(const Vec3Array& x) const {
 
 double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f) const {
   const Index n = disc_.num_nodes();
-  std::vector<Mat3> F(n), Pt(n);
-  double strain = 0.0, volume = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : strain, volume) if (n >= kParallelMinNodes)
+  Workspace& ws = workspace(n);
+  const bool stab = opt_.stabilizer_alpha > 0.0;
+  double strain = 0.0, volume = 0.0, stabilizer = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : strain, volume, stabilizer) if (n >= kParallelMinNodes)
   for (Index i = 0; i < n; ++i) {
-    F[i] = disc_.deformation_gradient(i, x);
+    Vec3 sw;
+    double sq;
+    const Mat3 F = gradient_and_moments(i, x, sw, sq);
     EnergyBreakdown e;
-    Pt[i] = weighted_stress(i, F[i], &e);
+    ws.Q[i] = weighted_stress(i, F, &e);
     strain += e.strain;
     volume += e.volume;
+    if (stab) {
+      const Mat3 FcA = F * stab_cA_[i];
+      ws.Q[i] -= FcA;
+      ws.own[i] = stab_c_[i] * sw;
+      // c_i/2 sum_j w_ij |y_ij - F_i X_ij|^2 expanded with the fit's normal equations: c_i/2 (sum_j w_ij |y_ij|^2
+      // - F_i : F_i A_i). A difference of two terms, so for a report; energy() sums the residuals themselves.
+      stabilizer += 0.5 * (stab_c_[i] * sq - F.cwiseProduct(FcA).sum());
+    }
   }
-  return strain + volume + gather(Pt, F, x, f);
+  folded_gather(ws.Q, ws.own, x, f);
+  return strain + volume + stabilizer;
 }
 
 PointPrimitiveEnergy::Linearization PointPrimitiveEnergy::linearize(const Vec3Array& x) const {
@@ -200,14 +248,22 @@ void PointPrimitiveEnergy::hessian_product(const Vec3Array& x, const Vec3Array& 
 
 void PointPrimitiveEnergy::hessian_product(const Linearization& lin, const Vec3Array& v, Vec3Array& out) const {
   const Index n = disc_.num_nodes();
-  std::vector<Mat3> dPt(n), dF(n);
+  Workspace& ws = workspace(n);
+  const bool stab = opt_.stabilizer_alpha > 0.0;
+  // The forces are -(folded gather of Q(F(x)), x); F is linear in x and the stabiliser terms are linear in x, so
+  // the product is the folded gather of dQ = dPtilde - c dF A and of v, negated.
 #pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
   for (Index i = 0; i < n; ++i) {
-    dF[i] = disc_.deformation_gradient(i, v);  // F is linear in positions
-    dPt[i] = weighted_stress_derivative(i, lin.F[i], lin.S[i], dF[i]);
+    Vec3 sw;
+    double sq;
+    const Mat3 dF = gradient_and_moments(i, v, sw, sq);
+    ws.Q[i] = weighted_stress_derivative(i, lin.F[i], lin.S[i], dF);
+    if (stab) {
+      ws.Q[i] -= dF * stab_cA_[i];
+      ws.own[i] = stab_c_[i] * sw;
+    }
   }
-  // The stabiliser force is linear in the positions, so its Hessian applied to v is minus its force at v.
-  gather(dPt, dF, v, out);
+  folded_gather(ws.Q, ws.own, v, out);
   for (auto& o : out) o = -o;
 }
 

@@ -75,17 +75,23 @@ class PointPrimitiveEnergy {
   Mat3 stress(const Mat3& F) const;
   // Directional derivative of weighted_stress at F (with stress S) along dF.
   Mat3 weighted_stress_derivative(Index i, const Mat3& F, const Mat3& S, const Mat3& dF) const;
-  // Pass 2: f_k = -Ptilde_k d_kk - sum_{i: k in N_i} Ptilde_i d_ik, plus the stabiliser forces built from
-  // the per-node fit F_fit and positions y (the stabiliser is linear in y).
-  // Returns the stabiliser energy of (F_fit, y), J, computed from the same residuals.
-  double gather(const std::vector<Mat3>& Ptilde, const std::vector<Mat3>& F_fit, const Vec3Array& y,
-              Vec3Array& out) const;
+  // Pass 1 for node i: sum_j (y_j - y_i) d_ij^T, with sum_j w_ij (y_j - y_i) and sum_j w_ij |y_j - y_i|^2.
+  Mat3 gradient_and_moments(Index i, const Vec3Array& y, Vec3& weighted_sum, double& weighted_squares) const;
+  // Pass 2: the stress gather with the stabiliser folded in (point_primitive_energy.cpp).
+  void folded_gather(const std::vector<Mat3>& Q, const Vec3Array& own, const Vec3Array& y, Vec3Array& out) const;
+  struct Workspace {
+    std::vector<Mat3> Q;  // Ptilde_i - c_i F_i A_i (or its derivative)
+    Vec3Array own;        // c_i sum_j w_ij (y_j - y_i)
+  };
+  static Workspace& workspace(Index n);
   double stabilizer_energy(const std::vector<Mat3>& F, const Vec3Array& x) const;
 
   const Discretization& disc_;
   EnergyOptions opt_;
   double lambda_, mu_;
   std::vector<double> stab_c_;  // c_i = alpha_hg mu V_i / tr(A_i), N/m * m^3
+  std::vector<Mat3> stab_cA_;    // c_i A_i, N/m
+  std::vector<double> stab_cw_;  // c_i w_ik per transposed pair (row k), N/m
 };
 
 }  // namespace vascsim

@@ -5,7 +5,8 @@ Rows, each measured by an ordinary vascsim command and compared with a reference
   1. deformation rate of a realtime haptic session on the vein at 5,712 nodes (the implicit model, a 6 Fr catheter
      pushed 1.2 mm at 1 mm/s), and each frame's force against the converged quasi_static force at the same
      tool depth and resolution;
-  2. the force sent at every 1 kHz tick of that session against the same equilibrium at the tick's tool depth;
+  2. the tissue force at every 1 kHz tick of that session (haptic_ticks.csv) against the same equilibrium at the
+     tick's tool depth;
   3. the haptic loop of that session: rate, p99 jitter, force latency, against the mean frame time;
   4. quasi_static on scenes/vein-indent.json (22,914 nodes): wall time;
   5. quasi_static on scenes/aorta-vmtk.json (88,165 nodes): wall time of the first load step (--with-aorta-vmtk);
@@ -88,18 +89,19 @@ def main():
                  "value": f"{h['deformation_rate_hz']:.1f} frames/s (frame median {frame_ms[len(frame_ms) // 2]:.1f} ms); "
                           f"force within {100 * max(errors):.1f} % (median {100 * sorted(errors)[len(errors) // 2]:.2f} %)",
                  "target": ">= 60 frames/s, within 5 %"})
-    ticks = read_csv(session / "session.csv")
-    k_coupling = summary["parameters"].get("haptics", {}).get("coupling", {}).get("stiffness_n_per_m", 500.0)
+    # Every 1 kHz tick: the tissue's force on the tool that the haptic thread computed (the frame's force carried
+    # to the tick's tool position by the wall's linearised response and the candidate contacts' re-solve),
+    # against the equilibrium at that tool position. The force sent to the device differs from it by the virtual
+    # coupling's own dynamics (its spring and damper, docs/haptics.md), which are not the tissue's.
+    ticks = read_csv(session / "haptic_ticks.csv")
     tick_err = []
     for t in ticks:
-        f = abs(t["fy_n"])  # the vein pushes the catheter up (+y); the device feels it
-        proxy_y = t["y_m"] + f / k_coupling  # the proxy sits where the coupling spring balances the force
-        eq = equilibrium(proxy_y)
-        if 1.5e-3 - proxy_y > 0.1e-3 and eq > 0:
-            tick_err.append(abs(f / eq - 1))
-    rows.append({"what": "force at every 1 kHz tick vs equilibrium at the tick's tool depth (depth > 0.1 mm)",
+        eq = equilibrium(t["tool_y_m"])
+        if 1.5e-3 - t["tool_y_m"] > 0.1e-3 and eq > 0:
+            tick_err.append(abs(t["tissue_fy_n"] / eq - 1))
+    rows.append({"what": "tissue force at every 1 kHz tick vs equilibrium at the tick's tool position (depth > 0.1 mm)",
                  "value": f"within {100 * max(tick_err):.1f} % (median {100 * sorted(tick_err)[len(tick_err) // 2]:.2f} %, "
-                          f"{len(tick_err)} ticks)",
+                          f"p99 {100 * sorted(tick_err)[int(0.99 * len(tick_err))]:.1f} %, {len(tick_err)} ticks)",
                  "target": "within 10 % at every tick after contact"})
     loop = h["loop"]
     rows.append({"what": "haptic loop beside the deformation thread",

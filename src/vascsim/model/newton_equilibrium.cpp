@@ -152,14 +152,19 @@ bool NewtonEquilibrium::line_search(const Vec3Array& x, const Vec3Array& r, cons
   if (!(slope < 0.0)) {
     for (Index i : free_.nodes) dx[i] = r[i];  // not a descent direction: fall back to the gradient
   }
-  const double pi0 = potential(x, f_ext, inertia);
+  // Pi(x) is known when x is the trial the previous line search accepted (and nothing moved it since).
+  const double pi0 = accepted_potential_ ? *accepted_potential_ : potential(x, f_ext, inertia);
+  accepted_potential_.reset();
   const double g = std::min(-dot(r, dx), 0.0);
   double step = 1.0;
   for (int ls = 0; ls < 40; ++ls, step *= 0.5) {
     for (Index i = 0; i < n; ++i) trial[i] = x[i] + step * dx[i];
     contacts_.project(trial, false);
     const double pi = potential(trial, f_ext, inertia);
-    if (std::isfinite(pi) && pi <= pi0 + 1e-4 * step * g) return true;
+    if (std::isfinite(pi) && pi <= pi0 + 1e-4 * step * g) {
+      accepted_potential_ = pi;
+      return true;
+    }
     if (ls == 0) {
       // Near the solution the energy decrease falls below round-off; accept the full step when it reduces
       // the force residual instead.
@@ -173,7 +178,10 @@ bool NewtonEquilibrium::line_search(const Vec3Array& x, const Vec3Array& r, cons
       contacts_.filter(f_trial);
       double r2 = 0.0;
       for (Index i : free_.nodes) r2 += f_trial[i].squaredNorm();
-      if (std::isfinite(r2) && std::sqrt(r2) < 0.9 * residual_norm(r)) return true;
+      if (std::isfinite(r2) && std::sqrt(r2) < 0.9 * residual_norm(r)) {
+        accepted_potential_ = pi;
+        return true;
+      }
     }
   }
   return false;
@@ -184,6 +192,7 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
   const Index n = problem_.discretization().num_nodes();
   NewtonResult out;
   Vec3Array r(n), dx, trial(n);
+  accepted_potential_.reset();  // x comes from outside
   double best = INFINITY;
   int stalled = 0;
   for (int it = 0;; ++it) {
@@ -245,6 +254,7 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
     }
     // Nodes the step pushed into a tool join the active set on its surface.
     if (const int added = contacts_.project(x, true); added > 0) {
+      accepted_potential_.reset();  // projected nodes moved
       spdlog::debug("equilibrium:   {} nodes entered a tool", added);
       stalled = 0;
       best = INFINITY;

@@ -12,6 +12,7 @@
 // reported either way.
 
 #include <limits>
+#include <optional>
 
 #include "vascsim/core/stopwatch.hpp"
 #include "vascsim/model/contact_active_set.hpp"
@@ -113,6 +114,7 @@ class NewtonEquilibrium {
   double force_floor_ = 0.0;
   mutable ContactCorrection correction_;  // cached per contact set and factor (contact_correction.hpp)
   mutable bool use_correction_ = false;
+  std::optional<double> accepted_potential_;  // Pi of the trial the last line search accepted, J
 };
 
 }  // namespace vascsim

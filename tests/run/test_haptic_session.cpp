@@ -216,6 +216,72 @@ TEST(HapticSession, ImplicitRealtimeTickForcesFollowTheLockstepEquilibrium) {
   fs::remove_all(d);
 }
 
+// Slow frames, deterministically: the implicit model in lockstep with frames of 50 ms (a frame rate of 20 Hz, as
+// on a loaded machine), the haptic thread bridging 50 ticks per frame with the wall's linearised response and the
+// candidate contacts. Every tick's tissue force (haptic_ticks.csv) must stay within 10 % (the bound for
+// the force felt at 1 kHz) of the equilibrium at the tick's tool position, taken from a session with frames of
+// 10 ms (converged, interpolated in the tool depth), wherever that force exceeds 2 mN (the first 0.05 mm of the
+// press, where a tenth of the force is below the ripple of a frame's discrete contact set). Measured: worst
+// 8.3 %, median 0.9 % (10 ms frames against themselves between frames: worst 7.3 %).
+TEST(HapticSession, ImplicitSlowFramesKeepEveryTickNearTheEquilibrium) {
+  const fs::path d = fresh_dir("implicit-slow");
+  std::ofstream(d / "slow-press.csv") << "time_s,x_m,y_m,z_m\n0,0.003,0.003,0.0031\n0.6,0.003,0.003,0.0026\n"
+                                         "0.8,0.003,0.003,0.0026\n";
+  auto session = [&](int ticks_per_frame, const std::string& name) {
+    const std::string frame = std::to_string(ticks_per_frame * 1e-3);
+    HapticRunOptions o;
+    o.out_dir = d / name;
+    run_haptic_session(block_scene({"model=implicit", "implicit.frame_s=" + frame, "implicit.output_interval_s=" + frame,
+                                    "implicit.duration_s=0.8", "haptics.ticks_per_step=" + std::to_string(ticks_per_frame),
+                                    "haptics.device.trajectory=" + (d / "slow-press.csv").string()}),
+                       o);
+    return d / name;
+  };
+  const fs::path fine = session(10, "frames-10ms"), slow = session(50, "frames-50ms");
+  auto columns = [](const fs::path& file, const std::vector<std::string>& names) {
+    std::ifstream in(file);
+    std::string line, cell;
+    std::getline(in, line);
+    std::vector<int> at;
+    std::vector<std::string> head;
+    for (std::stringstream h(line); std::getline(h, cell, ',');) head.push_back(cell);
+    for (const auto& n : names) at.push_back(static_cast<int>(std::find(head.begin(), head.end(), n) - head.begin()));
+    std::vector<std::vector<double>> rows;
+    while (std::getline(in, line)) {
+      std::vector<double> all;
+      for (std::stringstream r(line); std::getline(r, cell, ',');) all.push_back(std::stod(cell));
+      std::vector<double> row;
+      for (int a : at) row.push_back(all.at(static_cast<std::size_t>(a)));
+      rows.push_back(row);
+    }
+    return rows;
+  };
+  auto frames = columns(fine / "force_history.csv", {"tool_z_m", "force_z_n"});
+  std::sort(frames.begin(), frames.end());
+  auto equilibrium = [&](double z) {
+    auto it = std::lower_bound(frames.begin(), frames.end(), std::vector<double>{z, -1e300});
+    if (it == frames.begin()) return frames.front()[1];
+    if (it == frames.end()) return frames.back()[1];
+    const auto& a = *(it - 1);
+    const auto& b = *it;
+    return a[1] + (b[1] - a[1]) * (z - a[0]) / (b[0] - a[0]);
+  };
+  int compared = 0;
+  double worst = 0.0;
+  for (const auto& t : columns(slow / "haptic_ticks.csv", {"time_s", "tool_z_m", "tissue_fz_n"})) {
+    ASSERT_TRUE(std::isfinite(t[2])) << "t = " << t[0];
+    const double eq = equilibrium(t[1]);
+    if (eq <= 2e-3) continue;
+    ++compared;
+    worst = std::max(worst, std::abs(t[2] - eq) / eq);
+    EXPECT_LE(std::abs(t[2] - eq), 0.10 * eq) << "t = " << t[0] << " s, tool z = " << t[1] << " m";
+  }
+  std::printf("[ session  ] implicit, 50 ms frames in lockstep: %d ticks in contact, worst tick %.1f %% from the "
+              "equilibrium\n", compared, 100 * worst);
+  EXPECT_GT(compared, 500);
+  fs::remove_all(d);
+}
+
 // A model a device cannot drive is refused by the scene, naming the models that can.
 TEST(HapticSession, ModelsNoDeviceCanDriveAreRefused) {
   try {

@@ -47,6 +47,10 @@ class DeviceDrivenModel {
   virtual double frame_length_s() const = 0;
   /// Per tool, the load it exchanged with the tissue in the last frame (the force it exerts on the tissue).
   virtual std::vector<ObstacleLoad> tool_loads() const = 0;
+  /// Where tool `tool`'s point was in the last frame, m, when the model may trail the pose it was given (a
+  /// real-time model follows a fast device in bounded steps); nullopt: at the pose given. The driver reports
+  /// the force with this position, so the haptic thread extrapolates from where the force belongs.
+  virtual std::optional<Vec3> tool_position_used(std::size_t /*tool*/) const { return std::nullopt; }
   /// The wall's linearised response at tool `tool` after the last frame, when the model computes one; nullopt:
   /// the driver estimates it (a secant along the contact normal).
   virtual std::optional<ToolLinearization> tool_linearization(std::size_t /*tool*/) const { return std::nullopt; }

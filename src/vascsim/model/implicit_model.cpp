@@ -39,6 +39,7 @@ ImplicitSettings read_implicit_settings(JsonReader& b) {
   s.refactor_cg_iterations = b.integer("refactor_cg_iterations", d.refactor_cg_iterations, 1, 100000);
   s.refactor_residual = b.number("refactor_residual", d.refactor_residual, 0.0, 1e6);
   s.refactor_travel = b.number("refactor_travel", d.refactor_travel, 0.0, 1e6);
+  s.max_tool_step = b.number("max_tool_step", d.max_tool_step, 0.0, 1e6);
   b.finish();
   return s;
 }
@@ -94,6 +95,7 @@ ImplicitModel::ImplicitModel(const Problem& problem, const ImplicitSettings& set
   v_.assign(x_.size(), Vec3::Zero());
   spacing_ = problem.discretization().mean_spacing();
   loads_.assign(problem.tools().size(), ObstacleLoad{});
+  tools_.set_bounded(settings.max_tool_step > 0.0);
   place_tools(0.0);
   // Candidates within half a node spacing of a tool: more than a tool moves in a frame at hand speed.
   candidates_ = std::make_unique<HapticCandidates>(free_, settings.haptic_candidates,
@@ -235,6 +237,8 @@ StepReport ImplicitModel::step() {
   const double s_next = ramped_load_factor(t_next, settings_.ramp_time_s);
   Vec3Array f_ext;
   problem_.external_forces(s_next, f_ext);
+  if (settings_.max_tool_step > 0.0)
+    max_tool_lag_ = std::max(max_tool_lag_, tools_.advance(settings_.max_tool_step * spacing_));
   prepare_frame(s_next);
   const auto deadline = realtime_ && settings_.time_budget_s > 0.0
                             ? SteadyClock::now() + std::chrono::duration_cast<SteadyClock::duration>(
@@ -298,6 +302,7 @@ nlohmann::json ImplicitModel::info() const {
                       {"last_residual", last_residual_},
                       {"worst_residual", worst_residual_},
                       {"factorisations", factorisations_},
+                      {"max_tool_lag_m", max_tool_lag_},
                       {"time_budget_s", settings_.time_budget_s},
                       {"duration_s", settings_.duration_s},
                       {"ramp_time_s", settings_.ramp_time_s},

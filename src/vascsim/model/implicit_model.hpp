@@ -52,6 +52,10 @@ struct ImplicitSettings {
   int refactor_cg_iterations = 12;   ///< ... or a Newton iteration needed more CG iterations than this,
   double refactor_residual = 0.0;    ///< ... or a frame ended above this relative residual (0: not a trigger),
   double refactor_travel = 0.5;      ///< ... or a tool travelled this many node spacings since the factor
+  /// A device-posed tool moves by at most this many node spacings per frame (0: at once). A frame then never
+  /// starts from a tool that jumped deep into the wall: under a fast hand or a slow frame the model's tool trails
+  /// the device, and the haptic thread bridges the gap with the wall's linearised response.
+  double max_tool_step = 0.25;
 };
 
 /// Reads the `implicit` block of a scene (docs/scene-format.md).
@@ -78,6 +82,7 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   double time() const override { return t_; }
   double frame_length_s() const override { return h_; }
   std::vector<ObstacleLoad> tool_loads() const override { return loads_; }
+  std::optional<Vec3> tool_position_used(std::size_t tool) const override { return tools_.points(s_).at(tool); }
   std::optional<ToolLinearization> tool_linearization(std::size_t tool) const override;
   void set_realtime(bool realtime) override;
 
@@ -121,6 +126,7 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   int factorisations_ = 0;
   long long frames_ = 0, newton_total_ = 0, cg_total_ = 0, out_of_time_ = 0, unconverged_ = 0;
   double last_residual_ = 0.0, worst_residual_ = 0.0;
+  double max_tool_lag_ = 0.0;  // the farthest a tool trailed its device pose, m
 };
 
 }  // namespace vascsim

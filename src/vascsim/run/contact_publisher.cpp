@@ -16,16 +16,19 @@ FrameSample ContactPublisher::step(const ToolPose& pose) {
   model_.set_tool_pose(tool_, pose.position(), pose.orientation());
   const StepReport report = model_.step();
   const ObstacleLoad load = model_.tool_loads()[tool_];
+  // The force belongs to where the model had the tool (a real-time model may trail a fast device).
+  ToolPose used = pose;
+  if (const auto p = model_.tool_position_used(tool_)) used.set_position(*p);
   FrameSample s;
   s.sim_time_s = model_.time();
   s.pose_time_s = pose.time_s;
-  s.tool_position_m = pose.position();
+  s.tool_position_m = used.position();
   s.force_n = -load.force_n;  // the tissue's force on the tool
   s.torque_n_m = -load.torque_n_m;
   s.contacts = load.contacts;
   s.residual = report.residual;
   s.converged = report.converged;
-  publish(pose, scale_ * s.force_n);
+  publish(used, scale_ * s.force_n);
   s.wall_s = clock.seconds();
   return s;
 }

@@ -105,6 +105,7 @@ void add_experiment_commands(CLI::App& app, CliContext& ctx, std::vector<Command
                    "With --models: read a model's finished OUT/<model>/summary.json instead of running it (merge "
                    "independent runs)");
   commands.push_back({fd_app, [fd, &ctx] { return force_displacement(*fd, ctx); }});
+  add_timing_experiment(*experiment, ctx, commands);
 }
 
 }  // namespace vascsim

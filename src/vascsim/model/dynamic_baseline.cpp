@@ -53,6 +53,18 @@ void DynamicBaseline::set_tool_pose(std::size_t tool, const Vec3& position_m, co
   tools_.pose(tool, position_m, orientation);
 }
 
+double dot(const Vec3Array& a, const Vec3Array& b) {
+  double s = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) s += a[i].dot(b[i]);
+  return s;
+}
+
+void DynamicBaseline::filter_free(Vec3Array& v, const ContactActiveSet& contacts) const {
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (problem_.constrained()[i]) v[i].setZero();
+  contacts.filter(v);
+}
+
 void DynamicBaseline::reset_loads() { loads_.assign(problem_.tools().size(), ObstacleLoad{}); }
 
 void DynamicBaseline::project_tool_contacts(Vec3Array& x, const std::vector<double>& mass, double dt, double s,

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "vascsim/model/contact_active_set.hpp"
 #include "vascsim/model/device_driven_model.hpp"
 #include "vascsim/model/registry.hpp"
 #include "vascsim/model/tool_placement.hpp"
@@ -37,6 +38,20 @@ BaselineFrames read_baseline_frames(JsonReader& block);
 /// release), schedule. `frames_of` returns the BaselineFrames of the model's settings struct.
 ModelEntry baseline_entry(const std::string& name, const std::string& summary,
                           std::function<BaselineFrames(const std::any&)> frames_of);
+
+/// The whole entry of baseline model M with settings S (which has a `frames` member) read by `read`.
+template <class M, class S>
+ModelEntry make_baseline_entry(const std::string& name, const std::string& summary, S (*read)(JsonReader&)) {
+  ModelEntry e = baseline_entry(name, summary, [](const std::any& s) { return settings_as<S>(s).frames; });
+  e.read_settings = [read](JsonReader& block) { return std::any(read(block)); };
+  e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
+    return std::make_unique<M>(problem, settings_as<S>(settings));
+  };
+  return e;
+}
+
+/// sum_i a_i . b_i over two per-node arrays of one size.
+double dot(const Vec3Array& a, const Vec3Array& b);
 
 class DynamicBaseline : public Model, public DeviceDrivenModel {
  public:
@@ -77,6 +92,9 @@ class DynamicBaseline : public Model, public DeviceDrivenModel {
   /// per substep with weight 1/n after reset_loads(), so loads_ is the frame's mean.
   void project_tool_contacts(Vec3Array& x, const std::vector<double>& mass, double dt, double s, double weight);
   void reset_loads();
+  /// Zeroes v at the prescribed nodes and removes its normal component at the nodes in contact (the filter of
+  /// Baraff & Witkin's modified PCG, contact_active_set.hpp), for the implicit baselines' solvers.
+  void filter_free(Vec3Array& v, const ContactActiveSet& contacts) const;
 
   const Problem& problem_;
   std::string name_;

@@ -10,12 +10,6 @@ namespace vascsim {
 
 namespace {
 
-double dot(const Vec3Array& a, const Vec3Array& b) {
-  double s = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) s += a[i].dot(b[i]);
-  return s;
-}
-
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxHalvings = 30;
 
@@ -33,15 +27,11 @@ FemQuasiNewtonSettings read_fem_quasi_newton_settings(JsonReader& b) {
 }
 
 ModelEntry fem_quasi_newton_model_entry() {
-  ModelEntry e = baseline_entry("fem_quasi_newton",
-                                "baseline [23] Liu & Yao 2018 (interpretation): implicit neo-Hookean tet FEM by L-BFGS "
-                                "with a prefactored initial Hessian",
-                                [](const std::any& s) { return settings_as<FemQuasiNewtonSettings>(s).frames; });
-  e.read_settings = [](JsonReader& block) { return std::any(read_fem_quasi_newton_settings(block)); };
-  e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
-    return std::make_unique<FemQuasiNewtonModel>(problem, settings_as<FemQuasiNewtonSettings>(settings));
-  };
-  return e;
+  return make_baseline_entry<FemQuasiNewtonModel, FemQuasiNewtonSettings>(
+      "fem_quasi_newton",
+      "baseline [23] Liu & Yao 2018 (interpretation): implicit neo-Hookean tet FEM by L-BFGS with a prefactored "
+      "initial Hessian",
+      &read_fem_quasi_newton_settings);
 }
 
 FemQuasiNewtonModel::FemQuasiNewtonModel(const Problem& problem, const FemQuasiNewtonSettings& settings)
@@ -122,13 +112,8 @@ double FemQuasiNewtonModel::objective(const Vec3Array& x, Vec3Array& grad) const
 
 void FemQuasiNewtonModel::direction(const Vec3Array& grad, Vec3Array& d) {
   // L-BFGS two-loop recursion (Nocedal & Wright, Algorithm 7.4) with H_0^{-1} = (M/h^2 + K_0)^{-1}.
-  auto filter = [&](Vec3Array& v) {
-    for (std::size_t i = 0; i < v.size(); ++i)
-      if (problem_.constrained()[i]) v[i].setZero();
-    contacts_.filter(v);
-  };
   Vec3Array q = grad;
-  filter(q);
+  filter_free(q, contacts_);
   std::vector<double> alpha(pairs_.size());
   for (std::size_t k = pairs_.size(); k-- > 0;) {
     const auto& [s, y] = pairs_[k];
@@ -140,7 +125,7 @@ void FemQuasiNewtonModel::direction(const Vec3Array& grad, Vec3Array& d) {
   if (packed.size() > 0) factor_->solve(packed, solved);
   d.assign(q.size(), Vec3::Zero());
   free_.unpack(solved, d);
-  filter(d);
+  filter_free(d, contacts_);
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
     const auto& [s, y] = pairs_[k];
     const double beta = dot(y, d) / dot(y, s);
@@ -152,9 +137,7 @@ void FemQuasiNewtonModel::direction(const Vec3Array& grad, Vec3Array& d) {
 int FemQuasiNewtonModel::minimise(Vec3Array& x, Vec3Array& grad, double& g, double tolerance) {
   auto filtered = [&](const Vec3Array& v) {
     Vec3Array f = v;
-    for (std::size_t i = 0; i < f.size(); ++i)
-      if (problem_.constrained()[i]) f[i].setZero();
-    contacts_.filter(f);
+    filter_free(f, contacts_);
     return f;
   };
   Vec3Array gf = filtered(grad), d, trial, trial_grad;
@@ -203,8 +186,7 @@ StepReport FemQuasiNewtonModel::frame(double /*s_prev*/, double s) {
   pairs_.clear();
   double g = objective(x, grad);
   Vec3Array gf = grad;
-  for (std::size_t i = 0; i < n; ++i)
-    if (problem_.constrained()[i]) gf[i].setZero();
+  filter_free(gf, contacts_);
   const double tolerance = settings_.rel_tolerance * std::sqrt(dot(gf, gf));
   StepReport rep;
   for (int round = 0; round < 4; ++round) {

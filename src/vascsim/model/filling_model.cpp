@@ -19,15 +19,11 @@ FillingSettings read_filling_settings(JsonReader& b) {
 }
 
 ModelEntry filling_model_entry() {
-  ModelEntry e = baseline_entry("filling",
-                                "baseline [27] Ye et al. 2018 (interpretation): particle-filled lattice, XPBD springs "
-                                "+ one global volume constraint",
-                                [](const std::any& s) { return settings_as<FillingSettings>(s).frames; });
-  e.read_settings = [](JsonReader& block) { return std::any(read_filling_settings(block)); };
-  e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
-    return std::make_unique<FillingModel>(problem, settings_as<FillingSettings>(settings));
-  };
-  return e;
+  return make_baseline_entry<FillingModel, FillingSettings>(
+      "filling",
+      "baseline [27] Ye et al. 2018 (interpretation): particle-filled lattice, XPBD springs + one global volume "
+      "constraint",
+      &read_filling_settings);
 }
 
 FillingModel::FillingModel(const Problem& problem, const FillingSettings& settings)

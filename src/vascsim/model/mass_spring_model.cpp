@@ -26,14 +26,10 @@ MassSpringSettings read_mass_spring_settings(JsonReader& b) {
 }
 
 ModelEntry mass_spring_model_entry() {
-  ModelEntry e = baseline_entry(
-      "mass_spring", "baseline [8] Li et al. 2018: surface mass-spring with flexion springs, semi-implicit Euler",
-      [](const std::any& s) { return settings_as<MassSpringSettings>(s).frames; });
-  e.read_settings = [](JsonReader& block) { return std::any(read_mass_spring_settings(block)); };
-  e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
-    return std::make_unique<MassSpringModel>(problem, settings_as<MassSpringSettings>(settings));
-  };
-  return e;
+  return make_baseline_entry<MassSpringModel, MassSpringSettings>(
+      "mass_spring",
+      "baseline [8] Li et al. 2018: surface mass-spring with flexion springs, semi-implicit Euler",
+      &read_mass_spring_settings);
 }
 
 MassSpringModel::MassSpringModel(const Problem& problem, const MassSpringSettings& settings)

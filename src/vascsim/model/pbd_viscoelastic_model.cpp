@@ -22,15 +22,10 @@ PbdViscoelasticSettings read_pbd_viscoelastic_settings(JsonReader& b) {
 }
 
 ModelEntry pbd_viscoelastic_model_entry() {
-  ModelEntry e = baseline_entry("pbd_viscoelastic",
-                                "baseline [16] Xu et al. 2018 (interpretation): nonlinear Kelvin-Voigt springs + PBD "
-                                "tet volume constraints",
-                                [](const std::any& s) { return settings_as<PbdViscoelasticSettings>(s).frames; });
-  e.read_settings = [](JsonReader& block) { return std::any(read_pbd_viscoelastic_settings(block)); };
-  e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
-    return std::make_unique<PbdViscoelasticModel>(problem, settings_as<PbdViscoelasticSettings>(settings));
-  };
-  return e;
+  return make_baseline_entry<PbdViscoelasticModel, PbdViscoelasticSettings>(
+      "pbd_viscoelastic",
+      "baseline [16] Xu et al. 2018 (interpretation): nonlinear Kelvin-Voigt springs + PBD tet volume constraints",
+      &read_pbd_viscoelastic_settings);
 }
 
 PbdViscoelasticModel::PbdViscoelasticModel(const Problem& problem, const PbdViscoelasticSettings& settings)

@@ -7,16 +7,6 @@
 
 namespace vascsim {
 
-namespace {
-
-double dot(const Vec3Array& a, const Vec3Array& b) {
-  double s = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) s += a[i].dot(b[i]);
-  return s;
-}
-
-}  // namespace
-
 TensorMassSettings read_tensor_mass_settings(JsonReader& b) {
   TensorMassSettings s;
   s.frames = read_baseline_frames(b);
@@ -29,14 +19,10 @@ TensorMassSettings read_tensor_mass_settings(JsonReader& b) {
 }
 
 ModelEntry tensor_mass_model_entry() {
-  ModelEntry e = baseline_entry(
-      "tensor_mass", "baseline [26] Guo et al. 2018: linear tetrahedral tensor-mass, implicit Euler, matrix-free CG",
-      [](const std::any& s) { return settings_as<TensorMassSettings>(s).frames; });
-  e.read_settings = [](JsonReader& block) { return std::any(read_tensor_mass_settings(block)); };
-  e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
-    return std::make_unique<TensorMassModel>(problem, settings_as<TensorMassSettings>(settings));
-  };
-  return e;
+  return make_baseline_entry<TensorMassModel, TensorMassSettings>(
+      "tensor_mass",
+      "baseline [26] Guo et al. 2018: linear tetrahedral tensor-mass, implicit Euler, matrix-free CG",
+      &read_tensor_mass_settings);
 }
 
 TensorMassModel::TensorMassModel(const Problem& problem, const TensorMassSettings& settings)
@@ -75,11 +61,7 @@ void TensorMassModel::apply_system(const Vec3Array& p, Vec3Array& out) const {
 int TensorMassModel::solve(const Vec3Array& b, Vec3Array& dv) {
   // Modified PCG (Baraff & Witkin 1998): dv holds the prescribed values of the constrained components; the
   // search stays in the free subspace (prescribed nodes zero, contact normals removed).
-  auto filter = [&](Vec3Array& v) {
-    for (std::size_t i = 0; i < v.size(); ++i)
-      if (problem_.constrained()[i]) v[i].setZero();
-    contacts_.filter(v);
-  };
+  auto filter = [&](Vec3Array& v) { filter_free(v, contacts_); };
   auto precondition = [&](const Vec3Array& r, Vec3Array& z) {
     for (std::size_t i = 0; i < r.size(); ++i)
       for (int c = 0; c < 3; ++c) z[i][c] = r[i][c] / diag_[3 * i + static_cast<std::size_t>(c)];

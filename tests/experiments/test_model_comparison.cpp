@@ -26,6 +26,7 @@ TEST(ModelComparison, RmsErrorIsTakenAtTheModelsPointsAgainstTheInterpolatedRefe
   EXPECT_EQ(c.points, 3);
   EXPECT_NEAR(c.rms_error_n, std::sqrt(1.5 / 3.0), 1e-12);
   EXPECT_NEAR(c.rms_relative, std::sqrt(1.5 / 3.0) / 10.0, 1e-12);
+  EXPECT_NEAR(c.rms_percent, 100.0 * std::sqrt(1.5 / (2.5 * 2.5 + 5.0 * 5.0 + 10.0 * 10.0)), 1e-10);
   EXPECT_NEAR(c.max_force_ratio, 1.1, 1e-12);
   compare_to_reference(ref, ref);
   EXPECT_EQ(ref.rms_error_n, 0.0);

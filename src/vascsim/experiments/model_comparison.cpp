@@ -75,7 +75,7 @@ void compare_to_reference(const ModelCurve& ref, ModelCurve& c) {
   const double d_max = *std::max_element(ref.displacement_m.begin(), ref.displacement_m.end());
   double f_ref_max = 0.0;
   for (double f : ref.force_n) f_ref_max = std::max(f_ref_max, std::abs(f));
-  double sum2 = 0.0, deepest = -1.0;
+  double sum2 = 0.0, ref2 = 0.0, deepest = -1.0;
   c.points = 0;
   for (std::size_t i = 0; i < c.displacement_m.size(); ++i) {
     const double d = c.displacement_m[i];
@@ -83,11 +83,13 @@ void compare_to_reference(const ModelCurve& ref, ModelCurve& c) {
     if (i + 1 < c.displacement_m.size() && c.displacement_m[i + 1] == d) continue;  // a held point: keep the last
     const double f_ref = interpolate(ref.displacement_m, ref.force_n, d);
     sum2 += std::pow(c.force_n[i] - f_ref, 2);
+    ref2 += f_ref * f_ref;
     ++c.points;
     if (d >= deepest) deepest = d, c.max_force_n = c.force_n[i], c.max_force_ratio = c.force_n[i] / f_ref;
   }
   c.rms_error_n = c.points > 0 ? std::sqrt(sum2 / c.points) : 0.0;
   c.rms_relative = f_ref_max > 0.0 ? c.rms_error_n / f_ref_max : 0.0;
+  c.rms_percent = ref2 > 0.0 ? 100.0 * std::sqrt(sum2 / ref2) : 0.0;
 }
 
 ModelComparisonResult run_model_comparison(const std::string& scene_path, const ModelComparisonOptions& o) {
@@ -115,18 +117,18 @@ ModelComparisonResult run_model_comparison(const std::string& scene_path, const 
       csv.add_row(fmt::format("{},{:.9g},{:.9g}", c.model, c.displacement_m[i], c.force_n[i]));
   res.csv = csv.file();
   CsvTable rms = out.table("rms_error.csv",
-                           {"model", "nodes", "points", "rms_error_n", "rms_relative", "max_depth_force_n",
+                           {"model", "nodes", "points", "rms_error_n", "rms_relative", "rms_percent", "max_depth_force_n",
                             "max_depth_force_ratio", "wall_s"},
                            fmt::format("{}: RMS of F - F_ref (N) at each model's displacements, relative to max "
-                                       "|F_ref|; the force at the deepest point (N) and its ratio to the reference; "
+                                       "|F_ref| and in % of RMS(F_ref) there (docs/ahp.md I7); the force at the deepest point (N) and its ratio to the reference; "
                                        "wall time (s); reference {}",
                                        scene_path, o.reference));
   nlohmann::json table = nlohmann::json::array();
   for (const auto& c : res.curves) {
-    rms.add_row(fmt::format("{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g}", c.model, c.nodes, c.points, c.rms_error_n,
-                            c.rms_relative, c.max_force_n, c.max_force_ratio, c.wall_s));
+    rms.add_row(fmt::format("{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g}", c.model, c.nodes, c.points,
+                            c.rms_error_n, c.rms_relative, c.rms_percent, c.max_force_n, c.max_force_ratio, c.wall_s));
     table.push_back({{"model", c.model}, {"nodes", c.nodes}, {"points", c.points}, {"rms_error_n", c.rms_error_n},
-                     {"rms_relative", c.rms_relative}, {"max_depth_force_n", c.max_force_n},
+                     {"rms_relative", c.rms_relative}, {"rms_percent", c.rms_percent}, {"max_depth_force_n", c.max_force_n},
                      {"max_depth_force_ratio", c.max_force_ratio}, {"wall_s", c.wall_s}, {"reused", c.reused}});
   }
   res.rms_csv = rms.file();
@@ -146,11 +148,12 @@ ModelComparisonResult run_model_comparison(const std::string& scene_path, const 
 }
 
 std::string model_comparison_table(const ModelComparisonResult& r) {
-  std::string s = fmt::format("{:<18} {:>7} {:>6} {:>12} {:>9} {:>14} {:>9} {:>9}\n", "model", "nodes", "points",
-                              "rms_err_mN", "rms_rel", "F_deepest_mN", "F/F_ref", "wall_s");
+  std::string s = fmt::format("{:<18} {:>7} {:>6} {:>12} {:>9} {:>8} {:>14} {:>9} {:>9}\n", "model", "nodes", "points",
+                              "rms_err_mN", "rms/Fmax", "rms_%", "F_deepest_mN", "F/F_ref", "wall_s");
   for (const auto& c : r.curves)
-    s += fmt::format("{:<18} {:>7} {:>6} {:>12.4g} {:>9.3f} {:>14.4g} {:>9.3f} {:>9.1f}{}\n", c.model, c.nodes, c.points,
-                     c.rms_error_n * 1e3, c.rms_relative, c.max_force_n * 1e3, c.max_force_ratio, c.wall_s,
+    s += fmt::format("{:<18} {:>7} {:>6} {:>12.4g} {:>9.3f} {:>8.1f} {:>14.4g} {:>9.3f} {:>9.1f}{}\n", c.model, c.nodes,
+                     c.points, c.rms_error_n * 1e3, c.rms_relative, c.rms_percent, c.max_force_n * 1e3, c.max_force_ratio,
+                     c.wall_s,
                      c.reused ? " (reused)" : "");
   return s;
 }

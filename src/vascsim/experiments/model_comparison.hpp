@@ -44,6 +44,7 @@ struct ModelCurve {
   std::vector<double> displacement_m, force_n;
   double rms_error_n = 0.0;         ///< RMS of F - F_ref over the compared points, N
   double rms_relative = 0.0;        ///< rms_error_n / max |F_ref|
+  double rms_percent = 0.0;         ///< 100 rms_error_n / RMS(F_ref at the same points): docs/ahp.md's I7 figure
   double max_force_n = 0.0;         ///< the force at the deepest compared point, N
   double max_force_ratio = 0.0;     ///< that force over the reference's there
   int points = 0;                   ///< compared points

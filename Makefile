@@ -121,7 +121,7 @@ FIG10_MODELS  ?= implicit xpbd mass_spring fem_quasi_newton tensor_mass filling 
 FIG10_OUT     ?= out/fig10
 TIMING_SCENE  ?= scenes/vein-indent.json
 TIMING_MODELS ?= implicit xpbd mass_spring fem_quasi_newton tensor_mass filling pbd_viscoelastic
-TIMING_NODES  ?= 1000 3000 10000
+TIMING_NODES  ?= 1000 2000 4000
 TIMING_OUT    ?= out/timing
 HAVE_PARALLEL := $(shell command -v parallel 2>/dev/null)
 

@@ -1,8 +1,9 @@
 #pragma once
 // `vascsim experiment timing`: time per step and frames per second against node count for several models (the
 // paper's Figs. 11-12: deformation time and frames of six models at several node counts). Every point is one model
-// on one tube resolution (find_tube_resolution, as `vascsim bench`) with the same 1 ms step (timed_scene_overrides):
-// `warmup_steps` untimed steps, then `steps` steps, each timed in two parts, the simulation (Model::advance, one
+// on one tube resolution (find_tube_resolution, as `vascsim bench`) with the same 1 ms step (timed_scene_overrides),
+// the scene's loads ramping over the whole run (every timed step moves the indenter): `warmup_steps` untimed
+// steps, then `steps` steps, each timed in two parts, the simulation (Model::advance, one
 // 1 ms frame) and the surface map (the MLS map of the node displacements to the render surface, with normals,
 // Simulation::surface_frame); each point reports their medians, steps per second = 1 / simulation and frames per
 // second = 1 / (simulation + surface map), and the machine it ran on (machine_info.hpp).

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "vascsim/experiments/cantilever.hpp"
+#include "vascsim/model/device_driven_model.hpp"
 #include "vascsim/model/free_dofs.hpp"
 #include "vascsim/model/mass_spring_model.hpp"
 #include "vascsim/model/spring_network.hpp"
@@ -175,6 +176,22 @@ TEST_P(BaselinePress, ToolForceBalancesTheSupport) {
 INSTANTIATE_TEST_SUITE_P(Baselines, BaselinePress,
                          ::testing::Values("mass_spring", "fem_quasi_newton", "tensor_mass", "filling",
                                            "pbd_viscoelastic"));
+
+// Every baseline is device-driven: a pose puts the tool where the device is (here 0.3 mm into the block, from the
+// first frame on, the load factor's motion ignored), and the tool feels the tissue push back.
+TEST_P(BaselinePress, DevicePoseDrivesTheTool) {
+  json doc = pressed_block(GetParam());
+  doc["obstacles"][0]["motion_m"] = {0.0, 0.0, 0.0};
+  Simulation sim(parse_scene(doc, "pressed-block"));
+  DeviceDrivenModel* dd = sim.model().device_driven();
+  ASSERT_NE(dd, nullptr);
+  dd->set_tool_pose(0, Vec3(0.002, 0.002, 0.0032), Eigen::Quaterniond::Identity());
+  for (int k = 0; k < 10; ++k) dd->step();
+  EXPECT_NEAR(dd->time(), 10 * dd->frame_length_s(), 1e-12);
+  const ObstacleLoad load = dd->tool_loads().at(0);
+  EXPECT_GT(load.contacts, 0);
+  EXPECT_LT(load.force_n.z(), 0.0);
+}
 
 // The explicit baselines' step, safety * 2 / (omega + gamma) from Gershgorin bounds, is the stability limit of
 // semi-implicit Euler: two equal masses joined by one spring (the bound is exact for it: omega^2 = 2k/m) stay

@@ -159,7 +159,10 @@ def plot(args):
     for i, (c, lab) in enumerate(zip(curves, labels)):
         x, y = c["disp"] * ds, c["force"] * fs
         if i == 0 and args.reference:
-            ax.plot(x, y, "-", color="black", linewidth=2.6, label=f"{lab} (reference)", zorder=4)
+            # The reference is the converged solution: a load step that did not converge is not part of it.
+            ok = c["converged"]
+            ax.plot(x[ok], y[ok], "-", color="black", linewidth=2.6, label=f"{lab} (reference)", zorder=4)
+            continue
         else:
             k = i - 1 if args.reference else i
             ax.plot(x, y, "o-", color=COLORS[k % len(COLORS)], markersize=3.5, linewidth=1.4, label=lab)
@@ -191,7 +194,8 @@ def main(argv=None):
                     help="legend label, once per CSV in order (default: each file's parent folder name)")
     ap.add_argument("--title", metavar="T", help="axes title (default: none)")
     ap.add_argument("--reference", action="store_true",
-                    help="draw the first CSV as the reference curve (thick black line, no markers)")
+                    help="draw the first CSV as the reference curve (thick black line, no markers, its "
+                         "non-converged rows left out)")
     ap.add_argument("--tool", default="catheter", metavar="NAME",
                     help="what presses, for the axis labels (default: catheter)")
     ap.add_argument("--units", choices=["auto", "si", "mm_mN"], default="auto",

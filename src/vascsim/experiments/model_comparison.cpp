@@ -4,6 +4,8 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <fstream>
+#include <sstream>
+#include <stdexcept>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/experiments/force_displacement.hpp"
@@ -17,20 +19,47 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A curve from a finished single-model run's summary.json; false when there is none (or it is incomplete).
+// The curve of OUT/<model>/force_displacement.csv (comment lines start with '#'); false if there is none.
+bool read_curve(const fs::path& csv, ModelCurve& c) {
+  std::ifstream in(csv);
+  if (!in) return false;
+  std::string line;
+  std::vector<std::string> header;
+  auto split = [](const std::string& l) {
+    std::vector<std::string> out;
+    std::stringstream ss(l);
+    for (std::string f; std::getline(ss, f, ',');) out.push_back(f);
+    return out;
+  };
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    if (header.empty()) {
+      header = split(line);
+      continue;
+    }
+    const std::vector<std::string> f = split(line);
+    auto at = [&](const std::string& name) {
+      const auto it = std::find(header.begin(), header.end(), name);
+      if (it == header.end() || static_cast<std::size_t>(it - header.begin()) >= f.size())
+        throw InputError(fmt::format("{}: no column '{}'", csv.string(), name));
+      return f[static_cast<std::size_t>(it - header.begin())];
+    };
+    c.displacement_m.push_back(std::stod(at("displacement_m")));
+    c.force_n.push_back(std::stod(at("force_n")));
+    c.converged.push_back(at("converged") == "1" ? 1 : 0);
+  }
+  return !c.displacement_m.empty();
+}
+
+// A finished single-model run: its summary.json has the force_displacement entry (written last).
 bool read_finished(const fs::path& dir, ModelCurve& c) {
   std::ifstream in(dir / "summary.json");
   if (!in) return false;
   const nlohmann::json s = nlohmann::json::parse(in, nullptr, false);
-  if (s.is_discarded() || !s.contains("force_displacement") || !s["force_displacement"].contains("rows")) return false;
-  for (const auto& r : s["force_displacement"]["rows"]) {
-    c.displacement_m.push_back(r["displacement_m"].get<double>());
-    c.force_n.push_back(r["force_n"].get<double>());
-  }
+  if (s.is_discarded() || !s.contains("force_displacement")) return false;
   if (s.contains("timings_s")) c.wall_s = s["timings_s"].value("total", 0.0);
   c.nodes = s.value("nodes", 0);
-  c.reused = true;
-  return !c.displacement_m.empty();
+  return read_curve(dir / "force_displacement.csv", c);
 }
 
 ModelCurve run_one(const std::string& scene_path, const std::string& model, const ModelComparisonOptions& o) {
@@ -38,6 +67,7 @@ ModelCurve run_one(const std::string& scene_path, const std::string& model, cons
   c.model = model;
   const fs::path dir = o.out_dir / model;
   if (o.reuse && read_finished(dir, c)) {
+    c.reused = true;
     if (o.progress) o.progress(fmt::format("{}: reusing {}", model, (dir / "summary.json").string()));
     return c;
   }
@@ -52,18 +82,13 @@ ModelCurve run_one(const std::string& scene_path, const std::string& model, cons
   fd.plot = false;
   fd.python = o.python;
   if (o.on_step) fd.on_step = [&](const StepRecord& r, int total) { o.on_step(model, r, total); };
-  const ForceDisplacementResult res = run_force_displacement(scene, fd);
-  for (const auto& r : res.summary["force_displacement"]["rows"]) {
-    c.displacement_m.push_back(r["displacement_m"].get<double>());
-    c.force_n.push_back(r["force_n"].get<double>());
-  }
-  c.wall_s = res.summary["timings_s"].value("total", 0.0);
-  c.nodes = res.summary.value("nodes", 0);
+  run_force_displacement(scene, fd);
+  if (!read_finished(dir, c)) throw std::runtime_error("force-displacement: no curve written in " + dir.string());
   return c;
 }
 
 double interpolate(const std::vector<double>& x, const std::vector<double>& y, double at) {
-  // x non-decreasing (load steps); the last of equal x wins.
+  // x non-decreasing (load steps).
   for (std::size_t i = 1; i < x.size(); ++i)
     if (at <= x[i] && x[i] > x[i - 1]) return y[i - 1] + (y[i] - y[i - 1]) * (at - x[i - 1]) / (x[i] - x[i - 1]);
   return y.back();
@@ -71,7 +96,22 @@ double interpolate(const std::vector<double>& x, const std::vector<double>& y, d
 
 }  // namespace
 
-void compare_to_reference(const ModelCurve& ref, ModelCurve& c) {
+ModelCurve converged_points(const ModelCurve& curve) {
+  ModelCurve out = curve;
+  out.displacement_m.clear();
+  out.force_n.clear();
+  out.converged.clear();
+  for (std::size_t i = 0; i < curve.displacement_m.size(); ++i)
+    if (curve.converged.empty() || curve.converged[i]) {
+      out.displacement_m.push_back(curve.displacement_m[i]);
+      out.force_n.push_back(curve.force_n[i]);
+      out.converged.push_back(1);
+    }
+  return out;
+}
+
+void compare_to_reference(const ModelCurve& reference, ModelCurve& c) {
+  const ModelCurve ref = converged_points(reference);
   const double d_max = *std::max_element(ref.displacement_m.begin(), ref.displacement_m.end());
   double f_ref_max = 0.0;
   for (double f : ref.force_n) f_ref_max = std::max(f_ref_max, std::abs(f));
@@ -105,16 +145,27 @@ ModelComparisonResult run_model_comparison(const std::string& scene_path, const 
     if (o.progress) o.progress(fmt::format("model {} ({} of {})", m, res.curves.size() + 1, models.size()));
     res.curves.push_back(run_one(scene_path, m, o));
   }
-  for (auto& c : res.curves) compare_to_reference(res.curves.front(), c);
+  // The reference against itself on its converged points (0 by construction); every other model on all of its
+  // points (a real-time model's frame that stopped at its iteration budget is what it shows).
+  for (std::size_t k = 1; k < res.curves.size(); ++k) compare_to_reference(res.curves.front(), res.curves[k]);
+  ModelCurve self = converged_points(res.curves.front());
+  compare_to_reference(res.curves.front(), self);
+  res.curves.front().rms_error_n = self.rms_error_n;
+  res.curves.front().rms_relative = self.rms_relative;
+  res.curves.front().rms_percent = self.rms_percent;
+  res.curves.front().points = self.points;
+  res.curves.front().max_force_n = self.max_force_n;
+  res.curves.front().max_force_ratio = self.max_force_ratio;
 
   const OutputWriter out(o.out_dir);
-  CsvTable csv = out.table("force_displacement_models.csv", {"model", "displacement_m", "force_n"},
+  CsvTable csv = out.table("force_displacement_models.csv", {"model", "displacement_m", "force_n", "converged"},
                            fmt::format("{}: tool displacement (m) and the force the tissue exerts on it along the "
-                                       "reversed push (N), per model; reference {}",
+                                       "reversed push (N), per model, and whether the step converged (1/0); reference {}",
                                        scene_path, o.reference));
   for (const auto& c : res.curves)
     for (std::size_t i = 0; i < c.displacement_m.size(); ++i)
-      csv.add_row(fmt::format("{},{:.9g},{:.9g}", c.model, c.displacement_m[i], c.force_n[i]));
+      csv.add_row(fmt::format("{},{:.9g},{:.9g},{}", c.model, c.displacement_m[i], c.force_n[i],
+                              c.converged.empty() || c.converged[i] ? 1 : 0));
   res.csv = csv.file();
   CsvTable rms = out.table("rms_error.csv",
                            {"model", "nodes", "points", "rms_error_n", "rms_relative", "rms_percent", "max_depth_force_n",

@@ -12,8 +12,9 @@
 //                                      the reference's largest force), the force at the deepest point, wall time
 //   OUT/force_displacement_models.png  every curve, the reference drawn thick (scripts/plot_force_displacement.py)
 // The error is taken at each model's own displacements in (0, reference's deepest point], the reference
-// interpolated linearly between its load steps; where a dynamic model reports one displacement several times
-// (a held press) its last, settled value is used.
+// interpolated linearly between its converged load steps; where a dynamic model reports one displacement
+// several times (a held press) its last, settled value is used. Curves are read from OUT/<model>/
+// force_displacement.csv (after a run as on reuse).
 
 #include <filesystem>
 #include <functional>
@@ -42,6 +43,7 @@ struct ModelComparisonOptions {
 struct ModelCurve {
   std::string model;
   std::vector<double> displacement_m, force_n;
+  std::vector<char> converged;      ///< per point (the reference's non-converged points are not compared against)
   double rms_error_n = 0.0;         ///< RMS of F - F_ref over the compared points, N
   double rms_relative = 0.0;        ///< rms_error_n / max |F_ref|
   double rms_percent = 0.0;         ///< 100 rms_error_n / RMS(F_ref at the same points): docs/ahp.md's I7 figure
@@ -63,8 +65,11 @@ struct ModelComparisonResult {
 /// model, or a scene without a moving tool.
 ModelComparisonResult run_model_comparison(const std::string& scene_path, const ModelComparisonOptions& options);
 
-/// The RMS error and end-force ratio of `curve` against `reference` (both filled in `curve`).
+/// The RMS error and end-force ratio of `curve` against `reference`'s converged points (filled in `curve`).
 void compare_to_reference(const ModelCurve& reference, ModelCurve& curve);
+
+/// `curve` without its points that did not converge.
+ModelCurve converged_points(const ModelCurve& curve);
 
 /// A fixed-width table of the comparison for the terminal.
 std::string model_comparison_table(const ModelComparisonResult& result);

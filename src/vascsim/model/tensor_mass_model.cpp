@@ -1,5 +1,6 @@
 #include "vascsim/model/tensor_mass_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <spdlog/spdlog.h>
 
@@ -70,7 +71,11 @@ int TensorMassModel::solve(const Vec3Array& b, Vec3Array& dv) {
   apply_system(dv, Ap_);
   for (std::size_t i = 0; i < b.size(); ++i) r_[i] = b[i] - Ap_[i];
   filter(r_);
-  const double b_norm = std::sqrt(dot(b, b));
+  // Relative to the free part of the system: the prescribed rows of b carry the supports' reactions, which
+  // would make any residual look small.
+  Vec3Array b_free = b;
+  filter(b_free);
+  const double b_norm = std::max(std::sqrt(dot(b_free, b_free)), std::sqrt(dot(r_, r_)));
   precondition(r_, z_);
   p_ = z_;
   double rz = dot(r_, z_);

@@ -27,7 +27,7 @@ struct TensorMassSettings {
   BaselineFrames frames;
   double rayleigh_mass_per_s = 0.0;   ///< alpha, 1/s
   double rayleigh_stiffness_s = 1e-4; ///< beta, s
-  double cg_tolerance = 1e-8;         ///< relative residual of CG
+  double cg_tolerance = 1e-8;         ///< CG stops at this residual relative to the free rows' right-hand side
   int max_cg_iterations = 500;
 };
 

@@ -65,14 +65,14 @@ def main(argv=None):
     ax_t.set_xlabel("nodes")
     ax_t.set_ylabel("wall time per 1 ms step (ms)\nsolid: simulation, dashed: surface map")
     ax_t.grid(True, which="both", alpha=0.3)
-    ax_t.legend(fontsize=7)
+    ax_t.legend(fontsize=7, loc="lower right", bbox_to_anchor=(1.0, 0.14))  # between the two sets of lines
     ax_f.axhline(30.0, color="red", linewidth=1.0, linestyle=":", label="30 frames/s")
     ax_f.set_xscale("log")
     ax_f.set_yscale("log")
     ax_f.set_xlabel("nodes")
     ax_f.set_ylabel("frames per second (simulation + surface map)")
     ax_f.grid(True, which="both", alpha=0.3)
-    ax_f.legend(fontsize=7)
+    ax_f.legend(fontsize=7, loc="best")
     mach = points[0].get("machine", {})
     loads = [p.get("load_average_start", -1) for p in points] + [p.get("load_average_end", -1) for p in points]
     fig.suptitle(f"{mach.get('cpu_model', '?')}, {mach.get('hardware_concurrency', '?')} cores, "

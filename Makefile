@@ -144,7 +144,8 @@ else
 	@for m in $(TIMING_MODELS); do for n in $(TIMING_NODES); do \
 	  $(BUILD_DIR)/vascsim -q experiment timing $(TIMING_SCENE) --point $$m:$$n --reuse --out $(TIMING_OUT) || exit 1; done; done
 endif
-	$(BUILD_DIR)/vascsim experiment timing $(TIMING_SCENE) --merge --models $(subst $(space),$(comma),$(TIMING_MODELS)) --out $(TIMING_OUT)
+	$(BUILD_DIR)/vascsim experiment timing $(TIMING_SCENE) --merge --models $(subst $(space),$(comma),$(TIMING_MODELS)) \
+	  $(if $(wildcard $(FIG10_OUT)/rms_error.json),--force-errors $(FIG10_OUT)/rms_error.json) --out $(TIMING_OUT)
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')

@@ -10,6 +10,7 @@
 
 #include "vascsim/app/cli.hpp"
 #include "vascsim/core/error.hpp"
+#include "vascsim/experiments/measured_indicators.hpp"
 #include "vascsim/experiments/timing_sweep.hpp"
 
 namespace vascsim {
@@ -39,6 +40,24 @@ TEST(TimingSweep, OnePointTimesSimulationAndSurfaceMapSeparately) {
   EXPECT_THROW(run_timing_point(o, "quasi_static", 400), InputError);
 }
 
+// The AHP figures (docs/ahp.md): each model at its largest node count, the force error from rms_error.json, the
+// comparison's reference left out of it. Copies of the inputs: exact.
+TEST(TimingSweep, AhpMeasurementsTakeTheLargestNodeCountAndTheForceErrors) {
+  TimingPoint a, b;
+  a.model = b.model = "m";
+  a.nodes = 100, a.simulation_median_ms = 1.0, a.frames_per_s = 900.0;
+  b.nodes = 400, b.simulation_median_ms = 4.0, b.frames_per_s = 240.0;
+  const nlohmann::json rms = {{"reference", "ref"},
+                              {"models", {{{"model", "ref"}, {"rms_percent", 0.0}}, {{"model", "m"}, {"rms_percent", 12.5}}}}};
+  const nlohmann::json j = ahp_measurements({a, b}, rms, "test");
+  ASSERT_EQ(j["models"].size(), 1u);
+  EXPECT_EQ(j["models"][0]["id"], "m");
+  EXPECT_EQ(j["models"][0]["nodes"], 400);
+  EXPECT_EQ(j["models"][0]["update_time_ms"].get<double>(), 4.0);
+  EXPECT_EQ(j["models"][0]["visual_refresh_rate_hz"].get<double>(), 240.0);
+  EXPECT_EQ(j["models"][0]["force_rms_error_percent"].get<double>(), 12.5);
+}
+
 TEST(TimingSweep, CommandRunsOnePointThenMerges) {
   const fs::path dir = fs::path(::testing::TempDir()) / ("vascsim_timing_" + std::to_string(::getpid()));
   std::ostringstream out, err;
@@ -57,6 +76,7 @@ TEST(TimingSweep, CommandRunsOnePointThenMerges) {
   std::getline(csv, row);
   EXPECT_NE(header.find("surface_map_median_ms"), std::string::npos);
   EXPECT_EQ(row.rfind("filling,400,", 0), 0u) << row;
+  EXPECT_TRUE(fs::exists(dir / "ahp_measurements.json"));
   std::ostringstream out3, err3;
   EXPECT_EQ(run_cli({"experiment", "timing", kVein, "--point", "filling", "--out", dir.string()}, out3, err3), 2);
   fs::remove_all(dir);

@@ -11,6 +11,7 @@
 #include "vascsim/app/progress.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/experiments/machine_info.hpp"
+#include "vascsim/experiments/measured_indicators.hpp"
 #include "vascsim/experiments/plot_script.hpp"
 #include "vascsim/experiments/timing_sweep.hpp"
 #include "vascsim/run/output_writer.hpp"
@@ -23,7 +24,7 @@ namespace fs = std::filesystem;
 
 struct TimingFlags {
   TimingSweepOptions options;
-  std::string out = "out/timing", point;
+  std::string out = "out/timing", point, force_errors;
   bool merge_only = false, reuse = false, no_plot = false;
 };
 
@@ -50,9 +51,19 @@ int merge(const TimingFlags& f, CliContext& ctx) {
   for (const auto& p : points) rows.push_back(timing_point_json(p));
   out.write_json("timing.json", {{"experiment", "timing"}, {"scene", f.options.scene_path},
                                  {"merged_on", machine_info()}, {"points", rows}});
+  nlohmann::json rms = nullptr;
+  if (!f.force_errors.empty()) {
+    std::ifstream in(f.force_errors);
+    rms = nlohmann::json::parse(in, nullptr, false);
+    if (!in || rms.is_discarded() || !rms.contains("models"))
+      throw InputError(fmt::format("timing: --force-errors {}: not an rms_error.json", f.force_errors));
+  }
+  out.write_json("ahp_measurements.json",
+                 ahp_measurements(points, rms, fmt::format("vascsim experiment timing {} (merged {}){}", f.options.scene_path,
+                                                           utc_now(), f.force_errors.empty() ? "" : "; " + f.force_errors)));
   ctx.out << timing_table(points);
-  ctx.out << fmt::format("wrote {}, {}\n", (fs::path(f.out) / "timing.csv").string(),
-                         (fs::path(f.out) / "timing.json").string());
+  ctx.out << fmt::format("wrote {}, {}, {}\n", (fs::path(f.out) / "timing.csv").string(),
+                         (fs::path(f.out) / "timing.json").string(), (fs::path(f.out) / "ahp_measurements.json").string());
   if (f.no_plot) return 0;
   const fs::path png = fs::path(f.out) / "timing.png";
   const PlotOutcome plot = run_plot_script(source_script("plot_timing.py"),
@@ -110,6 +121,9 @@ void add_timing_experiment(CLI::App& experiment, CliContext& ctx, std::vector<Co
   app->add_flag("--merge", f->merge_only, "Only merge OUT/points/*.json into timing.csv, .json and .png");
   app->add_flag("--reuse", f->reuse, "Skip points whose OUT/points/<model>-<nodes>.json exists");
   app->add_flag("--no-plot", f->no_plot, "No figure");
+  app->add_option("--force-errors", f->force_errors,
+                  "rms_error.json of `experiment force-displacement --models`: adds each model's force error (I7) to "
+                  "OUT/ahp_measurements.json (for `vascsim ahp --measurements`)");
   commands.push_back({app, [f, &ctx] { return timing(*f, ctx); }});
 }
 

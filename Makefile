@@ -11,7 +11,7 @@ PYTHON    ?= /usr/bin/python3
 JOBS      ?= $(shell nproc)
 
 .PHONY: deps build run test test-release test-sanitize test-threads bench bench-realtime compare-models xpbd-convergence \
-  cantilever-table vessels vessel-aorta-vmtk mls-validation force-displacement catheter-aorta format clean
+  cantilever-table vessels vessel-aorta-vmtk mls-validation force-displacement catheter-aorta experiments fig10 timing format clean
 
 deps:
 	@scripts/install-deps.sh
@@ -106,6 +106,46 @@ xpbd-convergence: build
 # docs/validation.md's cantilever convergence table (MODEL.md T9).
 cantilever-table: build
 	$(BUILD_DIR)/vascsim validate cantilever --out out/cantilever-table
+
+# The paper's comparison experiments (docs/replicate.md): Fig. 10, the force-displacement curves of the models on
+# the catheter scene against the quasi_static reference with the RMS error table, and Figs. 11-12, time per step
+# and frames per second against node count. Every model run and every timing point is its own `vascsim`
+# process (JSON in, JSON out); GNU parallel runs them when it is installed (model runs JOBS at a time, timing
+# points one at a time so they do not time each other), a plain loop otherwise; a last step merges them into
+# one CSV, table and figure. Finished runs and points are kept and reused: delete the folder to start over.
+comma := ,
+empty :=
+space := $(empty) $(empty)
+FIG10_SCENE   ?= scenes/hand-dorsal-vein-catheter.json
+FIG10_MODELS  ?= implicit xpbd mass_spring fem_quasi_newton tensor_mass filling pbd_viscoelastic
+FIG10_OUT     ?= out/fig10
+TIMING_SCENE  ?= scenes/vein-indent.json
+TIMING_MODELS ?= implicit xpbd mass_spring fem_quasi_newton tensor_mass filling pbd_viscoelastic
+TIMING_NODES  ?= 1000 2000 4000
+TIMING_OUT    ?= out/timing
+HAVE_PARALLEL := $(shell command -v parallel 2>/dev/null)
+
+experiments: fig10 timing
+
+fig10: build
+ifneq ($(HAVE_PARALLEL),)
+	parallel --will-cite --halt now,fail=1 -j $(JOBS) 'grep -qs force_displacement $(FIG10_OUT)/{}/summary.json || $(BUILD_DIR)/vascsim -q -j 1 experiment force-displacement $(FIG10_SCENE) --set model={} --out $(FIG10_OUT)/{} --no-plot' ::: quasi_static $(FIG10_MODELS)
+else
+	@for m in quasi_static $(FIG10_MODELS); do grep -qs force_displacement $(FIG10_OUT)/$$m/summary.json || \
+	  $(BUILD_DIR)/vascsim -q -j 1 experiment force-displacement $(FIG10_SCENE) --set model=$$m --out $(FIG10_OUT)/$$m --no-plot \
+	  || exit 1; done
+endif
+	$(BUILD_DIR)/vascsim experiment force-displacement $(FIG10_SCENE) --models $(subst $(space),$(comma),$(FIG10_MODELS)) --reuse --out $(FIG10_OUT)
+
+timing: build
+ifneq ($(HAVE_PARALLEL),)
+	parallel --will-cite --halt now,fail=1 -j 1 $(BUILD_DIR)/vascsim -q experiment timing $(TIMING_SCENE) --point {1}:{2} --reuse --out $(TIMING_OUT) ::: $(TIMING_MODELS) ::: $(TIMING_NODES)
+else
+	@for m in $(TIMING_MODELS); do for n in $(TIMING_NODES); do \
+	  $(BUILD_DIR)/vascsim -q experiment timing $(TIMING_SCENE) --point $$m:$$n --reuse --out $(TIMING_OUT) || exit 1; done; done
+endif
+	$(BUILD_DIR)/vascsim experiment timing $(TIMING_SCENE) --merge --models $(subst $(space),$(comma),$(TIMING_MODELS)) \
+	  $(if $(wildcard $(FIG10_OUT)/rms_error.json),--force-errors $(FIG10_OUT)/rms_error.json) --out $(TIMING_OUT)
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')

@@ -12,6 +12,8 @@ packages=(
   # rasteriser, the HUD, PNG writing; xvfb/xauth for a virtual X display (xvfb-run -a) as a fallback.
   libglfw3-dev libimgui-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev
   xvfb xauth
+  # `make experiments` fans its independent runs out with GNU parallel (a plain loop without it).
+  parallel
 )
 
 missing=()

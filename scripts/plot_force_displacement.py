@@ -21,6 +21,8 @@ the largest |force| is below 1 N (uN below 1e-3 N); 'si' is m and N; 'mm_mN' is 
 Examples:
   plot_force_displacement.py out/fd-vein/force_displacement.csv --out fd.png
   plot_force_displacement.py out/a/fd.csv out/b/fd.csv --label stiff --label soft --out cmp.png
+  plot_force_displacement.py out/fd/quasi_static/force_displacement.csv out/fd/xpbd/force_displacement.csv \
+      --reference --label quasi_static --label xpbd --out models.png   (the first curve is the reference)
 
 Errors (missing file, missing required column, no data rows, a non-numeric or NaN value) print one
 line on stderr, 'plot_force_displacement.py: <file>: <problem>', and exit with code 2.
@@ -156,7 +158,14 @@ def plot(args):
     failed_labelled = False
     for i, (c, lab) in enumerate(zip(curves, labels)):
         x, y = c["disp"] * ds, c["force"] * fs
-        ax.plot(x, y, "o-", color=COLORS[i % len(COLORS)], markersize=3.5, linewidth=1.4, label=lab)
+        if i == 0 and args.reference:
+            # The reference is the converged solution: a load step that did not converge is not part of it.
+            ok = c["converged"]
+            ax.plot(x[ok], y[ok], "-", color="black", linewidth=2.6, label=f"{lab} (reference)", zorder=4)
+            continue
+        else:
+            k = i - 1 if args.reference else i
+            ax.plot(x, y, "o-", color=COLORS[k % len(COLORS)], markersize=3.5, linewidth=1.4, label=lab)
         bad = ~c["converged"]
         if bad.any():
             ax.plot(x[bad], y[bad], "x", color=FAIL_RGB, markersize=8, markeredgewidth=1.8, zorder=5,
@@ -184,6 +193,9 @@ def main(argv=None):
     ap.add_argument("--label", action="append", metavar="L",
                     help="legend label, once per CSV in order (default: each file's parent folder name)")
     ap.add_argument("--title", metavar="T", help="axes title (default: none)")
+    ap.add_argument("--reference", action="store_true",
+                    help="draw the first CSV as the reference curve (thick black line, no markers, its "
+                         "non-converged rows left out)")
     ap.add_argument("--tool", default="catheter", metavar="NAME",
                     help="what presses, for the axis labels (default: catheter)")
     ap.add_argument("--units", choices=["auto", "si", "mm_mN"], default="auto",

@@ -31,6 +31,8 @@ struct Command {
 // One per command file.
 void add_run_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 void add_experiment_commands(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
+/// `experiment timing` (timing_experiment.cpp), under the `experiment` node add_experiment_commands makes.
+void add_timing_experiment(CLI::App& experiment, CliContext& ctx, std::vector<Command>& commands);
 void add_validate_commands(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 void add_bench_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 void add_ahp_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);

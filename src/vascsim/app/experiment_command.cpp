@@ -1,6 +1,7 @@
 // `vascsim experiment ...`: the paper's experiments, one command each.
 
 #include <filesystem>
+#include <memory>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -8,18 +9,53 @@
 #include "vascsim/app/progress.hpp"
 #include "vascsim/app/step_status.hpp"
 #include "vascsim/experiments/force_displacement.hpp"
+#include "vascsim/experiments/model_comparison.hpp"
 
 namespace vascsim {
 
 namespace {
 
 struct ForceDisplacementFlags {
-  std::string scene, out, tool;
-  std::vector<std::string> sets;
-  bool no_plot = false;
+  std::string scene, out, tool, reference = "quasi_static";
+  std::vector<std::string> sets, models;
+  bool no_plot = false, reuse = false;
 };
 
+// --models: every model on the scene, against the reference (model_comparison.hpp).
+int compare_models(const ForceDisplacementFlags& flags, CliContext& ctx) {
+  const Scene scene = load_scene(flags.scene, flags.sets);  // checks the scene and the overrides once, up front
+  ModelComparisonOptions opt;
+  opt.out_dir = flags.out.empty() ? std::filesystem::path("out") / (scene.name + "-models")
+                                  : std::filesystem::path(flags.out);
+  opt.models = flags.models;
+  opt.reference = flags.reference;
+  opt.overrides = flags.sets;
+  opt.tool = flags.tool;
+  opt.reuse = flags.reuse;
+  opt.plot = !flags.no_plot;
+  std::unique_ptr<Progress> progress;
+  std::string current;
+  opt.progress = [&](const std::string& line) {
+    if (progress) progress->finish();
+    progress.reset();
+    if (!ctx.quiet) ctx.err << line << std::endl;
+  };
+  opt.on_step = [&](const std::string& model, const StepRecord& r, int total) {
+    if (!progress || current != model)
+      progress = std::make_unique<Progress>(ctx.err, ctx.err_is_terminal(), scene.name + " " + model), current = model;
+    progress->update(r.step, total, step_status(model, r));
+  };
+  const ModelComparisonResult res = run_model_comparison(flags.scene, opt);
+  if (progress) progress->finish();
+  ctx.out << model_comparison_table(res);
+  ctx.out << "wrote " << res.csv.string() << ", " << res.rms_csv.string() << ", " << res.rms_json.string() << "\n";
+  if (!res.png.empty()) ctx.out << "wrote " << res.png.string() << "\n";
+  if (!res.plot_problem.empty()) ctx.out << "warning: no plot: " << res.plot_problem << "\n";
+  return 0;
+}
+
 int force_displacement(const ForceDisplacementFlags& flags, CliContext& ctx) {
+  if (!flags.models.empty()) return compare_models(flags, ctx);
   const Scene scene = load_scene(flags.scene, flags.sets);
   ForceDisplacementOptions opt;
   opt.out_dir = flags.out.empty() ? std::filesystem::path("out") / (scene.name + "-force-displacement")
@@ -60,7 +96,16 @@ void add_experiment_commands(CLI::App& app, CliContext& ctx, std::vector<Command
   fd_app->add_option("--out", fd->out, "Output folder (default: out/<scene name>-force-displacement)");
   fd_app->add_option("--tool", fd->tool, "The obstacle that presses (default: the scene's only obstacle)");
   fd_app->add_flag("--no-plot", fd->no_plot, "Write the CSV only (no matplotlib call)");
+  fd_app->add_option("--models", fd->models,
+                     "Compare models: run each (OUT/<model>/) and write every curve, the RMS error against the "
+                     "reference and one figure (e.g. implicit,xpbd,mass_spring)")
+      ->delimiter(',');
+  fd_app->add_option("--reference", fd->reference, "With --models: the reference model")->capture_default_str();
+  fd_app->add_flag("--reuse", fd->reuse,
+                   "With --models: read a model's finished OUT/<model>/summary.json instead of running it (merge "
+                   "independent runs)");
   commands.push_back({fd_app, [fd, &ctx] { return force_displacement(*fd, ctx); }});
+  add_timing_experiment(*experiment, ctx, commands);
 }
 
 }  // namespace vascsim

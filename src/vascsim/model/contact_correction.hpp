@@ -1,8 +1,9 @@
 #pragma once
 // The contacts seen through the preconditioner's factor P (docs/model.md section 24.2-24.3).
 //
-// Z = P^{-1} E (E: the unit vectors of the contact nodes' 3 m degrees of freedom, one multi-column back-solve
-// whenever the contact nodes or P change) gives the contact-node compliance C = E^T Z (3m x 3m), and from it:
+// Z = P^{-1} E (E: the unit vectors of the contact nodes' 3 m degrees of freedom; per node from the shared
+// NodeCompliance cache, which solves only nodes it has not seen with this P) gives the contact-node compliance
+// C = E^T Z (3m x 3m), and from it:
 //
 // - the contact correction of CG: on the contact-filtered Newton system (modified PCG) a factor of the
 //   unconstrained matrix converges slowly, since it knows nothing of the m normal constraints N x = 0. Its
@@ -21,15 +22,17 @@
 
 #include "vascsim/model/contact_active_set.hpp"
 #include "vascsim/model/equilibrium_preconditioner.hpp"
+#include "vascsim/model/node_compliance.hpp"
 
 namespace vascsim {
 
 class ContactCorrection {
  public:
   ContactCorrection(const FreeDofs& free, const ContactActiveSet& contacts) : free_(free), contacts_(contacts) {}
-  /// Refreshes Z if the contact nodes or the preconditioner changed, and W with the current normals. False
-  /// when there is nothing to correct (no contacts, or a preconditioner without multi-column solves).
-  bool update(const EquilibriumPreconditioner& preconditioner);
+  /// Refreshes Z if the contact nodes or the preconditioner changed (from `compliance`, which solves the nodes
+  /// it lacks), and W with the current normals. False when there is nothing to correct (no contacts, or a
+  /// preconditioner without multi-column solves).
+  bool update(const EquilibriumPreconditioner& preconditioner, NodeCompliance& compliance);
   /// z -= Z N_b^T W^{-1} (N z): z (per node, P^{-1} r) projected P-orthogonally onto N z = 0.
   void apply(Vec3Array& z) const;
   bool valid() const { return valid_; }

@@ -5,8 +5,8 @@
 namespace vascsim {
 
 bool HapticCandidates::fill(std::size_t tool, const ContactActiveSet& contacts, const Vec3Array& x,
-                            const EquilibriumPreconditioner& preconditioner, ToolLinearization& lin) {
-  if (cache_.size() <= tool) cache_.resize(tool + 1);
+                            const EquilibriumPreconditioner& preconditioner, NodeCompliance& compliance,
+                            ToolLinearization& lin) {
   // In contact first (largest force first), then the open nodes by gap.
   struct Entry {
     Index node;
@@ -35,24 +35,24 @@ bool HapticCandidates::fill(std::size_t tool, const ContactActiveSet& contacts, 
   lin.candidates.clear();
   lin.compliance_m_per_n.resize(m, m);
   if (m == 0) return true;
-  Eigen::MatrixXd N = Eigen::MatrixXd::Zero(free_.size(), m);
   std::vector<Index> nodes;
-  for (Eigen::Index c = 0; c < m; ++c) {
-    const Entry& e = chosen[static_cast<std::size_t>(c)];
+  for (const Entry& e : chosen) {
     nodes.push_back(e.node);
-    N.block<3, 1>(3 * static_cast<Eigen::Index>(free_.slot[static_cast<std::size_t>(e.node)]), c) = e.normal;
     lin.candidates.push_back({e.normal, e.gap, e.force});
   }
-  Cache& cache = cache_[tool];
-  if (nodes != cache.nodes || cache.version != preconditioner.version()) {
-    if (!preconditioner.solve_columns(N, cache.Z)) return false;
-    cache.nodes = nodes;
-    cache.version = preconditioner.version();
+  if (!compliance.prepare(nodes, preconditioner)) {
+    lin.candidates.clear();
+    lin.compliance_m_per_n.resize(0, 0);
+    return false;
   }
-  // The normals turn a little as nodes slide: W with today's normals and the cached P^{-1} N^T columns of the
-  // normals at the build (exact when they agree, a small error otherwise).
-  const Eigen::MatrixXd W = N.transpose() * cache.Z;
-  lin.compliance_m_per_n = 0.5 * (W + W.transpose());
+  // W_cd = n_c^T C_cd n_d with today's normals, symmetrised (C is symmetric up to the solve's round-off).
+  for (Eigen::Index c = 0; c < m; ++c)
+    for (Eigen::Index d = 0; d < m; ++d) {
+      const Entry& a = chosen[static_cast<std::size_t>(c)];
+      const Entry& b = chosen[static_cast<std::size_t>(d)];
+      lin.compliance_m_per_n(c, d) = a.normal.dot(compliance.coupling(a.node, b.node) * b.normal);
+    }
+  lin.compliance_m_per_n = (0.5 * (lin.compliance_m_per_n + lin.compliance_m_per_n.transpose())).eval();
   return true;
 }
 

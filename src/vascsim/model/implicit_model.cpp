@@ -166,7 +166,7 @@ void ImplicitModel::linearize() {
     }
     // The direction the tissue pushes the tool: against the force the tool exerts on it.
     if (loads_[o].force_n.norm() > 0.0) lin.normal = -loads_[o].force_n.normalized();
-    if (candidates_) candidates_->fill(o, contacts_, x_, *factor_->factor, lin);
+    if (candidates_) candidates_->fill(o, contacts_, x_, *factor_->factor, newton_.node_compliance(), lin);
     linearization_[o] = lin;
   }
 }

@@ -19,7 +19,8 @@ double dot(const Vec3Array& a, const Vec3Array& b) {
 
 NewtonEquilibrium::NewtonEquilibrium(const Problem& problem, const FreeDofs& free, ContactActiveSet& contacts,
                                      const NewtonSettings& settings)
-    : problem_(problem), free_(free), contacts_(contacts), settings_(settings), correction_(free, contacts) {
+    : problem_(problem), free_(free), contacts_(contacts), settings_(settings), compliance_(free),
+      correction_(free, contacts) {
   const Discretization& disc = problem.discretization();
   force_floor_ = 1e-8 * disc.material().youngs_modulus_pa * disc.mean_spacing() * disc.mean_spacing();
 }
@@ -74,7 +75,7 @@ int NewtonEquilibrium::conjugate_gradients(const Vec3Array& x, const Vec3Array& 
   dx.assign(n, Vec3::Zero());
   Vec3Array r(n, Vec3::Zero()), z, p, Hp;
   const auto lin = problem_.energy().linearize(x);
-  use_correction_ = preconditioner_ != nullptr && !contacts_.empty() && correction_.update(*preconditioner_);
+  use_correction_ = preconditioner_ != nullptr && !contacts_.empty() && correction_.update(*preconditioner_, compliance_);
   for (Index i : free_.nodes) r[i] = rhs[i];
   contacts_.filter(r);
   const double r0 = residual_norm(r);

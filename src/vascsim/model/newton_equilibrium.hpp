@@ -75,8 +75,10 @@ class NewtonEquilibrium {
   /// Rebuilds the contact correction for the current contacts and preconditioner now (it is otherwise rebuilt
   /// by the next CG solve). False when there is none.
   bool update_contact_correction() const {
-    return preconditioner_ != nullptr && !contacts_.empty() && correction_.update(*preconditioner_);
+    return preconditioner_ != nullptr && !contacts_.empty() && correction_.update(*preconditioner_, compliance_);
   }
+  /// The per-node compliance cache of the current factor, shared with the haptic candidates.
+  NodeCompliance& node_compliance() const { return compliance_; }
 
   /// Newton iterations from x (changed in place) to the equilibrium at load factor s with external forces f_ext
   /// (N per node), stopping at the tolerance, the iteration limits or the deadline.
@@ -112,6 +114,7 @@ class NewtonEquilibrium {
   const EquilibriumPreconditioner* preconditioner_ = nullptr;
   Vec3Array r_unfiltered_;
   double force_floor_ = 0.0;
+  mutable NodeCompliance compliance_;     // P^{-1} E_i per node, per factor (node_compliance.hpp)
   mutable ContactCorrection correction_;  // cached per contact set and factor (contact_correction.hpp)
   mutable bool use_correction_ = false;
   std::optional<double> accepted_potential_;  // Pi of the trial the last line search accepted, J

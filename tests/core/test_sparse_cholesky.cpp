@@ -101,6 +101,13 @@ TEST(SparseCholesky, SinglePrecisionSolvesAgreeWithTheDoubleFactorToFloatRoundin
     exact.solve(b, x);
     single.solve(b, y);
     EXPECT_LE((y - x).norm() / x.norm(), 1e-5) << to_string(ord) << " after refactoring";
+    // Several right-hand sides at once (strsm/sgemm per supernode), columns of very different sizes.
+    Eigen::MatrixXd Bs(b.size(), 3), Xe, Xs;
+    Bs << b, 1e-6 * random_vector(b.size(), 8), 1e6 * random_vector(b.size(), 9);
+    exact.solve(Bs, Xe);  // exact's options: double
+    single.solve(Bs, Xs);
+    for (int j = 0; j < 3; ++j)
+      EXPECT_LE((Xs.col(j) - Xe.col(j)).norm() / Xe.col(j).norm(), 1e-5) << to_string(ord) << " column " << j;
   }
 }
 

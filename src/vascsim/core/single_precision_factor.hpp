@@ -37,16 +37,22 @@ class SinglePrecisionFactor {
   Eigen::Index rows() const { return n_; }
   /// x = A^{-1} b with the float factor (b scaled into float's range first). x may not alias b.
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const;
+  /// X = A^{-1} B for several right-hand sides at once: per supernode the BLAS-3 strsm and sgemm, each column
+  /// scaled into float's range by its own largest entry.
+  void solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) const;
   /// Bytes held for L's numbers.
   std::size_t value_bytes() const { return values_.size() * sizeof(float); }
 
  private:
   void forward(float* y) const;   // y <- L^{-1} y (factor order)
   void backward(float* y) const;  // y <- L^{-T} y
+  void forward(float* Y, int columns) const;   // the same on n x columns, column-major
+  void backward(float* Y, int columns) const;
   int n_ = 0;
   std::vector<int> perm_, super_, row_start_, value_start_, rows_;
   std::vector<float> values_;
   mutable std::vector<float> work_, y_;  // solve workspace: one object per thread
+  mutable std::vector<float> Y_, T_;     // the same for several right-hand sides
 };
 
 }  // namespace vascsim

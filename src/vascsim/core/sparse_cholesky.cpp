@@ -186,6 +186,12 @@ void SparseCholesky::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
 
 void SparseCholesky::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) {
   if (B.rows() != rows_) throw std::invalid_argument("SparseCholesky::solve: right-hand sides of the wrong size");
+  if (!single_.empty() && factorized_) {
+    const auto t0 = std::chrono::steady_clock::now();
+    single_.solve(B, X);
+    stats_.solve_s = seconds_since(t0);
+    return;
+  }
   X.resize(rows_, B.cols());
   if (B.cols() == 0) return;
   solve_columns(B.data(), B.cols());

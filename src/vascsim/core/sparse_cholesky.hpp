@@ -34,9 +34,9 @@ std::string to_string(CholeskyOrdering ordering);
 struct SparseCholeskyOptions {
   CholeskyOrdering ordering = CholeskyOrdering::Default;
   bool supernodal = true;  ///< false: CHOLMOD's simplicial (up-looking, no BLAS) LL^T
-  /// Single right-hand sides are solved with a float copy of the supernodal factor (single_precision_factor.hpp:
-  /// half the memory traffic, about half the time; the vectors stay double). For preconditioners. Several
-  /// right-hand sides at once always use the double factor.
+  /// Solves run on a float copy of the supernodal factor (single_precision_factor.hpp: half the memory traffic,
+  /// about half the time; relative error about cond(A) * 1e-7). For preconditioners and the compliances built
+  /// from them.
   bool single_precision_solves = false;
 };
 
@@ -72,7 +72,8 @@ class SparseCholesky {
   /// x = A^{-1} b (with the float copy of the factor when the options ask for it). Needs a factor
   /// (std::logic_error otherwise).
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
-  /// X = A^{-1} B for several right-hand sides at once (the supernodal solve then runs in BLAS-3 kernels).
+  /// X = A^{-1} B for several right-hand sides at once (the supernodal solve then runs in BLAS-3 kernels; with
+  /// the float copy when the options ask for it).
   void solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X);
 
   bool analysed() const;

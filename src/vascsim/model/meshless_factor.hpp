@@ -23,8 +23,8 @@ struct MeshlessFactorOptions {
   HessianStencil stencil = HessianStencil::Full;
   CholeskyOrdering ordering = CholeskyOrdering::Default;
   double inv_h2 = 0.0;  ///< the inertia shift M/h^2 (1/s^2); 0 for a static solve
-  /// apply() solves with a float copy of the factor (about half the time; core/single_precision_factor.hpp).
-  /// Multi-column solves (the contact compliance) stay in double.
+  /// Solves (apply() and the multi-column solves of the contact compliances) run on a float copy of the factor
+  /// (about half the time; core/single_precision_factor.hpp).
   bool single_precision_solves = true;
 };
 

@@ -229,8 +229,13 @@ TEST(XpbdMeshless, ExplicitAtTheXpbdSubstepDivergesUnderThePush) {
   EXPECT_TRUE(!std::isfinite(u) || u >= 1.0);
 }
 
-TEST(XpbdMeshless, PushedAndReleasedPatchStaysBoundedFor10sSlow) {
-  Simulation sim(parse_scene(pushed_tube(), "xpbd-push-release (generated)"));
+// A patch pushed half the radius in 10 ms and released: bounded throughout, and back at rest. Damped at 100/s
+// for 1 s (the stability check does not need 10 s of slow decay: at 10/s the same test took 40-120 s).
+TEST(XpbdMeshless, PushedAndReleasedPatchStaysBoundedAndSettlesSlow) {
+  json doc = pushed_tube();
+  doc["xpbd"]["duration_s"] = 1.0;
+  doc["xpbd"]["damping_per_s"] = 100.0;
+  Simulation sim(parse_scene(doc, "xpbd-push-release (generated)"));
   const Vec3Array& X = sim.discretization().rest_positions();
   const double push = 0.75e-3;
   double max_u = 0.0;
@@ -244,11 +249,11 @@ TEST(XpbdMeshless, PushedAndReleasedPatchStaysBoundedFor10sSlow) {
   const auto& model = dynamic_cast<const XpbdModel&>(sim.model());
   double v_max = 0.0;
   for (const auto& v : model.velocities()) v_max = std::max(v_max, v.norm());
-  std::printf("[ xpbd     ] push-release tube (%d nodes): max displacement %.4g m (%.2f of the push), after 10 s "
+  std::printf("[ xpbd     ] push-release tube (%d nodes): max displacement %.4g m (%.2f of the push), after 1 s "
               "%.3g m, max speed %.3g m/s\n",
               static_cast<int>(X.size()), max_u, max_u / push, final_u, v_max);
   EXPECT_GE(max_u, push * (1.0 - 1e-9));  // the push happened
-  // Released, damped 10/s for ~10 s: back at rest in the rest shape (1 % of the push; an inverted or
+  // Released, damped 100/s for ~1 s: back at rest in the rest shape (1 % of the push; an inverted or
   // tangled state would stay far from it).
   EXPECT_LT(final_u, 0.01 * push);
   EXPECT_LT(v_max, 1e-6);

@@ -200,8 +200,12 @@ void ImplicitModel::maybe_refactor(const NewtonResult& r) {
   bool drifted = cg_per_newton > settings_.refactor_cg_iterations || r.cg_rate > settings_.refactor_cg_rate ||
                  (settings_.refactor_residual > 0.0 && r.residual > settings_.refactor_residual);
   const std::vector<Vec3> points = tools_.points(s_);
-  for (std::size_t o = 0; o < points.size() && !drifted; ++o)
-    drifted = settings_.refactor_travel > 0.0 && (points[o] - factor_tool_points_[o]).norm() > settings_.refactor_travel * spacing_;
+  for (std::size_t o = 0; o < points.size(); ++o) {
+    // Travel deforms the wall only in contact: a tool moving through the lumen leaves the tangent as it was.
+    if (loads_[o].contacts == 0) factor_tool_points_[o] = points[o];
+    drifted = drifted || (settings_.refactor_travel > 0.0 &&
+                          (points[o] - factor_tool_points_[o]).norm() > settings_.refactor_travel * spacing_);
+  }
   if (!drifted || pending_.valid()) return;
   // The job refills the spare factor (no frame uses it) at a copy of the state: the frames go on meanwhile.
   auto job = [this, x = x_, points, reuse = std::move(spare_)]() mutable {

@@ -39,6 +39,8 @@ std::vector<std::string> model_names() {
   return names;
 }
 
+std::string default_model_name(bool device_driven) { return device_driven ? "implicit" : "quasi_static"; }
+
 const ModelEntry& find_model(const std::string& name) {
   for (const ModelEntry& e : model_registry())
     if (e.name == name) return e;

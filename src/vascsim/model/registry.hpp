@@ -51,6 +51,10 @@ const ModelEntry& find_model(const std::string& name);
 /// The registered names, in registry order.
 std::vector<std::string> model_names();
 
+/// The model a scene gets when it names none: the real-time default (`implicit`) for a scene a device drives
+/// (a haptic session, the viewer), the static solver (`quasi_static`) otherwise.
+std::string default_model_name(bool device_driven);
+
 /// Builds model `name` (InputError for an unknown name).
 std::unique_ptr<Model> make_model(const std::string& name, const Problem& problem, const std::any& settings);
 

@@ -515,7 +515,7 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
     root.fail("name", fmt::format("'{}' is not allowed; use letters, digits, '_' and '-' (it names the output folder)",
                                   sc.name));
   sc.description = root.string("description", "");
-  sc.model = root.string("model", "quasi_static", model_names());
+  sc.model = root.string("model", default_model_name(root.has("haptics")), model_names());
   const std::string formulation = root.string("formulation", "sound", {"sound", "paper_literal"});
   const bool literal = formulation == "paper_literal";
   if (!root.has("geometry")) root.fail("geometry", "missing; a geometry object is required");

@@ -16,7 +16,6 @@
 #include <deque>
 #include <iostream>
 #include <numeric>
-#include <regex>
 #include <thread>
 
 #include <epoxy/gl.h>
@@ -26,7 +25,7 @@
 #include "vascsim/core/error.hpp"
 #include "vascsim/render/camera_controller.hpp"
 #include "vascsim/render/demo_vessel.hpp"
-#include "vascsim/render/frame_exchange.hpp"
+#include "vascsim/core/frame_exchange.hpp"
 #include "vascsim/render/gl_context.hpp"
 #include "vascsim/render/hud.hpp"
 #include "vascsim/render/renderer.hpp"
@@ -52,15 +51,6 @@ struct Options {
   int msaa = 0;
   double yaw = 0.0, pitch = 15.0, zoom = 0.0;
 };
-
-void parse_size(const std::string& s, int& w, int& h) {
-  static const std::regex re(R"((-?\d{1,9})x(-?\d{1,9}))");
-  std::smatch m;
-  if (!std::regex_match(s, m, re))
-    throw vascsim::InputError(fmt::format("--size {}: expected WIDTHxHEIGHT in pixels, e.g. 1280x800", s));
-  w = std::stoi(m[1]);
-  h = std::stoi(m[2]);
-}
 
 // Window input: the camera gets what the HUD does not want.
 struct WindowInput {
@@ -109,7 +99,7 @@ double minimum(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::mi
 
 int run(const Options& o) {
   vr::ContextOptions co;
-  parse_size(o.size, co.width, co.height);
+  vr::parse_window_size(o.size, "--size", co);
   co.headless = o.headless;
   co.samples = o.msaa;
   co.title = "vascsim render demo";
@@ -148,7 +138,7 @@ int run(const Options& o) {
 
   // Frames go through the same hand-off the viewer uses. Headless: filled on this thread before each
   // render (deterministic). Window: a producer thread publishes at about 120 Hz.
-  vr::FrameExchange<vr::RenderFrame> exchange;
+  vascsim::FrameExchange<vr::RenderFrame> exchange;
   std::uint64_t sequence = 0;
   auto produce = [&](double t) {
     vr::RenderFrame& f = exchange.back();

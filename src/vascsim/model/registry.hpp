@@ -51,6 +51,9 @@ const ModelEntry& find_model(const std::string& name);
 /// The registered names, in registry order.
 std::vector<std::string> model_names();
 
+/// The registered names of the models that have a capability, e.g. &ModelCapabilities::device_driven.
+std::vector<std::string> model_names_with(bool ModelCapabilities::*capability);
+
 /// Builds model `name` (InputError for an unknown name).
 std::unique_ptr<Model> make_model(const std::string& name, const Problem& problem, const std::any& settings);
 

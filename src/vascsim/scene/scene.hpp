@@ -104,6 +104,16 @@ struct HapticsSpec {
   double proxy_mass_kg = 0.005, coupling_stiffness_n_per_m = 500.0, coupling_damping_n_s_per_m = -1.0;
 };
 
+/// How the viewer shows the scene (`vascsim view`, docs/viewer.md). Every key is optional; headless runs
+/// ignore the block.
+struct ViewerSpec {
+  std::string texture;             ///< wall texture image (resolved against the scene's folder); "" : procedural
+  double texture_repeats = 1.0;    ///< copies of the image around the vessel
+  /// The force arrow and the HUD turn red above this force on the tool, N. 0: the force at which the device
+  /// clamps (haptics.force_limit_n / haptics.force_scale).
+  double force_threshold_n = 0.0;
+};
+
 struct OutputSpec {
   bool vtk = false;    ///< node cloud series vtk/nodes.pvd
   bool surface = false;  ///< surface series vtk/surface.pvd (MLS-mapped; vessels and lattices)
@@ -131,6 +141,7 @@ struct Scene {
   MlsMapOptions mapping;  ///< the surface map (output.surface)
   OutputSpec output;
   HapticsSpec haptics;
+  ViewerSpec viewer;
   nlohmann::json resolved;  ///< the JSON after overrides (for summary.json)
 
   /// The settings of model `name` as its settings struct S (e.g. scene.settings<XpbdSettings>("xpbd")).

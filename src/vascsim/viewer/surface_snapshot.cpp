@@ -1,0 +1,115 @@
+#include "vascsim/viewer/surface_snapshot.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+
+#include "vascsim/core/error.hpp"
+#include "vascsim/core/stopwatch.hpp"
+
+namespace vascsim::viewer {
+
+namespace {
+
+// Length per unit u over length per unit v on the outer wall (the median over its triangles): the procedural
+// texture then has square cells. Triangles across the v seam are skipped; 1 without uv.
+float uv_aspect_of(const RenderSurface& s) {
+  if (s.uv.empty()) return 1.0f;
+  std::vector<double> ratios;
+  for (std::size_t t = 0; t < s.triangles.size(); ++t) {
+    if (!s.outer.empty() && s.outer[t] == 0) continue;
+    const auto& tri = s.triangles[t];
+    const Eigen::Vector2d d1 = s.uv[tri[1]] - s.uv[tri[0]], d2 = s.uv[tri[2]] - s.uv[tri[0]];
+    if (std::abs(d1.y()) > 0.5 || std::abs(d2.y()) > 0.5) continue;
+    const double det = d1.x() * d2.y() - d1.y() * d2.x();
+    if (std::abs(det) < 1e-14) continue;
+    const Vec3 e1 = s.rest_vertices[tri[1]] - s.rest_vertices[tri[0]], e2 = s.rest_vertices[tri[2]] - s.rest_vertices[tri[0]];
+    const Vec3 du = (d2.y() * e1 - d1.y() * e2) / det, dv = (-d2.x() * e1 + d1.x() * e2) / det;
+    if (dv.norm() > 0.0) ratios.push_back(du.norm() / dv.norm());
+  }
+  if (ratios.empty()) return 1.0f;
+  std::nth_element(ratios.begin(), ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2), ratios.end());
+  return static_cast<float>(ratios[ratios.size() / 2]);
+}
+
+}  // namespace
+
+void SurfaceSnapshot::rebuild(Simulation& simulation, std::uint64_t build) {
+  const Body& body = simulation.body();
+  if (!body.surface)
+    throw InputError(fmt::format("{}: geometry '{}' has no render surface to show", simulation.scene().file,
+                                 simulation.scene().geometry.type));
+  map_ = simulation.surface_map();
+  build_ = build;
+  const RenderSurface& s = *body.surface;
+  triangles_.clear();
+  for (const auto& t : s.triangles)
+    triangles_.push_back({static_cast<std::uint32_t>(t[0]), static_cast<std::uint32_t>(t[1]),
+                          static_cast<std::uint32_t>(t[2])});
+  const std::size_t nv = s.rest_vertices.size();
+  rest_.resize(nv);
+  for (std::size_t v = 0; v < nv; ++v) rest_[v] = s.rest_vertices[v].cast<float>();
+  uv_.clear();
+  for (const auto& uv : s.uv) uv_.push_back(uv.cast<float>());
+  // Per vertex: on the outer wall if one of its triangles is.
+  outer_.assign(nv, s.outer.empty() ? 1 : 0);
+  for (std::size_t t = 0; t < s.outer.size(); ++t)
+    if (s.outer[t] != 0)
+      for (const Index v : s.triangles[t]) outer_[static_cast<std::size_t>(v)] = 1;
+  uv_aspect_ = uv_aspect_of(s);
+  Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+  for (const Vec3& p : s.rest_vertices) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  radius_m_ = nv > 0 ? 0.5 * (hi - lo).norm() : 1.0;
+  tet_edges_.clear();
+}
+
+bool SurfaceSnapshot::fill(Simulation& simulation, render::RenderFrame& frame, PrepareTiming& timing) {
+  const Vec3Array& x = simulation.model().positions();
+  const Vec3Array& X = simulation.discretization().rest_positions();
+  displacement_.resize(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (!x[i].allFinite()) return false;
+    displacement_[i] = (x[i] - X[i]).cast<float>();
+  }
+  Stopwatch clock;
+  map_->map_displacements_f32(displacement_, frame.positions_m);
+  timing.map_ms = 1e3 * clock.seconds();
+  clock.restart();
+  render::compute_normals(frame.positions_m, triangles_, frame.normals);
+  timing.normals_ms = 1e3 * clock.seconds();
+
+  if (frame.topology_version != build_) {
+    frame.topology_version = build_;
+    frame.triangles = triangles_;
+    frame.uv = uv_;
+    frame.outer = outer_;
+    frame.uv_aspect = uv_aspect_;
+  }
+  if (!frame.scalar) frame.scalar.emplace();
+  render::ScalarField& d = *frame.scalar;
+  d.values.resize(rest_.size());
+  float largest = 0.0f;
+  for (std::size_t v = 0; v < rest_.size(); ++v) {
+    d.values[v] = 1e3f * (frame.positions_m[v] - rest_[v]).norm();
+    largest = std::max(largest, d.values[v]);
+  }
+  d.min = 0.0f;
+  d.max = std::max(largest, 1e-6f);
+  d.label = "displacement";
+  d.unit = "mm";
+  return true;
+}
+
+void SurfaceSnapshot::fill_overlays(Simulation& simulation, bool nodes, bool tets, render::RenderFrame& frame) {
+  frame.node_points_m.clear();
+  frame.tet_edges.clear();
+  if (!nodes && !tets) return;
+  const Vec3Array& x = simulation.model().positions();
+  frame.node_points_m.reserve(x.size());
+  for (const Vec3& p : x) frame.node_points_m.push_back(p.cast<float>());
+  if (!tets) return;
+  if (tet_edges_.empty()) tet_edges_ = render::tet_edge_list(simulation.body().cloud.tets);
+  frame.tet_edges = tet_edges_;
+}
+
+}  // namespace vascsim::viewer

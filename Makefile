@@ -40,11 +40,11 @@ test-sanitize: deps
 	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -L unit -LE wallclock
 
-# The tests that run threads (haptic loop, hand-offs, mouse input, the realtime haptic session) under
-# ThreadSanitizer. Only these, and with OMP_NUM_THREADS=1: the OpenMP kernels run on libgomp, which is not
+# The tests that run threads (haptic loop, hand-offs, mouse input, the realtime haptic session, the viewer's
+# live session: UI commands, simulation thread, haptic thread and a frame reader) under ThreadSanitizer. Only these, and with OMP_NUM_THREADS=1: the OpenMP kernels run on libgomp, which is not
 # instrumented, so TSan would report its internals; the threads under test are the haptic thread and the
 # simulation thread, which are std::threads.
-THREADED_TESTS ?= LatestValue*:HapticLoop*:VirtualCoupling*:ForceOutput*:MouseMapping*:HapticSession.Realtime*
+THREADED_TESTS ?= LatestValue*:FrameExchange*:HapticLoop*:VirtualCoupling*:ForceOutput*:MouseMapping*:HapticSession.Realtime*:LiveSession.Realtime*
 test-threads: deps
 	cmake -S . -B $(TSAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVASCSIM_SANITIZE=thread \
 	  -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_BUILD_VIEWER=OFF -DVASCSIM_WERROR=ON

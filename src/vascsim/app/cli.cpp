@@ -50,9 +50,10 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   add_experiment_commands(app, ctx, commands);
   add_ahp_command(app, ctx, commands);
   for (const CommandAdder add : extra_commands) add(app, ctx, commands);
+  fall_through(app);
+  // After fall_through: the stub keeps whatever follows it as its own extras.
   if (std::none_of(commands.begin(), commands.end(), [](const Command& c) { return c.app->get_name() == "view"; }))
     add_view_stub_command(app, ctx, commands);
-  fall_through(app);
 
   std::vector<std::string> rev(args.rbegin(), args.rend());
   try {

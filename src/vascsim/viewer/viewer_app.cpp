@@ -91,6 +91,7 @@ class Viewer {
     presenter_ = std::make_unique<FramePresenter>(*context_, *renderer_, exchange_);
     presenter_->update(false);  // the rest state, published by the build
     camera_.fit(surface_bounds(presenter_->frame().render));
+    camera_.enclose(render::frame_bounds(presenter_->frame().render));  // the tools reach out of the framing
     camera_.orbit(-o.yaw_deg / 0.3, (o.pitch_deg - 15.0) / 0.3);
     camera_.zoom(o.zoom);
     controls_.force_threshold_n = static_cast<float>(presenter_->frame().force_threshold_n);

@@ -11,7 +11,8 @@ PYTHON    ?= /usr/bin/python3
 JOBS      ?= $(shell nproc)
 
 .PHONY: deps build run test test-release test-sanitize test-threads bench bench-realtime compare-models xpbd-convergence \
-  cantilever-table vessels vessel-aorta-vmtk mls-validation force-displacement catheter-aorta format clean
+  cantilever-table vessels vessel-aorta-vmtk mls-validation force-displacement catheter-aorta screenshots view-bench \
+  format clean
 
 deps:
 	@scripts/install-deps.sh
@@ -93,6 +94,41 @@ catheter-aorta: build
 	$(BUILD_DIR)/vascsim run scenes/aorta-bent-catheter.json --out out/aorta-bent-catheter
 	$(PYTHON) scripts/render_surface.py out/aorta-bent-catheter/vtk/surface.pvd --color displacement \
 	  --out out/aorta-bent-catheter/surface.png
+
+# The README's pictures by the viewer (headless through EGL: no display needed), lit and fluoroscopic, into
+# docs/images/view-*.png: the three paper vessels with their indenter pushed in full (quasi_static: one
+# equilibrium at full load per scene, 1-2 min each on 2 cores), the imported VMTK aorta at a 1 mm node spacing
+# instead of 0.5 mm (its 88k-node solve takes about 25 min per load step; at 1 mm one solve takes minutes), and
+# the catheter scene at 1.3 s of its scripted press (implicit, lockstep: 130 frames).
+VIEW_SHOT = $(BUILD_DIR)/vascsim -q view
+IMAGES ?= docs/images
+screenshots: build
+	$(VIEW_SHOT) scenes/hand-dorsal-vein.json --frames 1 --size 800x800 --yaw 90 --pitch 10 --lao 90 \
+	  --screenshot $(IMAGES)/view-hand-dorsal-vein.png --fluoro-screenshot $(IMAGES)/view-hand-dorsal-vein-fluoro.png
+	$(VIEW_SHOT) scenes/aorta-bent.json --frames 1 --size 800x800 --yaw 20 --pitch 20 --lao 20 \
+	  --screenshot $(IMAGES)/view-aorta-bent.png --fluoro-screenshot $(IMAGES)/view-aorta-bent-fluoro.png
+	$(VIEW_SHOT) scenes/retinal-artery-twice-bent.json --frames 1 --size 800x800 --yaw 30 --pitch 20 --lao 30 \
+	  --screenshot $(IMAGES)/view-retinal-artery-twice-bent.png \
+	  --fluoro-screenshot $(IMAGES)/view-retinal-artery-twice-bent-fluoro.png
+	$(VIEW_SHOT) scenes/aorta-vmtk.json --set geometry.node_spacing_m=1.0e-3 --set viewer.superior=[0,1,0] \
+	  --set viewer.anterior=[0,0,1] --colour-map --frames 1 --size 800x800 --yaw -30 --pitch 10 --lao -30 \
+	  --screenshot $(IMAGES)/view-aorta-vmtk.png --fluoro-screenshot $(IMAGES)/view-aorta-vmtk-fluoro.png
+	$(VIEW_SHOT) scenes/realtime/hand-dorsal-vein-catheter.json --play --frames 130 --size 1024x640 --yaw 60 \
+	  --pitch 20 --lao 60 --screenshot $(IMAGES)/view-vein-catheter.png \
+	  --fluoro-screenshot $(IMAGES)/view-vein-catheter-fluoro.png
+	$(VIEW_SHOT) scenes/realtime/hand-dorsal-vein-catheter.json --play --frames 130 --size 1024x640 --yaw 60 \
+	  --pitch 20 --hud --screenshot $(IMAGES)/view-vein-catheter-hud.png
+
+# docs/performance.md's viewer table: frames per second with the split (simulation, MLS map, normals, upload,
+# draw) of the real-time scenes at the default window size, headless with the threads of a window (minutes).
+VIEW_BENCH_SCENES ?= scenes/realtime/hand-dorsal-vein-catheter.json scenes/realtime/hand-dorsal-vein.json \
+  scenes/realtime/aorta-bent.json scenes/realtime/retinal-artery-twice-bent.json
+view-bench: build
+	@uptime
+	@for s in $(VIEW_BENCH_SCENES); do for m in lit fluoro; do \
+	  $(BUILD_DIR)/vascsim -q view $$s --realtime --measure --frames 300 --mode $$m --screenshot /dev/null || exit 1; \
+	done; done
+	@uptime
 
 compare-models: build
 	$(PYTHON) scripts/compare_models.py --vascsim $(BUILD_DIR)/vascsim --out out/compare-models

@@ -26,13 +26,13 @@ TEST(ViewerInput, MouseWheelAdvancesTheCatheterUntilTheFramesShowAForce) {
   options.lockstep = true;
   LiveSession session(load_scene(kBlock), mouse, builder, options);
   ASSERT_TRUE(exchange.update());
-  const double step = mouse_settings(load_scene(kBlock), 0, 0.5 * std::sqrt(6.0 * 6.0 + 6.0 * 6.0 + 3.0 * 3.0) * 1e-3)
-                          .scroll_step_m;
-  EXPECT_NEAR(step, 4.5e-3 / 40.0, 1e-9);  // the block's bounding radius / 40: about 0.11 mm per notch
-  // 20 idle frames, then one notch per frame for 8 frames (0.9 mm: 0.7 mm into the block), then 60 holding.
+  const double step =
+      mouse_settings(load_scene(kBlock), 0, Vec3::Zero(), Vec3(0.006, 0.006, 0.003)).scroll_step_m;
+  EXPECT_NEAR(step, 1e-4, 1e-12);  // the block's smallest side (3 mm) / 30: 0.1 mm per notch
+  // 20 idle frames, then one notch per frame for 9 frames (0.9 mm: 0.7 mm into the block), then 60 holding.
   double force_above = 0.0, tip_z = 1.0;
-  for (int k = 0; k < 88; ++k) {
-    if (k >= 20 && k < 28) mouse.scroll(1.0);
+  for (int k = 0; k < 89; ++k) {
+    if (k >= 20 && k < 29) mouse.scroll(1.0);
     session.step_lockstep();
     ASSERT_TRUE(exchange.update());
     const ViewerFrame& f = exchange.front();

@@ -234,7 +234,7 @@ void Hud::begin_frame(int width, int height, double dt_s) {
 HudRequests Hud::draw(const HudStats& s, HudControls& c, const ScalarField* legend) {
   HudRequests r;
   ImGui::SetNextWindowPos(ImVec2(10.0f, 10.0f), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(360.0f, 0.0f), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(420.0f, 0.0f), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowBgAlpha(0.8f);
   if (ImGui::Begin("vascsim")) {
     draw_stats(s);

@@ -18,6 +18,9 @@ namespace {
 
 using Kind = LiveCommand::Kind;
 
+// A frame whose relative force residual exceeds this has diverged (StepReport.residual; 0 when not reported).
+constexpr double kDivergedResidual = 1.0;
+
 // The trajectory a scripted device plays for a replay or the scene's own trajectory; none otherwise.
 std::optional<Trajectory> played_trajectory(const Scene& scene, Kind kind, const std::filesystem::path& file) {
   if (kind == Kind::replay) return read_session_recording(file).trajectory;
@@ -174,6 +177,14 @@ bool LiveSession::step_frame() {
   }
   info_.sample = s;
   ++info_.frame;
+  if (s.residual > kDivergedResidual) {
+    // Forces out of balance by more than the forces themselves: the state is no longer a deformation of the
+    // vessel (too fast or too deep a push for the model). Stop rather than show it; the device's clamp held.
+    paused_.store(true, std::memory_order_relaxed);
+    info_.paused = true;
+    info_.message = fmt::format("paused: the model's frame diverged (relative residual {:.3g} > {:g}); reset to go on",
+                                s.residual, kDivergedResidual);
+  }
   const double now = clock_.seconds();
   recent_frames_.push_back(now);
   while (!recent_frames_.empty() && recent_frames_.front() < now - 1.0) recent_frames_.erase(recent_frames_.begin());

@@ -412,6 +412,14 @@ void read_viewer(JsonReader& root, const std::string& file, Scene& sc) {
                           : (std::filesystem::path(file).parent_path() / texture).lexically_normal().string();
   sc.viewer.texture_repeats = v.number("texture_repeats", 1.0, 1e-3, 1e3);
   sc.viewer.force_threshold_n = v.number("force_threshold_n", 0.0, 0.0, 1e6);
+  const Vec3 superior = v.vec3("superior", Vec3::UnitZ());
+  const Vec3 anterior = v.vec3("anterior", Vec3::UnitY());
+  if (!(superior.norm() > 0.0)) v.fail("superior", "must be a non-zero vector");
+  sc.viewer.superior = superior.normalized();
+  const Vec3 a = anterior - anterior.dot(sc.viewer.superior) * sc.viewer.superior;
+  if (!(a.norm() > 1e-6 * anterior.norm()))
+    v.fail("anterior", "must be a non-zero vector not parallel to viewer.superior");
+  sc.viewer.anterior = a.normalized();
   v.finish();
 }
 

@@ -112,6 +112,10 @@ struct ViewerSpec {
   /// The force arrow and the HUD turn red above this force on the tool, N. 0: the force at which the device
   /// clamps (haptics.force_limit_n / haptics.force_scale).
   double force_threshold_n = 0.0;
+  /// The patient's axes in the scene frame (unit; anterior is made perpendicular to superior): the camera's
+  /// up and home direction, the C-arm's rotation axes. The swept vessels lie along +z.
+  Vec3 superior = Vec3::UnitZ();
+  Vec3 anterior = Vec3::UnitY();
 };
 
 struct OutputSpec {

@@ -11,9 +11,10 @@
 
 namespace vascsim::viewer {
 
-/// Settings for driving tool `tool` of `scene` whose surface has bounding radius `scene_radius_m`:
-/// workspace centred on the tool point with twice that radius; a 400-pixel drag moves the tool by the scene
-/// radius; a scroll notch advances 1/40 of it; a held key advances it in 4 s.
-MouseKeyboardSettings mouse_settings(const Scene& scene, std::size_t tool, double scene_radius_m);
+/// Settings for driving tool `tool` of `scene` whose rest surface spans `lo` to `hi` (m): the workspace is
+/// centred on the tool point with the diagonal of that box as its radius; the gains follow the box's smallest
+/// side s (a vessel's diameter): a 100-pixel drag moves the tool s/3, a scroll notch advances it s/30, a held
+/// key advances it s/3 per second (a 3 mm vein: 1 mm/s, the speed of the scripted press).
+MouseKeyboardSettings mouse_settings(const Scene& scene, std::size_t tool, const Vec3& lo, const Vec3& hi);
 
 }  // namespace vascsim::viewer

@@ -57,9 +57,8 @@ void SurfaceSnapshot::rebuild(Simulation& simulation, std::uint64_t build) {
     if (s.outer[t] != 0)
       for (const Index v : s.triangles[t]) outer_[static_cast<std::size_t>(v)] = 1;
   uv_aspect_ = uv_aspect_of(s);
-  Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
-  for (const Vec3& p : s.rest_vertices) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  radius_m_ = nv > 0 ? 0.5 * (hi - lo).norm() : 1.0;
+  if (nv > 0) lo_ = hi_ = s.rest_vertices.front();
+  for (const Vec3& p : s.rest_vertices) lo_ = lo_.cwiseMin(p), hi_ = hi_.cwiseMax(p);
   tet_edges_.clear();
 }
 

@@ -27,8 +27,10 @@ class SurfaceSnapshot {
   void fill_overlays(Simulation& simulation, bool nodes, bool tets, render::RenderFrame& frame);
 
   std::size_t triangle_count() const { return triangles_.size(); }
-  /// Bounding sphere radius of the rest surface, m (the scale of the scene).
-  double radius_m() const { return radius_m_; }
+  /// The rest surface's bounding box, m (the scale of the scene).
+  const Vec3& rest_min() const { return lo_; }
+  const Vec3& rest_max() const { return hi_; }
+  double radius_m() const { return 0.5 * (hi_ - lo_).norm(); }
 
  private:
   const MlsMap* map_ = nullptr;
@@ -38,7 +40,7 @@ class SurfaceSnapshot {
   std::vector<std::uint8_t> outer_;
   std::vector<render::Float3> rest_;
   float uv_aspect_ = 1.0f;
-  double radius_m_ = 1.0;
+  Vec3 lo_ = -Vec3::Ones(), hi_ = Vec3::Ones();
   std::vector<std::array<std::uint32_t, 2>> tet_edges_;  // built on first request
   std::vector<Eigen::Vector3f> displacement_;             // node displacements (scratch)
 };

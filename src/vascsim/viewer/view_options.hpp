@@ -11,11 +11,15 @@ struct ViewOptions {
   std::vector<std::string> sets;  ///< --set key=value overrides
   // Headless pictures: --screenshot FILE renders --frames N frames without a display (EGL) and exits.
   std::string screenshot;
+  std::string fluoro_screenshot;  ///< also the last frame as fluoroscopy (--lao, --cranial), headless
   int frames = 0;                 ///< 0: until the window closes (headless: 1)
   std::string size = "1280x800";  ///< window or picture size, WIDTHxHEIGHT pixels
   bool headless = false;          ///< EGL even with a display
   bool realtime = false;          ///< headless: the threads of a window session (timing), not lockstep frames
   bool measure = false;           ///< glFinish between phases; print the timing split at the end
+  /// Visual frames per second at most (as a display's vsync would; software rendering shares the cores with
+  /// the simulation). 0: as fast as it can (--measure's default).
+  double max_fps = 60.0;
   bool paused = false;            ///< start paused (headless: the rest state)
   bool play = false;              ///< the scene's scripted trajectory drives the tool instead of the mouse
   std::string replay;             ///< a session recording drives the tool instead of the mouse

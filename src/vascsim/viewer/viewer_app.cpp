@@ -82,6 +82,7 @@ class Viewer {
         headless_(context_->kind() == render::ContextKind::headless),
         lockstep_(headless_ && !o.realtime),
         controls_(initial_controls(o)),
+        camera_(render::PatientFrame{scene_.viewer.superior, scene_.viewer.anterior}),
         renderer_(std::make_unique<render::Renderer>()),
         builder_(exchange_, mouse_, overlays_, !lockstep_) {
     if (!scene_.viewer.texture.empty())
@@ -101,6 +102,7 @@ class Viewer {
 
  private:
   void draw(bool with_hud, render::HudRequests* requests);
+  void pace();
   void sync_from_controls();
   void write_screenshot(const std::string& path);
   int run_headless();
@@ -127,6 +129,7 @@ class Viewer {
   std::string ui_message_;  // the panel's own notice (a bad value), shown before the session's
   double fps_ = 0.0;
   SteadyClock::time_point last_frame_ = SteadyClock::now();
+  SteadyClock::time_point frame_start_ = SteadyClock::now();
 };
 
 // The panel's choices that the simulation thread or the renderer reads.
@@ -174,6 +177,14 @@ void Viewer::draw(bool with_hud, render::HudRequests* requests) {
                                  renderer_->timing().draw_ms, hud_ms);
 }
 
+// Keeps the render thread to max_fps (lockstep pictures need no pacing: each frame waits for the model).
+void Viewer::pace() {
+  if (lockstep_ || options_.max_fps <= 0.0) return;
+  const auto period = std::chrono::duration_cast<SteadyClock::duration>(std::chrono::duration<double>(1.0 / options_.max_fps));
+  std::this_thread::sleep_until(frame_start_ + period);
+  frame_start_ = SteadyClock::now();
+}
+
 void Viewer::write_screenshot(const std::string& path) {
   render::write_png(path, render::read_frame(*context_));
   out_ << fmt::format("wrote {}\n", path);
@@ -196,6 +207,7 @@ int Viewer::run_headless() {
   for (int i = 0; i < frames; ++i) {
     if (i == kWarmupFrames) presenter_->log().restart(wall_.seconds());
     if (lockstep_) session_->step_lockstep();  // frame i shows the state after i + 1 simulation frames
+    pace();
     draw(options_.hud, nullptr);
     if (i == frames - 1 && !options_.screenshot.empty()) image = render::read_frame(*context_);
     context_->present();
@@ -205,6 +217,11 @@ int Viewer::run_headless() {
     render::write_png(options_.screenshot, image);
     out_ << fmt::format("wrote {} ({} frames, t = {:.3f} s)\n", options_.screenshot, frames,
                         presenter_->frame().info.sample.sim_time_s);
+  }
+  if (!options_.fluoro_screenshot.empty()) {
+    controls_.mode = render::ViewMode::fluoroscopy;  // the same frame again, as the C-arm sees it
+    draw(options_.hud, nullptr);
+    write_screenshot(options_.fluoro_screenshot);
   }
   report();
   return 0;
@@ -225,6 +242,7 @@ int Viewer::run_window() {
     show_hud = show_hud != keys.toggle_hud;
     ui_message_ = panel.message();
     render::HudRequests requests;
+    pace();
     draw(show_hud, &requests);
     if (requests.reset_camera) camera_.reset();
     if (requests.screenshot || keys.screenshot)

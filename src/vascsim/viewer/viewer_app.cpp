@@ -201,7 +201,12 @@ void Viewer::report() {
 int Viewer::run_headless() {
   const int frames = std::max(options_.frames, 1);
   constexpr int kWarmupFrames = 10;  // shader compilation, first uploads, the model's first frames
-  if (options_.hud) hud_ = std::make_unique<render::Hud>(*context_);
+  std::unique_ptr<SessionPanel> panel;
+  if (options_.hud) {
+    hud_ = std::make_unique<render::Hud>(*context_);
+    panel = std::make_unique<SessionPanel>(*session_, scene_, options_.scene, options_.sets, controls_);  // choices
+    draw(true, nullptr);  // ImGui sizes a new window in its first frame and shows it from the second
+  }
   if (!lockstep_) session_->start();
   render::Image image;
   for (int i = 0; i < frames; ++i) {

@@ -111,6 +111,7 @@ void draw_view(HudControls& c, HudRequests& r) {
     ImGui::SliderFloat("LAO(+)/RAO(-)", &c.carm_lao_deg, -90.0f, 90.0f, "%.0f deg");
     ImGui::SliderFloat("cranial(+)/caudal(-)", &c.carm_cranial_deg, -45.0f, 45.0f, "%.0f deg");
     ImGui::Checkbox("contrast", &c.contrast_filled);
+    ImGui::SliderFloat("window", &c.fluoro_window, 0.01f, 100.0f, "%.3g x", ImGuiSliderFlags_Logarithmic);
   } else {
     ImGui::Checkbox("cutaway", &c.cutaway);
     ImGui::SameLine();
@@ -262,6 +263,10 @@ void apply_controls(const HudControls& c, RenderSettings& s) {
   s.carm_lao_deg = c.carm_lao_deg;
   s.carm_cranial_deg = c.carm_cranial_deg;
   s.fluoro.contrast_filled = c.contrast_filled;
+  const FluoroSettings physical;
+  s.fluoro.mu_tissue_per_m = physical.mu_tissue_per_m * c.fluoro_window;
+  s.fluoro.mu_contrast_per_m = physical.mu_contrast_per_m * c.fluoro_window;
+  s.fluoro.mu_tool_per_m = physical.mu_tool_per_m * c.fluoro_window;
   s.show_tools = c.show_tools;
   s.show_force = c.show_force;
   s.show_nodes = c.show_nodes;

@@ -48,6 +48,9 @@ struct HudControls {
   ViewMode mode = ViewMode::lit;
   float carm_lao_deg = 0.0f, carm_cranial_deg = 0.0f;
   bool contrast_filled = true;
+  /// Fluoroscopy: the monitor's window, a scale on every attenuation coefficient (1: physical). A 0.16 mm
+  /// retinal artery attenuates 4 %, an aorta's lumen almost all: a window makes either readable.
+  float fluoro_window = 1.0f;
   bool show_tools = true, show_force = true, show_nodes = false, show_tets = false, cutaway = false;
   ColourField colour_field = ColourField::none;
   float force_threshold_n = 0.0f;  ///< 0: the scene's

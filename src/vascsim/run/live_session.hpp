@@ -120,6 +120,7 @@ class LiveSession {
   RealtimeClock clock_;
   std::size_t next_tick_ = 0;  // lockstep
   std::vector<double> recent_frames_;  // wall times of the frames in the last second
+  int diverged_frames_ = 0;            // frames in a row above the divergence residual
   // Shared with the UI thread.
   std::atomic<bool> paused_{false}, stop_{false};
   std::atomic<int> steps_requested_{0};

@@ -32,6 +32,10 @@ CLI::Option* add_options(CLI::App& cmd, ViewOptions& o) {
   cmd.add_option("--mode", o.mode, "lit or fluoro");
   cmd.add_option("--lao", o.lao_deg, "Fluoroscopy: C-arm LAO (+) / RAO (-), degrees");
   cmd.add_option("--cranial", o.cranial_deg, "Fluoroscopy: C-arm cranial (+) / caudal (-), degrees");
+  cmd.add_option("--fluoro-window", o.fluoro_window,
+                 "Fluoroscopy: scale on the attenuation (the monitor's window; 1: physical; default: the lumen's "
+                 "contrast path about 1)")
+      ->check(CLI::Range(0.0, 1000.0));
   cmd.add_option("--yaw", o.yaw_deg, "Lit view: camera yaw about the superior axis, degrees");
   cmd.add_option("--pitch", o.pitch_deg, "Lit view: camera pitch, degrees (default 15)");
   cmd.add_option("--zoom", o.zoom, "Zoom notches (positive: closer)");

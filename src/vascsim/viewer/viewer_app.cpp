@@ -3,6 +3,7 @@
 #include <epoxy/gl.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <memory>
 #include <thread>
 
@@ -70,6 +71,14 @@ render::Bounds surface_bounds(const render::RenderFrame& f) {
   return b;
 }
 
+// The fluoroscopy window that gives the contrast through the vessel's smallest side about one attenuation
+// length (a 3 mm vein: 1.1, physical; a 25 mm aorta: 0.13; a 0.16 mm retinal artery: 21), within [0.05, 50].
+double auto_window(const render::RenderFrame& frame) {
+  const render::Bounds b = surface_bounds(frame);
+  const double side = std::max((b.max - b.min).minCoeff(), 1e-9);
+  return std::clamp(1.0 / (render::FluoroSettings{}.mu_contrast_per_m * side), 0.05, 50.0);
+}
+
 // Everything one viewer run holds. Members are destroyed in reverse order: the session (its threads) before
 // what it writes into, the GL objects before the context.
 class Viewer {
@@ -96,6 +105,8 @@ class Viewer {
     camera_.orbit(-o.yaw_deg / 0.3, (o.pitch_deg - 15.0) / 0.3);
     camera_.zoom(o.zoom);
     controls_.force_threshold_n = static_cast<float>(presenter_->frame().force_threshold_n);
+    controls_.fluoro_window = static_cast<float>(o.fluoro_window > 0.0 ? o.fluoro_window
+                                                                        : auto_window(presenter_->frame().render));
   }
 
   int run() { return headless_ ? run_headless() : run_window(); }

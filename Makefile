@@ -97,9 +97,10 @@ catheter-aorta: build
 
 # The README's pictures by the viewer (headless through EGL: no display needed), lit and fluoroscopic, into
 # docs/images/view-*.png: the three paper vessels with their indenter pushed in full (quasi_static: one
-# equilibrium at full load per scene, 1-2 min each on 2 cores), the imported VMTK aorta at a 1 mm node spacing
-# instead of 0.5 mm (its 88k-node solve takes about 25 min per load step; at 1 mm one solve takes minutes), and
-# the catheter scene at 1.3 s of its scripted press (implicit, lockstep: 130 frames).
+# equilibrium at full load per scene, 1-2 min each on 2 cores), the imported VMTK aorta at its full resolution
+# (88k nodes: its wall's 3 node layers fix the lattice at 0.5 mm, so a coarser node_spacing_m changes nothing;
+# one equilibrium at full load, about 2.5 min here), and the catheter scene at 1.3 s of its scripted press
+# (implicit, lockstep: 130 frames). About 12 minutes in all.
 VIEW_SHOT = $(BUILD_DIR)/vascsim -q view
 IMAGES ?= docs/images
 screenshots: build
@@ -110,8 +111,7 @@ screenshots: build
 	$(VIEW_SHOT) scenes/retinal-artery-twice-bent.json --frames 1 --size 800x800 --yaw 30 --pitch 20 --lao 30 \
 	  --screenshot $(IMAGES)/view-retinal-artery-twice-bent.png \
 	  --fluoro-screenshot $(IMAGES)/view-retinal-artery-twice-bent-fluoro.png
-	$(VIEW_SHOT) scenes/aorta-vmtk.json --set geometry.node_spacing_m=1.0e-3 --set viewer.superior=[0,1,0] \
-	  --set viewer.anterior=[0,0,1] --colour-map --frames 1 --size 800x800 --yaw -30 --pitch 10 --lao -30 \
+	$(VIEW_SHOT) scenes/aorta-vmtk.json --colour-map --frames 1 --size 800x800 --yaw -30 --pitch 10 --lao -30 \
 	  --screenshot $(IMAGES)/view-aorta-vmtk.png --fluoro-screenshot $(IMAGES)/view-aorta-vmtk-fluoro.png
 	$(VIEW_SHOT) scenes/realtime/hand-dorsal-vein-catheter.json --play --frames 130 --size 1024x640 --yaw 60 \
 	  --pitch 20 --lao 60 --screenshot $(IMAGES)/view-vein-catheter.png \

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <numbers>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/stopwatch.hpp"
@@ -32,6 +33,28 @@ float uv_aspect_of(const RenderSurface& s) {
   return static_cast<float>(ratios[ratios.size() / 2]);
 }
 
+// Imported walls have no (u, v): the texture is wrapped around the patient's superior axis through the
+// surface's centroid (v: the angle around it, u: the height over the mean circumference, so its cells are
+// square). Branches get a skewed but continuous texture.
+std::vector<render::Float2> cylindrical_uv(const Vec3Array& vertices, const Vec3& superior) {
+  Vec3 c = Vec3::Zero();
+  for (const Vec3& p : vertices) c += p;
+  c /= static_cast<double>(std::max<std::size_t>(vertices.size(), 1));
+  const Vec3 a = superior.normalized();
+  const Vec3 e1 = a.unitOrthogonal(), e2 = a.cross(e1);
+  double radius = 0.0;
+  for (const Vec3& p : vertices) radius += ((p - c) - (p - c).dot(a) * a).norm();
+  const double circumference = 2.0 * std::numbers::pi * std::max(radius / static_cast<double>(std::max<std::size_t>(vertices.size(), 1)), 1e-12);
+  std::vector<render::Float2> uv;
+  uv.reserve(vertices.size());
+  for (const Vec3& p : vertices) {
+    const Vec3 d = p - c;
+    const double v = std::atan2(d.dot(e2), d.dot(e1)) / (2.0 * std::numbers::pi);
+    uv.emplace_back(static_cast<float>(d.dot(a) / circumference), static_cast<float>(v < 0.0 ? v + 1.0 : v));
+  }
+  return uv;
+}
+
 }  // namespace
 
 void SurfaceSnapshot::rebuild(Simulation& simulation, std::uint64_t build) {
@@ -51,12 +74,13 @@ void SurfaceSnapshot::rebuild(Simulation& simulation, std::uint64_t build) {
   for (std::size_t v = 0; v < nv; ++v) rest_[v] = s.rest_vertices[v].cast<float>();
   uv_.clear();
   for (const auto& uv : s.uv) uv_.push_back(uv.cast<float>());
+  if (uv_.empty()) uv_ = cylindrical_uv(s.rest_vertices, simulation.scene().viewer.superior);
   // Per vertex: on the outer wall if one of its triangles is.
   outer_.assign(nv, s.outer.empty() ? 1 : 0);
   for (std::size_t t = 0; t < s.outer.size(); ++t)
     if (s.outer[t] != 0)
       for (const Index v : s.triangles[t]) outer_[static_cast<std::size_t>(v)] = 1;
-  uv_aspect_ = uv_aspect_of(s);
+  uv_aspect_ = s.uv.empty() ? 1.0f : uv_aspect_of(s);
   if (nv > 0) lo_ = hi_ = s.rest_vertices.front();
   for (const Vec3& p : s.rest_vertices) lo_ = lo_.cwiseMin(p), hi_ = hi_.cwiseMax(p);
   tet_edges_.clear();

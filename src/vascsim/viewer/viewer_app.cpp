@@ -234,6 +234,11 @@ int Viewer::run_headless() {
     out_ << fmt::format("wrote {} ({} frames, t = {:.3f} s)\n", options_.screenshot, frames,
                         presenter_->frame().info.sample.sim_time_s);
   }
+  if (options_.screenshot.empty() && !options_.measure)
+    out_ << fmt::format("{}: {} frame{} rendered headless ({}) and nothing kept: open a window with a display (or "
+                        "under xvfb-run -a), or write a picture with --screenshot FILE\n",
+                        scene_.name, frames, frames == 1 ? " was" : "s were",
+                        options_.headless ? "--headless" : "no display");
   if (!options_.fluoro_screenshot.empty()) {
     controls_.mode = render::ViewMode::fluoroscopy;  // the same frame again, as the C-arm sees it
     draw(options_.hud, nullptr);

@@ -119,7 +119,7 @@ void draw_view(HudControls& c, HudRequests& r) {
     ImGui::SameLine();
     ImGui::Checkbox("tetrahedra", &c.show_tets);
     int field = static_cast<int>(c.colour_field);
-    ImGui::Combo("colour", &field, "texture\0displacement\0");
+    ImGui::Combo("colour", &field, "texture\0displacement\0stress\0");
     c.colour_field = static_cast<ColourField>(field);
   }
   ImGui::Checkbox("tools", &c.show_tools);

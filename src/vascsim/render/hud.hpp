@@ -41,7 +41,7 @@ struct HudStats {
   std::string gl_renderer;
 };
 
-enum class ColourField { none, displacement };
+enum class ColourField { none, displacement, stress };
 
 /// Persistent panel state, edited in place by Hud::draw.
 struct HudControls {

@@ -32,6 +32,7 @@ void FrameBuilder::frame(Simulation& simulation, const LiveFrameInfo& info) {
   const double threshold = overlays_.force_threshold_n.load(std::memory_order_relaxed);
   f.force_threshold_n = threshold > 0.0 ? threshold : force_threshold_n(scene);
   f.tool_force_n = info.sample.force_n.norm();
+  if (overlays_.stress.load(std::memory_order_relaxed)) surface_.fill_stress(simulation, f.render);
   surface_.fill_overlays(simulation, overlays_.nodes.load(std::memory_order_relaxed),
                          overlays_.tets.load(std::memory_order_relaxed), f.render);
   fill_tools(scene, tool_, info, simulation.model().load_factor(), style_, f.render);

@@ -22,6 +22,7 @@ namespace vascsim::viewer {
 /// What the UI thread asks the simulation thread to put into the frames (any thread writes, relaxed).
 struct OverlayRequests {
   std::atomic<bool> nodes{false}, tets{false};
+  std::atomic<bool> stress{false};  ///< the colour field is the von Mises stress (else the displacement)
   /// The safety threshold, N (0: the scene's, force_threshold_n()).
   std::atomic<double> force_threshold_n{0.0};
 };

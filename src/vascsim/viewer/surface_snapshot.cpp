@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/parallel.hpp"
 #include "vascsim/core/stopwatch.hpp"
 
 namespace vascsim::viewer {
@@ -121,6 +122,37 @@ bool SurfaceSnapshot::fill(Simulation& simulation, render::RenderFrame& frame, P
   d.label = "displacement";
   d.unit = "mm";
   return true;
+}
+
+void SurfaceSnapshot::fill_stress(Simulation& simulation, render::RenderFrame& frame) {
+  const Material& m = simulation.scene().material;
+  const double E = m.youngs_modulus_pa, nu = m.poisson_ratio;
+  const double lambda = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), mu = E / (2.0 * (1.0 + nu));
+  const Vec3Array& x = simulation.model().positions();
+  const Discretization& disc = simulation.discretization();
+  const auto n = static_cast<Index>(x.size());
+  node_stress_.resize(x.size());
+#pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
+  for (Index i = 0; i < n; ++i) {
+    const Mat3 F = disc.deformation_gradient(i, x);
+    const Mat3 G = 0.5 * (F.transpose() * F - Mat3::Identity());
+    const Mat3 S = lambda * G.trace() * Mat3::Identity() + 2.0 * mu * G;
+    const double J = F.determinant();
+    const Mat3 sigma = F * S * F.transpose() / (std::abs(J) > 1e-12 ? J : 1.0);
+    const Mat3 dev = sigma - sigma.trace() / 3.0 * Mat3::Identity();
+    node_stress_[static_cast<std::size_t>(i)] = Vec3(std::sqrt(1.5 * dev.squaredNorm()), 0.0, 0.0);
+  }
+  map_->map_displacements(node_stress_, surface_stress_);  // linear in the nodal values: any field maps alike
+  render::ScalarField& f = *frame.scalar;
+  float largest = 0.0f;
+  for (std::size_t v = 0; v < f.values.size(); ++v) {
+    f.values[v] = static_cast<float>(std::max(0.0, 1e-3 * surface_stress_[v].x()));
+    largest = std::max(largest, f.values[v]);
+  }
+  f.min = 0.0f;
+  f.max = std::max(largest, 1e-9f);
+  f.label = "von Mises stress";
+  f.unit = "kPa";
 }
 
 void SurfaceSnapshot::fill_overlays(Simulation& simulation, bool nodes, bool tets, render::RenderFrame& frame) {

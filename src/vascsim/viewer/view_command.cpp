@@ -41,6 +41,7 @@ CLI::Option* add_options(CLI::App& cmd, ViewOptions& o) {
   cmd.add_option("--zoom", o.zoom, "Zoom notches (positive: closer)");
   cmd.add_flag("--cutaway", o.cutaway, "Cut away the near half of the wall");
   cmd.add_flag("--colour-map", o.colour_map, "Colour the wall by displacement");
+  cmd.add_flag("--stress-map", o.stress_map, "Colour the wall by the von Mises stress");
   cmd.add_flag("--nodes", o.nodes, "Show the node cloud");
   cmd.add_flag("--tets", o.tets, "Show the virtual tetrahedra");
   cmd.add_flag("--no-contrast", o.no_contrast, "Fluoroscopy without contrast in the lumen");

@@ -29,7 +29,7 @@ struct ViewOptions {
   double lao_deg = 0.0, cranial_deg = 0.0;
   double fluoro_window = 0.0;     ///< attenuation scale of the fluoroscopy; 0: from the vessel's size
   double yaw_deg = 0.0, pitch_deg = 15.0, zoom = 0.0;
-  bool cutaway = false, nodes = false, tets = false, colour_map = false, no_contrast = false;
+  bool cutaway = false, nodes = false, tets = false, colour_map = false, stress_map = false, no_contrast = false;
   bool no_surface = false;        ///< do not draw the wall (to check that the tests notice)
   int msaa = 0;
 };

@@ -42,7 +42,9 @@ render::HudControls initial_controls(const ViewOptions& o) {
   c.show_nodes = o.nodes;
   c.show_tets = o.tets;
   c.contrast_filled = !o.no_contrast;
-  c.colour_field = o.colour_map ? render::ColourField::displacement : render::ColourField::none;
+  c.colour_field = o.stress_map   ? render::ColourField::stress
+                   : o.colour_map ? render::ColourField::displacement
+                                  : render::ColourField::none;
   c.paused = o.paused;
   return c;
 }
@@ -150,6 +152,7 @@ void Viewer::sync_from_controls() {
   settings_.measure = options_.measure;
   overlays_.nodes.store(controls_.show_nodes, std::memory_order_relaxed);
   overlays_.tets.store(controls_.show_tets, std::memory_order_relaxed);
+  overlays_.stress.store(controls_.colour_field == render::ColourField::stress, std::memory_order_relaxed);
   overlays_.force_threshold_n.store(controls_.force_threshold_n, std::memory_order_relaxed);
   // Tool input follows the picture: the axes of the view drawn (the C-arm's in fluoroscopy).
   mouse_.set_view(render::Renderer::pose_for(camera_, settings_).view_frame());

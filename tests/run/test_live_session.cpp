@@ -96,10 +96,15 @@ TEST(LiveSession, LockstepMouseAdvancesTheCatheterUntilItPressesTheBlock) {
   std::printf("[ live     ] tool at z = %.4f mm, force on the tool (%.3g, %.3g, %.3g) N\n",
               1e3 * end.sample.tool_position_m.z(), last_force.x(), last_force.y(), last_force.z());
   EXPECT_EQ(force_above, 0.0);
-  EXPECT_LT(end.sample.tool_position_m.z(), 0.0025);  // the proxy followed the device 0.8 mm into the block
-  // 0.8 mm into the block gives more than 1 mN (as HapticSession.LockstepPressReplaysBitIdentically, scripted).
+  // The coupling's proxy follows the device (2.2 mm after 60 frames of hold, critically damped, settled within
+  // 1 % in about 20 ms): below 2.5 mm leaves 0.25 mm for the tissue pushing it back.
+  EXPECT_LT(end.sample.tool_position_m.z(), 0.0025);
+  // 0.8 mm into the block gives more than 1 mN (as HapticSession.LockstepPressReplaysBitIdentically, scripted;
+  // measured 23 mN here).
   EXPECT_GT(last_force.z(), 1e-3);
-  EXPECT_GT(last_force.z(), 0.9 * last_force.norm());  // upwards: the tissue pushes the tool back
+  // Upwards: a frictionless press on a flat top; the tip off the node lattice tilts it a little (measured 3 %),
+  // so 90 % of the force along +z.
+  EXPECT_GT(last_force.z(), 0.9 * last_force.norm());
   EXPECT_GT(end.haptics.ticks, 99u);
 }
 

@@ -11,7 +11,8 @@ PYTHON    ?= /usr/bin/python3
 JOBS      ?= $(shell nproc)
 
 .PHONY: deps build run test test-release test-sanitize test-threads bench bench-realtime compare-models xpbd-convergence \
-  cantilever-table vessels vessel-aorta-vmtk mls-validation force-displacement catheter-aorta experiments fig10 timing format clean
+  cantilever-table vessels vessel-aorta-vmtk mls-validation force-displacement catheter-aorta experiments fig10 timing \
+  screenshots view-bench format clean
 
 deps:
 	@scripts/install-deps.sh
@@ -40,11 +41,11 @@ test-sanitize: deps
 	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -L unit -LE wallclock
 
-# The tests that run threads (haptic loop, hand-offs, mouse input, the realtime haptic session) under
-# ThreadSanitizer. Only these, and with OMP_NUM_THREADS=1: the OpenMP kernels run on libgomp, which is not
+# The tests that run threads (haptic loop, hand-offs, mouse input, the realtime haptic session, the viewer's
+# live session: UI commands, simulation thread, haptic thread and a frame reader) under ThreadSanitizer. Only these, and with OMP_NUM_THREADS=1: the OpenMP kernels run on libgomp, which is not
 # instrumented, so TSan would report its internals; the threads under test are the haptic thread and the
 # simulation thread, which are std::threads.
-THREADED_TESTS ?= LatestValue*:HapticLoop*:VirtualCoupling*:ForceOutput*:MouseMapping*:HapticSession.Realtime*
+THREADED_TESTS ?= LatestValue*:FrameExchange*:HapticLoop*:VirtualCoupling*:ForceOutput*:MouseMapping*:HapticSession.Realtime*:LiveSession.Realtime*
 test-threads: deps
 	cmake -S . -B $(TSAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVASCSIM_SANITIZE=thread \
 	  -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_BUILD_VIEWER=OFF -DVASCSIM_WERROR=ON
@@ -93,6 +94,41 @@ catheter-aorta: build
 	$(BUILD_DIR)/vascsim run scenes/aorta-bent-catheter.json --out out/aorta-bent-catheter
 	$(PYTHON) scripts/render_surface.py out/aorta-bent-catheter/vtk/surface.pvd --color displacement \
 	  --out out/aorta-bent-catheter/surface.png
+
+# The README's pictures by the viewer (headless through EGL: no display needed), lit and fluoroscopic, into
+# docs/images/view-*.png: the three paper vessels with their indenter pushed in full (quasi_static: one
+# equilibrium at full load per scene, 1-2 min each on 2 cores), the imported VMTK aorta at its full resolution
+# (88k nodes: its wall's 3 node layers fix the lattice at 0.5 mm, so a coarser node_spacing_m changes nothing;
+# one equilibrium at full load, about 2.5 min here), and the catheter scene at 1.3 s of its scripted press
+# (implicit, lockstep: 130 frames). About 12 minutes in all.
+VIEW_SHOT = $(BUILD_DIR)/vascsim -q view
+IMAGES ?= docs/images
+screenshots: build
+	$(VIEW_SHOT) scenes/hand-dorsal-vein.json --frames 1 --size 800x800 --yaw 90 --pitch 10 --lao 90 \
+	  --screenshot $(IMAGES)/view-hand-dorsal-vein.png --fluoro-screenshot $(IMAGES)/view-hand-dorsal-vein-fluoro.png
+	$(VIEW_SHOT) scenes/aorta-bent.json --frames 1 --size 800x800 --yaw 20 --pitch 20 --lao 20 \
+	  --screenshot $(IMAGES)/view-aorta-bent.png --fluoro-screenshot $(IMAGES)/view-aorta-bent-fluoro.png
+	$(VIEW_SHOT) scenes/retinal-artery-twice-bent.json --frames 1 --size 800x800 --yaw 30 --pitch 20 --lao 30 \
+	  --screenshot $(IMAGES)/view-retinal-artery-twice-bent.png \
+	  --fluoro-screenshot $(IMAGES)/view-retinal-artery-twice-bent-fluoro.png
+	$(VIEW_SHOT) scenes/aorta-vmtk.json --colour-map --frames 1 --size 800x800 --yaw -30 --pitch 10 --lao -30 \
+	  --screenshot $(IMAGES)/view-aorta-vmtk.png --fluoro-screenshot $(IMAGES)/view-aorta-vmtk-fluoro.png
+	$(VIEW_SHOT) scenes/realtime/hand-dorsal-vein-catheter.json --play --frames 130 --size 1024x640 --yaw 60 \
+	  --pitch 20 --lao 60 --screenshot $(IMAGES)/view-vein-catheter.png \
+	  --fluoro-screenshot $(IMAGES)/view-vein-catheter-fluoro.png
+	$(VIEW_SHOT) scenes/realtime/hand-dorsal-vein-catheter.json --play --frames 130 --size 1024x640 --yaw 60 \
+	  --pitch 20 --hud --screenshot $(IMAGES)/view-vein-catheter-hud.png
+
+# docs/performance.md's viewer table: frames per second with the split (simulation, MLS map, normals, upload,
+# draw) of the real-time scenes at the default window size, headless with the threads of a window (minutes).
+VIEW_BENCH_SCENES ?= scenes/realtime/hand-dorsal-vein-catheter.json scenes/realtime/hand-dorsal-vein.json \
+  scenes/realtime/aorta-bent.json scenes/realtime/retinal-artery-twice-bent.json
+view-bench: build
+	@uptime
+	@for s in $(VIEW_BENCH_SCENES); do for m in lit fluoro; do \
+	  $(BUILD_DIR)/vascsim -q view $$s --realtime --measure --frames 300 --mode $$m --screenshot /dev/null || exit 1; \
+	done; done
+	@uptime
 
 compare-models: build
 	$(PYTHON) scripts/compare_models.py --vascsim $(BUILD_DIR)/vascsim --out out/compare-models

@@ -16,7 +16,6 @@
 #include <deque>
 #include <iostream>
 #include <numeric>
-#include <regex>
 #include <thread>
 
 #include <epoxy/gl.h>
@@ -26,7 +25,7 @@
 #include "vascsim/core/error.hpp"
 #include "vascsim/render/camera_controller.hpp"
 #include "vascsim/render/demo_vessel.hpp"
-#include "vascsim/render/frame_exchange.hpp"
+#include "vascsim/core/frame_exchange.hpp"
 #include "vascsim/render/gl_context.hpp"
 #include "vascsim/render/hud.hpp"
 #include "vascsim/render/renderer.hpp"
@@ -52,15 +51,6 @@ struct Options {
   int msaa = 0;
   double yaw = 0.0, pitch = 15.0, zoom = 0.0;
 };
-
-void parse_size(const std::string& s, int& w, int& h) {
-  static const std::regex re(R"((-?\d{1,9})x(-?\d{1,9}))");
-  std::smatch m;
-  if (!std::regex_match(s, m, re))
-    throw vascsim::InputError(fmt::format("--size {}: expected WIDTHxHEIGHT in pixels, e.g. 1280x800", s));
-  w = std::stoi(m[1]);
-  h = std::stoi(m[2]);
-}
 
 // Window input: the camera gets what the HUD does not want.
 struct WindowInput {
@@ -107,9 +97,9 @@ double mean(std::vector<double> v) {
 }
 double minimum(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::min_element(v.begin(), v.end()); }
 
-int run(const Options& o) {
+vr::ContextOptions context_options(const Options& o) {
   vr::ContextOptions co;
-  parse_size(o.size, co.width, co.height);
+  vr::parse_window_size(o.size, "--size", co);
   co.headless = o.headless;
   co.samples = o.msaa;
   co.title = "vascsim render demo";
@@ -117,167 +107,199 @@ int run(const Options& o) {
   vr::check_context_options(co);
   if (o.mode != "lit" && o.mode != "fluoro")
     throw vascsim::InputError(fmt::format("--mode {}: use lit or fluoro", o.mode));
+  return co;
+}
 
+vr::DemoVesselSpec demo_spec(const Options& o) {
   vr::DemoVesselSpec spec;
   spec.target_triangles = o.triangles;
   spec.overlays = o.nodes || o.tets;
-  const auto t_build = Clock::now();
-  const vr::DemoVessel demo(spec);
-  const double build_ms = std::chrono::duration<double, std::milli>(Clock::now() - t_build).count();
+  return spec;
+}
 
-  auto context = vr::create_context(co);
-  const bool headless = context->kind() == vr::ContextKind::headless;
-  const int frames = o.frames > 0 ? o.frames : (headless ? 1 : 0);
-  vr::Renderer renderer;
-  if (!o.texture.empty()) renderer.set_wall_texture(o.texture);
+vr::HudControls demo_controls(const Options& o) {
+  vr::HudControls c;
+  c.mode = o.mode == "fluoro" ? vr::ViewMode::fluoroscopy : vr::ViewMode::lit;
+  c.carm_lao_deg = static_cast<float>(o.lao);
+  c.carm_cranial_deg = static_cast<float>(o.cranial);
+  c.cutaway = o.cutaway;
+  c.show_nodes = o.nodes;
+  c.show_tets = o.tets;
+  c.show_force = !o.no_force;
+  c.contrast_filled = !o.no_contrast;
+  c.colour_field = o.colour_map ? vr::ColourField::displacement : vr::ColourField::none;
+  c.model = "demo (no simulation)";
+  c.model_choices = {c.model};
+  return c;
+}
 
-  vr::RenderSettings settings;
-  settings.measure = o.measure;
-  vr::HudControls controls;
-  controls.mode = o.mode == "fluoro" ? vr::ViewMode::fluoroscopy : vr::ViewMode::lit;
-  controls.carm_lao_deg = static_cast<float>(o.lao);
-  controls.carm_cranial_deg = static_cast<float>(o.cranial);
-  controls.cutaway = o.cutaway;
-  controls.show_nodes = o.nodes;
-  controls.show_tets = o.tets;
-  controls.show_force = !o.no_force;
-  controls.contrast_filled = !o.no_contrast;
-  controls.colour_field = o.colour_map ? vr::ColourField::displacement : vr::ColourField::none;
-  controls.model = "demo (no simulation)";
-  controls.model_choices = {controls.model};
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-  // Frames go through the same hand-off the viewer uses. Headless: filled on this thread before each
-  // render (deterministic). Window: a producer thread publishes at about 120 Hz.
-  vr::FrameExchange<vr::RenderFrame> exchange;
-  std::uint64_t sequence = 0;
-  auto produce = [&](double t) {
-    vr::RenderFrame& f = exchange.back();
-    demo.fill(f, t, o.force_scale);
-    f.sequence = ++sequence;
-    exchange.publish();
-  };
-  std::atomic<bool> stop{false};
-  std::thread producer;
-  if (!headless) {
-    producer = std::thread([&] {
+// The demo: the vessel, a context, the renderer and the frame hand-off the viewer uses. Headless, frames are
+// filled on this thread before each render (deterministic); in a window a producer thread publishes at about
+// 120 Hz.
+class Demo {
+ public:
+  explicit Demo(const Options& o)
+      : o_(o), co_(context_options(o)), build_start_(Clock::now()), demo_(demo_spec(o)), build_ms_(ms_since(build_start_)),
+        context_(vr::create_context(co_)), headless_(context_->kind() == vr::ContextKind::headless),
+        frames_(o.frames > 0 ? o.frames : (headless_ ? 1 : 0)), controls_(demo_controls(o)), controller_(camera_) {
+    renderer_ = std::make_unique<vr::Renderer>();
+    if (!o.texture.empty()) renderer_->set_wall_texture(o.texture);
+    settings_.measure = o.measure;
+    produce(0.25);
+    exchange_.update();
+    camera_.fit(vr::frame_bounds(exchange_.front()));
+    camera_.orbit(-o.yaw / 0.3, (o.pitch - 15.0) / 0.3);
+    camera_.zoom(o.zoom);
+    if (!headless_) install_callbacks(context_->window(), &input_);
+    if (o.hud || !headless_) {
+      hud_ = std::make_unique<vr::Hud>(*context_);
+      input_.hud = hud_.get();
+    }
+  }
+
+  int run() {
+    if (!headless_) start_producer();
+    vr::Image image;
+    for (int done = 0; frames_ == 0 || done < frames_; ++done) {
+      if (!headless_) {
+        context_->poll_events();
+        if (context_->should_close()) break;
+      }
+      if (input_.fluoro_toggle) {
+        controls_.mode = controls_.mode == vr::ViewMode::lit ? vr::ViewMode::fluoroscopy : vr::ViewMode::lit;
+        input_.fluoro_toggle = false;
+      }
+      draw_frame(done);
+      if (!o_.out.empty() && frames_ > 0 && done + 1 == frames_) image = vr::read_frame(*context_);
+      context_->present();
+    }
+    stop_ = true;
+    if (producer_.joinable()) producer_.join();
+    if (!o_.out.empty() && !image.rgba.empty()) vr::write_png(o_.out, image);
+    report();
+    return 0;
+  }
+
+ private:
+  void produce(double t) {
+    vr::RenderFrame& f = exchange_.back();
+    demo_.fill(f, t, o_.force_scale);
+    f.sequence = ++sequence_;
+    exchange_.publish();
+  }
+
+  void start_producer() {
+    producer_ = std::thread([this] {
       const auto start = Clock::now();
-      while (!stop.load(std::memory_order_relaxed)) {
+      while (!stop_.load(std::memory_order_relaxed)) {
         produce(0.2 * std::chrono::duration<double>(Clock::now() - start).count());
         std::this_thread::sleep_for(std::chrono::milliseconds(8));
       }
     });
   }
 
-  vr::OrbitCamera camera;
-  produce(0.25);
-  exchange.update();
-  camera.fit(vr::frame_bounds(exchange.front()));
-  camera.orbit(-o.yaw / 0.3, (o.pitch - 15.0) / 0.3);
-  camera.zoom(o.zoom);
-  vr::CameraController controller(camera);
-  WindowInput input{&controller, nullptr};
-  if (!headless) install_callbacks(context->window(), &input);
-  std::unique_ptr<vr::Hud> hud;
-  if (o.hud || !headless) {
-    hud = std::make_unique<vr::Hud>(*context);
-    input.hud = hud.get();
-  }
-
-  std::vector<double> upload_ms, draw_ms, hud_ms, frame_ms, produce_ms;
-  std::deque<float> force_history;
-  std::uint64_t uploaded_sequence = 0;
-  auto last = Clock::now();
-  double fps = 0.0;
-  int done = 0;
-  vr::Image image;
-  while (true) {
-    if (frames > 0 && done >= frames) break;
-    if (!headless) {
-      context->poll_events();
-      if (context->should_close()) break;
-    }
-    if (input.fluoro_toggle) {
-      controls.mode = controls.mode == vr::ViewMode::lit ? vr::ViewMode::fluoroscopy : vr::ViewMode::lit;
-      input.fluoro_toggle = false;
-    }
-    if (headless) {
+  // One frame: (headless) the next surface, upload when new, draw, HUD.
+  void draw_frame(int done) {
+    if (headless_) {
       // The producer's share (positions and normals of the next surface): the simulation thread's cost.
       const auto t_produce = Clock::now();
-      produce(0.25 + 0.013 * (done - (frames - 1)));
-      produce_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t_produce).count());
+      produce(0.25 + 0.013 * (done - (frames_ - 1)));
+      produce_ms_.push_back(ms_since(t_produce));
     }
     const auto t_frame = Clock::now();
-    exchange.update();
-    const vr::RenderFrame& frame = exchange.front();
-    if (frame.sequence != uploaded_sequence) {
-      renderer.upload(frame, o.measure);
-      uploaded_sequence = frame.sequence;
-      upload_ms.push_back(renderer.timing().upload_ms);
+    exchange_.update();
+    const vr::RenderFrame& frame = exchange_.front();
+    if (frame.sequence != uploaded_sequence_) {
+      renderer_->upload(frame, o_.measure);
+      uploaded_sequence_ = frame.sequence;
+      upload_ms_.push_back(renderer_->timing().upload_ms);
     }
-    apply_controls(controls, settings);
-    settings.show_surface = !o.no_surface;
-    settings.frame_index = static_cast<std::uint32_t>(done);
-    const auto [w, h] = context->framebuffer_size();
-    renderer.draw(camera, settings, context->draw_framebuffer(), w, h);
-    draw_ms.push_back(renderer.timing().draw_ms);
-    if (hud) {
-      const auto t_hud = Clock::now();
-      const float force = frame.force ? frame.force->force_n.norm() : 0.0f;
-      force_history.push_back(force);
-      if (force_history.size() > 240) force_history.pop_front();
-      vr::HudStats stats;
-      stats.visual_fps = fps;
-      stats.tool_force_n = force;
-      stats.force_threshold_n = frame.force ? frame.force->threshold_n : 0.0;
-      stats.force_history_n.assign(force_history.begin(), force_history.end());
-      stats.nodes = demo.vessel().cloud.positions.size();
-      stats.triangles = frame.triangles.size();
-      stats.model_name = "demo vessel (no simulation)";
-      stats.sim_time_s = frame.sim_time_s;
-      stats.upload_ms = renderer.timing().upload_ms;
-      stats.draw_ms = renderer.timing().draw_ms;
-      stats.gl_renderer = context->description();
-      const double dt = std::chrono::duration<double>(Clock::now() - last).count();
-      hud->begin_frame(w, h, dt);
-      const vr::HudRequests requests =
-          hud->draw(stats, controls, settings.show_colour_map && frame.scalar ? &*frame.scalar : nullptr);
-      if (requests.reset_camera) camera.reset();
-      glBindFramebuffer(GL_FRAMEBUFFER, context->draw_framebuffer());
-      glViewport(0, 0, w, h);
-      hud->render();
-      if (o.measure) glFinish();
-      hud_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t_hud).count());
-    }
-    context->finish_frame();
-    ++done;
-    if (!o.out.empty() && frames > 0 && done == frames) image = vr::read_frame(*context);
-    context->present();
+    apply_controls(controls_, settings_);
+    settings_.show_surface = !o_.no_surface;
+    settings_.frame_index = static_cast<std::uint32_t>(done);
+    const auto [w, h] = context_->framebuffer_size();
+    renderer_->draw(camera_, settings_, context_->draw_framebuffer(), w, h);
+    draw_ms_.push_back(renderer_->timing().draw_ms);
+    if (hud_) draw_hud(frame, w, h);
+    context_->finish_frame();
     const auto now = Clock::now();
-    const double dt = std::chrono::duration<double>(now - last).count();
-    last = now;
-    fps = fps == 0.0 ? 1.0 / std::max(dt, 1e-6) : 0.9 * fps + 0.1 / std::max(dt, 1e-6);
-    frame_ms.push_back(std::chrono::duration<double, std::milli>(now - t_frame).count());
+    const double dt = std::max(std::chrono::duration<double>(now - last_).count(), 1e-6);
+    last_ = now;
+    fps_ = fps_ == 0.0 ? 1.0 / dt : 0.9 * fps_ + 0.1 / dt;
+    frame_ms_.push_back(std::chrono::duration<double, std::milli>(now - t_frame).count());
   }
-  stop = true;
-  if (producer.joinable()) producer.join();
-  if (!o.out.empty() && !image.rgba.empty()) vr::write_png(o.out, image);
+
+  void draw_hud(const vr::RenderFrame& frame, int w, int h) {
+    const auto t_hud = Clock::now();
+    const float force = frame.force ? frame.force->force_n.norm() : 0.0f;
+    force_history_.push_back(force);
+    if (force_history_.size() > 240) force_history_.pop_front();
+    vr::HudStats stats;
+    stats.visual_fps = fps_;
+    stats.tool_force_n = force;
+    stats.force_threshold_n = frame.force ? frame.force->threshold_n : 0.0;
+    stats.force_history_n.assign(force_history_.begin(), force_history_.end());
+    stats.nodes = demo_.vessel().cloud.positions.size();
+    stats.triangles = frame.triangles.size();
+    stats.model_name = "demo vessel (no simulation)";
+    stats.sim_time_s = frame.sim_time_s;
+    stats.upload_ms = renderer_->timing().upload_ms;
+    stats.draw_ms = renderer_->timing().draw_ms;
+    stats.gl_renderer = context_->description();
+    hud_->begin_frame(w, h, std::chrono::duration<double>(Clock::now() - last_).count());
+    const vr::HudRequests requests =
+        hud_->draw(stats, controls_, settings_.show_colour_map && frame.scalar ? &*frame.scalar : nullptr);
+    if (requests.reset_camera) camera_.reset();
+    glBindFramebuffer(GL_FRAMEBUFFER, context_->draw_framebuffer());
+    glViewport(0, 0, w, h);
+    hud_->render();
+    if (o_.measure) glFinish();
+    hud_ms_.push_back(ms_since(t_hud));
+  }
 
   // Timing: the first frame compiles and allocates; report the median of the rest (and the draw minimum).
-  auto tail = [](std::vector<double> v) {
-    if (v.size() > 1) v.erase(v.begin());
-    return v;
-  };
-  std::cout << fmt::format(
-      "{} {}x{} {} | {} triangles, {} vertices | build {:.0f} ms | frames {} | median: upload {:.2f} ms, draw {:.2f} ms "
-      "(min {:.2f}){}, "
-      "frame {:.2f} ms ({:.1f} fps){}{}\n",
-      context->kind() == vr::ContextKind::headless ? "headless" : "window", co.width, co.height, o.mode,
-      renderer.triangle_count(), renderer.vertex_count(), build_ms, done, mean(tail(upload_ms)), mean(tail(draw_ms)),
-      minimum(tail(draw_ms)), hud_ms.empty() ? std::string() : fmt::format(", hud {:.2f} ms", mean(tail(hud_ms))), mean(tail(frame_ms)),
-      1000.0 / std::max(mean(tail(frame_ms)), 1e-9), o.measure ? " [glFinish per phase]" : "",
-      produce_ms.empty() ? std::string() : fmt::format(" | surface prepared in {:.2f} ms (producer)", mean(tail(produce_ms))));
-  return 0;
-}
+  void report() const {
+    auto tail = [](std::vector<double> v) {
+      if (v.size() > 1) v.erase(v.begin());
+      return v;
+    };
+    std::cout << fmt::format(
+        "{} {}x{} {} | {} triangles, {} vertices | build {:.0f} ms | frames {} | median: upload {:.2f} ms, draw "
+        "{:.2f} ms (min {:.2f}){}, frame {:.2f} ms ({:.1f} fps){}{}\n",
+        headless_ ? "headless" : "window", co_.width, co_.height, o_.mode, renderer_->triangle_count(),
+        renderer_->vertex_count(), build_ms_, frame_ms_.size(), mean(tail(upload_ms_)), mean(tail(draw_ms_)),
+        minimum(tail(draw_ms_)), hud_ms_.empty() ? std::string() : fmt::format(", hud {:.2f} ms", mean(tail(hud_ms_))),
+        mean(tail(frame_ms_)), 1000.0 / std::max(mean(tail(frame_ms_)), 1e-9), o_.measure ? " [glFinish per phase]" : "",
+        produce_ms_.empty() ? std::string()
+                            : fmt::format(" | surface prepared in {:.2f} ms (producer)", mean(tail(produce_ms_))));
+  }
+
+  const Options& o_;
+  vr::ContextOptions co_;
+  Clock::time_point build_start_;
+  const vr::DemoVessel demo_;
+  double build_ms_;
+  std::unique_ptr<vr::GlContext> context_;
+  bool headless_;
+  int frames_;
+  std::unique_ptr<vr::Renderer> renderer_;
+  vr::RenderSettings settings_;
+  vr::HudControls controls_;
+  vascsim::FrameExchange<vr::RenderFrame> exchange_;
+  std::uint64_t sequence_ = 0, uploaded_sequence_ = 0;
+  std::atomic<bool> stop_{false};
+  std::thread producer_;
+  vr::OrbitCamera camera_;
+  vr::CameraController controller_;
+  WindowInput input_{&controller_, nullptr};
+  std::unique_ptr<vr::Hud> hud_;
+  std::vector<double> upload_ms_, draw_ms_, hud_ms_, frame_ms_, produce_ms_;
+  std::deque<float> force_history_;
+  Clock::time_point last_ = Clock::now();
+  double fps_ = 0.0;
+};
 
 }  // namespace
 
@@ -313,7 +335,7 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;
   }
   try {
-    return run(o);
+    return Demo(o).run();
   } catch (const vascsim::InputError& e) {
     std::cerr << "vascsim_render_demo: error: " << e.what() << "\n";
     return 2;

@@ -1,11 +1,19 @@
-// vascsim command-line entry point; everything lives in vascsim::run_cli (src/vascsim/app/cli.cpp).
+// vascsim command-line entry point; everything lives in vascsim::run_cli (src/vascsim/app/cli.cpp), plus the
+// viewer's `view` command when it is built (src/vascsim/viewer/view_command.hpp).
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include "vascsim/app/cli.hpp"
+#ifdef VASCSIM_HAS_VIEWER
+#include "vascsim/viewer/view_command.hpp"
+#endif
 
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
-  return vascsim::run_cli(args, std::cout, std::cerr);
+  std::vector<vascsim::CommandAdder> extra;
+#ifdef VASCSIM_HAS_VIEWER
+  extra.push_back(&vascsim::viewer::add_view_command);
+#endif
+  return vascsim::run_cli(args, std::cout, std::cerr, extra);
 }

@@ -522,6 +522,55 @@ TEST(MouseMapping, ButtonsForceAndViewChecks) {
   EXPECT_THROW(dev.set_view({Vec3::UnitX(), Vec3::UnitY(), Vec3::Zero()}), std::invalid_argument);
 }
 
+TEST(MouseMapping, AdvanceAlongTheToolAxisTwistAndSteer) {
+  // A tool given its own orientation: pointing along -y (as a catheter pressed down onto a vessel), seen by
+  // a camera looking along -z. Insertion follows the tool, not the view; camera moves leave it alone.
+  MouseKeyboardSettings s;
+  s.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(-0.5 * std::numbers::pi, Vec3::UnitX()));  // -z -> -y
+  MouseKeyboardDevice dev(s);
+  const auto axis = [&](double t) { return Vec3(dev.pose(t).orientation * (-Vec3::UnitZ())); };
+  EXPECT_NEAR((axis(0.0) - (-Vec3::UnitY())).norm(), 0.0, 1e-15);
+  dev.scroll(2.0);
+  EXPECT_NEAR((dev.pose(0.0).position_m - Vec3(0.0, -0.002, 0.0)).norm(), 0.0, 1e-15);
+  dev.set_view({Vec3::UnitY(), Vec3::UnitZ(), -Vec3::UnitX()});
+  EXPECT_NEAR((axis(0.0) - (-Vec3::UnitY())).norm(), 0.0, 1e-15);
+  dev.set_view({});
+
+  // Twist: about the axis at key_twist, clockwise seen from behind (right-hand rule about the axis).
+  const Vec3 side0 = dev.pose(1.0).orientation * Vec3::UnitX();
+  dev.set_key(ToolKey::twist_right, true);
+  dev.pose(1.0);
+  const DevicePose twisted = dev.pose(1.1);
+  dev.set_key(ToolKey::twist_right, false);
+  const double angle = 0.1 * s.key_twist_rad_per_s;
+  EXPECT_NEAR((twisted.orientation * Vec3::UnitX() - Eigen::AngleAxisd(angle, -Vec3::UnitY()) * side0).norm(), 0.0,
+              1e-12);
+  EXPECT_NEAR((twisted.orientation * (-Vec3::UnitZ()) - (-Vec3::UnitY())).norm(), 0.0, 1e-12);  // axis unchanged
+  EXPECT_NEAR((twisted.position_m - Vec3(0.0, -0.002, 0.0)).norm(), 0.0, 1e-15);                // tool point too
+
+  // Steer: a drag to the right turns the axis towards the view's right (+x) about the tool point.
+  dev.steer(100.0, 0.0);
+  const Vec3 a = axis(2.0);
+  EXPECT_NEAR(a.x(), std::sin(100.0 * s.steer_rad_per_pixel), 1e-12);
+  EXPECT_NEAR(a.y(), -std::cos(100.0 * s.steer_rad_per_pixel), 1e-12);
+  EXPECT_NEAR((dev.pose(2.0).position_m - Vec3(0.0, -0.002, 0.0)).norm(), 0.0, 1e-15);
+  dev.reset();
+  EXPECT_NEAR((axis(3.0) - (-Vec3::UnitY())).norm(), 0.0, 1e-15);
+
+  // The default tool (no orientation given) follows the view until it is steered.
+  MouseKeyboardDevice follower;
+  follower.set_view({Vec3::UnitY(), Vec3::UnitZ(), -Vec3::UnitX()});
+  EXPECT_NEAR((follower.pose(0.0).orientation * (-Vec3::UnitZ()) - (-Vec3::UnitX())).norm(), 0.0, 1e-15);
+  follower.steer(0.0, -50.0);  // upwards
+  const Vec3 up = follower.pose(0.0).orientation * (-Vec3::UnitZ());
+  EXPECT_GT(up.z(), 0.0);
+  follower.set_view({});
+  EXPECT_NEAR((follower.pose(0.0).orientation * (-Vec3::UnitZ()) - up).norm(), 0.0, 1e-15);
+  MouseKeyboardSettings zero;
+  zero.orientation = Eigen::Quaterniond(0, 0, 0, 0);
+  EXPECT_THROW(MouseKeyboardDevice{zero}, std::invalid_argument);
+}
+
 TEST(MouseMapping, InputFromAnotherThreadIsNeverLost) {
   // The UI thread moves the cursor while this (haptic) thread polls; every pixel arrives eventually.
   MouseKeyboardSettings s;

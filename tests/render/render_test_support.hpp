@@ -57,6 +57,47 @@ inline std::size_t count(const std::vector<std::uint8_t>& mask) {
   return n;
 }
 
+/// A picture against the silhouette its geometry implies (pixel counts and mean colours).
+struct Silhouette {
+  std::size_t drawn = 0, expected = 0, both = 0;
+  Eigen::Vector3d mean_object = Eigen::Vector3d::Zero(), mean_background = Eigen::Vector3d::Zero();
+  double relative_error() const {
+    return expected == 0 ? 1.0 : std::abs(static_cast<double>(drawn) - static_cast<double>(expected)) / expected;
+  }
+  /// The picture shows the geometry: areas agree to 1 %, 99 % of the expected pixels are drawn, and the
+  /// object's mean colour is at least 20 levels (of 255) from the background's.
+  bool shows_geometry() const {
+    return expected > 0 && relative_error() <= 0.01 && both >= 0.99 * expected &&
+           (mean_object - mean_background).norm() > 20.0;
+  }
+};
+
+/// Counts the pixels `is_object` calls drawn against the expected mask; mean colours of object and background.
+template <typename IsObject>
+inline Silhouette compare(const Image& image, const std::vector<std::uint8_t>& expected, IsObject is_object) {
+  Silhouette s;
+  std::size_t n_bg = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const std::uint8_t* p = image.pixel(x, y);
+      const Eigen::Vector3d c(p[0], p[1], p[2]);
+      const bool drawn = is_object(x, y, p);
+      const bool want = expected[static_cast<std::size_t>(y) * image.width + x] != 0;
+      s.drawn += drawn;
+      s.expected += want;
+      s.both += drawn && want;
+      if (drawn)
+        s.mean_object += c;
+      else {
+        s.mean_background += c;
+        ++n_bg;
+      }
+    }
+  if (s.drawn > 0) s.mean_object /= static_cast<double>(s.drawn);
+  if (n_bg > 0) s.mean_background /= static_cast<double>(n_bg);
+  return s;
+}
+
 /// The catheter of a frame as one triangle mesh.
 inline SolidMesh tool_mesh(const RenderFrame& frame) {
   SolidMesh m;

@@ -130,7 +130,11 @@ TEST(RenderCamera, CArmApShowsThePatientsRightOnTheLeftAndLaoTurnsAboutTheSuperi
   const CameraPose lao = cam.carm_pose(90, 0);
   EXPECT_GT(lao.eye_m.x(), 1.0);
   EXPECT_NEAR(lao.eye_m.z(), 0.0, 1e-9);
-  EXPECT_NEAR((lao.eye_m - lao.target_m).norm(), cam.distance_m(), 1e-9);
+  // The source is kCarmDistanceScale orbit distances away; its narrower field of view frames the target's
+  // plane as the orbit view does (same half-height at the target).
+  EXPECT_NEAR((lao.eye_m - lao.target_m).norm(), OrbitCamera::kCarmDistanceScale * cam.distance_m(), 1e-9);
+  EXPECT_NEAR((lao.eye_m - lao.target_m).norm() * std::tan(0.5 * lao.fov_y_deg * M_PI / 180.0),
+              cam.distance_m() * std::tan(0.5 * cam.fov_y_deg() * M_PI / 180.0), 1e-12);
   // Cranial 30: the detector towards the head, the source towards the feet.
   const CameraPose cra = cam.carm_pose(0, 30);
   EXPECT_LT(cra.eye_m.z(), 0.0);

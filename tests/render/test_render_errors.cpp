@@ -3,36 +3,19 @@
 
 #include <gtest/gtest.h>
 
-#include <cstdio>
 #include <string>
 
 #include "vascsim/render/gl_context.hpp"
 #include "vascsim/render/renderer.hpp"
+#include "support/program_output.hpp"
 
 namespace vascsim::render {
 namespace {
 
-struct Result {
-  int exit_code = -1;
-  std::string output;  // stdout + stderr
-};
+using Result = test::ProgramOutput;
 
 Result run(const std::string& env, const std::string& args) {
-  const std::string cmd = env + " \"" VASCSIM_BINARY_DIR "/vascsim_render_demo\" " + args + " 2>&1";
-  Result r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (pipe == nullptr) return r;
-  char buffer[512];
-  while (fgets(buffer, sizeof buffer, pipe) != nullptr) r.output += buffer;
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::size_t lines(const std::string& s) {
-  std::size_t n = 0;
-  for (char c : s) n += c == '\n';
-  return n;
+  return test::run_program(env, VASCSIM_BINARY_DIR "/vascsim_render_demo", args);
 }
 
 TEST(RenderErrors, ImpossibleSizesThrowRenderSetupError) {
@@ -71,20 +54,20 @@ TEST(RenderErrors, MissingTextureThrowsInputErrorNamingTheFile) {
 TEST(RenderErrors, DemoExitsWithCodeTwoAndOneLine) {
   const Result size = run("", "--headless --size 0x600 --out x.png");
   EXPECT_EQ(size.exit_code, 2) << size.output;
-  EXPECT_EQ(lines(size.output), 1u) << size.output;
+  EXPECT_EQ(size.lines(), 1u) << size.output;
   EXPECT_NE(size.output.find("window size 0x600 is impossible"), std::string::npos) << size.output;
 
   const Result huge = run("", "--headless --size 99999x99999");
   EXPECT_EQ(huge.exit_code, 2) << huge.output;
-  EXPECT_EQ(lines(huge.output), 1u) << huge.output;
+  EXPECT_EQ(huge.lines(), 1u) << huge.output;
 
   const Result garbage = run("", "--headless --size big");
   EXPECT_EQ(garbage.exit_code, 2) << garbage.output;
-  EXPECT_EQ(lines(garbage.output), 1u) << garbage.output;
+  EXPECT_EQ(garbage.lines(), 1u) << garbage.output;
 
   const Result texture = run("", "--headless --size 64x64 --texture missing-wall.png");
   EXPECT_EQ(texture.exit_code, 2) << texture.output;
-  EXPECT_EQ(lines(texture.output), 1u) << texture.output;
+  EXPECT_EQ(texture.lines(), 1u) << texture.output;
   EXPECT_NE(texture.output.find("texture file missing-wall.png: no such file"), std::string::npos);
 }
 
@@ -94,7 +77,7 @@ TEST(RenderErrors, NoDisplayAndNoEglExitsWithCodeTwo) {
   const Result r = run("env -u DISPLAY -u WAYLAND_DISPLAY __EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/egl.json",
                        "--size 64x64 --out x.png");
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_EQ(lines(r.output), 1u) << r.output;
+  EXPECT_EQ(r.lines(), 1u) << r.output;
   EXPECT_NE(r.output.find("cannot render headless"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("xvfb-run"), std::string::npos) << r.output;
 }
@@ -103,7 +86,7 @@ TEST(RenderErrors, WindowWithoutDisplayThrowsRenderSetupError) {
   // GLFW cannot open a window on a display that does not exist.
   const Result r = run("env DISPLAY=:987 WAYLAND_DISPLAY=", "--size 64x64 --frames 1");
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_EQ(lines(r.output), 1u) << r.output;
+  EXPECT_EQ(r.lines(), 1u) << r.output;
   EXPECT_NE(r.output.find("cannot open a window"), std::string::npos) << r.output;
 }
 

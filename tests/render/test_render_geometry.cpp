@@ -1,17 +1,14 @@
-// CPU parts of the renderer (no GL): the frame hand-off between threads, the lumen caps and tool meshes
+// CPU parts of the renderer (no GL): the lumen caps and tool meshes
 // the fluoroscopy pass relies on (closed, consistently oriented), the colour map, and frame validation.
 
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <map>
 #include <numbers>
-#include <thread>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/render/colour_map.hpp"
 #include "vascsim/render/demo_vessel.hpp"
-#include "vascsim/render/frame_exchange.hpp"
 #include "vascsim/render/lumen_caps.hpp"
 #include "vascsim/render/tool_geometry.hpp"
 
@@ -30,50 +27,6 @@ bool closed_and_oriented(const Triangles& tris) {
     if (directed.find({e.second, e.first}) == directed.end()) return false;
   }
   return true;
-}
-
-TEST(RenderFrameExchange, TheReaderSeesWholeFramesInOrderWhileTheWriterNeverWaits) {
-  FrameExchange<RenderFrame> exchange;
-  constexpr int kFrames = 20000;
-  std::atomic<bool> done{false};
-  std::thread producer([&] {
-    for (int i = 1; i <= kFrames; ++i) {
-      RenderFrame& f = exchange.back();
-      f.sequence = static_cast<std::uint64_t>(i);
-      f.positions_m.assign(64 + i % 7, Float3::Constant(static_cast<float>(i)));
-      exchange.publish();
-    }
-    done = true;
-  });
-  std::uint64_t last = 0;
-  int seen = 0;
-  for (;;) {
-    const bool finished = done.load();  // read first: a publish before it is seen by the update below
-    if (!exchange.update()) {
-      if (finished) break;
-      continue;
-    }
-    const RenderFrame& f = exchange.front();
-    ASSERT_GT(f.sequence, last);
-    last = f.sequence;
-    ++seen;
-    ASSERT_EQ(f.positions_m.size(), 64u + f.sequence % 7);
-    for (const Float3& p : f.positions_m) ASSERT_EQ(p.x(), static_cast<float>(f.sequence));  // not torn
-  }
-  producer.join();
-  EXPECT_EQ(exchange.front().sequence, static_cast<std::uint64_t>(kFrames));  // the last frame arrives
-  EXPECT_GT(seen, 0);
-}
-
-TEST(RenderFrameExchange, FrontIsADefaultFrameUntilTheFirstPublish) {
-  FrameExchange<RenderFrame> exchange;
-  EXPECT_FALSE(exchange.update());
-  EXPECT_EQ(exchange.front().sequence, 0u);
-  exchange.back().sequence = 7;
-  exchange.publish();
-  EXPECT_TRUE(exchange.update());
-  EXPECT_EQ(exchange.front().sequence, 7u);
-  EXPECT_FALSE(exchange.update());
 }
 
 TEST(RenderGeometry, LumenOfTheDemoVesselIsClosedWithTheLumenVolume) {

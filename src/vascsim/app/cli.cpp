@@ -1,5 +1,6 @@
 #include "vascsim/app/cli.hpp"
 
+#include <algorithm>
 #include <iostream>
 #include <omp.h>
 #include <spdlog/sinks/ostream_sink.h>
@@ -33,7 +34,8 @@ void fall_through(CLI::App& app) {
 
 }  // namespace
 
-int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
+            const std::vector<CommandAdder>& extra_commands) {
   CLI::App app{"vascsim: point-primitive vascular tissue simulation (Zhang et al. 2021, with the fixes of "
                "docs/model.md)"};
   app.require_subcommand(1);
@@ -47,7 +49,11 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   add_bench_command(app, ctx, commands);
   add_experiment_commands(app, ctx, commands);
   add_ahp_command(app, ctx, commands);
+  for (const CommandAdder add : extra_commands) add(app, ctx, commands);
   fall_through(app);
+  // After fall_through: the stub keeps whatever follows it as its own extras.
+  if (std::none_of(commands.begin(), commands.end(), [](const Command& c) { return c.app->get_name() == "view"; }))
+    add_view_stub_command(app, ctx, commands);
 
   std::vector<std::string> rev(args.rbegin(), args.rend());
   try {

@@ -14,6 +14,15 @@ const nlohmann::json& empty_object() {
   return e;
 }
 
+JsonField numeric_field(JsonField::Kind kind, double value, double lo, double hi) {
+  JsonField f;
+  f.kind = kind;
+  f.value = value;
+  f.lo = lo;
+  f.hi = hi;
+  return f;
+}
+
 std::string type_name(const nlohmann::json& v) {
   if (v.is_number()) return "a number";
   if (v.is_string()) return "a string";
@@ -47,12 +56,22 @@ const nlohmann::json* JsonReader::find(const std::string& key) {
 
 const nlohmann::json* JsonReader::raw(const std::string& key) { return find(key); }
 
+void JsonReader::note(const std::string& key, JsonField field) {
+  if (fields_ == nullptr) return;
+  field.key = key_path(key);
+  fields_->push_back(std::move(field));
+}
+
 double JsonReader::number(const std::string& key, double fallback, double lo, double hi) {
   const auto* v = find(key);
-  if (!v) return fallback;
-  if (!v->is_number()) fail(key, fmt::format("expected a number in [{}, {}], found {}", lo, hi, type_name(*v)));
-  const double x = v->get<double>();
-  if (!std::isfinite(x) || x < lo || x > hi) fail(key, fmt::format("value {} is out of range; allowed [{}, {}]", x, lo, hi));
+  double x = fallback;
+  if (v) {
+    if (!v->is_number()) fail(key, fmt::format("expected a number in [{}, {}], found {}", lo, hi, type_name(*v)));
+    x = v->get<double>();
+    if (!std::isfinite(x) || x < lo || x > hi)
+      fail(key, fmt::format("value {} is out of range; allowed [{}, {}]", x, lo, hi));
+  }
+  note(key, numeric_field(JsonField::Kind::number, x, lo, hi));
   return x;
 }
 
@@ -63,31 +82,46 @@ double JsonReader::required_number(const std::string& key, double lo, double hi)
 
 int JsonReader::integer(const std::string& key, int fallback, int lo, int hi) {
   const auto* v = find(key);
-  if (!v) return fallback;
-  if (!v->is_number_integer() && !(v->is_number() && std::floor(v->get<double>()) == v->get<double>()))
-    fail(key, fmt::format("expected an integer in [{}, {}], found {}", lo, hi,
-                          v->is_number() ? fmt::format("{}", v->get<double>()) : type_name(*v)));
-  const double x = v->get<double>();
-  if (x < lo || x > hi) fail(key, fmt::format("value {} is out of range; allowed [{}, {}]", x, lo, hi));
-  return static_cast<int>(x);
+  int n = fallback;
+  if (v) {
+    if (!v->is_number_integer() && !(v->is_number() && std::floor(v->get<double>()) == v->get<double>()))
+      fail(key, fmt::format("expected an integer in [{}, {}], found {}", lo, hi,
+                            v->is_number() ? fmt::format("{}", v->get<double>()) : type_name(*v)));
+    const double x = v->get<double>();
+    if (x < lo || x > hi) fail(key, fmt::format("value {} is out of range; allowed [{}, {}]", x, lo, hi));
+    n = static_cast<int>(x);
+  }
+  note(key, numeric_field(JsonField::Kind::integer, n, lo, hi));
+  return n;
 }
 
 bool JsonReader::boolean(const std::string& key, bool fallback) {
   const auto* v = find(key);
-  if (!v) return fallback;
-  if (!v->is_boolean()) fail(key, fmt::format("expected true or false, found {}", type_name(*v)));
-  return v->get<bool>();
+  bool b = fallback;
+  if (v) {
+    if (!v->is_boolean()) fail(key, fmt::format("expected true or false, found {}", type_name(*v)));
+    b = v->get<bool>();
+  }
+  note(key, numeric_field(JsonField::Kind::boolean, b ? 1.0 : 0.0, 0.0, 1.0));
+  return b;
 }
 
 std::string JsonReader::string(const std::string& key, const std::string& fallback,
                                const std::vector<std::string>& allowed) {
   const auto* v = find(key);
-  if (!v) return fallback;
-  const std::string choices = allowed.empty() ? "" : fmt::format("; allowed: {}", fmt::join(allowed, ", "));
-  if (!v->is_string()) fail(key, fmt::format("expected a string, found {}{}", type_name(*v), choices));
-  const std::string s = v->get<std::string>();
-  if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), s) == allowed.end())
-    fail(key, fmt::format("unknown value '{}'{}", s, choices));
+  std::string s = fallback;
+  if (v) {
+    const std::string choices = allowed.empty() ? "" : fmt::format("; allowed: {}", fmt::join(allowed, ", "));
+    if (!v->is_string()) fail(key, fmt::format("expected a string, found {}{}", type_name(*v), choices));
+    s = v->get<std::string>();
+    if (!allowed.empty() && std::find(allowed.begin(), allowed.end(), s) == allowed.end())
+      fail(key, fmt::format("unknown value '{}'{}", s, choices));
+  }
+  JsonField field;
+  field.kind = JsonField::Kind::string;
+  field.text = s;
+  field.allowed = allowed;
+  note(key, std::move(field));
   return s;
 }
 
@@ -118,9 +152,10 @@ Vec3 JsonReader::required_vec3(const std::string& key) {
 
 JsonReader JsonReader::object(const std::string& key) {
   const auto* v = find(key);
-  if (!v) return JsonReader(empty_object(), key_path(key), file_);
-  if (!v->is_object()) fail(key, fmt::format("expected an object, found {}", type_name(*v)));
-  return JsonReader(*v, key_path(key), file_);
+  if (v && !v->is_object()) fail(key, fmt::format("expected an object, found {}", type_name(*v)));
+  JsonReader child(v ? *v : empty_object(), key_path(key), file_);
+  child.fields_ = fields_;
+  return child;
 }
 
 std::vector<JsonReader> JsonReader::array_of_objects(const std::string& key, bool required) {

@@ -13,6 +13,17 @@
 
 namespace vascsim {
 
+/// One setting as a reader took it (the value in the file, or the default), with what is allowed: lets a UI
+/// offer a block's settings for editing without knowing whose block it is (the viewer's panel).
+struct JsonField {
+  enum class Kind { number, integer, boolean, string };
+  std::string key;  ///< full key path, e.g. "implicit.max_cg_iterations"
+  Kind kind = Kind::number;
+  double value = 0.0, lo = 0.0, hi = 0.0;  ///< number, integer (boolean: 0 or 1)
+  std::string text;                        ///< string
+  std::vector<std::string> allowed;        ///< string: the choices (empty: any)
+};
+
 class JsonReader {
  public:
   /// `object` must outlive the reader. `path` is the key path of the object ("" for the root).
@@ -39,6 +50,9 @@ class JsonReader {
 
   /// Throws for keys present in the object that were never read.
   void finish() const;
+  /// From now on every number, integer, boolean and string this reader (and the objects it opens) takes is
+  /// appended to `fields`, which must outlive them (nullptr: stop).
+  void record_fields(std::vector<JsonField>* fields) { fields_ = fields; }
 
   [[noreturn]] void fail(const std::string& key, const std::string& message) const;
   std::string key_path(const std::string& key) const;
@@ -47,9 +61,11 @@ class JsonReader {
 
  private:
   const nlohmann::json* find(const std::string& key);
+  void note(const std::string& key, JsonField field);
   const nlohmann::json& object_;
   std::string path_, file_;
   std::set<std::string> read_;
+  std::vector<JsonField>* fields_ = nullptr;
 };
 
 }  // namespace vascsim

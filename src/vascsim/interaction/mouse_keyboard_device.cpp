@@ -1,6 +1,7 @@
 #include "vascsim/interaction/mouse_keyboard_device.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace vascsim {
@@ -36,14 +37,49 @@ Eigen::Quaterniond tool_orientation(const ViewFrame& v) {
   return Eigen::Quaterniond(r).normalized();
 }
 
+/// The settings checked: the view re-orthonormalised, the orientation normalised.
+MouseKeyboardSettings checked(MouseKeyboardSettings s) {
+  s.view = orthonormal(s.view);
+  if (s.orientation) {
+    if (!(s.orientation->norm() > 0.0) || !s.orientation->coeffs().allFinite())
+      throw std::invalid_argument("MouseKeyboardSettings: the orientation must be a finite non-zero quaternion");
+    s.orientation->normalize();
+  }
+  return s;
+}
+
 }  // namespace
 
-MouseKeyboardDevice::MouseKeyboardDevice(const MouseKeyboardSettings& settings) : settings_(settings) {
-  settings_.view = orthonormal(settings.view);
-  position_m_ = settings_.limits.workspace_center_m;
-  orientation_ = tool_orientation(settings_.view);
+MouseKeyboardDevice::MouseKeyboardDevice(const MouseKeyboardSettings& settings) : settings_(checked(settings)) {
+  restart();
   last_pose_.position_m = position_m_;
   last_pose_.orientation = orientation_;
+}
+
+void MouseKeyboardDevice::restart() {
+  position_m_ = settings_.limits.workspace_center_m;
+  buttons_ = 0;
+  insert_held_ = retract_held_ = twist_left_held_ = twist_right_held_ = false;
+  follows_view_ = !settings_.orientation.has_value();
+  orientation_ = follows_view_ ? tool_orientation(settings_.view) : *settings_.orientation;
+}
+
+void MouseKeyboardDevice::reconfigure(const MouseKeyboardSettings& settings) {
+  MouseKeyboardSettings s = checked(settings);  // may throw: validate before locking
+  const std::lock_guard lock(mutex_);
+  s.view = settings_.view;  // the camera's, as set_view last gave it
+  settings_ = s;
+  restart();
+}
+
+Vec3 MouseKeyboardDevice::tool_axis() const {
+  // Exactly the view's forward while the orientation follows the view.
+  return follows_view_ ? settings_.view.forward_m : Vec3(orientation_ * (-Vec3::UnitZ()));
+}
+
+void MouseKeyboardDevice::turn(const Eigen::AngleAxisd& rotation) {
+  orientation_ = (Eigen::Quaterniond(rotation) * orientation_).normalized();
+  follows_view_ = false;
 }
 
 void MouseKeyboardDevice::move_clamped(const Vec3& delta_m) {
@@ -63,9 +99,12 @@ DevicePose MouseKeyboardDevice::pose(double time_s) {
     return last_pose_;
   }
   const double direction = (insert_held_ ? 1.0 : 0.0) - (retract_held_ ? 1.0 : 0.0);
-  if (has_last_time_ && direction != 0.0) {
+  const double twist = (twist_right_held_ ? 1.0 : 0.0) - (twist_left_held_ ? 1.0 : 0.0);
+  if (has_last_time_ && (direction != 0.0 || twist != 0.0)) {
     const double dt = std::clamp(time_s - last_time_s_, 0.0, kMaxKeyStepS);
-    move_clamped(direction * settings_.key_speed_m_per_s * dt * settings_.view.forward_m);
+    const Vec3 axis = tool_axis();
+    if (direction != 0.0) move_clamped(direction * settings_.key_speed_m_per_s * dt * axis);
+    if (twist != 0.0) turn(Eigen::AngleAxisd(twist * settings_.key_twist_rad_per_s * dt, axis));
   }
   last_time_s_ = time_s;
   has_last_time_ = true;
@@ -93,12 +132,27 @@ void MouseKeyboardDevice::move_cursor(double dx_px, double dy_px) {
 
 void MouseKeyboardDevice::scroll(double notches) {
   const std::lock_guard lock(mutex_);
-  move_clamped(settings_.scroll_step_m * notches * settings_.view.forward_m);
+  move_clamped(settings_.scroll_step_m * notches * tool_axis());
+}
+
+void MouseKeyboardDevice::steer(double dx_px, double dy_px) {
+  const std::lock_guard lock(mutex_);
+  const ViewFrame& v = settings_.view;
+  // Rotation vector axis x drag: the axis turns towards the drag's direction, by the drag's part across it.
+  const Vec3 drag = dx_px * v.right_m - dy_px * v.up_m;
+  const Vec3 w = settings_.steer_rad_per_pixel * tool_axis().cross(drag);
+  const double angle = w.norm();
+  if (angle > 0.0 && std::isfinite(angle)) turn(Eigen::AngleAxisd(angle, w / angle));
 }
 
 void MouseKeyboardDevice::set_key(ToolKey key, bool pressed) {
   const std::lock_guard lock(mutex_);
-  (key == ToolKey::insert ? insert_held_ : retract_held_) = pressed;
+  switch (key) {
+    case ToolKey::insert: insert_held_ = pressed; break;
+    case ToolKey::retract: retract_held_ = pressed; break;
+    case ToolKey::twist_left: twist_left_held_ = pressed; break;
+    case ToolKey::twist_right: twist_right_held_ = pressed; break;
+  }
   // The press time is unknown here: insertion starts counting from the next pose() call.
   if (pressed) has_last_time_ = false;
 }
@@ -114,14 +168,12 @@ void MouseKeyboardDevice::set_view(const ViewFrame& view) {
   const ViewFrame v = orthonormal(view);  // may throw: validate before locking
   const std::lock_guard lock(mutex_);
   settings_.view = v;
-  orientation_ = tool_orientation(v);
+  if (follows_view_) orientation_ = tool_orientation(v);
 }
 
 void MouseKeyboardDevice::reset() {
   const std::lock_guard lock(mutex_);
-  position_m_ = settings_.limits.workspace_center_m;
-  buttons_ = 0;
-  insert_held_ = retract_held_ = false;
+  restart();
 }
 
 }  // namespace vascsim

@@ -41,6 +41,13 @@ std::vector<std::string> model_names() {
 
 std::string default_model_name(bool device_driven) { return device_driven ? "implicit" : "quasi_static"; }
 
+std::vector<std::string> model_names_with(bool ModelCapabilities::*capability) {
+  std::vector<std::string> names;
+  for (const ModelEntry& e : model_registry())
+    if (e.capabilities.*capability) names.push_back(e.name);
+  return names;
+}
+
 const ModelEntry& find_model(const std::string& name) {
   for (const ModelEntry& e : model_registry())
     if (e.name == name) return e;

@@ -55,6 +55,9 @@ std::vector<std::string> model_names();
 /// (a haptic session, the viewer), the static solver (`quasi_static`) otherwise.
 std::string default_model_name(bool device_driven);
 
+/// The registered names of the models that have a capability, e.g. &ModelCapabilities::device_driven.
+std::vector<std::string> model_names_with(bool ModelCapabilities::*capability);
+
 /// Builds model `name` (InputError for an unknown name).
 std::unique_ptr<Model> make_model(const std::string& name, const Problem& problem, const std::any& settings);
 

@@ -53,6 +53,7 @@ ViewFrame CameraPose::view_frame() const {
 
 void OrbitCamera::fit(const Bounds& bounds) {
   bounds_ = bounds;
+  clip_ = bounds;
   const double r = std::max(bounds.radius(), 1e-9);
   // The bounding sphere fits the vertical field of view with 5 % margin.
   home_distance_m_ = 1.05 * r / std::sin(0.5 * fov_y_deg_ * kDeg);
@@ -83,17 +84,23 @@ void OrbitCamera::zoom(double notches) {
   distance_m_ = std::clamp(distance_m_ * std::pow(0.9, notches), 0.02 * home_distance_m_, 20.0 * home_distance_m_);
 }
 
-CameraPose OrbitCamera::make_pose(const Vec3& direction_to_eye) const {
+void OrbitCamera::enclose(const Bounds& bounds) {
+  clip_.min = clip_.min.cwiseMin(bounds.min);
+  clip_.max = clip_.max.cwiseMax(bounds.max);
+}
+
+CameraPose OrbitCamera::make_pose(const Vec3& direction_to_eye, double distance_scale) const {
   CameraPose p;
-  p.fov_y_deg = fov_y_deg_;
+  // Farther away by distance_scale with a field of view that frames the target's plane the same.
+  p.fov_y_deg = 2.0 * std::atan(std::tan(0.5 * fov_y_deg_ * kDeg) / distance_scale) / kDeg;
   p.target_m = target_m_;
-  p.eye_m = target_m_ + distance_m_ * direction_to_eye.normalized();
+  p.eye_m = target_m_ + distance_scale * distance_m_ * direction_to_eye.normalized();
   // Up: the superior axis, unless the view looks along it (then anterior).
   const Vec3 s = patient_.superior.normalized();
   p.up = std::abs(direction_to_eye.normalized().dot(s)) < 0.999 ? s : patient_.anterior.normalized();
-  // Near and far planes bracket the scene's bounding sphere (at least 1e-3 of the distance in front).
-  const double r = std::max(bounds_.radius(), 1e-9);
-  const double d = (bounds_.centre() - p.eye_m).norm();
+  // Near and far planes bracket the bounding sphere of what is drawn (at least 1e-3 of the distance in front).
+  const double r = std::max(clip_.radius(), 1e-9);
+  const double d = (clip_.centre() - p.eye_m).norm();
   p.near_m = std::max(d - 1.5 * r, 1e-3 * distance_m_);
   p.far_m = std::max(d + 1.5 * r, 2.0 * p.near_m);
   return p;
@@ -106,7 +113,7 @@ CameraPose OrbitCamera::pose() const {
   const double yaw = yaw_deg_ * kDeg, pitch = pitch_deg_ * kDeg;
   // Yaw 0: from anterior; positive yaw moves the eye towards the patient's right.
   const Vec3 dir = std::cos(pitch) * (std::cos(yaw) * a + std::sin(yaw) * r) + std::sin(pitch) * s;
-  return make_pose(dir);
+  return make_pose(dir, 1.0);
 }
 
 CameraPose OrbitCamera::carm_pose(double lao_deg, double cranial_deg) const {
@@ -117,7 +124,7 @@ CameraPose OrbitCamera::carm_pose(double lao_deg, double cranial_deg) const {
   // The detector over the patient in AP, rotated towards the patient's left for LAO and towards the head
   // for cranial; the source (the centre of projection) is on the opposite side.
   const Vec3 detector = std::cos(cra) * (std::cos(lao) * a + std::sin(lao) * left) + std::sin(cra) * s;
-  CameraPose p = make_pose(-detector);
+  CameraPose p = make_pose(-detector, kCarmDistanceScale);
   p.mirror_x = true;
   return p;
 }

@@ -45,10 +45,15 @@ struct CameraPose {
 /// the distance. reset() returns to the home view that frames the bounds given to fit().
 class OrbitCamera {
  public:
+  /// The C-arm's source distance in orbit distances (carm_pose).
+  static constexpr double kCarmDistanceScale = 5.0;
   explicit OrbitCamera(const PatientFrame& patient = {}) : patient_(patient) {}
 
   /// Frames `bounds` (home view: from anterior, 15 degrees above) and resets to it.
   void fit(const Bounds& bounds);
+  /// Keeps `bounds` between the near and far planes too (tools reaching out of the framed bounds), without
+  /// changing the framing. fit() forgets it.
+  void enclose(const Bounds& bounds);
   void reset();
   /// Cursor drag in pixels (x right, y down): 0.3 degree per pixel.
   void orbit(double dx_px, double dy_px);
@@ -62,8 +67,11 @@ class OrbitCamera {
   /// The fluoroscopy view: the C-arm rotated `lao_deg` about the superior axis (positive: left anterior
   /// oblique, the detector towards the patient's left; negative: RAO) and tilted `cranial_deg` towards
   /// the head (negative: caudal). The centre of projection is the X-ray source, opposite the detector at
-  /// the orbit distance from the target (zoom and pan apply); the picture is mirrored so it is seen from
-  /// the detector, as on the C-arm's monitor: in AP the patient's right is on the left of the screen.
+  /// kCarmDistanceScale times the orbit distance from the target with a field of view that frames the target
+  /// as the orbit view does (zoom and pan apply): a nearly parallel projection with a magnification of about
+  /// 1.2 across the scene, as a real C-arm's (source about 1 m from the detector), and a long catheter shaft
+  /// never reaches the source. The picture is mirrored so it is seen from the detector, as on the C-arm's
+  /// monitor: in AP the patient's right is on the left of the screen.
   CameraPose carm_pose(double lao_deg, double cranial_deg) const;
 
   double yaw_deg() const { return yaw_deg_; }
@@ -74,10 +82,11 @@ class OrbitCamera {
   double fov_y_deg() const { return fov_y_deg_; }
 
  private:
-  CameraPose make_pose(const Vec3& direction_to_eye) const;
+  CameraPose make_pose(const Vec3& direction_to_eye, double distance_scale) const;
 
   PatientFrame patient_;
   Bounds bounds_;
+  Bounds clip_;  // bounds_ and what enclose() added
   double fov_y_deg_ = 35.0;
   double home_distance_m_ = 1.0;
   double yaw_deg_ = 0.0, pitch_deg_ = 15.0, distance_m_ = 1.0;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <set>
 
 #include "vascsim/geometry/centerline.hpp"
 
@@ -88,14 +87,7 @@ DemoVessel::DemoVessel(const DemoVesselSpec& spec) : spec_(spec) {
 
   if (spec.overlays) {
     for (const Vec3& p : vessel_.cloud.positions) node_points_.push_back(p.cast<float>());
-    std::set<std::pair<std::uint32_t, std::uint32_t>> edges;
-    for (const Tet& t : vessel_.cloud.tets)
-      for (int a = 0; a < 4; ++a)
-        for (int b = a + 1; b < 4; ++b) {
-          const auto i = static_cast<std::uint32_t>(t[a]), j = static_cast<std::uint32_t>(t[b]);
-          edges.emplace(std::min(i, j), std::max(i, j));
-        }
-    for (const auto& [i, j] : edges) tet_edges_.push_back({i, j});
+    tet_edges_ = tet_edge_list(vessel_.cloud.tets);
   }
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <regex>
 
 #include <epoxy/gl.h>
 #include <fmt/format.h>
@@ -15,6 +16,15 @@ void check_context_options(const ContextOptions& options) {
                                        options.width, options.height, kMaxFramebufferSize));
   if (options.samples != 0 && options.samples != 2 && options.samples != 4 && options.samples != 8)
     throw RenderSetupError(fmt::format("multisampling {} is not supported: use 0, 2, 4 or 8", options.samples));
+}
+
+void parse_window_size(const std::string& text, const std::string& option, ContextOptions& options) {
+  static const std::regex re(R"((-?\d{1,9})x(-?\d{1,9}))");
+  std::smatch m;
+  if (!std::regex_match(text, m, re))
+    throw RenderSetupError(fmt::format("{} {}: expected WIDTHxHEIGHT in pixels, e.g. 1280x800", option, text));
+  options.width = std::stoi(m[1]);
+  options.height = std::stoi(m[2]);
 }
 
 std::string GlContext::description() const {

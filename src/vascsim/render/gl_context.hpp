@@ -41,6 +41,10 @@ constexpr int kMaxFramebufferSize = 16384;
 /// Throws RenderSetupError unless 1 <= width, height <= kMaxFramebufferSize and samples is 0, 2, 4 or 8.
 void check_context_options(const ContextOptions& options);
 
+/// Reads "WIDTHxHEIGHT" (e.g. "1280x800") into the options; throws RenderSetupError naming `option` for any
+/// other text (the size itself is checked by check_context_options).
+void parse_window_size(const std::string& text, const std::string& option, ContextOptions& options);
+
 class GlContext {
  public:
   virtual ~GlContext() = default;

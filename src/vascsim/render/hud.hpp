@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "vascsim/core/json_reader.hpp"
 #include "vascsim/render/render_frame.hpp"
 #include "vascsim/render/renderer.hpp"
 
@@ -21,18 +22,22 @@ namespace vascsim::render {
 class GlContext;
 
 struct HudStats {
+  std::string scene_name, model_name, device;  ///< device: what drives the tool ("" : no tool)
   double visual_fps = 0.0;
   double deformation_steps_per_s = 0.0;
   double haptic_rate_hz = 0.0;
   double haptic_p99_jitter_us = 0.0;
   double tool_force_n = 0.0;              ///< |force on the tool|
+  double device_force_n = std::numeric_limits<double>::quiet_NaN();  ///< |force sent to the device|; NaN: unknown
   double force_threshold_n = 0.0;         ///< safety threshold (0: none); the force turns red above it
   std::vector<float> force_history_n;     ///< oldest first, plotted
   std::size_t nodes = 0, triangles = 0;
-  std::string model_name;
   double solver_residual = std::numeric_limits<double>::quiet_NaN();  ///< NaN: not reported
   double sim_time_s = 0.0;
+  double simulation_ms = 0.0, map_ms = 0.0, normals_ms = 0.0;  ///< the simulation side's split of its last frame
   double upload_ms = 0.0, draw_ms = 0.0;  ///< the renderer's split of the last frame
+  bool paused = false, recording = false;
+  std::string message;  ///< the latest notice or error ("" : none)
   std::string gl_renderer;
 };
 
@@ -43,14 +48,22 @@ struct HudControls {
   ViewMode mode = ViewMode::lit;
   float carm_lao_deg = 0.0f, carm_cranial_deg = 0.0f;
   bool contrast_filled = true;
+  /// Fluoroscopy: the monitor's window, a scale on every attenuation coefficient (1: physical). A 0.16 mm
+  /// retinal artery attenuates 4 %, an aorta's lumen almost all: a window makes either readable.
+  float fluoro_window = 1.0f;
   bool show_tools = true, show_force = true, show_nodes = false, show_tets = false, cutaway = false;
   ColourField colour_field = ColourField::none;
+  float force_threshold_n = 0.0f;  ///< 0: the scene's
   std::vector<std::string> scene_choices, model_choices;
   std::string scene;  ///< the chosen scene (path)
   std::string model;  ///< the chosen model name
-  double youngs_modulus_pa = 0.5e6, poisson_ratio = 0.45, damping = 0.0;
+  double youngs_modulus_pa = 0.5e6, poisson_ratio = 0.45;
+  std::vector<JsonField> model_settings;  ///< the model's settings block, as its reader took it (edited in place)
+  std::string overrides;                        ///< more "key=value" overrides, separated by spaces
   bool paused = false;
   bool recording = false;
+  bool has_trajectory = false;  ///< the scene has a scripted trajectory to play
+  std::string record_path = "session.csv";
   std::string replay_path;
 };
 
@@ -59,8 +72,8 @@ struct HudRequests {
   bool toggle_pause = false, step = false, reset_simulation = false, reset_camera = false, screenshot = false;
   bool load_scene = false;      ///< HudControls::scene was chosen
   bool change_model = false;    ///< HudControls::model was chosen
-  bool apply_material = false;  ///< E, nu or damping was edited
-  bool toggle_recording = false, start_replay = false;
+  bool apply_settings = false;  ///< rebuild with the edited E, nu, model settings and overrides
+  bool toggle_recording = false, start_replay = false, play_trajectory = false;
   bool any() const;
 };
 

@@ -64,6 +64,20 @@ void compute_normals(const std::vector<Float3>& positions, const std::vector<std
   }
 }
 
+std::vector<std::array<std::uint32_t, 2>> tet_edge_list(const std::vector<Tet>& tets) {
+  std::vector<std::array<std::uint32_t, 2>> edges;
+  edges.reserve(6 * tets.size());
+  for (const Tet& t : tets)
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) {
+        const auto i = static_cast<std::uint32_t>(t[a]), j = static_cast<std::uint32_t>(t[b]);
+        edges.push_back({std::min(i, j), std::max(i, j)});
+      }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  return edges;
+}
+
 void validate_frame(const RenderFrame& frame) {
   const std::size_t nv = frame.positions_m.size();
   auto size_check = [nv](std::size_t size, const char* name, bool optional) {

@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 
 #include "vascsim/core/types.hpp"
+#include "vascsim/geometry/node_cloud.hpp"
 
 namespace vascsim::render {
 
@@ -98,6 +99,9 @@ Float3 arrow_vector_m(const ForceArrow& arrow, const Bounds& scene);
 /// Unit area-weighted vertex normals of `positions` over `triangles` (the renderer's fallback).
 void compute_normals(const std::vector<Float3>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles,
                      std::vector<Float3>& normals);
+
+/// The edges of virtual tetrahedra, each once (smaller index first, sorted): the tet_edges overlay.
+std::vector<std::array<std::uint32_t, 2>> tet_edge_list(const std::vector<Tet>& tets);
 
 /// Throws InputError (one line naming the array and the first bad entry) if the arrays of the frame do
 /// not match: sizes, indices out of range, non-finite positions.

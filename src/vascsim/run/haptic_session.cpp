@@ -4,20 +4,18 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <memory>
-#include <omp.h>
 #include <thread>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/statistics.hpp"
 #include "vascsim/core/stopwatch.hpp"
-#include "vascsim/interaction/haptic_loop.hpp"
 #include "vascsim/interaction/scripted_device.hpp"
 #include "vascsim/interaction/session_recording.hpp"
 #include "vascsim/model/registry.hpp"
-#include "vascsim/run/contact_publisher.hpp"
+#include "vascsim/run/haptic_rig.hpp"
 #include "vascsim/run/output_writer.hpp"
+#include "vascsim/run/realtime_pacing.hpp"
 #include "vascsim/run/runner.hpp"
-#include "vascsim/run/simulation.hpp"
 
 namespace vascsim {
 
@@ -62,58 +60,33 @@ SessionInputs read_session_inputs(const Scene& scene, const HapticRunOptions& op
 
 // The model the device drives; lockstep needs whole ticks per frame.
 DeviceDrivenModel& driven_model(Simulation& sim, const Scene& scene, const std::string& mode) {
-  DeviceDrivenModel* model = sim.model().device_driven();
-  if (model == nullptr)
-    throw InputError(fmt::format("{}: model '{}' cannot be driven by a device (haptic session)", scene.file,
-                                 scene.model));
+  DeviceDrivenModel& model = device_driven_model(sim);
   const double period = 1.0 / scene.haptics.rate_hz;
-  const double frame = model->frame_length_s();
+  const double frame = model.frame_length_s();
   if (mode == "lockstep" && std::abs(frame - scene.haptics.ticks_per_step * period) > 1e-9 * period)
     throw InputError(fmt::format("{}: key 'haptics.ticks_per_step': {} ticks of {:.4g} s must equal the frame of "
                                  "model '{}' ({:.4g} s)",
                                  scene.file, scene.haptics.ticks_per_step, period, scene.model, frame));
-  return *model;
+  return model;
 }
 
-// The haptic side: device, virtual coupling, output filter, the two hand-offs and the recording.
-struct HapticSide {
-  DeviceLimits limits;
+// The device the session plays: the scene's scripted trajectory (or a recording), or the caller's.
+struct SessionDevice {
   std::unique_ptr<ScriptedDevice> scripted;
   Device* device = nullptr;
-  LatestValue<ContactState> from_sim;
-  LatestValue<ToolPose> to_sim;
-  std::unique_ptr<SessionRecording> recording;
-  std::unique_ptr<HapticLoop> loop;
 };
 
-void build_haptic_side(const Scene& scene, const HapticRunOptions& options, const SessionInputs& in,
-                       std::size_t n_ticks, HapticSide& h) {
-  const HapticsSpec& spec = scene.haptics;
-  h.limits.max_continuous_force_n = spec.force_limit_n;
-  h.limits.max_peak_force_n = std::max(h.limits.max_peak_force_n, spec.force_limit_n);
-  h.scripted = std::make_unique<ScriptedDevice>(in.trajectory, h.limits);
-  h.scripted->reserve_forces(n_ticks + 16);
-  h.device = options.device != nullptr ? options.device : h.scripted.get();
+SessionDevice session_device(const Scene& scene, const HapticRunOptions& options, const SessionInputs& in,
+                             std::size_t n_ticks) {
+  SessionDevice d;
   if (options.device != nullptr) {
-    h.limits = h.device->limits();
-    h.limits.max_continuous_force_n = std::min(h.limits.max_continuous_force_n, spec.force_limit_n);
+    d.device = options.device;
+    return d;
   }
-  VirtualCouplingSettings cs;
-  cs.proxy_mass_kg = spec.proxy_mass_kg;
-  cs.stiffness_n_per_m = spec.coupling_stiffness_n_per_m;
-  cs.damping_n_s_per_m = spec.coupling_damping_n_s_per_m;
-  cs.max_contact_stiffness_n_per_m = h.limits.max_stiffness_n_per_m;
-  cs.time_step_s = 1.0 / spec.rate_hz;
-  ForceOutputSettings fo;
-  fo.max_force_n = h.limits.max_continuous_force_n;
-  fo.max_step_n_per_tick = spec.force_step_n;
-  h.recording = std::make_unique<SessionRecording>(n_ticks + 16);
-  HapticLoopOptions lo;
-  lo.rate_hz = spec.rate_hz;
-  lo.record = h.recording.get();
-  lo.start_time_s = in.trajectory.start_time_s();
-  h.loop = std::make_unique<HapticLoop>(*h.device, VirtualCoupling(cs), ForceOutputFilter(fo), h.from_sim, h.to_sim,
-                                        lo);
+  d.scripted = std::make_unique<ScriptedDevice>(in.trajectory, scripted_device_limits(scene.haptics));
+  d.scripted->reserve_forces(n_ticks + 16);
+  d.device = d.scripted.get();
+  return d;
 }
 
 // Calls on_progress about every 2 % of the session.
@@ -134,65 +107,42 @@ class ProgressThrottle {
 
 // Lockstep: one thread; the loop ticks at the nominal times and the model steps every ticks_per_step ticks
 // with the pose of that tick. Deterministic.
-void run_lockstep(const Scene& scene, const SessionInputs& in, std::size_t n_ticks, HapticSide& h,
-                  ContactPublisher& publisher, std::vector<FrameSample>& history,
+void run_lockstep(const Scene& scene, std::size_t n_ticks, HapticRig& rig, std::vector<FrameSample>& history,
                   const std::function<void()>& after_frame, ProgressThrottle& progress) {
   const double period = 1.0 / scene.haptics.rate_hz;
   const auto per_frame = static_cast<std::size_t>(scene.haptics.ticks_per_step);
-  for (std::size_t k = 0; k < n_ticks; ++k) {
-    h.loop->tick(in.trajectory.start_time_s() + static_cast<double>(k) * period);
-    if (k % per_frame == 0) {
-      h.to_sim.update();
-      history.push_back(publisher.step(h.to_sim.value()));
-      after_frame();
-      progress(static_cast<double>(k) * period);
-    }
+  for (std::size_t k = 0; k < n_ticks; k += per_frame) {
+    history.push_back(rig.lockstep_frame(k));
+    after_frame();
+    progress(static_cast<double>(k) * period);
   }
+  rig.tick_through(n_ticks - 1);
 }
 
 // Realtime: the haptic loop on its own thread at wall-clock rate, the model on this thread as fast as it can
 // (never ahead of the wall clock); only the two LatestValue hand-offs are shared.
-// The deformation leaves one core to the haptic thread: an OpenMP team spinning on every core starves it
-// (measured: 918 Hz and a 3.9 ms p99 jitter with a solve on both cores). Restored when the session ends.
-class DeformationThreads {
- public:
-  DeformationThreads() : saved_(omp_get_max_threads()) {
-    omp_set_num_threads(std::max(1, static_cast<int>(std::thread::hardware_concurrency()) - 1));
-  }
-  ~DeformationThreads() { omp_set_num_threads(saved_); }
-  DeformationThreads(const DeformationThreads&) = delete;
-  DeformationThreads& operator=(const DeformationThreads&) = delete;
-
- private:
-  int saved_;
-};
-
-void run_realtime(const SessionInputs& in, HapticSide& h, DeviceDrivenModel& model, ContactPublisher& publisher,
-                  std::vector<FrameSample>& history, const std::function<void()>& after_frame,
-                  ProgressThrottle& progress) {
+void run_realtime(const SessionInputs& in, HapticRig& rig, DeviceDrivenModel& model, std::vector<FrameSample>& history,
+                  const std::function<void()>& after_frame, ProgressThrottle& progress) {
   const DeformationThreads threads;
-  h.loop->start();
+  rig.start();
   try {
-    const Stopwatch run;
-    for (;;) {
-      const double wall = run.seconds();
-      if (wall >= in.duration_s) break;
-      h.to_sim.update();
-      if (h.to_sim.value().sequence == 0) {
+    const RealtimeClock clock;
+    FrameSample sample;
+    while (clock.seconds() < in.duration_s) {
+      if (!rig.realtime_frame(sample)) {
         std::this_thread::sleep_for(std::chrono::microseconds(100));
         continue;
       }
-      history.push_back(publisher.step(h.to_sim.value()));
+      history.push_back(sample);
       after_frame();
-      progress(wall);
-      const double ahead = model.time() - run.seconds();
-      if (ahead > 0.0) std::this_thread::sleep_for(std::chrono::duration<double>(ahead));
+      progress(clock.seconds());
+      clock.wait_for(model.time());
     }
   } catch (...) {
-    h.loop->stop();
+    rig.stop();
     throw;
   }
-  h.loop->stop();
+  rig.stop();
 }
 
 std::string history_row(const FrameSample& s) {
@@ -222,7 +172,7 @@ nlohmann::json replay_comparison(const HapticRunOptions& options, const SessionR
 }
 
 nlohmann::json session_statistics(const Scene& scene, const HapticRunOptions& options, const SessionInputs& in,
-                                  const HapticSide& h, const std::vector<FrameSample>& history, double run_s) {
+                                  const HapticRig& rig, const std::vector<FrameSample>& history, double run_s) {
   std::vector<double> step_ms;
   double max_force = 0.0;
   for (const auto& s : history) {
@@ -233,11 +183,11 @@ nlohmann::json session_statistics(const Scene& scene, const HapticRunOptions& op
   nlohmann::json haptics = {
       {"mode", in.mode},
       {"tool", scene.obstacles[in.tool].name},
-      {"device", std::string(h.device->name())},
+      {"device", std::string(rig.device().name())},
       {"trajectory", options.replay.empty() ? spec.trajectory : options.replay.string()},
       {"duration_s", in.duration_s},
       {"rate_hz", spec.rate_hz},
-      {"ticks", h.recording->size()},
+      {"ticks", rig.recording().size()},
       {"simulation_steps", history.size()},
       {"deformation_rate_hz", run_s > 0.0 ? static_cast<double>(history.size()) / run_s : 0.0},
       {"step_wall_ms",
@@ -247,8 +197,8 @@ nlohmann::json session_statistics(const Scene& scene, const HapticRunOptions& op
       {"max_force_on_tool_n", max_force},
       {"force_scale", spec.force_scale},
       {"force_limit_n", spec.force_limit_n},
-      {"loop", h.loop->stats()}};
-  if (!options.replay.empty()) haptics["replay"] = replay_comparison(options, *h.recording, in.recorded_forces);
+      {"loop", rig.loop().stats()}};
+  if (!options.replay.empty()) haptics["replay"] = replay_comparison(options, rig.recording(), in.recorded_forces);
   return haptics;
 }
 
@@ -271,12 +221,8 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   // Realtime: the model may use time budgets and background work; lockstep stays deterministic.
   model.set_realtime(in.mode == "realtime");
   const auto n_ticks = static_cast<std::size_t>(std::floor(in.duration_s * spec.rate_hz + 1e-9)) + 1;
-  HapticSide h;
-  build_haptic_side(scene, options, in, n_ticks, h);
-  ContactPublisher publisher(model, in.tool, spec.force_scale, h.limits.max_stiffness_n_per_m, h.from_sim);
-  // The tool starts where the device starts (no sweep from the scene's rest pose).
-  const DevicePose first = h.device->pose(in.trajectory.start_time_s());
-  model.set_tool_pose(in.tool, first.position_m, first.orientation);
+  const SessionDevice device = session_device(scene, options, in, n_ticks);
+  HapticRig rig(model, scene, *device.device, {in.tool, in.trajectory.start_time_s(), true, n_ticks + 16});
   const double setup_s = total.seconds();
 
   // Surface series at the model's output interval (every frame for a load-stepped model).
@@ -303,20 +249,20 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   ProgressThrottle progress(options, in.duration_s);
   const Stopwatch run;
   if (in.mode == "lockstep")
-    run_lockstep(scene, in, n_ticks, h, publisher, history, after_frame, progress);
+    run_lockstep(scene, n_ticks, rig, history, after_frame, progress);
   else
-    run_realtime(in, h, model, publisher, history, after_frame, progress);
+    run_realtime(in, rig, model, history, after_frame, progress);
   const double run_s = run.seconds();
   if (options.on_progress) options.on_progress(in.duration_s, in.duration_s);
 
   CsvTable history_csv = out.table("force_history.csv", force_history_columns());
   for (const auto& s : history) history_csv.add_row(history_row(s));
-  h.recording->write_csv(out.path("session.csv"));
-  h.recording->write_ticks_csv(out.path("haptic_ticks.csv"));
-  if (!options.record.empty()) h.recording->write_csv(options.record);
+  rig.recording().write_csv(out.path("session.csv"));
+  rig.recording().write_ticks_csv(out.path("haptic_ticks.csv"));
+  if (!options.record.empty()) rig.recording().write_csv(options.record);
 
   nlohmann::json summary = describe_run(scene, sim);
-  summary["haptics"] = session_statistics(scene, options, in, h, history, run_s);
+  summary["haptics"] = session_statistics(scene, options, in, rig, history, run_s);
   summary["timings_s"] = {{"setup", setup_s}, {"session", run_s}, {"total", total.seconds()}};
   summary["outputs"] = {{"force_history_csv", "force_history.csv"},
                         {"session_csv", "session.csv"},

@@ -222,14 +222,6 @@ RegionSpec read_region(JsonReader r) {
   return reg;
 }
 
-// The names of the registered models that have a capability.
-std::vector<std::string> model_names_with(bool ModelCapabilities::*capability) {
-  std::vector<std::string> names;
-  for (const ModelEntry& e : model_registry())
-    if (e.capabilities.*capability) names.push_back(e.name);
-  return names;
-}
-
 void read_material(JsonReader& root, Scene& sc) {
   JsonReader mat = root.object("material");
   sc.material_law = mat.string("law", "svk", materials::hyperelastic_law_names());
@@ -412,6 +404,25 @@ void read_haptics(JsonReader& root, const std::string& file, Scene& sc) {
   }
 }
 
+void read_viewer(JsonReader& root, const std::string& file, Scene& sc) {
+  JsonReader v = root.object("viewer");
+  const std::filesystem::path texture = v.string("texture", "");
+  sc.viewer.texture = texture.empty() || texture.is_absolute()
+                          ? texture.string()
+                          : (std::filesystem::path(file).parent_path() / texture).lexically_normal().string();
+  sc.viewer.texture_repeats = v.number("texture_repeats", 1.0, 1e-3, 1e3);
+  sc.viewer.force_threshold_n = v.number("force_threshold_n", 0.0, 0.0, 1e6);
+  const Vec3 superior = v.vec3("superior", Vec3::UnitZ());
+  const Vec3 anterior = v.vec3("anterior", Vec3::UnitY());
+  if (!(superior.norm() > 0.0)) v.fail("superior", "must be a non-zero vector");
+  sc.viewer.superior = superior.normalized();
+  const Vec3 a = anterior - anterior.dot(sc.viewer.superior) * sc.viewer.superior;
+  if (!(a.norm() > 1e-6 * anterior.norm()))
+    v.fail("anterior", "must be a non-zero vector not parallel to viewer.superior");
+  sc.viewer.anterior = a.normalized();
+  v.finish();
+}
+
 void read_reference(JsonReader& root, Scene& sc) {
   JsonReader ref = root.object("reference");
   sc.reference.type = ref.string("type", "", {"timoshenko_cantilever"});
@@ -529,6 +540,7 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   read_tools(root, sc);
   read_model_blocks(root, sc);
   read_haptics(root, file, sc);
+  read_viewer(root, file, sc);
   read_reference(root, sc);
   read_mapping_and_output(root, sc);
   root.finish();

@@ -104,6 +104,20 @@ struct HapticsSpec {
   double proxy_mass_kg = 0.005, coupling_stiffness_n_per_m = 500.0, coupling_damping_n_s_per_m = -1.0;
 };
 
+/// How the viewer shows the scene (`vascsim view`, docs/viewer.md). Every key is optional; headless runs
+/// ignore the block.
+struct ViewerSpec {
+  std::string texture;             ///< wall texture image (resolved against the scene's folder); "" : procedural
+  double texture_repeats = 1.0;    ///< copies of the image around the vessel
+  /// The force arrow and the HUD turn red above this force on the tool, N. 0: the force at which the device
+  /// clamps (haptics.force_limit_n / haptics.force_scale).
+  double force_threshold_n = 0.0;
+  /// The patient's axes in the scene frame (unit; anterior is made perpendicular to superior): the camera's
+  /// up and home direction, the C-arm's rotation axes. The swept vessels lie along +z.
+  Vec3 superior = Vec3::UnitZ();
+  Vec3 anterior = Vec3::UnitY();
+};
+
 struct OutputSpec {
   bool vtk = false;    ///< node cloud series vtk/nodes.pvd
   bool surface = false;  ///< surface series vtk/surface.pvd (MLS-mapped; vessels and lattices)
@@ -131,6 +145,7 @@ struct Scene {
   MlsMapOptions mapping;  ///< the surface map (output.surface)
   OutputSpec output;
   HapticsSpec haptics;
+  ViewerSpec viewer;
   nlohmann::json resolved;  ///< the JSON after overrides (for summary.json)
 
   /// The settings of model `name` as its settings struct S (e.g. scene.settings<XpbdSettings>("xpbd")).

@@ -1,9 +1,9 @@
 #pragma once
-// Hands the newest RenderFrame from the simulation thread to the render thread without either ever
-// waiting for the other.
+// Hands the newest frame (the viewer's surface snapshot, render/render_frame.hpp) from the simulation thread
+// to the render thread without either ever waiting for the other.
 //
 // Choice: interaction/latest_value.hpp is a lock-free triple buffer, but it copies the value in write()
-// and so needs a trivially copyable type. A RenderFrame holds vectors. This is the same triple buffer
+// and so needs a trivially copyable type. A frame holds vectors. This is the same triple buffer
 // (three slots, a shared "middle" index with a fresh bit, one atomic exchange per hand-off) with the
 // copy left to the caller: the producer fills the slot it owns in place (back(), which keeps its vectors'
 // capacity, so a steady stream of same-sized frames allocates nothing), then publish() swaps it into the
@@ -18,7 +18,7 @@
 #include <atomic>
 #include <cstdint>
 
-namespace vascsim::render {
+namespace vascsim {
 
 template <typename T>
 class FrameExchange {
@@ -36,6 +36,10 @@ class FrameExchange {
         middle_.exchange(static_cast<std::uint8_t>(back_ | kFresh), std::memory_order_acq_rel);
     back_ = previous & kIndexMask;
   }
+
+  /// Producer only. The last published frame has not been taken yet: a frame published now would replace
+  /// it unseen, so a producer may skip preparing one (a relaxed hint: a take may be seen late).
+  bool pending() const { return (middle_.load(std::memory_order_relaxed) & kFresh) != 0; }
 
   /// Consumer only. Takes the newest published frame if there is one (true). Never blocks.
   bool update() {
@@ -61,4 +65,4 @@ class FrameExchange {
   alignas(64) std::uint8_t front_ = 2;
 };
 
-}  // namespace vascsim::render
+}  // namespace vascsim

@@ -177,5 +177,38 @@ TEST(ImplicitModel, ADeviceJumpIsFollowedInBoundedSteps) {
   EXPECT_LT((*m2.tool_position_used(0) - target).norm(), 1e-15);
 }
 
+// A tool out of contact goes at once as far as its way touches no node (a catheter moving through the lumen at
+// hand speed must not trail the hand by 0.25 node spacings per frame), and only from there in bounded steps: a
+// device 5 mm above the block that jumps to 1 mm above it is followed in one frame; one that jumps from 3 mm
+// above to 1 mm deep is followed in one frame to within one path sample (half a tool radius, 0.5 mm) then at
+// most one bounded step past the first touch.
+TEST(ImplicitModel, AToolInFreeSpaceGoesAtOnceUpToTheTissue) {
+  json doc = pressed_block("implicit");
+  doc["obstacles"][0]["motion_m"] = {0.0, 0.0, 0.0};
+  Simulation sim(parse_scene(doc, "catheter-block"));
+  auto& model = dynamic_cast<ImplicitModel&>(sim.model());
+  // At tip0 the tilted catheter's tip lies beyond the block's edge (x = 6 mm) and its shaft over the edge is
+  // 0.12 mm above the top face (z = 3 mm): it first touches between tip0 and 0.15 mm below it.
+  const Vec3 tip0(0.0075, 0.0032, 0.00398);
+  const Eigen::Quaterniond q = orientation_pointing(Vec3(1, 0, -0.08));
+  const double bounded = 0.25 * sim.discretization().mean_spacing();
+  model.set_tool_pose(0, tip0 + Vec3(0, 0, 5e-3), q);
+  model.step();
+  model.set_tool_pose(0, tip0 + Vec3(0, 0, 1e-3), q);
+  model.step();
+  EXPECT_LT((*model.tool_position_used(0) - (tip0 + Vec3(0, 0, 1e-3))).norm(), 1e-15);
+  EXPECT_EQ(model.tool_loads().at(0).contacts, 0);
+
+  model.set_tool_pose(0, tip0 + Vec3(0, 0, 3e-3), q);
+  model.step();
+  model.set_tool_pose(0, tip0 - Vec3(0, 0, 1e-3), q);
+  model.step();
+  const double z = model.tool_position_used(0)->z();
+  std::printf("[ implicit ] free-space jump: the tool went from %.4g mm to %.4g mm above the touching pose\n", 3.0,
+              1e3 * (z - tip0.z()));
+  EXPECT_LT(z - tip0.z(), 0.5e-3 + 1e-9);       // at most one path sample short of the tissue
+  EXPECT_GT(z - tip0.z(), -0.15e-3 - bounded);  // and not deeper than one bounded step past first touch
+}
+
 }  // namespace
 }  // namespace vascsim

@@ -127,6 +127,34 @@ void ImplicitModel::place_tools(double s) {
   for (std::size_t o = 0; o < tools_.size(); ++o) contacts_.place(o, tools_.geometry(o, s));
 }
 
+double ImplicitModel::free_travel(std::size_t o) const {
+  // The way is sampled at poses half a tool radius apart (so a fast tool cannot pass through a thin wall
+  // between two frames), over at most 128 radii per frame (256 samples: the check stays a few milliseconds).
+  const double d = tools_.distance_to_target(o);
+  if (d <= 0.0) return std::numeric_limits<double>::infinity();
+  const double sample = 0.5 * problem_.tools()[o].radius_m;
+  const double reach = std::min(d, 256.0 * sample);
+  const int samples = std::max(1, static_cast<int>(std::ceil(reach / sample)));
+  for (int k = 1; k <= samples; ++k) {
+    const double f = (reach / d) * static_cast<double>(k) / samples;
+    const constraints::Capsule g = tools_.geometry_towards_target(o, f);
+    for (Index i : free_.nodes)
+      if (obstacle_contact(g, x_[static_cast<std::size_t>(i)]).value < 0.0) return reach * (k - 1) / samples;
+  }
+  return reach < d ? reach : std::numeric_limits<double>::infinity();
+}
+
+void ImplicitModel::advance_tools() {
+  // A tool out of contact goes at once as far as its way to the device's pose touches no node (a catheter
+  // moving through the lumen at hand speed); from there, or when it is in contact, it moves by at most
+  // max_tool_step node spacings per frame.
+  const double bounded = settings_.max_tool_step * spacing_;
+  for (std::size_t o = 0; o < tools_.size(); ++o) {
+    const double step = loads_[o].contacts > 0 ? bounded : free_travel(o) + bounded;
+    max_tool_lag_ = std::max(max_tool_lag_, tools_.advance(o, step));
+  }
+}
+
 void ImplicitModel::set_tool_pose(std::size_t tool, const Vec3& position_m, const Eigen::Quaterniond& orientation) {
   tools_.pose(tool, position_m, orientation);
 }
@@ -241,8 +269,7 @@ StepReport ImplicitModel::step() {
   const double s_next = ramped_load_factor(t_next, settings_.ramp_time_s);
   Vec3Array f_ext;
   problem_.external_forces(s_next, f_ext);
-  if (settings_.max_tool_step > 0.0)
-    max_tool_lag_ = std::max(max_tool_lag_, tools_.advance(settings_.max_tool_step * spacing_));
+  if (settings_.max_tool_step > 0.0) advance_tools();
   prepare_frame(s_next);
   const auto deadline = realtime_ && settings_.time_budget_s > 0.0
                             ? SteadyClock::now() + std::chrono::duration_cast<SteadyClock::duration>(

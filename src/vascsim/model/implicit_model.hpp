@@ -52,9 +52,10 @@ struct ImplicitSettings {
   int refactor_cg_iterations = 12;   ///< ... or a Newton iteration needed more CG iterations than this,
   double refactor_residual = 0.0;    ///< ... or a frame ended above this relative residual (0: not a trigger),
   double refactor_travel = 0.5;      ///< ... or a tool travelled this many node spacings since the factor
-  /// A device-posed tool moves by at most this many node spacings per frame (0: at once). A frame then never
-  /// starts from a tool that jumped deep into the wall: under a fast hand or a slow frame the model's tool trails
-  /// the device, and the haptic thread bridges the gap with the wall's linearised response.
+  /// A device-posed tool in contact moves by at most this many node spacings per frame; one out of contact goes
+  /// at once as far as its way touches no node, then by at most this much (0: always at once). A frame then
+  /// never starts from a tool that jumped deep into the wall: under a fast hand or a slow frame the model's tool
+  /// trails the device, and the haptic thread bridges the gap with the wall's linearised response.
   double max_tool_step = 0.25;
 };
 
@@ -95,6 +96,8 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
  private:
   struct Factor;  // a factor and the linearisation computed with it
   void place_tools(double s);
+  void advance_tools();                         // towards the device poses, in bounded steps where they meet tissue
+  double free_travel(std::size_t tool) const;   // how far a tool can go towards its pose before it touches a node, m
   void prepare_frame(double s);                 // prescribed nodes, warm start, tools, contacts
   void maybe_refactor(const NewtonResult& r);  // the drift triggers
   /// A factor at x, refilling `reuse` (a factor no frame uses any more) when given.

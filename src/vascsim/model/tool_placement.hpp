@@ -31,23 +31,29 @@ class ToolPlacement {
   }
   /// Bounded following (a real-time model): poses move towards their targets only in advance().
   void set_bounded(bool bounded) { bounded_ = bounded; }
-  /// Moves every posed tool towards its target by at most max_step_m (the orientation turns by the same
-  /// fraction of the way). Returns the largest distance still to go, m.
-  double advance(double max_step_m) {
-    double lag = 0.0;
-    for (std::size_t o = 0; o < tools_.size(); ++o) {
-      if (!posed_[o]) continue;
-      const Vec3 to_go = target_[o].position - used_[o].position;
-      const double d = to_go.norm();
-      if (d <= max_step_m) {
-        place(o, target_[o]);
-        continue;
-      }
-      const double f = max_step_m / d;
-      place(o, {used_[o].position + f * to_go, used_[o].orientation.slerp(f, target_[o].orientation)});
-      lag = std::max(lag, d - max_step_m);
+  /// Moves posed tool o towards its target by at most max_step_m (the orientation turns by the same fraction of
+  /// the way; infinity: to the target). Returns the distance still to go, m.
+  double advance(std::size_t o, double max_step_m) {
+    if (!posed_.at(o)) return 0.0;
+    const Vec3 to_go = target_[o].position - used_[o].position;
+    const double d = to_go.norm();
+    if (d <= max_step_m) {
+      place(o, target_[o]);
+      return 0.0;
     }
-    return lag;
+    const double f = max_step_m / d;
+    place(o, {used_[o].position + f * to_go, used_[o].orientation.slerp(f, target_[o].orientation)});
+    return d - max_step_m;
+  }
+  /// Posed tool o's contact geometry a fraction f (in [0, 1]) of the way from where the model has it to the
+  /// device's pose.
+  constraints::Capsule geometry_towards_target(std::size_t o, double f) const {
+    return obstacle_posed(tools_[o], used_[o].position + f * (target_[o].position - used_[o].position),
+                          used_[o].orientation.slerp(f, target_[o].orientation));
+  }
+  /// How far posed tool o is from the device's pose, m (0 for a tool no device posed).
+  double distance_to_target(std::size_t o) const {
+    return posed_[o] ? (target_[o].position - used_[o].position).norm() : 0.0;
   }
   /// Tool o's contact geometry at load factor s.
   constraints::Capsule geometry(std::size_t o, double s) const {

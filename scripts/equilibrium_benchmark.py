@@ -125,9 +125,10 @@ def main():
                      "value": f"{sum(s['wall_s'] for s in steps) / len(steps):.0f} s (setup {av['timings_s']['setup']:.0f} s)",
                      "target": "<= 2 min"})
     env = dict(os.environ, OMP_NUM_THREADS="1")
-    stdout, _ = sh([args.bench, "--benchmark_filter=BM_HessianProduct", "--benchmark_format=json",
-                    "--benchmark_repetitions=3", "--benchmark_report_aggregates_only=true"], env=env)
-    bench = json.loads(stdout)
+    bench_json = out / "hessian_product.json"  # a file: the library's log lines go to stdout
+    sh([args.bench, "--benchmark_filter=BM_HessianProduct", f"--benchmark_out={bench_json}",
+        "--benchmark_out_format=json", "--benchmark_repetitions=3", "--benchmark_report_aggregates_only=true"], env=env)
+    bench = json.loads(bench_json.read_text())
     hp = [b for b in bench["benchmarks"] if b.get("aggregate_name") == "median"]
     rows.append({"what": "Hessian product, 1 thread, ns per neighbour pair",
                  "value": ", ".join(f"{b['name'].split('/')[1]}^3 nodes: {b['ns_per_pair']:.1f}" for b in hp),

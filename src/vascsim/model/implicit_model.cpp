@@ -10,6 +10,7 @@
 
 #include "vascsim/core/blas_control.hpp"
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/stopwatch.hpp"
 
 namespace vascsim {
 
@@ -264,6 +265,7 @@ void ImplicitModel::prepare_frame(double s) {
 }
 
 StepReport ImplicitModel::step() {
+  const Stopwatch frame;
   poll_background();
   const double t_next = t_ + h_;
   const double s_next = ramped_load_factor(t_next, settings_.ramp_time_s);
@@ -275,7 +277,9 @@ StepReport ImplicitModel::step() {
                             ? SteadyClock::now() + std::chrono::duration_cast<SteadyClock::duration>(
                                                        std::chrono::duration<double>(settings_.time_budget_s))
                             : SteadyClock::time_point::max();
+  Stopwatch phase;
   const NewtonResult r = newton_.solve(x_, s_next, f_ext, InertiaTerm{1.0 / (h_ * h_), &anchor_}, deadline);
+  split_.solve_s += phase.seconds();
   for (std::size_t i = 0; i < x_.size(); ++i) v_[i] = (x_[i] - x_old_[i]) / h_;
   if (!contacts_.empty()) loads_ = contacts_.loads(newton_.last_residual(), x_, tools_.points(s_next));
   t_ = t_next;
@@ -289,8 +293,13 @@ StepReport ImplicitModel::step() {
   unconverged_ += r.converged ? 0 : 1;
   last_residual_ = r.residual;
   worst_residual_ = std::max(worst_residual_, r.residual);
+  phase.restart();
   maybe_refactor(r);
+  split_.refactor_s += phase.seconds();
+  phase.restart();
   linearize();
+  split_.linearize_s += phase.seconds();
+  split_.frame_s += frame.seconds();
   StepReport rep;
   rep.time_s = t_;
   rep.load_factor = s_;
@@ -338,6 +347,13 @@ nlohmann::json ImplicitModel::info() const {
                       {"duration_s", settings_.duration_s},
                       {"ramp_time_s", settings_.ramp_time_s},
                       {"output_interval_s", settings_.output_interval_s}};
+  // Where a frame's wall time goes, seconds summed over the frames: the Newton-PCG solve, the synchronous
+  // refactorisations (lockstep; a realtime session builds them in the background), the tools' linearisation
+  // for the haptic thread (its compliance solves), and the whole frame.
+  j["wall_time_s"] = {{"frames", split_.frame_s},
+                      {"solve", split_.solve_s},
+                      {"refactor", split_.refactor_s},
+                      {"linearize", split_.linearize_s}};
   j["preconditioner"] = factor_ ? factor_->factor->info() : tet_->info();
   return j;
 }

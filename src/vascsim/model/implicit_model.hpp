@@ -130,6 +130,9 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   long long frames_ = 0, newton_total_ = 0, cg_total_ = 0, out_of_time_ = 0, unconverged_ = 0;
   double last_residual_ = 0.0, worst_residual_ = 0.0;
   double max_tool_lag_ = 0.0;  // the farthest a tool trailed its device pose, m
+  struct {
+    double frame_s = 0.0, solve_s = 0.0, refactor_s = 0.0, linearize_s = 0.0;
+  } split_;  // wall time per phase, summed over the frames
 };
 
 }  // namespace vascsim

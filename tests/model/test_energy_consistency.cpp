@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "support/energy_checks.hpp"
 #include "support/test_support.hpp"
 
 #include <nlohmann/json.hpp>
@@ -27,25 +28,14 @@ namespace {
 using namespace vascsim;
 using test::kDelta;
 using test::record;
+using test::fd_force_error;
+using test::large_deformation;
+using test::max_norm;
 
 // MODEL.md section 6 default: jittered (+-0.2 Delta) 7^3 cloud, h = 2 Delta.
 NodeCloud jittered_cloud() { return test::lattice(6, 0.2, 11); }
 
 Material tissue() { return test::tissue(1e5); }
-
-// MODEL.md T4/T5 deformation: x = R (I + 0.1 rand) X plus 0.05 Delta noise (rand, noise uniform in [-1, 1]).
-Vec3Array large_deformation(const Vec3Array& X, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> uni(-1.0, 1.0);
-  Mat3 B;
-  for (int k = 0; k < 9; ++k) B(k) = uni(rng);
-  const Mat3 R = Eigen::AngleAxisd(2.0, Vec3(1.0, 2.0, -0.5).normalized()).toRotationMatrix();
-  const Mat3 A = R * (Mat3::Identity() + 0.1 * B);
-  Vec3Array x(X.size());
-  for (std::size_t i = 0; i < X.size(); ++i)
-    x[i] = A * X[i] + 0.05 * kDelta * Vec3(uni(rng), uni(rng), uni(rng));
-  return x;
-}
 
 struct TermCase {
   const char* name;
@@ -77,40 +67,6 @@ std::vector<TermCase> term_cases(const Material& m, Index num_nodes) {
             law("hgo", nlohmann::json{{"shear_modulus_pa", mu}, {"bulk_modulus_pa", kappa}, {"k1_pa", mu}, {"k2", 1.0},
                         {"fibre_angle_deg", 29.0}}),
             frames}}};
-}
-
-double max_norm(const Vec3Array& a) {
-  double m = 0.0;
-  for (const Vec3& v : a) m = std::max(m, v.norm());
-  return m;
-}
-
-// The finite-difference loops below evaluate the energy of 343 nodes a few hundred times (one thread: see
-// test::SingleThreaded).
-using test::SingleThreaded;
-
-// max over 30 random DOFs of |f + dU/dx| / max|f|, with dU/dx by central differences of step 1e-7 Delta.
-double fd_force_error(const std::function<double(const Vec3Array&)>& U, const Vec3Array& f, Vec3Array x) {
-  const SingleThreaded serial;
-  std::mt19937_64 rng(99);
-  std::uniform_int_distribution<std::size_t> node(0, x.size() - 1);
-  std::uniform_int_distribution<int> comp(0, 2);
-  const double step = 1e-7 * kDelta;
-  double f_max = 0.0;
-  for (const Vec3& v : f) f_max = std::max(f_max, v.cwiseAbs().maxCoeff());
-  double err = 0.0;
-  for (int s = 0; s < 30; ++s) {
-    const std::size_t i = node(rng);
-    const int c = comp(rng);
-    const double x0 = x[i][c];
-    x[i][c] = x0 + step;
-    const double up = U(x);
-    x[i][c] = x0 - step;
-    const double down = U(x);
-    x[i][c] = x0;
-    err = std::max(err, std::abs(f[i][c] + (up - down) / (2.0 * step)));
-  }
-  return err / f_max;
 }
 
 // A local scatter-form assembly of MODEL.md 1.8, f_k = -sum_i Ptilde_i d_ik, for formulations the library

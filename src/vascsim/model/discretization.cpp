@@ -21,9 +21,27 @@ struct Trial {
   std::vector<double> w;
   Mat3 A = Mat3::Zero();
   double eigen_ratio = 0.0;
+  double fit_ratio = 1.0;  // quadratic basis: lambda_min / lambda_max of B_i / tr(B_i)
 };
 
-Trial evaluate(const Vec3Array& X, Index i, double h, const SpatialGrid& grid) {
+// B_i = sum_j w_ij p_ij p_ij^T of the quadratic basis (local_fit.hpp), monomials scaled by h.
+Mat9 quadratic_moment(const Vec3Array& X, Index i, const Trial& t, double h) {
+  Mat9 B = Mat9::Zero();
+  for (std::size_t a = 0; a < t.nbr.size(); ++a) {
+    const Vec9 p = quadratic_monomials(X[t.nbr[a]] - X[i], h);
+    B.noalias() += t.w[a] * p * p.transpose();
+  }
+  return B;
+}
+
+double eigen_ratio_of(const Mat9& B) {
+  const double tr = B.trace();
+  if (!(tr > 0.0)) return 0.0;
+  Eigen::SelfAdjointEigenSolver<Mat9> es(B / tr, Eigen::EigenvaluesOnly);
+  return es.eigenvalues().maxCoeff() > 0.0 ? es.eigenvalues().minCoeff() / es.eigenvalues().maxCoeff() : 0.0;
+}
+
+Trial evaluate(const Vec3Array& X, Index i, double h, const SpatialGrid& grid, GradientBasis basis) {
   Trial t;
   grid.for_each_within(X[i], h, [&](Index j, double) {
     if (j != i) t.nbr.push_back(j);
@@ -42,6 +60,7 @@ Trial evaluate(const Vec3Array& X, Index i, double h, const SpatialGrid& grid) {
     const Vec3 ev = es.eigenvalues();
     t.eigen_ratio = ev.maxCoeff() > 0.0 ? ev.minCoeff() / ev.maxCoeff() : 0.0;
   }
+  if (basis == GradientBasis::Quadratic) t.fit_ratio = eigen_ratio_of(quadratic_moment(X, i, t, h));
   return t;
 }
 
@@ -93,14 +112,18 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
   h_.assign(n, h0);
   std::vector<Trial> trials(n);
   std::vector<int> failed(n, 0);
+  const bool quadratic = opt.basis == GradientBasis::Quadratic;
+  const int min_neighbours = quadratic ? std::max(opt.min_neighbours, opt.quadratic_min_neighbours) : opt.min_neighbours;
+  auto accepted = [&](const Trial& t) {
+    return static_cast<int>(t.nbr.size()) >= min_neighbours && t.eigen_ratio >= opt.min_eigen_ratio &&
+           (!quadratic || t.fit_ratio >= opt.quadratic_min_eigen_ratio);
+  };
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index i = 0; i < n; ++i) {
     double h = h0;
     for (int g = 0;; ++g) {
-      trials[i] = evaluate(X_, i, h, grid);
-      const bool ok = static_cast<int>(trials[i].nbr.size()) >= opt.min_neighbours &&
-                      trials[i].eigen_ratio >= opt.min_eigen_ratio;
-      if (ok) break;
+      trials[i] = evaluate(X_, i, h, grid, opt.basis);
+      if (accepted(trials[i])) break;
       if (g == opt.max_growths) {
         failed[i] = 1;
         break;
@@ -112,12 +135,16 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
   for (Index i = 0; i < n; ++i) {
     if (failed[i]) {
       const Vec3& p = X_[i];
+      const std::string fit = quadratic ? fmt::format(", ratio {:.3g} of the quadratic fit's B_i/tr(B_i) (need >= {:.1g})",
+                                                      trials[i].fit_ratio, opt.quadratic_min_eigen_ratio)
+                                        : std::string();
       throw NumericalError(fmt::format(
           "discretization: node {} at ({:.6g}, {:.6g}, {:.6g}) m has {} neighbours and eigenvalue ratio {:.3g} "
-          "of A_i/tr(A_i) even at support radius {:.4g} m (need >= {} neighbours and ratio >= {:.1g}); its "
-          "neighbourhood is too sparse or coplanar: use a finer node spacing or more layers through the wall",
-          i, p.x(), p.y(), p.z(), trials[i].nbr.size(), trials[i].eigen_ratio, h_[i], opt.min_neighbours,
-          opt.min_eigen_ratio));
+          "of A_i/tr(A_i){} even at support radius {:.4g} m (need >= {} neighbours and ratio >= {:.1g}): its "
+          "neighbourhood is too sparse or coplanar. Let the support grow further (discretization.max_growths, now "
+          "{}; at most 10) or use a finer node_spacing_m",
+          i, p.x(), p.y(), p.z(), trials[i].nbr.size(), trials[i].eigen_ratio, fit, h_[i], min_neighbours,
+          opt.min_eigen_ratio, opt.max_growths));
     }
     if (h_[i] > h0) ++grown_nodes_;
   }
@@ -134,19 +161,28 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
   self_d_.assign(n, Vec3::Zero());
   moment_trace_.assign(n, 0.0);
   moment_.assign(n, Mat3::Zero());
+  basis_ = opt.basis;
+  if (quadratic) fit_.resize(npairs);
 #pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) {
     const Trial& t = trials[i];
     const Mat3 Ainv = t.A.inverse();  // well conditioned by the guard above (double precision)
     moment_trace_[i] = t.A.trace();
     moment_[i] = t.A;
+    Mat9 Binv;
+    if (quadratic) Binv = quadratic_moment(X_, i, t, h_[i]).inverse();  // conditioned by the guard (double)
     Vec3 dsum = Vec3::Zero();
     for (std::size_t a = 0; a < t.nbr.size(); ++a) {
       const Index e = pairs_.row_start[i] + static_cast<Index>(a);
       const Vec3 Xij = X_[t.nbr[a]] - X_[i];
       pairs_.col[e] = t.nbr[a];
       pairs_.w[e] = t.w[a];
-      pairs_.d[e] = t.w[a] * (Ainv * Xij);
+      if (quadratic) {
+        fit_[e] = t.w[a] * (Binv * quadratic_monomials(Xij, h_[i]));
+        pairs_.d[e] = fit_[e].head<3>() / h_[i];  // the gradient rows of the fit, per metre
+      } else {
+        pairs_.d[e] = t.w[a] * (Ainv * Xij);
+      }
       dsum += pairs_.d[e];
     }
     self_d_[i] = -dsum;
@@ -205,6 +241,28 @@ double Discretization::total_volume() const { return std::accumulate(V_.begin(),
 
 double Discretization::mean_neighbours() const {
   return static_cast<double>(pairs_.col.size()) / static_cast<double>(num_nodes());
+}
+
+Eigen::MatrixXd Discretization::fit_residual_operator(Index i) const {
+  // r_ij = y_ij - sum_l y_il q_jl with q_jl = d_il . X_ij (linear: the affine fit's prediction at X_ij) or
+  // fit_il . p(X_ij / h_i) (quadratic), y_ij = y_j - y_i: R = (I - Q) [-1 | I].
+  const Index K = pairs_.row_size(i);
+  const Index e0 = pairs_.row_start[i];
+  Eigen::MatrixXd R(K, K + 1);
+  for (Index j = 0; j < K; ++j) {
+    const Vec3 Xij = X_[static_cast<std::size_t>(pairs_.col[e0 + j])] - X_[static_cast<std::size_t>(i)];
+    const Vec9 pj = basis_ == GradientBasis::Quadratic ? quadratic_monomials(Xij, h_[i]) : Vec9::Zero();
+    double row_sum = 0.0;
+    for (Index l = 0; l < K; ++l) {
+      const double q = basis_ == GradientBasis::Quadratic ? fit_[static_cast<std::size_t>(e0 + l)].dot(pj)
+                                                           : pairs_.d[static_cast<std::size_t>(e0 + l)].dot(Xij);
+      const double v = (j == l ? 1.0 : 0.0) - q;
+      R(j, 1 + l) = v;
+      row_sum += v;
+    }
+    R(j, 0) = -row_sum;
+  }
+  return R;
 }
 
 Mat3 Discretization::displacement_gradient(Index i, const Vec3Array& u, bool eq3_literal_sign) const {

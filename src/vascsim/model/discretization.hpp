@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "vascsim/geometry/node_cloud.hpp"
+#include "vascsim/model/local_fit.hpp"
 #include "vascsim/model/material.hpp"
 
 namespace vascsim {
@@ -23,6 +24,12 @@ struct DiscretizationOptions {
   double growth_factor = 1.2;          ///< h_i <- 1.2 h_i when a node fails the guard
   int max_growths = 3;                 ///< then fail loudly
   VolumeRule volume = VolumeRule::TetPartition;
+  GradientBasis basis = GradientBasis::Linear;  ///< the local fit's polynomial (local_fit.hpp)
+  /// The quadratic fit's guard, on top of the linear one: at least this many neighbours (9 unknowns per
+  /// component; twice that for a least-squares fit that averages), and lambda_min / lambda_max of B_i / tr(B_i)
+  /// at least quadratic_min_eigen_ratio (docs/model.md section 5.1 for how these were chosen).
+  int quadratic_min_neighbours = 18;
+  double quadratic_min_eigen_ratio = 1e-6;
 };
 
 /// One compressed-sparse-row table of pair data: row r lists (col, d, w).
@@ -50,8 +57,14 @@ class Discretization {
   const Vec3Array& self_d() const { return self_d_; }
   /// tr(A_i), 1/m (used by the stabiliser's c_i).
   const std::vector<double>& moment_trace() const { return moment_trace_; }
-  /// A_i = sum_j w_ij X_ij X_ij^T, 1/m (the moment matrix of Eq. 4; d_ij = w_ij A_i^{-1} X_ij).
+  /// A_i = sum_j w_ij X_ij X_ij^T, 1/m (the moment matrix of Eq. 4; d_ij = w_ij A_i^{-1} X_ij with the linear
+  /// basis).
   const std::vector<Mat3>& moment_matrices() const { return moment_; }
+  GradientBasis basis() const { return basis_; }
+  /// The residuals of node i's fit over its neighbours as a linear map of its stencil (i, N_i in the order of
+  /// row i of pairs()): r_ij = (y_j - y_i) - fit_i(X_ij) = sum_a R(j, a) y_a, a K x (K + 1) matrix (K = |N_i|),
+  /// column 0 for node i. Zero on every field the basis reproduces (affine or quadratic).
+  Eigen::MatrixXd fit_residual_operator(Index i) const;
 
   const std::vector<double>& volumes() const { return V_; }  ///< V_i, m^3
   const std::vector<double>& masses() const { return m_; }   ///< m_i = rho V_i, kg
@@ -84,6 +97,8 @@ class Discretization {
   Vec3Array self_d_;
   std::vector<double> moment_trace_, V_, m_, h_;
   std::vector<Mat3> moment_;
+  GradientBasis basis_ = GradientBasis::Linear;
+  std::vector<Vec9> fit_;  // quadratic basis: w_ij B_i^{-1} p(X_ij / h_i) per pair (dimensionless)
   double mean_spacing_ = 0.0, min_spacing_ = 0.0, tet_volume_ = 0.0;
   int grown_nodes_ = 0;
 };

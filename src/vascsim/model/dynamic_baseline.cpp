@@ -19,7 +19,7 @@ ModelEntry baseline_entry(const std::string& name, const std::string& summary,
   ModelEntry e;
   e.name = name;
   e.summary = summary;
-  e.capabilities = {.dynamic = true, .takes_tools = true, .device_driven = true, .releases_regions = false};
+  e.capabilities = {.dynamic = true, .takes_tools = true, .device_driven = true, .releases_regions = false, .quadratic_basis = true};
   e.schedule = [frames_of](const std::any& settings) { return frames_of(settings).schedule; };
   // Every baseline has its own material rule from E and nu (docs/model.md section 25): the scene's law is the
   // point-primitive model's, which they do not use.

@@ -17,8 +17,6 @@ namespace {
 // Below this many block rows a parallel region costs more than it saves.
 constexpr Index kParallelMinRows = 2048;
 
-using Mat9 = Eigen::Matrix<double, 9, 9>;
-
 // vec index of a 3x3 entry (a, c): column-major, as Eigen stores Mat3.
 constexpr int vec_index(int a, int c) { return a + 3 * c; }
 
@@ -200,12 +198,11 @@ EnergyHessian::EnergyHessian(const PointPrimitiveEnergy& energy, const EnergyHes
 }
 
 void EnergyHessian::add_stabilizer_blocks() {
-  // MODEL.md 1.9b: U_hg,i = c_i/2 sum_j w_ij |r_ij|^2 with r_ij = (x_j - x_i) - F_i X_ij and
-  // F_i X_ij = sum_l (x_l - x_i) (d_il . X_ij). Over the stencil (i, N_i) the residuals are r = R x with
-  // R = (I - Q) [-1 | I], Q_jl = d_il . X_ij, so the Hessian is c_i R^T W R (times I_3): constant.
+  // docs/model.md section 9.2: U_hg,i = c_i/2 sum_j w_ij |r_ij|^2 with r_ij the residual of node i's fit (affine or
+  // quadratic). Over the stencil (i, N_i) the residuals are r = R x (Discretization::fit_residual_operator), so
+  // the Hessian is c_i R^T W R (times I_3): constant.
   const Discretization& disc = energy_.discretization();
   const PairTable& P = disc.pairs();
-  const Vec3Array& X = disc.rest_positions();
   const Index n = disc.num_nodes();
   const auto& c = energy_.stabilizer_coefficients();
   // Where term (row of stencil node a, energy i) sits: scan the rows once, indexed by (i, a).
@@ -222,21 +219,11 @@ void EnergyHessian::add_stabilizer_blocks() {
       term_of[static_cast<std::size_t>(stencil_start[static_cast<std::size_t>(i)] + a)] = t;
     }
   }
-  Eigen::MatrixXd R, S;
+  Eigen::MatrixXd S;
   for (Index i = 0; i < n; ++i) {
     const Index K = P.row_size(i);
     const Index e0 = P.row_start[i];
-    R.setZero(K, K + 1);
-    for (Index j = 0; j < K; ++j) {
-      const Vec3 Xij = X[static_cast<std::size_t>(P.col[e0 + j])] - X[static_cast<std::size_t>(i)];
-      double row_sum = 0.0;
-      for (Index l = 0; l < K; ++l) {
-        const double v = (j == l ? 1.0 : 0.0) - P.d[static_cast<std::size_t>(e0 + l)].dot(Xij);
-        R(j, 1 + l) = v;
-        row_sum += v;
-      }
-      R(j, 0) = -row_sum;
-    }
+    const Eigen::MatrixXd R = disc.fit_residual_operator(i);
     const Eigen::Map<const Eigen::VectorXd> w(P.w.data() + e0, K);
     S.noalias() = c[static_cast<std::size_t>(i)] * R.transpose() * w.asDiagonal() * R;
     for (Index a = 0; a <= K; ++a) {

@@ -82,7 +82,6 @@ class EnergyHessian {
   std::int64_t num_stored_blocks() const { return static_cast<std::int64_t>(H_.nonZeros() / 9); }
 
  private:
-  using Mat9 = Eigen::Matrix<double, 9, 9>;
   void compute_tangents(const Vec3Array& x);
   void add_stabilizer_blocks();
 

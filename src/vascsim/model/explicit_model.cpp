@@ -29,7 +29,7 @@ ModelEntry explicit_model_entry() {
   ModelEntry e;
   e.name = "explicit";
   e.summary = "symplectic Euler below the stability limit: the verification reference";
-  e.capabilities = {.dynamic = true, .takes_tools = false, .device_driven = false, .releases_regions = false};
+  e.capabilities = {.dynamic = true, .takes_tools = false, .device_driven = false, .releases_regions = false, .quadratic_basis = true};
   e.read_settings = [](JsonReader& block) { return std::any(read_explicit_settings(block)); };
   e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
     return std::make_unique<ExplicitModel>(problem, settings_as<ExplicitSettings>(settings));

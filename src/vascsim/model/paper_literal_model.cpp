@@ -89,7 +89,7 @@ ModelEntry paper_literal_model_entry() {
   ModelEntry e;
   e.name = "paper_literal";
   e.summary = "the paper's pipeline as printed (explicit step + PBD constraints), for reproduction";
-  e.capabilities = {.dynamic = true, .takes_tools = false, .device_driven = false, .releases_regions = false};
+  e.capabilities = {.dynamic = true, .takes_tools = false, .device_driven = false, .releases_regions = false, .quadratic_basis = false};
   e.read_settings = [](JsonReader& block) { return std::any(read_paper_literal_settings(block)); };
   e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
     return std::make_unique<PaperLiteralModel>(problem, settings_as<PaperLiteralSettings>(settings));

@@ -5,6 +5,7 @@
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/parallel.hpp"
 #include "vascsim/core/tensor_algebra.hpp"
+#include "vascsim/model/stabilizer_matrix.hpp"
 
 namespace vascsim {
 
@@ -15,6 +16,7 @@ PointPrimitiveEnergy::Workspace& PointPrimitiveEnergy::workspace(Index n) {
   if (static_cast<Index>(ws.Q.size()) < n) {
     ws.Q.resize(static_cast<std::size_t>(n));
     ws.own.resize(static_cast<std::size_t>(n));
+    ws.u.resize(static_cast<std::size_t>(n));
   }
   return ws;
 }
@@ -51,7 +53,14 @@ PointPrimitiveEnergy::PointPrimitiveEnergy(const Discretization& disc, const Ene
   stab_cw_.resize(T.col.size());
   for (Index k = 0; k < n; ++k)
     for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e) stab_cw_[e] = stab_c_[T.col[e]] * T.w[e];
+  if (opt_.stabilizer_alpha > 0.0) {
+    if (disc.basis() == GradientBasis::Linear)
+      folded_stab_ = true;
+    else
+      stab_matrix_ = std::make_shared<const StabilizerMatrix>(disc, stab_c_);
+  }
 }
+
 
 Mat3 PointPrimitiveEnergy::weighted_stress(Index i, const Mat3& F, EnergyBreakdown* e) const {
   const double V = disc_.volumes()[i];
@@ -122,7 +131,7 @@ void PointPrimitiveEnergy::folded_gather(const std::vector<Mat3>& Q, const Vec3A
                                          Vec3Array& out) const {
   const Index n = disc_.num_nodes();
   const PairTable& T = disc_.transposed();
-  const bool stab = opt_.stabilizer_alpha > 0.0;
+  const bool stab = folded_stab_;
   out.resize(n);
 #pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
   for (Index k = 0; k < n; ++k) {
@@ -168,6 +177,11 @@ Mat3 PointPrimitiveEnergy::gradient_and_moments(Index i, const Vec3Array& y, Vec
 
 double PointPrimitiveEnergy::stabilizer_energy(const std::vector<Mat3>& F, const Vec3Array& x) const {
   if (opt_.stabilizer_alpha <= 0.0) return 0.0;
+  if (stab_matrix_) {
+    Workspace& ws = workspace(disc_.num_nodes());
+    for (std::size_t i = 0; i < x.size(); ++i) ws.u[i] = x[i] - disc_.rest_positions()[i];
+    return stab_matrix_->energy(ws.u);
+  }
   const PairTable& P = disc_.pairs();
   const Vec3Array& X = disc_.rest_positions();
   double U = 0.0;
@@ -205,7 +219,7 @@ EnergyBreakdown PointPrimitiveEnergy::energy(const Vec3Array& x) const {
 double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f) const {
   const Index n = disc_.num_nodes();
   Workspace& ws = workspace(n);
-  const bool stab = opt_.stabilizer_alpha > 0.0;
+  const bool stab = folded_stab_;
   double strain = 0.0, volume = 0.0, stabilizer = 0.0;
 #pragma omp parallel for schedule(static) reduction(+ : strain, volume, stabilizer) if (n >= kParallelMinNodes)
   for (Index i = 0; i < n; ++i) {
@@ -226,6 +240,11 @@ double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f) const {
     }
   }
   folded_gather(ws.Q, ws.own, x, f);
+  if (stab_matrix_) {
+    const Vec3Array& X = disc_.rest_positions();
+    for (Index i = 0; i < n; ++i) ws.u[static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(i)] - X[static_cast<std::size_t>(i)];
+    stabilizer += stab_matrix_->add_product(ws.u, f, -1.0);  // f_hg = -K u
+  }
   return strain + volume + stabilizer;
 }
 
@@ -249,7 +268,7 @@ void PointPrimitiveEnergy::hessian_product(const Vec3Array& x, const Vec3Array& 
 void PointPrimitiveEnergy::hessian_product(const Linearization& lin, const Vec3Array& v, Vec3Array& out) const {
   const Index n = disc_.num_nodes();
   Workspace& ws = workspace(n);
-  const bool stab = opt_.stabilizer_alpha > 0.0;
+  const bool stab = folded_stab_;
   // The forces are -(folded gather of Q(F(x)), x); F is linear in x and the stabiliser terms are linear in x, so
   // the product is the folded gather of dQ = dPtilde - c dF A and of v, negated.
 #pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
@@ -265,6 +284,7 @@ void PointPrimitiveEnergy::hessian_product(const Linearization& lin, const Vec3A
   }
   folded_gather(ws.Q, ws.own, v, out);
   for (auto& o : out) o = -o;
+  if (stab_matrix_) stab_matrix_->add_product(v, out, 1.0);
 }
 
 }  // namespace vascsim

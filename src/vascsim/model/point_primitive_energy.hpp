@@ -12,6 +12,8 @@
 
 namespace vascsim {
 
+class StabilizerMatrix;
+
 enum class StrainMeasure {
   GreenHalf,     ///< E = 1/2 (F^T F - I): SVK, sound (default)
   MuellerNoHalf  ///< eps = F^T F - I (Eq. 5 as printed): 4x stiffer than the E entered (paper literal)
@@ -82,6 +84,7 @@ class PointPrimitiveEnergy {
   struct Workspace {
     std::vector<Mat3> Q;  // Ptilde_i - c_i F_i A_i (or its derivative)
     Vec3Array own;        // c_i sum_j w_ij (y_j - y_i)
+    Vec3Array u;          // x - X (the stabiliser matrix's argument)
   };
   static Workspace& workspace(Index n);
   double stabilizer_energy(const std::vector<Mat3>& F, const Vec3Array& x) const;
@@ -92,6 +95,8 @@ class PointPrimitiveEnergy {
   std::vector<double> stab_c_;  // c_i = alpha_hg mu V_i / tr(A_i), N/m * m^3
   std::vector<Mat3> stab_cA_;    // c_i A_i, N/m
   std::vector<double> stab_cw_;  // c_i w_ik per transposed pair (row k), N/m
+  bool folded_stab_ = false;     // the stabiliser folded into the stress gather (linear basis)
+  std::shared_ptr<const StabilizerMatrix> stab_matrix_;  // the stabiliser as a constant matrix (quadratic basis)
 };
 
 }  // namespace vascsim

@@ -25,6 +25,7 @@ struct ModelCapabilities {
   bool takes_tools = false;       ///< frictionless rigid tools (the catheter) in the problem
   bool device_driven = false;     ///< implements DeviceDrivenModel: haptic sessions and the viewer can drive it
   bool releases_regions = false;  ///< supports regions' bc.release_time_s
+  bool quadratic_basis = true;    ///< takes discretization.basis "quadratic" (false: its constraints assume the linear fit)
 };
 
 struct ModelEntry {

@@ -59,7 +59,7 @@ ModelEntry xpbd_model_entry() {
   e.name = "xpbd";
   e.summary =
       "position-based real-time dynamics of the point-primitive energy (too soft on thin walls at real-time budgets)";
-  e.capabilities = {.dynamic = true, .takes_tools = true, .device_driven = true, .releases_regions = true};
+  e.capabilities = {.dynamic = true, .takes_tools = true, .device_driven = true, .releases_regions = true, .quadratic_basis = false};
   e.read_settings = [](JsonReader& block) { return std::any(read_xpbd_settings(block)); };
   e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
     return std::make_unique<XpbdModel>(problem, settings_as<XpbdSettings>(settings));

@@ -272,6 +272,11 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
               "tet_partition"
           ? VolumeRule::TetPartition
           : VolumeRule::MuellerKernel;
+  sc.discretization.basis = disc.string("basis", "linear", {"linear", "quadratic"}) == "quadratic"
+                                ? GradientBasis::Quadratic
+                                : GradientBasis::Linear;
+  sc.discretization.quadratic_min_neighbours = disc.integer("quadratic_min_neighbours", 18, 9, 200);
+  sc.discretization.quadratic_min_eigen_ratio = disc.number("quadratic_min_eigen_ratio", 1e-6, 1e-14, 1.0);
   disc.finish();
 }
 
@@ -461,6 +466,11 @@ void check_model_capabilities(JsonReader& root, Scene& sc) {
       root.fail(fmt::format("regions.{}.bc.release_time_s", r),
                 fmt::format("releasing a region is supported by the models {} (model is '{}')",
                             fmt::join(model_names_with(&ModelCapabilities::releases_regions), ", "), sc.model));
+  if (sc.discretization.basis == GradientBasis::Quadratic && !model.capabilities.quadratic_basis)
+    root.fail("discretization.basis",
+              fmt::format("the quadratic basis is supported by the models {} (model is '{}', whose constraints "
+                          "assume the linear fit)",
+                          fmt::join(model_names_with(&ModelCapabilities::quadratic_basis), ", "), sc.model));
   if (model.law_restriction) {
     const std::string why = model.law_restriction(sc.own_model_settings(), sc.material_law);
     if (!why.empty()) {

@@ -1,0 +1,41 @@
+#pragma once
+// The local fit behind the point-primitive gradient (Eqs. 2-4, docs/model.md sections 5 and 5.1): node i's
+// neighbour differences y_j - y_i are fitted, weighted by w_ij, by a polynomial in X_ij = X_j - X_i without a
+// constant term, and the fitted first derivatives are the gradient at the node.
+//
+// - Linear basis (the paper's Eq. 4): y_j - y_i ~ G X_ij, moment matrix A_i = sum_j w_ij X_ij X_ij^T, and
+//   d_ij = w_ij A_i^{-1} X_ij. Exact for affine fields. Its gradient is that of the best affine fit over the
+//   neighbourhood, i.e. the gradient near the neighbourhood's weighted centroid: on a node of a wall's surface
+//   layer, whose neighbours all lie on one side, a bending field's gradient comes out as the one a fraction of
+//   the wall thickness deeper, too small, and a thin wall is too soft.
+// - Quadratic basis (second-order consistency, as in higher-order reproducing-kernel and MLS methods):
+//   y_j - y_i ~ G X_ij + 1/2 H : X_ij X_ij, i.e. 9 monomials p(X) = (x, y, z, x^2, xy, xz, y^2, yz, z^2) (scaled
+//   by the support radius s so that every entry is O(1)), moment matrix B_i = sum_j w_ij p_ij p_ij^T (9 x 9), and
+//   d_ij = the first three entries of w_ij B_i^{-1} p_ij, divided by s. Exact for quadratic fields, so the
+//   gradient is the one at the node itself: bending is right on every layer of a thin wall.
+//
+// Either way F_i = sum_j (x_j - x_i) d_ij^T, so the energy, its forces and its Hessian are the same code for both.
+
+#include <Eigen/Core>
+
+#include "vascsim/core/types.hpp"
+
+namespace vascsim {
+
+enum class GradientBasis {
+  Linear,    ///< Eq. 4 as in the paper (default)
+  Quadratic  ///< second-order consistent fit (docs/model.md section 5.1)
+};
+
+/// Number of monomials of a basis: 3 or 9.
+inline int fit_terms(GradientBasis basis) { return basis == GradientBasis::Linear ? 3 : 9; }
+
+/// Quadratic monomials of X / s: (x, y, z, x^2, xy, xz, y^2, yz, z^2) of the scaled vector.
+inline Vec9 quadratic_monomials(const Vec3& X, double s) {
+  const Vec3 y = X / s;
+  Vec9 p;
+  p << y.x(), y.y(), y.z(), y.x() * y.x(), y.x() * y.y(), y.x() * y.z(), y.y() * y.y(), y.y() * y.z(), y.z() * y.z();
+  return p;
+}
+
+}  // namespace vascsim

@@ -9,7 +9,9 @@ the same resolution (the solver error).
 
     /usr/bin/python3 scripts/realtime_resolution_table.py --vascsim build/vascsim --out out/realtime-resolution
 
-Each run is an ordinary `vascsim run`; the raw outputs stay in the output folder.
+Each run is an ordinary `vascsim run`; the raw outputs stay in the output folder. With --accuracy-table FILE it
+also writes the quasi_static rows as the data `vascsim check` reads its expected force accuracy from
+(data/calibration/force_accuracy.json; the file's other sections are kept).
 """
 import argparse
 import json
@@ -47,11 +49,38 @@ def final_force(summary, name):
     return summary["steps"][-1]["regions"][name]["force_n"]
 
 
+def write_accuracy_table(path, rows):
+    """The quasi_static rows, per case, in the format of data/calibration/force_accuracy.json."""
+    path = pathlib.Path(path)
+    doc = json.loads(path.read_text()) if path.is_file() else {}
+    cases = []
+    for label, scene, region, _, _ in CASES:
+        mine = [r for r in rows if r["case"] == label and r["model"] == "quasi_static"]
+        if not mine:
+            continue
+        geometry = json.loads(pathlib.Path(scene).read_text())["geometry"]
+        obstacles = json.loads(pathlib.Path(scene).read_text()).get("obstacles", [])
+        cases.append({"case": label, "scene": scene, "measured": region,
+                      "loaded_by": "tool" if any(o["name"] == region for o in obstacles) else "region",
+                      "outer_radius_m": geometry["outer_radius_m"], "wall_thickness_m": geometry["wall_thickness_m"],
+                      "rows": [{"spacing_m": r["spacing_m"], "nodes": r["nodes"], "force_n": r["force_n"],
+                                "error": r["error_vs_fine"]} for r in mine]})
+    doc.update({"reference": "fine quasi_static run", "measured": time.strftime("%Y-%m-%d"),
+                "regenerate": "/usr/bin/python3 scripts/realtime_resolution_table.py --vascsim build/vascsim "
+                              f"--out out/realtime-resolution --accuracy-table {path}",
+                "cases": cases})
+    doc.setdefault("substep_stiffness", [])
+    path.write_text(json.dumps(doc, indent=2) + "\n")
+    print(f"wrote {path}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--vascsim", default="build/vascsim")
     ap.add_argument("--out", default="out/realtime-resolution")
     ap.add_argument("--only", help="run only the cases whose name contains this text")
+    ap.add_argument("--accuracy-table", help="also write the quasi_static rows to this file (the data of "
+                    "`vascsim check`'s expected force accuracy, data/calibration/force_accuracy.json)")
     args = ap.parse_args()
     out = pathlib.Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -97,6 +126,8 @@ def main():
                      f"{'' if same is None else f'{100 * same:+.2f} %'} |")
     (out / "table.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
+    if args.accuracy_table:
+        write_accuracy_table(args.accuracy_table, rows)
 
 
 if __name__ == "__main__":

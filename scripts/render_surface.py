@@ -9,8 +9,13 @@ inner wall). Faces are shaded with a Blinn-Phong model (ambient + Lambert diffus
 smoothed face normals and a key light placed above-left of the camera, and drawn with matplotlib's
 mplot3d at equal aspect on all axes, in mm.
 
+A run's tools (the catheter) are drawn in grey from vtk/tools.pvd next to the surface series when the run wrote
+one; the title is the scene's name from the run's summary.json. --all-frames renders every frame of a .pvd
+into a folder (frame_NNNN.png) and an animated GIF (animation.gif, matplotlib's Pillow writer).
+
 Examples:
   render_surface.py out/vein/vtk/surface.pvd --out docs/img/vein.png
+  render_surface.py out/catheter/vtk/surface.pvd --all-frames --color displacement --out out/catheter/frames
   render_surface.py out/vein/vtk/surface.pvd --frame 3 --color displacement --out dent.png
   render_surface.py out/vein/vtk/surface_0010.vtu --nodes out/vein/vtk/nodes_0010.vtu --out nodes.png
 
@@ -18,6 +23,7 @@ Errors (missing or unreadable file, no triangle cells, bad frame index) print on
 and exit with code 2.
 """
 import argparse
+import json
 import os
 import sys
 import time
@@ -28,6 +34,7 @@ import numpy as np
 PROG = "render_surface"
 INNER_DIM = 0.75  # inner wall (lumen side) is drawn a little darker
 NODE_RGB = (0.10, 0.20, 0.45)
+TOOL_RGB = (0.62, 0.64, 0.68)  # the catheter: steel grey
 
 
 class RenderError(Exception):
@@ -224,34 +231,125 @@ def parse_size(s):
     return w, h
 
 
-def render(args):
-    t0 = time.perf_counter()
-    out_dir = os.path.dirname(os.path.abspath(args.out))
-    if not os.path.isdir(out_dir):
-        raise RenderError(f"{args.out}: output folder does not exist")
-    vtu, frame_desc = resolve_input(args.input, args.frame)
+def scene_title(input_path):
+    """(scene name, whether the series is stamped by time) from the run's summary.json next to vtk/, if any."""
+    folder = os.path.dirname(os.path.abspath(input_path))
+    for cand in (os.path.join(folder, "summary.json"), os.path.join(os.path.dirname(folder), "summary.json")):
+        if os.path.isfile(cand):
+            try:
+                with open(cand) as f:
+                    s = json.load(f)
+            except (OSError, ValueError):
+                continue
+            solver = s.get("solver") or {}
+            by_time = "haptics" in s or (isinstance(solver, dict) and "duration_s" in solver)
+            return s.get("scene"), by_time
+    return None, None
+
+
+def tools_input(args, vtu, frame_index, stamp):
+    """The tools surface (.vtu) that belongs to this wall frame, or None: vtk/tools.pvd (same index, else the
+    nearest stamp) next to a surface .pvd, or tools_NNNN.vtu next to surface_NNNN.vtu."""
+    if args.no_tools:
+        return None
+    if args.tools:
+        src = args.tools
+    elif args.input.lower().endswith(".pvd"):
+        src = os.path.join(os.path.dirname(os.path.abspath(args.input)), "tools.pvd")
+        if os.path.abspath(src) == os.path.abspath(args.input):
+            return None
+    else:
+        base = os.path.basename(vtu)
+        if not base.startswith("surface_"):
+            return None
+        src = os.path.join(os.path.dirname(os.path.abspath(vtu)), "tools_" + base[len("surface_"):])
+    if not os.path.isfile(src):
+        if args.tools:
+            raise RenderError(f"{src}: not found (--tools)")
+        return None
+    if not src.lower().endswith(".pvd"):
+        return src
+    entries = read_pvd(src)
+    wall = read_pvd(args.input) if args.input.lower().endswith(".pvd") else None
+    if wall is not None and len(wall) == len(entries) and frame_index is not None:
+        f = entries[frame_index][1]
+    else:
+        f = min(entries, key=lambda e: abs(e[0] - stamp) if stamp is not None and np.isfinite(stamp) else 0)[1]
+    return f if os.path.isfile(f) else None
+
+
+def load_frame(args, frame):
+    """Everything one picture shows: the wall, optional nodes and tools, and the frame's description."""
+    vtu, frame_desc = resolve_input(args.input, frame)
+    index, stamp = None, None
+    if args.input.lower().endswith(".pvd"):
+        entries = read_pvd(args.input)
+        index = (len(entries) - 1 if frame is None else frame) % len(entries)
+        stamp = entries[index][0]
     surf = load_surface(vtu, args.outer_only)
-    nodes_mm = load_nodes(args.nodes, args.frame) * 1e3 if args.nodes else None
+    if args.color == "displacement" and surf["disp"] is None:
+        raise RenderError(f"{vtu}: no point data 'displacement' (3 components) for --color displacement")
+    nodes_mm = load_nodes(args.nodes, frame) * 1e3 if args.nodes else None
+    tools = None
+    tvtu = tools_input(args, vtu, index, stamp)
+    if tvtu is not None:
+        tools = load_surface(tvtu, False)
+    return {"vtu": vtu, "desc": frame_desc, "stamp": stamp, "surf": surf, "nodes_mm": nodes_mm, "tools": tools}
 
+
+def frame_limits(frames):
+    """Axis limits (mm) holding every frame's wall and nodes, and the tools near them."""
+    pts = []
+    for fr in frames:
+        pts.append(fr["surf"]["pts"][np.unique(fr["surf"]["tri"])] * 1e3)
+        if fr["nodes_mm"] is not None and len(fr["nodes_mm"]):
+            pts.append(fr["nodes_mm"])
+    wall = np.vstack(pts)
+    lo, hi = wall.min(axis=0), wall.max(axis=0)
+    reach = 0.5 * max((hi - lo).max(), 1e-9)  # tools are drawn where they come within this of the wall's box
+    for fr in frames:
+        if fr["tools"] is not None:
+            tp = fr["tools"]["pts"] * 1e3
+            near = np.all((tp >= lo - reach) & (tp <= hi + reach), axis=1)
+            if near.any():
+                pts.append(tp[near])
+    allpts = np.vstack(pts)
+    lo, hi = allpts.min(axis=0), allpts.max(axis=0)
+    span = hi - lo
+    pad = 0.02 * max(span.max(), 1e-9)
+    span = np.maximum(span, 0.02 * max(span.max(), 1e-9))  # flat data still gets a visible box
+    mid = 0.5 * (lo + hi)
+    return mid - 0.5 * span - pad, mid + 0.5 * span + pad
+
+
+def frame_vmax(args, frames):
+    if args.vmax is not None:
+        return args.vmax
+    vmax = 0.0
+    for fr in frames:
+        s = fr["surf"]
+        if s["disp"] is not None:
+            vmax = max(vmax, float(np.nanmax(np.linalg.norm(s["disp"], axis=1)[np.unique(s["tri"])]) * 1e3))
+    return vmax if vmax > 0 else 1e-3  # undeformed frame: keep a valid, readable scale
+
+
+def draw(fig, fr, args, limits, vmax, title):
+    """Draws one frame into `fig` (cleared first)."""
     import matplotlib
-
-    matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib import cm, colors
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
+    fig.clf()
+    surf, nodes_mm = fr["surf"], fr["nodes_mm"]
     pts_mm = surf["pts"] * 1e3
     tri = surf["tri"]
     M = len(tri)
+    lo, hi = limits
 
     if args.color == "displacement":
-        if surf["disp"] is None:
-            raise RenderError(f"{vtu}: no point data 'displacement' (3 components) for --color displacement")
         umag = np.linalg.norm(surf["disp"], axis=1) * 1e3  # mm
         face_u = umag[tri].mean(axis=1)
-        vmax = args.vmax if args.vmax is not None else float(np.nanmax(umag[np.unique(tri)]))
-        if not vmax > 0:
-            vmax = 1e-3  # undeformed frame: keep a valid, readable scale
         norm = colors.Normalize(vmin=0.0, vmax=vmax)
         cmap = plt.get_cmap(args.cmap)
         base = cmap(norm(face_u))[:, :3]
@@ -266,7 +364,6 @@ def render(args):
     fc[:, 3] = alpha
 
     w, h = args.size
-    fig = plt.figure(figsize=(w, h), dpi=args.dpi)
     # the 3-D box is drawn inside the axes with generous room for tick labels; let it fill the figure
     # (title: fixed room in inches at the top, so it never clips on small figures)
     fig.subplots_adjust(left=0.0, right=1.0 - 1.25 / w if args.color == "displacement" else 1.0, bottom=0.0,
@@ -283,21 +380,24 @@ def render(args):
     coll = Poly3DCollection(verts, facecolors=fc, edgecolors=ec, linewidths=0.3 if alpha >= 1.0 else 0.0)
     ax.add_collection3d(coll)
 
-    allpts = pts_mm[np.unique(tri)]
+    tools = fr["tools"]
+    if tools is not None:
+        tp = tools["pts"] * 1e3
+        inside = np.all((tp >= lo - 1e-9) & (tp <= hi + 1e-9), axis=1)
+        keep = inside[tools["tri"]].all(axis=1)  # matplotlib does not clip 3-D polygons to the box
+        if keep.any():
+            ttri = tools["tri"][keep]
+            tn = face_shading_normals(tp, ttri, tools["normal"])
+            tfc = shade(np.tile(colors.to_rgb(TOOL_RGB), (len(ttri), 1)), tn, args.elev, args.azim)
+            ax.add_collection3d(Poly3DCollection(tp[ttri], facecolors=tfc, edgecolors=tfc, linewidths=0.2))
+
     if nodes_mm is not None and len(nodes_mm):
-        allpts = np.vstack([allpts, nodes_mm])
         ax.computed_zorder = False  # dots on top of the translucent wall
         coll.set_zorder(1)
         ax.scatter(nodes_mm[:, 0], nodes_mm[:, 1], nodes_mm[:, 2], s=args.node_size, c=[NODE_RGB],
                    depthshade=False, linewidths=0, zorder=2, label=f"nodes ({len(nodes_mm)})")
         ax.legend(loc="upper right", fontsize=8, frameon=False)
 
-    lo, hi = allpts.min(axis=0), allpts.max(axis=0)
-    span = hi - lo
-    pad = 0.02 * max(span.max(), 1e-9)
-    span = np.maximum(span, 0.02 * max(span.max(), 1e-9))  # flat data still gets a visible box
-    mid = 0.5 * (lo + hi)
-    lo, hi = mid - 0.5 * span - pad, mid + 0.5 * span + pad
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
     ax.set_zlim(lo[2], hi[2])
@@ -312,9 +412,10 @@ def render(args):
         axis.set_major_locator(matplotlib.ticker.MaxNLocator(5))
     ax.tick_params(labelsize=8)
 
-    title = args.title if args.title is not None else os.path.splitext(os.path.basename(args.input))[0]
-    sub = [frame_desc] if frame_desc else []
+    sub = [fr["desc"]] if fr["desc"] else []
     sub.append(f"{M} triangles" + (" (outer wall)" if args.outer_only and surf["outer"] is not None else ""))
+    if tools is not None:
+        sub.append("tool in grey")
     fig.suptitle(title if args.no_subtitle else f"{title}\n" + ", ".join(sub), fontsize=10, y=1.0 - 0.06 / h, va="top")
 
     if args.color == "displacement":
@@ -324,26 +425,106 @@ def render(args):
         cb = fig.colorbar(sm, cax=cax)
         cb.set_label("|u| (mm)")
 
+
+def describe_stamp(fr, by_time):
+    """The frame's line under the title: its time or load factor when the run says which."""
+    if fr["stamp"] is None or by_time is None or not fr["desc"]:
+        return fr["desc"]
+    head = fr["desc"].split(", timestep")[0]
+    return f"{head}, t = {fr['stamp']:.4g} s" if by_time else f"{head}, load factor {fr['stamp']:.3g}"
+
+
+def render(args):
+    t0 = time.perf_counter()
+    out_dir = os.path.dirname(os.path.abspath(args.out))
+    if not os.path.isdir(out_dir):
+        raise RenderError(f"{args.out}: output folder does not exist")
+    fr = load_frame(args, args.frame)
+    scene, by_time = scene_title(args.input)
+    fr["desc"] = describe_stamp(fr, by_time)
+    title = args.title if args.title is not None else (scene or os.path.splitext(os.path.basename(args.input))[0])
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig = plt.figure(figsize=args.size, dpi=args.dpi)
+    draw(fig, fr, args, frame_limits([fr]), frame_vmax(args, [fr]), title)
     try:
         fig.savefig(args.out, dpi=args.dpi)
     except OSError as e:
         raise RenderError(f"{args.out}: cannot write: {e.strerror or e}")
     plt.close(fig)
     if args.verbose:
-        print(f"{PROG}: {M} triangles in {time.perf_counter() - t0:.1f} s", file=sys.stderr)
+        print(f"{PROG}: {len(fr['surf']['tri'])} triangles in {time.perf_counter() - t0:.1f} s", file=sys.stderr)
     return args.out
+
+
+def render_all(args):
+    """Every frame of a .pvd: OUT/frame_NNNN.png, and OUT/animation.gif unless --no-gif; one colour scale and
+    one set of axes for all frames, so the picture moves only where the wall does."""
+    if not args.input.lower().endswith(".pvd"):
+        raise RenderError(f"{args.input}: --all-frames needs a .pvd series")
+    out_dir = os.path.abspath(args.out)
+    if os.path.isfile(out_dir):
+        raise RenderError(f"{args.out}: --all-frames writes into a folder, and this is a file")
+    os.makedirs(out_dir, exist_ok=True)
+    n = len(read_pvd(args.input))
+    frames = [load_frame(args, i) for i in range(n)]
+    scene, by_time = scene_title(args.input)
+    for fr in frames:
+        fr["desc"] = describe_stamp(fr, by_time)
+    title = args.title if args.title is not None else (scene or os.path.splitext(os.path.basename(args.input))[0])
+    limits, vmax = frame_limits(frames), frame_vmax(args, frames)
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.animation import PillowWriter
+
+    fig = plt.figure(figsize=args.size, dpi=args.dpi)
+    gif = None if args.no_gif else os.path.join(out_dir, "animation.gif")
+    writer = PillowWriter(fps=args.fps) if gif else None
+    written = []
+    try:
+        if writer:
+            writer.setup(fig, gif, dpi=args.dpi)
+        for i, fr in enumerate(frames):
+            draw(fig, fr, args, limits, vmax, title)
+            png = os.path.join(out_dir, f"frame_{i:04d}.png")
+            fig.savefig(png, dpi=args.dpi)
+            written.append(png)
+            if writer:
+                writer.grab_frame()
+        if writer:
+            writer.finish()
+            written.append(gif)
+    except OSError as e:
+        raise RenderError(f"{args.out}: cannot write: {e.strerror or e}")
+    plt.close(fig)
+    return written
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(prog="render_surface.py", description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("input", help="surface .vtu, or a .pvd collection of them")
-    ap.add_argument("--out", required=True, help="PNG file to write")
+    ap.add_argument("--out", required=True, help="PNG file to write (with --all-frames: the folder for the frames)")
+    ap.add_argument("--all-frames", action="store_true", help="every frame of the .pvd: OUT/frame_NNNN.png and an "
+                    "animated OUT/animation.gif (one colour scale and one view for all)")
+    ap.add_argument("--no-gif", action="store_true", help="with --all-frames: only the PNG frames")
+    ap.add_argument("--fps", type=float, default=5.0, help="frames per second of the GIF (default 5)")
+    ap.add_argument("--tools", help="the tools' surface (.vtu or .pvd; default: vtk/tools.pvd or tools_NNNN.vtu "
+                    "next to the input, when the run wrote one)")
+    ap.add_argument("--no-tools", action="store_true", help="do not draw the tools")
     ap.add_argument("--frame", type=int, help="frame index in a .pvd (0-based, negative counts from the end; "
                     "default: last)")
     ap.add_argument("--color", choices=["tissue", "displacement"], default="tissue",
                     help="uniform tissue colour (default) or |displacement| in mm with a colourbar")
-    ap.add_argument("--title", help="figure title (default: the input file stem)")
+    ap.add_argument("--title", help="figure title (default: the scene's name from the run's summary.json, else "
+                    "the input file stem)")
     ap.add_argument("--no-subtitle", action="store_true", help="omit the frame / triangle-count line")
     ap.add_argument("--elev", type=float, default=22.0, help="camera elevation in degrees (default 22)")
     ap.add_argument("--azim", type=float, default=-58.0, help="camera azimuth in degrees (default -58)")
@@ -375,12 +556,14 @@ def main(argv=None):
         ap.error(f"--cmap: unknown colormap '{args.cmap}'")
     if args.vmax is not None and not args.vmax > 0:
         ap.error("--vmax must be positive")
+    if args.fps <= 0:
+        ap.error("--fps must be positive")
     try:
-        out = render(args)
+        out = render_all(args) if args.all_frames else [render(args)]
     except RenderError as e:
         print(f"{PROG}: {e}", file=sys.stderr)
         return 2
-    print(out)
+    print("\n".join(out))
     return 0
 
 

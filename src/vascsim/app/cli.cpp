@@ -1,6 +1,7 @@
 #include "vascsim/app/cli.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <iostream>
 #include <omp.h>
 #include <spdlog/sinks/ostream_sink.h>
@@ -9,6 +10,7 @@
 
 #include "vascsim/app/command.hpp"
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/thread_default.hpp"
 
 namespace vascsim {
 
@@ -32,6 +34,23 @@ void fall_through(CLI::App& app) {
   }
 }
 
+// -j, else OMP_NUM_THREADS (read by OpenMP itself), else the cores other work leaves idle (thread_default.hpp).
+void apply_thread_count(int requested) {
+  if (requested > 0) {
+    omp_set_num_threads(requested);
+    return;
+  }
+  if (std::getenv("OMP_NUM_THREADS") != nullptr) return;
+  const int cores = omp_get_num_procs();
+  const double load = load_average_1min();
+  const int threads = default_thread_count(cores, load);
+  omp_set_num_threads(threads);
+  if (threads < cores)
+    spdlog::info("{} OpenMP thread{} of {} cores: the load average is {:.2f} (other work holds the rest; -j N or "
+                 "OMP_NUM_THREADS=N chooses)",
+                 threads, threads == 1 ? "" : "s", cores, load);
+}
+
 }  // namespace
 
 int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
@@ -42,9 +61,13 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   CliContext ctx{out, err};
   app.add_flag("-q,--quiet", ctx.quiet, "Only warnings and errors on stderr");
   app.add_flag("-v,--verbose", ctx.verbose, "Debug logging");
-  app.add_option("-j,--threads", ctx.threads, "OpenMP threads (default: all cores)")->check(CLI::Range(1, 1024));
+  app.add_option("-j,--threads", ctx.threads,
+                 "OpenMP threads (default: OMP_NUM_THREADS if set, else the cores the load average leaves idle, at "
+                 "least 1)")
+      ->check(CLI::Range(1, 1024));
   std::vector<Command> commands;
   add_run_command(app, ctx, commands);
+  add_check_command(app, ctx, commands);
   add_validate_commands(app, ctx, commands);
   add_bench_command(app, ctx, commands);
   add_experiment_commands(app, ctx, commands);
@@ -74,7 +97,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
     ~RestoreLogger() { spdlog::set_default_logger(previous); }
   } restore_logger;
   setup_logging(err, ctx.quiet, ctx.verbose);
-  if (ctx.threads > 0) omp_set_num_threads(ctx.threads);
+  apply_thread_count(ctx.threads);
   try {
     for (const Command& c : commands)
       if (c.app->parsed()) return c.run();

@@ -11,6 +11,10 @@
 
 namespace vascsim {
 
+/// Exit code of a run that finished but with steps (or lockstep frames) that did not converge: everything is
+/// written, but those steps are not equilibria (docs/architecture.md, "Errors and exit codes").
+constexpr int kExitUnconverged = 4;
+
 /// What every command shares: the output streams and the global options (-q, -v, -j).
 struct CliContext {
   std::ostream& out;
@@ -30,6 +34,8 @@ struct Command {
 
 // One per command file.
 void add_run_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
+/// `check`: build a scene as `run` would, solve nothing, report size, cost, accuracy, regions, tools.
+void add_check_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 void add_experiment_commands(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 /// `experiment timing` (timing_experiment.cpp), under the `experiment` node add_experiment_commands makes.
 void add_timing_experiment(CLI::App& experiment, CliContext& ctx, std::vector<Command>& commands);

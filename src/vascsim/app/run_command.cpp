@@ -7,8 +7,10 @@
 
 #include "vascsim/app/command.hpp"
 #include "vascsim/app/progress.hpp"
+#include "vascsim/app/run_limits.hpp"
 #include "vascsim/app/step_status.hpp"
 #include "vascsim/core/error.hpp"
+#include "vascsim/experiments/run_assessment.hpp"
 #include "vascsim/run/haptic_session.hpp"
 #include "vascsim/run/runner.hpp"
 
@@ -20,7 +22,14 @@ struct RunFlags {
   std::string scene, out;
   std::vector<std::string> sets;
   std::string mode, record, replay;  // haptic sessions
+  bool yes = false;                  // start a large run without asking (run_limits.hpp)
 };
+
+// The warnings of summary.json again at the end, where they are seen.
+void print_warnings(const nlohmann::json& summary, CliContext& ctx) {
+  if (!summary.contains("warnings")) return;
+  for (const auto& w : summary["warnings"]) ctx.out << "warning: " << w.get<std::string>() << "\n";
+}
 
 int run_session(const Scene& scene, const std::filesystem::path& out_dir, const RunFlags& flags, CliContext& ctx) {
   spdlog::info("scene '{}' ({}): haptic session, model {}, output {}", scene.name, scene.file, scene.model,
@@ -35,6 +44,8 @@ int run_session(const Scene& scene, const std::filesystem::path& out_dir, const 
     progress.update(static_cast<int>(std::lround(1000.0 * done / total)), 1000,
                     fmt::format("session t = {:.3f} of {:.3f} s", done, total));
   };
+  opt.checks = node_limit(scene, flags.yes);
+  opt.after_setup = [&](Simulation& sim, double frames) { announce_run(scene, sim, frames, flags.yes); };
   const nlohmann::json summary = run_haptic_session(scene, opt);
   progress.finish();
   const auto& h = summary["haptics"];
@@ -52,14 +63,32 @@ int run_session(const Scene& scene, const std::filesystem::path& out_dir, const 
                            h["replay"]["file"].get<std::string>(), h["replay"]["ticks_compared"].get<std::size_t>(),
                            h["replay"]["max_force_difference_n"].get<double>(),
                            h["replay"]["bit_identical"].get<bool>() ? "yes" : "no");
-  return 0;
+  print_warnings(summary, ctx);
+  const auto unconverged = summary["unconverged_frames"].get<long long>();
+  if (unconverged == 0) return 0;
+  // Realtime frames stop at their time budget by design; a lockstep frame takes the time it needs.
+  if (h["mode"].get<std::string>() == "realtime") {
+    ctx.out << fmt::format("note: {} of {} frames stopped before converging (the realtime time budget)\n", unconverged,
+                           h["simulation_steps"].get<std::size_t>());
+    return 0;
+  }
+  ctx.out << fmt::format("NOT CONVERGED: {} of {} frames did not reach the tolerance; the forces of those frames are "
+                         "not equilibria (force_history.csv, column converged)\n",
+                         unconverged, h["simulation_steps"].get<std::size_t>());
+  return kExitUnconverged;
 }
 
-int run_headless(const Scene& scene, const std::filesystem::path& out_dir, CliContext& ctx) {
+int run_headless(const Scene& scene, const std::filesystem::path& out_dir, const RunFlags& flags, CliContext& ctx) {
   spdlog::info("scene '{}' ({}), model {}, output {}", scene.name, scene.file, scene.model, out_dir.string());
   Progress progress(ctx.err, ctx.err_is_terminal(), scene.name);
   RunOptions opt;
   opt.out_dir = out_dir;
+  opt.checks = node_limit(scene, flags.yes);
+  opt.after_setup = [&](Simulation& sim) {
+    const CostCalibration* calibration = bundled_cost_calibration();
+    const ModelCost* cost = calibration ? calibration->find(scene.model) : nullptr;
+    announce_run(scene, sim, headless_model_steps(scene, sim, cost), flags.yes);
+  };
   opt.on_step = [&](const StepRecord& r, int total) { progress.update(r.step, total, step_status(scene.model, r)); };
   const nlohmann::json summary = run_scene(scene, opt);
   progress.finish();
@@ -73,10 +102,13 @@ int run_headless(const Scene& scene, const std::filesystem::path& out_dir, CliCo
                            ref["tip_deflection_m"].get<double>(), ref["reference_deflection_m"].get<double>(),
                            ref["ratio"].get<double>());
   }
-  if (summary["unconverged_steps"].get<int>() > 0)
-    ctx.out << fmt::format("warning: {} load steps did not converge (see summary.json)\n",
-                           summary["unconverged_steps"].get<int>());
-  return 0;
+  print_warnings(summary, ctx);
+  const int unconverged = summary["unconverged_steps"].get<int>();
+  if (unconverged == 0) return 0;
+  ctx.out << fmt::format("NOT CONVERGED: {} of {} steps did not reach the tolerance; their forces and displacements "
+                         "are not equilibria (summary.json, steps[].converged)\n",
+                         unconverged, summary["steps"].size() - 1);
+  return kExitUnconverged;
 }
 
 int run(const RunFlags& flags, CliContext& ctx) {
@@ -86,7 +118,7 @@ int run(const RunFlags& flags, CliContext& ctx) {
   if (scene.haptics.enabled) return run_session(scene, out_dir, flags, ctx);
   if (!flags.mode.empty() || !flags.record.empty() || !flags.replay.empty())
     throw InputError(fmt::format("{}: --mode, --record and --replay need a scene with a 'haptics' block", scene.file));
-  return run_headless(scene, out_dir, ctx);
+  return run_headless(scene, out_dir, flags, ctx);
 }
 
 }  // namespace
@@ -101,6 +133,10 @@ void add_run_command(CLI::App& app, CliContext& ctx, std::vector<Command>& comma
       ->check(CLI::IsMember({"lockstep", "realtime"}));
   run_app->add_option("--record", flags->record, "Haptic scenes: also write the session recording to FILE");
   run_app->add_option("--replay", flags->replay, "Haptic scenes: play a session recording instead of the trajectory");
+  run_app->add_flag("--yes", flags->yes,
+                    fmt::format("Start a run of more than {} nodes or expected to take more than {} (otherwise refused, "
+                                "exit code 2)",
+                                kMaxNodesUnasked, human_duration(kMaxSecondsUnasked)));
   commands.push_back({run_app, [flags, &ctx] { return run(*flags, ctx); }});
 }
 

@@ -58,6 +58,32 @@ Trial evaluate(const Vec3Array& X, const Vec3& s, double r, const SpatialGrid& g
   return t;
 }
 
+bool passes(const Trial& t, const MlsMapOptions& opt) {
+  return static_cast<int>(t.nodes.size()) >= opt.min_nodes && t.cond <= opt.cond_limit;
+}
+
+// The most growths the scene allows (mapping.max_growths is read in [0, 20]).
+constexpr int kMaxGrowthsTried = 20;
+
+// The smallest max_growths with which every failed vertex passes (0: none up to kMaxGrowthsTried does), so the
+// guard's message can name a value that works.
+int growths_needed(const Vec3Array& X, const Vec3Array& surface, const std::vector<char>& failed, double r0,
+                   const MlsMapOptions& opt, const SpatialGrid& grid) {
+  int needed = 0;
+  for (std::size_t v = 0; v < surface.size(); ++v) {
+    if (!failed[v]) continue;
+    int g = opt.max_growths + 1;
+    double r = r0 * std::pow(opt.growth_factor, g);
+    while (g <= kMaxGrowthsTried && !passes(evaluate(X, surface[v], r, grid), opt)) {
+      ++g;
+      r *= opt.growth_factor;
+    }
+    if (g > kMaxGrowthsTried) return 0;
+    needed = std::max(needed, g);
+  }
+  return needed;
+}
+
 }  // namespace
 
 MlsMap::MlsMap(const Vec3Array& rest_nodes_m, const Vec3Array& rest_surface_m, const MlsMapOptions& opt)
@@ -91,8 +117,7 @@ MlsMap::MlsMap(const Vec3Array& rest_nodes_m, const Vec3Array& rest_surface_m, c
     double r = r0;
     for (int g = 0;; ++g) {
       trials[v] = evaluate(rest_nodes_, rest_surface_[v], r, grid);
-      const bool ok =
-          static_cast<int>(trials[v].nodes.size()) >= opt.min_nodes && trials[v].cond <= opt.cond_limit;
+      const bool ok = passes(trials[v], opt);
       growths[v] = g;
       if (ok) break;
       if (g == opt.max_growths) {
@@ -108,13 +133,20 @@ MlsMap::MlsMap(const Vec3Array& rest_nodes_m, const Vec3Array& rest_surface_m, c
     if (!failed[v]) continue;
     const auto n_failed = std::count(failed.begin(), failed.end(), char{1});
     const Vec3& s = rest_surface_[v];
+    const int needed = growths_needed(rest_nodes_, rest_surface_, failed, r0, opt, grid);
+    const std::string fix =
+        needed > 0 ? fmt::format("let the support grow further: mapping.max_growths = {} makes every vertex pass (now {})",
+                                 needed, opt.max_growths)
+                   : fmt::format("even {} growths do not help: the nodes near it are too few or coplanar (a single node "
+                                 "layer through the wall?): use more node layers or keep the surface within about one "
+                                 "spacing of the nodes",
+                                 kMaxGrowthsTried);
     throw NumericalError(fmt::format(
         "MLS map: surface vertex {} at ({:.6g}, {:.6g}, {:.6g}) m has {} nodes in its support and cond(A^) "
-        "{:.3g} at support radius {:.4g} m after {} growths (need >= {} nodes and cond <= {:.3g}); the nodes "
-        "near it are too few or coplanar (a single node layer through the wall?): use >= 2-3 node layers or "
-        "keep the surface within about one spacing of the nodes ({} of {} vertices fail)",
+        "{:.3g} at support radius {:.4g} m after {} growths (need >= {} nodes and cond <= {:.3g}; {} of {} vertices "
+        "fail): {}",
         v, s.x(), s.y(), s.z(), trials[v].nodes.size(), trials[v].cond, radius_[v], opt.max_growths,
-        opt.min_nodes, opt.cond_limit, n_failed, nv));
+        opt.min_nodes, opt.cond_limit, n_failed, nv, fix));
   }
 
   row_start_.assign(static_cast<std::size_t>(nv) + 1, 0);

@@ -3,91 +3,25 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
-#include <memory>
+#include <spdlog/spdlog.h>
 #include <thread>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/statistics.hpp"
 #include "vascsim/core/stopwatch.hpp"
-#include "vascsim/interaction/scripted_device.hpp"
 #include "vascsim/interaction/session_recording.hpp"
 #include "vascsim/model/registry.hpp"
 #include "vascsim/run/haptic_rig.hpp"
+#include "vascsim/run/haptic_session_setup.hpp"
 #include "vascsim/run/output_writer.hpp"
 #include "vascsim/run/realtime_pacing.hpp"
 #include "vascsim/run/runner.hpp"
+#include "vascsim/run/tool_reach.hpp"
+#include "vascsim/run/tool_series.hpp"
 
 namespace vascsim {
 
 namespace {
-
-// What the session plays: the device's trajectory (or a recording), checked before the slow set-up.
-struct SessionInputs {
-  std::size_t tool = 0;
-  std::string mode;
-  Trajectory trajectory;
-  std::vector<ForceSample> recorded_forces;  // when replaying
-  double duration_s = 0.0;
-};
-
-SessionInputs read_session_inputs(const Scene& scene, const HapticRunOptions& options) {
-  const HapticsSpec& spec = scene.haptics;
-  if (!spec.enabled) throw InputError(fmt::format("{}: the scene has no 'haptics' block", scene.file));
-  SessionInputs in;
-  in.tool = find_tool(scene, spec.tool, "haptics.tool");
-  in.mode = options.mode.empty() ? spec.mode : options.mode;
-  if (in.mode != "lockstep" && in.mode != "realtime")
-    throw InputError(fmt::format("haptic mode '{}': use lockstep or realtime", in.mode));
-  if (options.device != nullptr) {
-    if (!(spec.duration_s > 0.0))
-      throw InputError(fmt::format("{}: key 'haptics.duration_s': a session with an external device needs a duration",
-                                   scene.file));
-    in.trajectory = Trajectory({DevicePose{}}, "external device");
-  } else if (options.replay.empty()) {
-    in.trajectory = read_trajectory(spec.trajectory);
-  } else {
-    RecordedSession rec = read_session_recording(options.replay);
-    in.trajectory = std::move(rec.trajectory);
-    in.recorded_forces = std::move(rec.forces);
-  }
-  in.duration_s = spec.duration_s > 0.0 ? spec.duration_s
-                                        : in.trajectory.end_time_s() - in.trajectory.start_time_s();
-  if (!(in.duration_s > 0.0))
-    throw InputError(fmt::format("{}: the trajectory has no duration (one sample): set haptics.duration_s",
-                                 options.replay.empty() ? spec.trajectory : options.replay.string()));
-  return in;
-}
-
-// The model the device drives; lockstep needs whole ticks per frame.
-DeviceDrivenModel& driven_model(Simulation& sim, const Scene& scene, const std::string& mode) {
-  DeviceDrivenModel& model = device_driven_model(sim);
-  const double period = 1.0 / scene.haptics.rate_hz;
-  const double frame = model.frame_length_s();
-  if (mode == "lockstep" && std::abs(frame - scene.haptics.ticks_per_step * period) > 1e-9 * period)
-    throw InputError(fmt::format("{}: key 'haptics.ticks_per_step': {} ticks of {:.4g} s must equal the frame of "
-                                 "model '{}' ({:.4g} s)",
-                                 scene.file, scene.haptics.ticks_per_step, period, scene.model, frame));
-  return model;
-}
-
-// The device the session plays: the scene's scripted trajectory (or a recording), or the caller's.
-struct SessionDevice {
-  std::unique_ptr<ScriptedDevice> scripted;
-  Device* device = nullptr;
-};
-
-SessionDevice session_device(const Scene& scene, const HapticRunOptions& options, const SessionInputs& in,
-                             std::size_t n_ticks) {
-  SessionDevice d;
-  if (options.device != nullptr) {
-    d.device = options.device;
-    return d;
-  }
-  d.scripted = std::make_unique<ScriptedDevice>(in.trajectory, scripted_device_limits(scene.haptics));
-  d.scripted->reserve_forces(n_ticks + 16);
-  d.device = d.scripted.get();
-  return d;
-}
 
 // Calls on_progress about every 2 % of the session.
 class ProgressThrottle {
@@ -202,6 +136,17 @@ nlohmann::json session_statistics(const Scene& scene, const HapticRunOptions& op
   return haptics;
 }
 
+// What the finished session found suspicious, one line each: a tool that never touched the tissue.
+std::vector<std::string> session_warnings(const Scene& scene, const SessionInputs& in,
+                                          const std::vector<FrameSample>& history) {
+  const bool touched = std::any_of(history.begin(), history.end(),
+                                   [](const FrameSample& f) { return f.contacts > 0 || f.force_n.norm() > 0.0; });
+  if (touched || history.empty()) return {};
+  return {fmt::format("the tool '{}' never touched the tissue (no contact and zero force in all {} frames): check the "
+                      "positions of the trajectory (haptics.device.trajectory, m)",
+                      scene.obstacles[in.tool].name, history.size())};
+}
+
 }  // namespace
 
 std::vector<std::string> force_history_columns() {
@@ -212,23 +157,27 @@ std::vector<std::string> force_history_columns() {
 
 nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& options) {
   const HapticsSpec& spec = scene.haptics;
-  const SessionInputs in = read_session_inputs(scene, options);  // device files first: before the slow set-up
   const OutputWriter out(options.out_dir);
-
   const Stopwatch total;
-  Simulation sim(scene);
-  DeviceDrivenModel& model = driven_model(sim, scene, in.mode);
-  // Realtime: the model may use time budgets and background work; lockstep stays deterministic.
-  model.set_realtime(in.mode == "realtime");
-  const auto n_ticks = static_cast<std::size_t>(std::floor(in.duration_s * spec.rate_hz + 1e-9)) + 1;
-  const SessionDevice device = session_device(scene, options, in, n_ticks);
-  HapticRig rig(model, scene, *device.device, {in.tool, in.trajectory.start_time_s(), true, n_ticks + 16});
+  SessionSetup setup(scene, options);
+  const SessionInputs& in = setup.inputs();
+  Simulation& sim = setup.simulation();
+  DeviceDrivenModel& model = setup.model();
+  HapticRig& rig = setup.rig();
+  const std::size_t n_ticks = setup.ticks();
+  if (options.after_setup) options.after_setup(sim, setup.frames());
+  const ToolReach reach = tool_reach_on_trajectory(scene.obstacles[in.tool], in.trajectory, in.duration_s,
+                                                   sim.discretization().rest_positions());
+  std::vector<std::string> warnings;
+  if (!reach.touches()) warnings.push_back(tool_reach_warning(reach, scene.obstacles[in.tool], in.tool));
+  for (const std::string& w : warnings) spdlog::warn("{}", w);
   const double setup_s = total.seconds();
 
   // Surface series at the model's output interval (every frame for a load-stepped model).
   const ModelEntry& entry = find_model(scene.model);
   const bool surface = scene.output.surface && sim.body().surface.has_value();
   VtkSeries surface_series = out.series("surface");
+  ToolSeries tool_series(out, scene, surface);
   const double output_interval = entry.schedule ? entry.schedule(scene.own_model_settings()).output_interval_s
                                                 : model.frame_length_s();
   const long long frames_per_output = std::max(1LL, std::llround(output_interval / model.frame_length_s()));
@@ -237,6 +186,12 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
     if (!surface || frames % (frames_per_output * scene.output.vtk_every) != 0) return;
     surface_series.add_surface(model.time(), fmt::format("surface_{:05d}.vtu", frames), sim.surface_frame(),
                                *sim.body().surface);
+    std::vector<constraints::Capsule> tools = tools_at(scene, 0.0);
+    const DevicePose start = in.trajectory.at(in.trajectory.start_time_s());
+    tools[in.tool] = frames == 0 ? obstacle_posed(scene.obstacles[in.tool], start.position_m, start.orientation)
+                                 : obstacle_posed(scene.obstacles[in.tool], rig.last_pose().position(),
+                                                  rig.last_pose().orientation());
+    tool_series.add(model.time(), fmt::format("tools_{:05d}.vtu", frames), tools);
   };
   auto after_frame = [&]() {
     ++frames;
@@ -261,13 +216,21 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   rig.recording().write_ticks_csv(out.path("haptic_ticks.csv"));
   if (!options.record.empty()) rig.recording().write_csv(options.record);
 
+  for (const std::string& w : session_warnings(scene, in, history)) {
+    spdlog::warn("{}", w);
+    warnings.push_back(w);
+  }
+
   nlohmann::json summary = describe_run(scene, sim);
   summary["haptics"] = session_statistics(scene, options, in, rig, history, run_s);
+  summary["unconverged_frames"] = std::count_if(history.begin(), history.end(), [](const FrameSample& f) { return !f.converged; });
+  summary["warnings"] = warnings;
   summary["timings_s"] = {{"setup", setup_s}, {"session", run_s}, {"total", total.seconds()}};
   summary["outputs"] = {{"force_history_csv", "force_history.csv"},
                         {"session_csv", "session.csv"},
                         {"haptic_ticks_csv", "haptic_ticks.csv"},
-                        {"surface", surface ? surface_series.pvd_relative() : ""}};
+                        {"surface", surface ? surface_series.pvd_relative() : ""},
+                        {"tools", tool_series.pvd_relative()}};
   out.write_summary(summary);
   return summary;
 }

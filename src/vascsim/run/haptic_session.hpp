@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "vascsim/interaction/device.hpp"
+#include "vascsim/run/simulation.hpp"
 #include "vascsim/scene/scene.hpp"
 
 namespace vascsim {
@@ -38,6 +39,11 @@ struct HapticRunOptions {
   Device* device = nullptr;
   /// Called now and then with (session time done, session length), s.
   std::function<void(double, double)> on_progress;
+  /// Run while the simulation is built (e.g. a limit on the node count).
+  BuildChecks checks;
+  /// Called once the session is set up, before its first tick, with the simulation and the number of model
+  /// frames the session will step (e.g. to estimate its cost, or refuse it by throwing).
+  std::function<void(Simulation&, double frames)> after_setup;
 };
 
 /// Runs the session and returns summary.json's content (also written). Throws InputError for a scene

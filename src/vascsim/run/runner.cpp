@@ -4,11 +4,14 @@
 #include <fmt/format.h>
 #include <numeric>
 #include <omp.h>
+#include <spdlog/spdlog.h>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/stopwatch.hpp"
 #include "vascsim/model/registry.hpp"
 #include "vascsim/run/output_writer.hpp"
+#include "vascsim/run/tool_reach.hpp"
+#include "vascsim/run/tool_series.hpp"
 
 namespace vascsim {
 
@@ -106,19 +109,68 @@ nlohmann::json surface_map_info(Simulation& sim) {
           {"max_radius_m", r.max_radius_m}};
 }
 
-nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
-  const OutputWriter out(options.out_dir);
-  const Stopwatch total;
-  Simulation sim(scene);
-  Model& model = sim.model();
-  CsvTable probes = out.table("probes.csv", probe_columns(scene));
-
-  const bool surface = scene.output.surface && sim.body().surface.has_value();
+std::unique_ptr<Simulation> build_run(const Scene& scene, const BuildChecks& checks) {
+  auto sim = std::make_unique<Simulation>(scene, checks);
+  const bool surface = scene.output.surface && sim->body().surface.has_value();
   if (scene.output.surface && !surface)
     throw InputError(fmt::format("{}: key 'output.surface': geometry '{}' has no render surface", scene.file,
                                  scene.geometry.type));
+  if (surface) sim->surface_map();  // its guard fails here, before the first step
+  return sim;
+}
+
+namespace {
+
+// What the finished run found suspicious, one line each: a tool that never touched the tissue, load steps that
+// did not converge while a tool was in contact.
+std::vector<std::string> run_warnings(const Scene& scene, Simulation& sim, const std::vector<StepRecord>& records) {
+  std::vector<std::string> warnings;
+  for (std::size_t o = 0; o < scene.obstacles.size(); ++o) {
+    bool touched = false;
+    for (const StepRecord& r : records)
+      touched = touched || (o < r.obstacles.size() && (r.obstacles[o].contacts > 0 || r.obstacles[o].force_n.norm() > 0.0));
+    if (!touched && records.size() > 1)
+      warnings.push_back(fmt::format("the tool '{}' never touched the tissue (no contact and zero force at all {} "
+                                     "output points): check obstacles.{} (m)",
+                                     scene.obstacles[o].name, records.size() - 1, o));
+  }
+  const bool dynamic = find_model(scene.model).capabilities.dynamic;
+  int in_contact = 0;
+  for (const StepRecord& r : records) {
+    bool contact = false;
+    for (const ObstacleMeasure& m : r.obstacles) contact = contact || m.contacts > 0;
+    in_contact += !r.report.converged && contact ? 1 : 0;
+  }
+  if (in_contact > 0 && !dynamic) {
+    const int steps = sim.model().num_steps();
+    warnings.push_back(fmt::format("{} of {} load steps did not converge with a tool in contact: the contact changes "
+                                   "too much in one step; use more load steps ({}.load_steps, now {}; try {})",
+                                   in_contact, steps, scene.model, steps, std::max(2 * steps, 12)));
+  }
+  return warnings;
+}
+
+}  // namespace
+
+nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
+  const OutputWriter out(options.out_dir);
+  const Stopwatch total;
+  const std::unique_ptr<Simulation> built = build_run(scene, options.checks);
+  Simulation& sim = *built;
+  Model& model = sim.model();
+  if (options.after_setup) options.after_setup(sim);
+  std::vector<std::string> warnings;
+  for (std::size_t o = 0; o < scene.obstacles.size(); ++o) {
+    const ToolReach reach = tool_reach_by_load(scene.obstacles[o], sim.discretization().rest_positions());
+    if (!reach.touches()) warnings.push_back(tool_reach_warning(reach, scene.obstacles[o], o));
+  }
+  for (const std::string& w : warnings) spdlog::warn("{}", w);
+  CsvTable probes = out.table("probes.csv", probe_columns(scene));
+
+  const bool surface = scene.output.surface;
   const nlohmann::json surface_info = surface ? surface_map_info(sim) : nlohmann::json(nullptr);
   VtkSeries node_series = out.series("nodes"), surface_series = out.series("surface");
+  ToolSeries tool_series(out, scene, surface);
   // Dynamic models' series are indexed by time, load-stepped ones by the load factor.
   const bool dynamic = find_model(scene.model).capabilities.dynamic;
   auto write_vtk = [&](const StepRecord& r) {
@@ -127,15 +179,19 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
     if (scene.output.vtk)
       node_series.add_nodes(stamp, fmt::format("nodes_{:04d}.vtu", r.step), sim.discretization().rest_positions(),
                             model.positions(), sim.discretization().tets());
-    if (surface)
+    if (surface) {
       surface_series.add_surface(stamp, fmt::format("surface_{:04d}.vtu", r.step), sim.surface_frame(),
                                  *sim.body().surface);
+      tool_series.add(stamp, fmt::format("tools_{:04d}.vtu", r.step), tools_at(scene, r.report.load_factor));
+    }
   };
 
   nlohmann::json steps = nlohmann::json::array();
+  std::vector<StepRecord> records;
   auto record = [&](const StepRecord& r) {
     probes.add_row(csv_row(r));
     steps.push_back(step_json(scene, r));
+    records.push_back(r);
     write_vtk(r);
     if (options.on_step) options.on_step(r, model.num_steps());
   };
@@ -149,16 +205,22 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
     unconverged += last.report.converged ? 0 : 1;
     record(last);
   }
+  for (const std::string& w : run_warnings(scene, sim, records)) {
+    spdlog::warn("{}", w);
+    warnings.push_back(w);
+  }
 
   nlohmann::json summary = describe_run(scene, sim);
   summary.update({{"timings_s", {{"setup", sim.setup_seconds()}, {"solve", solve_s}, {"total", total.seconds()}}},
                   {"unconverged_steps", unconverged},
+                  {"warnings", warnings},
                   {"steps", steps},
                   {"surface_map", surface_info},
                   {"outputs",
                    {{"probes_csv", "probes.csv"},
                     {"vtk", scene.output.vtk ? node_series.pvd_relative() : ""},
-                    {"surface", surface ? surface_series.pvd_relative() : ""}}}});
+                    {"surface", surface ? surface_series.pvd_relative() : ""},
+                    {"tools", tool_series.pvd_relative()}}}});
   const auto ref = sim.reference(last);
   if (!ref.is_null()) summary["reference"] = ref;
   out.write_summary(summary);

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "vascsim/run/simulation.hpp"
@@ -15,10 +16,21 @@ struct RunOptions {
   std::filesystem::path out_dir;
   /// Called after every output point with (record, total steps).
   std::function<void(const StepRecord&, int)> on_step;
+  /// Run while the simulation is built (e.g. a limit on the node count).
+  BuildChecks checks;
+  /// Called once the run is built, before its first step (e.g. to estimate its cost, or refuse it by throwing).
+  std::function<void(Simulation&)> after_setup;
 };
 
 /// Runs the scene and returns summary.json's content (also written). Throws InputError / NumericalError.
+/// summary.json's "warnings" lists what the run found suspicious (a tool that never touched the tissue, load
+/// steps that did not converge with a tool in contact), each also logged as a warning.
 nlohmann::json run_scene(const Scene& scene, const RunOptions& options);
+
+/// What run_scene builds before its first step, with the same checks and errors: the simulation (body,
+/// discretisation, regions, tools, the model's set-up) and, with output.surface, the surface map (an
+/// InputError when the geometry has no surface). `vascsim check` builds a scene through this.
+std::unique_ptr<Simulation> build_run(const Scene& scene, const BuildChecks& checks = {});
 
 /// summary.json's description of the MLS surface map of a run (the body must have a surface).
 nlohmann::json surface_map_info(Simulation& sim);

@@ -15,9 +15,9 @@
 
 namespace vascsim {
 
-Simulation::Simulation(const Scene& scene) : scene_(scene) {
+Simulation::Simulation(const Scene& scene, const BuildChecks& checks) : scene_(scene) {
   try {
-    build();
+    build(checks);
   } catch (const InputError& e) {
     // Errors found while assembling (overlapping regions, no supports, ...) name the scene file too.
     const std::string msg = e.what();
@@ -26,13 +26,14 @@ Simulation::Simulation(const Scene& scene) : scene_(scene) {
   }
 }
 
-void Simulation::build() {
+void Simulation::build(const BuildChecks& checks) {
   const Scene& scene = scene_;
   const auto t0 = SteadyClock::now();
   body_ = std::make_unique<Body>(build_body(scene.geometry));
   const NodeCloud& cloud = body_->cloud;
   spdlog::info("geometry: {} with {} nodes and {} virtual tetrahedra", cloud.kind, cloud.positions.size(),
                cloud.tets.size());
+  if (checks.after_body) checks.after_body(*body_);
   disc_ = std::make_unique<Discretization>(cloud, scene.material, scene.discretization);
   spdlog::info("discretization: mean spacing {:.4g} m, mean neighbours {:.1f}, volume {:.4g} m^3 (tets {:.4g} m^3)",
                disc_->mean_spacing(), disc_->mean_neighbours(), disc_->total_volume(), disc_->tet_volume());

@@ -4,6 +4,7 @@
 // point. It knows nothing of files or terminals (runner.hpp, output_writer.hpp).
 
 #include <chrono>
+#include <functional>
 #include <memory>
 
 #include "vascsim/geometry/vessel_body.hpp"
@@ -34,9 +35,15 @@ struct StepRecord {
   double wall_s = 0.0;                 ///< wall-clock time of this step, s
 };
 
+/// Checks a driver runs while a Simulation is built, to stop (throw) before the expensive stages.
+struct BuildChecks {
+  /// After the body is built (its node count and extent are known), before the discretisation.
+  std::function<void(const Body&)> after_body;
+};
+
 class Simulation {
  public:
-  explicit Simulation(const Scene& scene);
+  explicit Simulation(const Scene& scene, const BuildChecks& checks = {});
 
   const Scene& scene() const { return scene_; }
   const Discretization& discretization() const { return *disc_; }
@@ -58,7 +65,7 @@ class Simulation {
   nlohmann::json reference(const StepRecord& last) const;
 
  private:
-  void build();
+  void build(const BuildChecks& checks);
   StepRecord measure(int step, const StepReport& report) const;
 
   Scene scene_;

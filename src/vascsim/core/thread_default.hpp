@@ -1,0 +1,16 @@
+#pragma once
+// How many OpenMP threads vascsim uses when the user chooses none (no -j, no OMP_NUM_THREADS): the cores that
+// other work leaves idle. On a loaded machine every parallel region waits for its slowest thread, and a thread
+// that shares its core with another process waits for a time slice: on the shared 2-core machine, two threads
+// beside other work were measured 7.5x slower per frame than one (docs/performance.md, "Threads on a loaded
+// machine"); OMP_WAIT_POLICY=passive did not change that.
+
+namespace vascsim {
+
+/// max(1, cores - round(load_average)), at most `cores`; `cores` when the load is unknown (negative).
+int default_thread_count(int cores, double load_average);
+
+/// The 1-minute load average of /proc/loadavg; -1 when it cannot be read.
+double load_average_1min();
+
+}  // namespace vascsim

@@ -1,0 +1,115 @@
+#include "vascsim/experiments/force_accuracy.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "vascsim/core/error.hpp"
+#include "vascsim/experiments/plot_script.hpp"
+
+namespace vascsim {
+
+namespace {
+
+AccuracyCase read_case(const nlohmann::json& j) {
+  AccuracyCase c;
+  c.name = j.at("case").get<std::string>();
+  c.scene = j.at("scene").get<std::string>();
+  c.tool = j.at("loaded_by").get<std::string>() == "tool";
+  c.outer_radius_m = j.at("outer_radius_m").get<double>();
+  c.wall_thickness_m = j.at("wall_thickness_m").get<double>();
+  for (const auto& r : j.at("rows"))
+    c.rows.push_back({r.at("spacing_m").get<double>(), r.at("nodes").get<double>(), r.at("force_n").get<double>(),
+                      r.at("error").get<double>()});
+  std::sort(c.rows.begin(), c.rows.end(), [](const AccuracyRow& a, const AccuracyRow& b) { return a.nodes < b.nodes; });
+  return c;
+}
+
+bool same(double a, double b) { return std::abs(a - b) <= 0.01 * std::max(std::abs(a), std::abs(b)); }
+
+}  // namespace
+
+ForceAccuracyTable ForceAccuracyTable::read(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw InputError(fmt::format("{}: cannot read the force accuracy table", file.string()));
+  ForceAccuracyTable t;
+  t.file = file;
+  try {
+    const nlohmann::json doc = nlohmann::json::parse(in);
+    t.reference = doc.at("reference").get<std::string>();
+    t.measured = doc.at("measured").get<std::string>();
+    t.regenerate = doc.at("regenerate").get<std::string>();
+    for (const auto& c : doc.at("cases")) {
+      t.cases.push_back(read_case(c));
+      if (t.cases.back().rows.empty())
+        throw InputError(fmt::format("{}: case '{}' has no rows", file.string(), t.cases.back().name));
+    }
+    for (const auto& r : doc.at("substep_stiffness")) {
+      t.substep_rules.push_back({r.at("model").get<std::string>(), r.at("substep_key").get<std::string>(),
+                                 r.at("warn_above").get<double>(), r.at("measured").get<std::string>()});
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(fmt::format("{}: not a force accuracy table ({})", file.string(), e.what()));
+  }
+  return t;
+}
+
+std::filesystem::path ForceAccuracyTable::default_file() { return source_path("data/calibration/force_accuracy.json"); }
+
+AccuracyEstimate estimate_accuracy(const ForceAccuracyTable& table, const Scene& scene, double nodes) {
+  AccuracyEstimate e;
+  const std::string& type = scene.geometry.type;
+  if (type != "tube" && type != "vessel") return e;
+  const bool tool = !scene.obstacles.empty();
+  for (const AccuracyCase& c : table.cases)
+    if (c.tool == tool && same(c.outer_radius_m, scene.geometry.tube.outer_radius_m) &&
+        same(c.wall_thickness_m, scene.geometry.tube.wall_thickness_m))
+      e.match = &c;
+  if (e.match == nullptr) return e;
+  const std::vector<AccuracyRow>& rows = e.match->rows;
+  if (nodes <= rows.front().nodes) {
+    e.above = &rows.front();
+    e.error = rows.front().error;
+    return e;
+  }
+  if (nodes >= rows.back().nodes) {
+    e.below = &rows.back();
+    e.error = rows.back().error;
+    return e;
+  }
+  std::size_t k = 1;
+  while (rows[k].nodes < nodes) ++k;
+  e.below = &rows[k - 1];
+  e.above = &rows[k];
+  const double t = std::log(nodes / e.below->nodes) / std::log(e.above->nodes / e.below->nodes);
+  e.error = e.below->error + t * (e.above->error - e.below->error);
+  return e;
+}
+
+std::string describe_accuracy(const ForceAccuracyTable& table, const AccuracyEstimate& e) {
+  if (e.match == nullptr) {
+    std::string cases;
+    for (const AccuracyCase& c : table.cases) cases += (cases.empty() ? "" : "; ") + c.name;
+    return fmt::format("not covered: no case of the accuracy table has this vessel and loading (cases: {})", cases);
+  }
+  auto row = [](const AccuracyRow& r) { return fmt::format("{:.3g} mm, {:.0f} nodes: {:+.1f} %", 1e3 * r.spacing_m, r.nodes, 100.0 * r.error); };
+  std::string from;
+  if (e.below && e.above)
+    from = fmt::format("interpolated in log(nodes) between the rows [{}] and [{}]", row(*e.below), row(*e.above));
+  else if (e.above)
+    from = fmt::format("coarser than the coarsest row [{}]: expect at least this error", row(*e.above));
+  else
+    from = fmt::format("as fine as or finer than the finest row [{}], the reference", row(*e.below));
+  return fmt::format("{:+.1f} % against the {} of case '{}' ({}; {})", 100.0 * e.error, table.reference,
+                     e.match->name, e.match->scene, from);
+}
+
+double substep_stiffness_ratio(double substep_s, const Material& material, double spacing_m) {
+  const double c_p = std::sqrt(material.p_wave_modulus() / material.density_kg_m3);
+  const double r = substep_s * c_p / spacing_m;
+  return r * r;
+}
+
+}  // namespace vascsim

@@ -1,0 +1,69 @@
+#pragma once
+// How accurate a scene's forces are expected to be, from the project's own measurements (data/calibration/
+// force_accuracy.json, the table of docs/validation.md "Real-time resolutions: force error against node
+// count", written by scripts/realtime_resolution_table.py --accuracy-table):
+//  - the discretisation error of a vessel at a node count: a case of the table (the same cross-section, loaded
+//    the same way: a bonded indenter region or a tool) interpolated in log(node count) between its two rows;
+//  - models known to be far off at some settings: xpbd's force deficit when its per-substep stiffness ratio
+//    q = (h c_p / spacing)^2 is large (docs/validation.md, "xpbd steady state against quasi_static").
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vascsim/scene/scene.hpp"
+
+namespace vascsim {
+
+struct AccuracyRow {
+  double spacing_m = 0.0;
+  double nodes = 0.0;
+  double force_n = 0.0;
+  double error = 0.0;  ///< force / reference force - 1
+};
+
+struct AccuracyCase {
+  std::string name, scene;
+  bool tool = false;  ///< loaded by a tool (obstacle) rather than a bonded region
+  double outer_radius_m = 0.0, wall_thickness_m = 0.0;
+  std::vector<AccuracyRow> rows;  ///< by node count, ascending
+};
+
+/// A model whose force is known to fall short when its per-substep stiffness ratio is large.
+struct SubstepStiffnessRule {
+  std::string model;
+  std::string substep_key;   ///< the key of the model's info() holding the substep, s
+  double warn_above = 0.0;   ///< warn when q exceeds this
+  std::string measured;      ///< the measurements to cite, one phrase
+};
+
+struct ForceAccuracyTable {
+  std::filesystem::path file;
+  std::string reference, measured, regenerate;
+  std::vector<AccuracyCase> cases;
+  std::vector<SubstepStiffnessRule> substep_rules;
+
+  /// Throws InputError naming the file if it is missing or malformed.
+  static ForceAccuracyTable read(const std::filesystem::path& file);
+  /// data/calibration/force_accuracy.json of the source tree this binary was built from.
+  static std::filesystem::path default_file();
+};
+
+/// The expected force error of a scene at `nodes` nodes.
+struct AccuracyEstimate {
+  const AccuracyCase* match = nullptr;  ///< null: no case of the table has this vessel and loading
+  double error = 0.0;                   ///< interpolated (or the nearest row's outside the table)
+  const AccuracyRow* below = nullptr;   ///< the rows it lies between (one of them null outside the table)
+  const AccuracyRow* above = nullptr;
+};
+
+AccuracyEstimate estimate_accuracy(const ForceAccuracyTable& table, const Scene& scene, double nodes);
+
+/// One line: the error, the rows it comes from and what the error is measured against.
+std::string describe_accuracy(const ForceAccuracyTable& table, const AccuracyEstimate& e);
+
+/// q = (h c_p / spacing)^2 with c_p = sqrt((lambda + 2 mu) / rho), the per-substep stiffness ratio.
+double substep_stiffness_ratio(double substep_s, const Material& material, double spacing_m);
+
+}  // namespace vascsim

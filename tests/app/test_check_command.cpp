@@ -1,0 +1,234 @@
+// `vascsim check` (a dry run) against `vascsim run`, and what a run says when something is wrong: check builds
+// every bundled scene and reports it; where `run` fails on input or in its set-up, `check` fails with the same
+// exit code and the same message; a run with unconverged steps exits with 4 and says so; a tool that never
+// touches the tissue, load steps too large for the contact and xpbd far from its accurate range are each
+// named in one warning line. In-process through run_cli.
+
+#include <gtest/gtest.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "vascsim/app/cli.hpp"
+
+namespace vascsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliResult {
+  int code = -1;
+  std::string out, err;
+  std::vector<std::string> messages;  ///< lines of err that are not log lines ("[level] ...")
+  bool err_has(const std::string& s) const { return err.find(s) != std::string::npos; }
+  bool out_has(const std::string& s) const { return out.find(s) != std::string::npos; }
+};
+
+CliResult cli(const std::vector<std::string>& args) {
+  const auto previous = spdlog::default_logger();  // run_cli's logger writes into `err`, which dies here
+  std::ostringstream out, err;
+  CliResult r;
+  r.code = run_cli(args, out, err);
+  spdlog::set_default_logger(previous);
+  r.out = out.str();
+  r.err = err.str();
+  std::istringstream lines(r.err);
+  for (std::string line; std::getline(lines, line);)
+    if (!line.empty() && line[0] != '[') r.messages.push_back(line);
+  return r;
+}
+
+std::string source(const std::string& relative) { return std::string(VASCSIM_SOURCE_DIR) + "/" + relative; }
+
+fs::path test_dir() {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const fs::path d = fs::path(::testing::TempDir()) / ("vascsim_check_" + std::to_string(::getpid())) /
+                     (std::string(info->test_suite_name()) + "." + info->name());
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::vector<std::string> with_sets(std::vector<std::string> args, const std::vector<std::string>& sets) {
+  for (const auto& s : sets) {
+    args.push_back("--set");
+    args.push_back(s);
+  }
+  return args;
+}
+
+nlohmann::json read_json(const fs::path& file) {
+  std::ifstream in(file);
+  return nlohmann::json::parse(in);
+}
+
+// ------------------------------------------------------------------------------------------------------------
+// check on every bundled scene (aorta-vmtk, 88k nodes and 6 GB, only in `make vessel-aorta-vmtk`): it builds,
+// reports the body, every region with its nodes, every tool, and an estimate line, and the bundled tools all
+// reach the tissue. "Slow": some scenes have 23k-25k nodes and the real-time ones build a sparse factor.
+
+class BundledSceneSlow : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BundledSceneSlow, CheckBuildsAndReports) {
+  const fs::path dir = test_dir();
+  const std::string scene = source(GetParam());
+  const CliResult r = cli({"-q", "check", scene, "--json", (dir / "check.json").string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(r.out_has("  body      ")) << r.out;
+  EXPECT_TRUE(r.out_has("  time      ")) << r.out;
+  EXPECT_TRUE(r.out_has("nothing solved")) << r.out;
+  const nlohmann::json report = read_json(dir / "check.json");
+  const nlohmann::json scene_json = read_json(scene);
+  EXPECT_GT(report["nodes"].get<int>(), 100);
+  EXPECT_GT(report["memory"]["resident_after_build_bytes"].get<double>(), 1e6);
+  ASSERT_EQ(report["regions"].size(), scene_json.value("regions", nlohmann::json::array()).size());
+  for (const auto& region : report["regions"]) EXPECT_GT(region["nodes"].get<int>(), 0) << region;
+  ASSERT_EQ(report["tools"].size(), scene_json.value("obstacles", nlohmann::json::array()).size());
+  for (const auto& tool : report["tools"]) EXPECT_TRUE(tool["touches"].get<bool>()) << tool;
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, BundledSceneSlow,
+                         ::testing::Values("scenes/vein-indent.json", "scenes/cantilever.json",
+                                           "scenes/hand-dorsal-vein.json", "scenes/hand-dorsal-vein-catheter.json",
+                                           "scenes/aorta-bent.json", "scenes/aorta-bent-catheter.json",
+                                           "scenes/retinal-artery-twice-bent.json",
+                                           "scenes/realtime/hand-dorsal-vein.json",
+                                           "scenes/realtime/hand-dorsal-vein-catheter.json",
+                                           "scenes/realtime/aorta-bent.json",
+                                           "scenes/realtime/retinal-artery-twice-bent.json"),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                           std::string name = info.param.substr(info.param.find('/') + 1);
+                           for (char& c : name)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return name;
+                         });
+
+// ------------------------------------------------------------------------------------------------------------
+// Where run fails before solving, check fails the same way: same exit code, same message line.
+
+struct Broken {
+  std::string what, scene;
+  std::vector<std::string> sets;
+  int code;            // the exit code both give
+  std::string phrase;  // a piece of the message that names the fix
+};
+
+TEST(CheckCommand, FailsWhereRunFailsWithTheSameMessage) {
+  const std::string tiny = source("tests/data/tiny-bent-vessel.json");
+  const std::vector<Broken> cases = {
+      {"unknown key", tiny, {"geometry.bogus=1"}, 2, "bogus"},
+      {"a region that selects nothing", tiny, {"regions.2.select.type=box", "regions.2.select.min_m=[1,1,1]"}, 2,
+       "selects no nodes"},
+      {"a vessel selector on a beam", source("scenes/cantilever.json"),
+       {"regions.1.select={\"type\":\"cylinder_end\",\"end\":\"start\"}"}, 2, "needs a vessel geometry"},
+      {"the discretisation guard", tiny, {"discretization.max_growths=0", "discretization.support_radius_factor=1.0"}, 3,
+       "discretization.max_growths"},
+      {"the surface map's guard", tiny, {"mapping.max_growths=0", "mapping.support_radius_factor=1.0"}, 3,
+       "mapping.max_growths = "},
+      {"a body above the node limit without --yes", source("scenes/vein-indent.json"),
+       {"geometry.outer_radius_m=0.015"}, 2, "--yes"},
+      {"a missing trajectory", source("scenes/realtime/hand-dorsal-vein-catheter.json"),
+       {"haptics.device.trajectory=no-such-trajectory.csv"}, 2, "no-such-trajectory.csv"},
+  };
+  const fs::path dir = test_dir();
+  for (const Broken& c : cases) {
+    SCOPED_TRACE(c.what);
+    const CliResult run = cli(with_sets({"-q", "run", c.scene, "--out", (dir / "run").string()}, c.sets));
+    const CliResult check = cli(with_sets({"-q", "check", c.scene}, c.sets));
+    EXPECT_EQ(run.code, c.code) << run.err;
+    EXPECT_EQ(check.code, run.code) << check.err;
+    ASSERT_EQ(run.messages.size(), 1u) << run.err;
+    ASSERT_EQ(check.messages.size(), 1u) << check.err;
+    EXPECT_EQ(check.messages[0], run.messages[0]);
+    EXPECT_NE(run.messages[0].find(c.phrase), std::string::npos) << run.messages[0];
+  }
+}
+
+// The surface map's guard names a value of mapping.max_growths that works, and that value does.
+TEST(CheckCommand, TheSurfaceMapGuardNamesAGrowthThatWorks) {
+  const std::string tiny = source("tests/data/tiny-bent-vessel.json");
+  const CliResult failed = cli({"-q", "check", tiny, "--set", "mapping.max_growths=0", "--set",
+                                "mapping.support_radius_factor=1.0"});
+  ASSERT_EQ(failed.code, 3) << failed.err;
+  const std::string key = "mapping.max_growths = ";
+  const std::size_t at = failed.err.find(key);
+  ASSERT_NE(at, std::string::npos) << failed.err;
+  const int growths = std::stoi(failed.err.substr(at + key.size()));
+  EXPECT_GT(growths, 0);
+  const CliResult fixed = cli({"-q", "check", tiny, "--set", "mapping.max_growths=" + std::to_string(growths), "--set",
+                               "mapping.support_radius_factor=1.0"});
+  EXPECT_EQ(fixed.code, 0) << fixed.err;
+  const CliResult one_less = cli({"-q", "check", tiny, "--set", "mapping.max_growths=" + std::to_string(growths - 1),
+                                  "--set", "mapping.support_radius_factor=1.0"});
+  EXPECT_EQ(one_less.code, 3) << "the smallest value that works is named";
+}
+
+// ------------------------------------------------------------------------------------------------------------
+// Runs that finish but are wrong say so.
+
+TEST(RunExitCode, UnconvergedStepsEndOnASummaryLineAndExitCode4) {
+  const fs::path dir = test_dir();
+  // One Newton iteration per load step cannot reach 1e-6 on a 0.2 mm push.
+  const CliResult r = cli({"-q", "run", source("tests/data/tiny-bent-vessel.json"), "--out", (dir / "out").string(),
+                           "--set", "quasi_static.max_newton_iterations=1", "--set", "output.vtk=false", "--set",
+                           "output.surface=false"});
+  EXPECT_EQ(r.code, 4) << r.out << r.err;
+  EXPECT_TRUE(r.out_has("NOT CONVERGED: 2 of 2 steps")) << r.out;
+  const nlohmann::json summary = read_json(dir / "out" / "summary.json");
+  EXPECT_EQ(summary["unconverged_steps"].get<int>(), 2);
+  // The same scene with its own settings converges and exits 0.
+  const CliResult ok = cli({"-q", "run", source("tests/data/tiny-bent-vessel.json"), "--out", (dir / "ok").string(),
+                            "--set", "output.vtk=false", "--set", "output.surface=false"});
+  EXPECT_EQ(ok.code, 0) << ok.out << ok.err;
+  EXPECT_FALSE(ok.out_has("NOT CONVERGED")) << ok.out;
+}
+
+TEST(RunWarnings, AToolThatNeverTouchesIsNamedUpFrontAndAtTheEnd) {
+  const fs::path dir = test_dir();
+  const std::string tiny = source("tests/data/tiny-catheter.json");
+  // The tip typed in millimetres: 1.6 m above the vessel.
+  const std::vector<std::string> sets = {"obstacles.0.tip_m=[0,1.6,3]", "output.surface=false"};
+  const CliResult check = cli(with_sets({"check", tiny}, sets));
+  EXPECT_EQ(check.code, 0) << check.err;
+  EXPECT_TRUE(check.out_has("tool 'catheter' will never touch the tissue")) << check.out;
+  const CliResult run = cli(with_sets({"run", tiny, "--out", (dir / "out").string()}, sets));
+  EXPECT_TRUE(run.err_has("[warning] tool 'catheter' will never touch the tissue")) << run.err;
+  EXPECT_TRUE(run.out_has("warning: the tool 'catheter' never touched the tissue")) << run.out;
+  EXPECT_TRUE(run.code == 0 || run.code == 4) << run.err;
+  // Where it does reach the tissue, neither warning.
+  const CliResult touching = cli({"check", tiny, "--set", "output.surface=false"});
+  EXPECT_FALSE(touching.out_has("never touch")) << touching.out;
+  EXPECT_TRUE(touching.out_has("catheter: reaches the tissue")) << touching.out;
+}
+
+TEST(RunWarnings, ContactLoadStepsThatDoNotConvergeNameTheKey) {
+  const fs::path dir = test_dir();
+  // One load step for the whole 0.6 mm press with few Newton iterations: the contact set changes too much.
+  const CliResult r = cli({"-q", "run", source("tests/data/tiny-catheter.json"), "--out", (dir / "out").string(),
+                           "--set", "quasi_static.load_steps=1", "--set", "quasi_static.max_newton_iterations=3",
+                           "--set", "output.surface=false"});
+  EXPECT_EQ(r.code, 4) << r.out << r.err;
+  EXPECT_TRUE(r.out_has("did not converge with a tool in contact")) << r.out;
+  EXPECT_TRUE(r.out_has("quasi_static.load_steps, now 1")) << r.out;
+}
+
+TEST(RunWarnings, XpbdOnAThinStiffWallIsNamedWithTheMeasuredDeficit) {
+  // The vein wall at 0.3 mm spacing with xpbd's 8 substeps of 1/8 ms: q = (h c_p / spacing)^2 is about 310.
+  const CliResult check =
+      cli({"check", source("tests/data/tiny-catheter.json"), "--set", "model=xpbd", "--set", "output.surface=false"});
+  EXPECT_EQ(check.code, 0) << check.err;
+  EXPECT_TRUE(check.out_has("xpbd is far off at these settings")) << check.out;
+  EXPECT_TRUE(check.out_has("96.6 % too low")) << check.out;
+  // quasi_static on the same scene: no such warning.
+  const CliResult qs = cli({"check", source("tests/data/tiny-catheter.json"), "--set", "output.surface=false"});
+  EXPECT_FALSE(qs.out_has("far off")) << qs.out;
+}
+
+}  // namespace
+}  // namespace vascsim

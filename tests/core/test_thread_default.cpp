@@ -1,0 +1,25 @@
+// The default OpenMP thread count: the cores the load average leaves idle, at least one.
+
+#include <gtest/gtest.h>
+
+#include "vascsim/core/thread_default.hpp"
+
+namespace vascsim {
+namespace {
+
+TEST(ThreadDefault, CoresTheLoadLeavesIdle) {
+  EXPECT_EQ(default_thread_count(2, 0.1), 2);   // idle machine: every core
+  EXPECT_EQ(default_thread_count(2, 0.7), 1);   // another process holds most of a core
+  EXPECT_EQ(default_thread_count(2, 11.9), 1);  // heavily loaded: one thread, never zero
+  EXPECT_EQ(default_thread_count(8, 2.4), 6);
+  EXPECT_EQ(default_thread_count(4, -1.0), 4);  // load unknown: every core
+  EXPECT_EQ(default_thread_count(0, 0.0), 1);
+}
+
+TEST(ThreadDefault, ReadsTheLoadAverage) {
+  const double load = load_average_1min();
+  EXPECT_GE(load, 0.0);  // Linux always has /proc/loadavg
+}
+
+}  // namespace
+}  // namespace vascsim

@@ -1,0 +1,91 @@
+// The cost model and the expected force accuracy `vascsim check` reports: the calibration file read and
+// evaluated as the power law it states, with its scatter as the uncertainty; the accuracy table matched to a
+// scene by its vessel and loading and interpolated in log(nodes); the xpbd per-substep stiffness ratio.
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "vascsim/core/error.hpp"
+#include "vascsim/experiments/cost_model.hpp"
+#include "vascsim/experiments/force_accuracy.hpp"
+
+namespace vascsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string source(const std::string& relative) { return std::string(VASCSIM_SOURCE_DIR) + "/" + relative; }
+
+TEST(CostModel, ReadsAndEvaluatesTheCalibration) {
+  const fs::path file = fs::path(::testing::TempDir()) / ("cost_model_" + std::to_string(::getpid()) + ".json");
+  std::ofstream(file) << R"({"measured": "test", "regenerate": "none", "models": {"quasi_static": {
+      "step": "load step", "step_length_key": "",
+      "seconds_per_step": {"c0": -13.0, "c1": 1.1, "log_sigma": 0.3, "runs": 9},
+      "peak_bytes": {"c0": 12.0, "c1": 0.5, "log_sigma": 0.1, "runs": 9},
+      "pairs_range": [1e5, 1e6]}}})";
+  const CostCalibration c = CostCalibration::read(file);
+  const auto e = estimate_cost(c, "quasi_static", 4e5, 12);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_NEAR(e->seconds_per_step, std::exp(-13.0 + 1.1 * std::log(4e5)), 1e-12 * e->seconds_per_step);
+  EXPECT_NEAR(e->total_s, 12 * e->seconds_per_step, 1e-12 * e->total_s);
+  EXPECT_NEAR(e->factor, std::exp(0.3), 1e-12);
+  EXPECT_NEAR(e->peak_bytes, std::exp(12.0 + 0.5 * std::log(4e5)), 1e-9 * e->peak_bytes);
+  EXPECT_FALSE(e->extrapolated);
+  EXPECT_TRUE(estimate_cost(c, "quasi_static", 5e6, 1)->extrapolated);
+  EXPECT_FALSE(estimate_cost(c, "xpbd", 4e5, 1).has_value());
+  EXPECT_NE(describe_cost(*e).find("12 load steps x"), std::string::npos) << describe_cost(*e);
+  std::ofstream(file) << R"({"measured": "test"})";
+  EXPECT_THROW(CostCalibration::read(file), InputError);
+  fs::remove(file);
+}
+
+TEST(CostModel, TheBundledCalibrationCoversTheRealTimeAndStaticModels) {
+  const CostCalibration c = CostCalibration::read(CostCalibration::default_file());
+  for (const char* model : {"quasi_static", "implicit", "xpbd"}) {
+    const ModelCost* m = c.find(model);
+    ASSERT_NE(m, nullptr) << model;
+    EXPECT_GE(m->seconds_per_step.runs, 3) << model;
+    EXPECT_TRUE(std::isfinite(m->seconds_per_step.log_sigma)) << model;
+    EXPECT_GT(m->seconds_per_step.c1, 0.0) << model << ": a larger body costs more";
+  }
+}
+
+TEST(ForceAccuracy, MatchesTheVesselAndInterpolatesInLogNodes) {
+  const ForceAccuracyTable table = ForceAccuracyTable::read(ForceAccuracyTable::default_file());
+  const Scene vein = load_scene(source("scenes/hand-dorsal-vein.json"));
+  // At a row's node count: that row's error exactly.
+  AccuracyEstimate e = estimate_accuracy(table, vein, 12726);
+  ASSERT_NE(e.match, nullptr);
+  EXPECT_EQ(e.match->name, "hand dorsal vein, bonded indenter");
+  EXPECT_NEAR(e.error, -0.057, 1e-12);
+  // Half way in log(nodes) between 5,712 (-29.0 %) and 12,726 (-5.7 %): the mean.
+  e = estimate_accuracy(table, vein, std::sqrt(5712.0 * 12726.0));
+  EXPECT_NEAR(e.error, 0.5 * (-0.290 - 0.057), 1e-9);
+  ASSERT_TRUE(e.below && e.above);
+  EXPECT_NE(describe_accuracy(table, e).find("interpolated in log(nodes) between the rows"), std::string::npos);
+  // Coarser than the table: its coarsest row, as a lower bound.
+  e = estimate_accuracy(table, vein, 1000);
+  EXPECT_NEAR(e.error, -0.344, 1e-12);
+  EXPECT_NE(describe_accuracy(table, e).find("coarser than the coarsest row"), std::string::npos);
+  // The same vessel with a catheter: the catheter case; an imported mesh: not covered.
+  EXPECT_EQ(estimate_accuracy(table, load_scene(source("scenes/hand-dorsal-vein-catheter.json")), 22914).match->name,
+            "hand dorsal vein, 6 Fr catheter (Fig. 10)");
+  EXPECT_EQ(estimate_accuracy(table, load_scene(source("scenes/cantilever.json")), 1000).match, nullptr);
+}
+
+TEST(ForceAccuracy, SubstepStiffnessRatioOfTheVeinAndTheCantilever) {
+  // docs/validation.md: q is about 1,200 on the vein's 0.15 mm layers and about 9 on the cantilever, both at
+  // xpbd's 1/8 ms substep. By hand from E, nu, rho: 1,242.50 and 8.9460 (tolerance: the 5th digit).
+  Material vein;  // E 0.5 MPa, nu 0.45, 1060 kg/m^3
+  EXPECT_NEAR(substep_stiffness_ratio(1e-3 / 8, vein, 0.15e-3), 1242.50, 0.01);
+  Material beam;
+  beam.youngs_modulus_pa = 1.0e6;
+  EXPECT_NEAR(substep_stiffness_ratio(1e-3 / 8, beam, 2.5e-3), 8.9460, 0.0001);
+}
+
+}  // namespace
+}  // namespace vascsim

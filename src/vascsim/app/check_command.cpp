@@ -112,6 +112,12 @@ nlohmann::json check_report(const Scene& scene, Built& b, double setup_s) {
     report["expected_time"] = {{"text", calibration ? fmt::format("no calibration for model '{}' in {}", scene.model,
                                                                   calibration->file.string())
                                                     : std::string("no cost calibration found")}};
+  if (b.session && b.session->inputs().mode == "realtime")
+    report["expected_time"]["text"] =
+        report["expected_time"]["text"].get<std::string>() +
+        fmt::format("; a realtime session lasts its {:.3g} s whatever its frames cost (a slower frame falls behind "
+                    "the hand)",
+                    b.session->inputs().duration_s);
   report["memory"] = memory_report(sim, cost);
   if (const ForceAccuracyTable* table = bundled_force_accuracy()) {
     const AccuracyEstimate a = estimate_accuracy(*table, scene, sim.discretization().num_nodes());
@@ -124,7 +130,7 @@ nlohmann::json check_report(const Scene& scene, Built& b, double setup_s) {
     regions.push_back({{"name", r.name}, {"bc", bc_name(r.bc)}, {"nodes", r.nodes.size()}});
   report["regions"] = regions;
   report["tools"] = tools_report(scene, b.reach);
-  if (sim.surface_map() && scene.output.surface) report["surface_map"] = surface_map_info(sim);
+  if (scene.output.surface && sim.body().surface) report["surface_map"] = surface_map_info(sim);
   return report;
 }
 

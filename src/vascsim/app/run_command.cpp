@@ -45,7 +45,10 @@ int run_session(const Scene& scene, const std::filesystem::path& out_dir, const 
                     fmt::format("session t = {:.3f} of {:.3f} s", done, total));
   };
   opt.checks = node_limit(scene, flags.yes);
-  opt.after_setup = [&](Simulation& sim, double frames) { announce_run(scene, sim, frames, flags.yes); };
+  opt.after_setup = [&](Simulation& sim, double frames) {
+    const std::string mode = flags.mode.empty() ? scene.haptics.mode : flags.mode;
+    announce_run(scene, sim, frames, flags.yes, mode == "realtime");
+  };
   const nlohmann::json summary = run_haptic_session(scene, opt);
   progress.finish();
   const auto& h = summary["haptics"];

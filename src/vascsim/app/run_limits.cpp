@@ -25,7 +25,7 @@ BuildChecks node_limit(const Scene& scene, bool yes) {
   return checks;
 }
 
-void announce_run(const Scene& scene, Simulation& sim, double steps, bool yes) {
+void announce_run(const Scene& scene, Simulation& sim, double steps, bool yes, bool wall_clock) {
   if (const ForceAccuracyTable* table = bundled_force_accuracy())
     for (const std::string& w : model_accuracy_warnings(*table, scene, sim)) spdlog::warn("{}", w);
   const CostCalibration* calibration = bundled_cost_calibration();
@@ -33,6 +33,12 @@ void announce_run(const Scene& scene, Simulation& sim, double steps, bool yes) {
   const std::optional<CostEstimate> cost = estimate_run_cost(*calibration, scene, sim, steps);
   if (!cost) {
     spdlog::debug("no cost calibration for model '{}' ({})", scene.model, calibration->file.string());
+    return;
+  }
+  if (wall_clock) {
+    spdlog::info("expected time per {} on this machine: {} (within a factor {:.2g} either way); the session runs in "
+                 "wall-clock time",
+                 cost->step, human_duration(cost->seconds_per_step), cost->factor);
     return;
   }
   spdlog::info("expected time on this machine: {}", describe_cost(*cost));

@@ -18,7 +18,9 @@ BuildChecks node_limit(const Scene& scene, bool yes);
 
 /// Logs the run's expected cost and the model's known accuracy problems at these settings (warnings), and
 /// refuses a run expected to take longer than kMaxSecondsUnasked unless `yes`. `steps`: the model steps the
-/// run takes. Nothing but the warnings when the machine has no cost calibration for the model.
-void announce_run(const Scene& scene, Simulation& sim, double steps, bool yes);
+/// run takes. Nothing but the warnings when the machine has no cost calibration for the model. A run paced by
+/// the wall clock (a realtime haptic session) lasts its duration whatever its frames cost: only the expected
+/// time per frame is logged.
+void announce_run(const Scene& scene, Simulation& sim, double steps, bool yes, bool wall_clock = false);
 
 }  // namespace vascsim

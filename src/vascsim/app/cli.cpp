@@ -11,6 +11,7 @@
 #include "vascsim/app/command.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/thread_default.hpp"
+#include "vascsim/experiments/machine_info.hpp"
 
 namespace vascsim {
 

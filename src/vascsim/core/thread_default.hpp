@@ -10,7 +10,4 @@ namespace vascsim {
 /// max(1, cores - round(load_average)), at most `cores`; `cores` when the load is unknown (negative).
 int default_thread_count(int cores, double load_average);
 
-/// The 1-minute load average of /proc/loadavg; -1 when it cannot be read.
-double load_average_1min();
-
 }  // namespace vascsim

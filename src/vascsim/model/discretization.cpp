@@ -13,10 +13,8 @@
 
 namespace vascsim {
 
-namespace {
-
 // Neighbourhood of one node at a trial radius: weights, A_i and the conditioning verdict.
-struct Trial {
+struct NeighbourhoodTrial {
   std::vector<Index> nbr;
   std::vector<double> w;
   Mat3 A = Mat3::Zero();
@@ -24,8 +22,10 @@ struct Trial {
   double fit_ratio = 1.0;  // quadratic basis: lambda_min / lambda_max of B_i / tr(B_i)
 };
 
+namespace {
+
 // B_i = sum_j w_ij p_ij p_ij^T of the quadratic basis (local_fit.hpp), monomials scaled by h.
-Mat9 quadratic_moment(const Vec3Array& X, Index i, const Trial& t, double h) {
+Mat9 quadratic_moment(const Vec3Array& X, Index i, const NeighbourhoodTrial& t, double h) {
   Mat9 B = Mat9::Zero();
   for (std::size_t a = 0; a < t.nbr.size(); ++a) {
     const Vec9 p = quadratic_monomials(X[t.nbr[a]] - X[i], h);
@@ -41,8 +41,8 @@ double eigen_ratio_of(const Mat9& B) {
   return es.eigenvalues().maxCoeff() > 0.0 ? es.eigenvalues().minCoeff() / es.eigenvalues().maxCoeff() : 0.0;
 }
 
-Trial evaluate(const Vec3Array& X, Index i, double h, const SpatialGrid& grid, GradientBasis basis) {
-  Trial t;
+NeighbourhoodTrial evaluate(const Vec3Array& X, Index i, double h, const SpatialGrid& grid, GradientBasis basis) {
+  NeighbourhoodTrial t;
   grid.for_each_within(X[i], h, [&](Index j, double) {
     if (j != i) t.nbr.push_back(j);
   });
@@ -110,11 +110,11 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
   const double hmax = h0 * std::pow(opt.growth_factor, opt.max_growths);
   SpatialGrid grid(X_, hmax);
   h_.assign(n, h0);
-  std::vector<Trial> trials(n);
+  std::vector<NeighbourhoodTrial> trials(n);
   std::vector<int> failed(n, 0);
   const bool quadratic = opt.basis == GradientBasis::Quadratic;
   const int min_neighbours = quadratic ? std::max(opt.min_neighbours, opt.quadratic_min_neighbours) : opt.min_neighbours;
-  auto accepted = [&](const Trial& t) {
+  auto accepted = [&](const NeighbourhoodTrial& t) {
     return static_cast<int>(t.nbr.size()) >= min_neighbours && t.eigen_ratio >= opt.min_eigen_ratio &&
            (!quadratic || t.fit_ratio >= opt.quadratic_min_eigen_ratio);
   };
@@ -152,6 +152,14 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
     spdlog::info("discretization: support radius grown for {} of {} nodes (K_min / conditioning guard)",
                  grown_nodes_, n);
 
+  store_gradient_vectors(trials, opt.basis);
+  transposed_ = transpose(pairs_, n);
+}
+
+// The accepted neighbourhoods as the pair tables: d_ij (linear or quadratic fit), w_ij, d_ii and the moments.
+void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial>& trials, GradientBasis basis) {
+  const Index n = num_nodes();
+  const bool quadratic = basis == GradientBasis::Quadratic;
   pairs_.row_start.assign(static_cast<std::size_t>(n) + 1, 0);
   for (Index i = 0; i < n; ++i) pairs_.row_start[i + 1] = pairs_.row_start[i] + static_cast<Index>(trials[i].nbr.size());
   const std::size_t npairs = static_cast<std::size_t>(pairs_.row_start[n]);
@@ -161,11 +169,11 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
   self_d_.assign(n, Vec3::Zero());
   moment_trace_.assign(n, 0.0);
   moment_.assign(n, Mat3::Zero());
-  basis_ = opt.basis;
+  basis_ = basis;
   if (quadratic) fit_.resize(npairs);
 #pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) {
-    const Trial& t = trials[i];
+    const NeighbourhoodTrial& t = trials[i];
     const Mat3 Ainv = t.A.inverse();  // well conditioned by the guard above (double precision)
     moment_trace_[i] = t.A.trace();
     moment_[i] = t.A;
@@ -187,7 +195,6 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
     }
     self_d_[i] = -dsum;
   }
-  transposed_ = transpose(pairs_, n);
 }
 
 void Discretization::compute_volumes(const DiscretizationOptions& opt) {

@@ -32,6 +32,8 @@ struct DiscretizationOptions {
   double quadratic_min_eigen_ratio = 1e-6;
 };
 
+struct NeighbourhoodTrial;  // one node's neighbourhood at a trial support radius (discretization.cpp)
+
 /// One compressed-sparse-row table of pair data: row r lists (col, d, w).
 struct PairTable {
   std::vector<Index> row_start;  ///< #rows + 1
@@ -87,6 +89,7 @@ class Discretization {
 
  private:
   void build_neighbourhoods(const DiscretizationOptions& opt);
+  void store_gradient_vectors(const std::vector<NeighbourhoodTrial>& trials, GradientBasis basis);
   void compute_volumes(const DiscretizationOptions& opt);
 
   NodeCloud cloud_;

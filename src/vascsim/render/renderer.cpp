@@ -242,9 +242,21 @@ void Renderer::upload(const RenderFrame& frame, bool measure) {
   Impl& m = *impl_;
   if (measure) glFinish();
   const auto t0 = Clock::now();
-  std::size_t bytes = 0;
+  std::size_t bytes = upload_per_frame_arrays(frame);
+  bytes += upload_topology(frame);
+  m.uv_aspect = frame.uv_aspect > 0.0f ? frame.uv_aspect : 1.0f;
+  m.bounds = scene_bounds(frame);
+  bytes += upload_tools_and_arrow(frame);
+  bytes += upload_overlays(frame);
+  if (measure) glFinish();
+  timing_.upload_ms = ms_since(t0);
+  timing_.uploaded_bytes = bytes;
+}
 
-  // Per-frame arrays: positions, normals, scalar.
+// Every frame: positions, normals (computed when the frame has none), the scalar field.
+std::size_t Renderer::upload_per_frame_arrays(const RenderFrame& frame) {
+  Impl& m = *impl_;
+  std::size_t bytes = 0;
   m.vertices = frame.positions_m.size();
   bytes += stream(GL_ARRAY_BUFFER, m.position_vbo, frame.positions_m);
   const std::vector<Float3>* normals = &frame.normals;
@@ -260,37 +272,44 @@ void Renderer::upload(const RenderFrame& frame, bool measure) {
     m.scalar_info.max = frame.scalar->max;
   }
   m.use_array(4, m.has_scalar);
+  return bytes;
+}
 
-  // Topology: triangles, uv, outer flags, lumen caps.
-  if (frame.topology_version != m.topology_version || frame.triangles.size() != m.triangles) {
-    m.topology_version = frame.topology_version;
-    m.triangles = frame.triangles.size();
-    bytes += stream(GL_ELEMENT_ARRAY_BUFFER, m.triangle_ebo, frame.triangles);  // surface_vao is bound
-    m.has_uv = !frame.uv.empty();
-    if (m.has_uv) bytes += stream(GL_ARRAY_BUFFER, m.uv_vbo, frame.uv);
-    m.use_array(2, m.has_uv);
-    m.has_outer = !frame.outer.empty();
-    if (m.has_outer) bytes += stream(GL_ARRAY_BUFFER, m.outer_vbo, frame.outer);
-    m.use_array(3, m.has_outer);
-    // The inner wall bounds both the wall solid and the lumen: drawn once with the difference of the two
-    // weights instead of twice.
-    const auto lumen = lumen_surface(frame.triangles, frame.outer);  // inner triangles, then the caps
-    std::vector<std::array<std::uint32_t, 3>> fluoro;
-    fluoro.reserve(frame.triangles.size() + lumen.size());
-    for (const auto& t : frame.triangles)
-      if (frame.outer.empty() || frame.outer[t[0]] != 0 || frame.outer[t[1]] != 0 || frame.outer[t[2]] != 0)
-        fluoro.push_back(t);
-    m.fluoro_wall = fluoro.size();
-    m.fluoro_inner = frame.triangles.size() - m.fluoro_wall;
-    m.fluoro_caps = lumen.size() - m.fluoro_inner;
-    fluoro.insert(fluoro.end(), lumen.begin(), lumen.end());
-    glBindVertexArray(m.lumen_vao);
-    bytes += stream(GL_ELEMENT_ARRAY_BUFFER, m.lumen_ebo, fluoro);
-  }
-  m.uv_aspect = frame.uv_aspect > 0.0f ? frame.uv_aspect : 1.0f;
-  m.bounds = scene_bounds(frame);
+// When the topology changed: triangles, uv, outer flags, and the fluoroscopy's lumen (inner wall and caps).
+std::size_t Renderer::upload_topology(const RenderFrame& frame) {
+  Impl& m = *impl_;
+  std::size_t bytes = 0;
+  if (frame.topology_version == m.topology_version && frame.triangles.size() == m.triangles) return 0;
+  m.topology_version = frame.topology_version;
+  m.triangles = frame.triangles.size();
+  bytes += stream(GL_ELEMENT_ARRAY_BUFFER, m.triangle_ebo, frame.triangles);  // surface_vao is bound
+  m.has_uv = !frame.uv.empty();
+  if (m.has_uv) bytes += stream(GL_ARRAY_BUFFER, m.uv_vbo, frame.uv);
+  m.use_array(2, m.has_uv);
+  m.has_outer = !frame.outer.empty();
+  if (m.has_outer) bytes += stream(GL_ARRAY_BUFFER, m.outer_vbo, frame.outer);
+  m.use_array(3, m.has_outer);
+  // The inner wall bounds both the wall solid and the lumen: drawn once with the difference of the two
+  // weights instead of twice.
+  const auto lumen = lumen_surface(frame.triangles, frame.outer);  // inner triangles, then the caps
+  std::vector<std::array<std::uint32_t, 3>> fluoro;
+  fluoro.reserve(frame.triangles.size() + lumen.size());
+  for (const auto& t : frame.triangles)
+    if (frame.outer.empty() || frame.outer[t[0]] != 0 || frame.outer[t[1]] != 0 || frame.outer[t[2]] != 0)
+      fluoro.push_back(t);
+  m.fluoro_wall = fluoro.size();
+  m.fluoro_inner = frame.triangles.size() - m.fluoro_wall;
+  m.fluoro_caps = lumen.size() - m.fluoro_inner;
+  fluoro.insert(fluoro.end(), lumen.begin(), lumen.end());
+  glBindVertexArray(m.lumen_vao);
+  bytes += stream(GL_ELEMENT_ARRAY_BUFFER, m.lumen_ebo, fluoro);
+  return bytes;
+}
 
-  // Tools and the force arrow.
+// The tools as capsules and the force arrow, coloured by the safety threshold.
+std::size_t Renderer::upload_tools_and_arrow(const RenderFrame& frame) {
+  Impl& m = *impl_;
+  std::size_t bytes = 0;
   m.solid_mesh.clear();
   m.tool_draws.clear();
   for (const ToolCapsule& tool : frame.tools) {
@@ -316,18 +335,20 @@ void Renderer::upload(const RenderFrame& frame, bool measure) {
   bytes += stream(GL_ARRAY_BUFFER, m.solid_position_vbo, m.solid_mesh.positions_m);
   bytes += stream(GL_ARRAY_BUFFER, m.solid_normal_vbo, m.solid_mesh.normals);
   bytes += stream(GL_ELEMENT_ARRAY_BUFFER, m.solid_ebo, m.solid_mesh.triangles);
+  return bytes;
+}
 
-  // Overlays.
+// The node cloud and the virtual tetrahedra's edges.
+std::size_t Renderer::upload_overlays(const RenderFrame& frame) {
+  Impl& m = *impl_;
+  std::size_t bytes = 0;
   glBindVertexArray(m.node_vao);
   m.nodes = frame.node_points_m.size();
   m.tet_edges = frame.tet_edges.size();
   if (m.nodes > 0) bytes += stream(GL_ARRAY_BUFFER, m.node_vbo, frame.node_points_m);
   if (m.tet_edges > 0) bytes += stream(GL_ELEMENT_ARRAY_BUFFER, m.tet_ebo, frame.tet_edges);
   glBindVertexArray(0);
-
-  if (measure) glFinish();
-  timing_.upload_ms = ms_since(t0);
-  timing_.uploaded_bytes = bytes;
+  return bytes;
 }
 
 // The pose, the projection and the lights of one picture.

@@ -42,6 +42,7 @@ Body body_from_swept_vessel(SweptVessel v, std::shared_ptr<const Centerline> cen
   // Thickness from the geometry itself: the distance between the inner and outer layer of node 0's ray.
   w.thickness_m = (v.cloud.positions[static_cast<std::size_t>(nr - 1)] - v.cloud.positions[0]).norm();
   w.shell_tolerance_m = 0.01 * w.thickness_m / (nr - 1);
+  w.layer_spacing_m = w.thickness_m / (nr - 1);
   for (int iz = 0; iz < nz; ++iz) {
     const double s = v.length_m * iz / (nz - 1);
     const Frame f = w.centerline->frame(s);
@@ -85,6 +86,7 @@ Body body_from_tube(NodeCloud tube, SweptVessel swept) {
   const std::size_t n = tube.positions.size();
   w.thickness_m = shape.outer_radius_m - shape.inner_radius_m;
   w.shell_tolerance_m = 0.01 * w.thickness_m / (shape.radial_layers - 1);
+  w.layer_spacing_m = w.thickness_m / (shape.radial_layers - 1);
   w.depth_m.resize(n);
   w.s_m.resize(n);
   w.theta_deg.resize(n);

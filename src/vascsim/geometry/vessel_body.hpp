@@ -28,6 +28,8 @@ struct WallCoordinates {
   /// with depth <= shell_tolerance on the inner surface (m); lattices aligned with the wall use 1 % of
   /// the layer step.
   double shell_tolerance_m = 0.0;
+  /// Spacing of the node layers through the wall, m (lattices aligned with the wall; 0: not layered).
+  double layer_spacing_m = 0.0;
 
   // Centre-line coordinates: only for vessels swept along a centre-line (empty for imported meshes).
   std::shared_ptr<const Centerline> centerline;

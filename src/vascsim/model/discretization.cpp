@@ -41,15 +41,31 @@ double eigen_ratio_of(const Mat9& B) {
   return es.eigenvalues().maxCoeff() > 0.0 ? es.eigenvalues().minCoeff() / es.eigenvalues().maxCoeff() : 0.0;
 }
 
-NeighbourhoodTrial evaluate(const Vec3Array& X, Index i, double h, const SpatialGrid& grid, GradientBasis basis) {
+// The distance that measures a node's support: |X| (isotropic), or |M X| with M = n n^T + (I - n n^T) / stretch
+// (a support that follows the wall: radius h along the normal n, stretch h in the tangent plane).
+struct SupportMetric {
+  const Vec3* normal = nullptr;
+  double stretch = 1.0;
+  double operator()(const Vec3& X) const {
+    if (!normal) return X.norm();
+    const double xn = X.dot(*normal);
+    return std::sqrt(xn * xn + (X - xn * *normal).squaredNorm() / (stretch * stretch));
+  }
+  double reach(double h) const { return normal ? stretch * h : h; }  // the largest distance inside the support
+};
+
+NeighbourhoodTrial evaluate(const Vec3Array& X, Index i, double h, const SpatialGrid& grid, GradientBasis basis,
+                            const SupportMetric& metric) {
   NeighbourhoodTrial t;
-  grid.for_each_within(X[i], h, [&](Index j, double) {
-    if (j != i) t.nbr.push_back(j);
+  grid.for_each_within(X[i], metric.reach(h), [&](Index j, double) {
+    // A wall lattice puts whole layers and rows exactly on the ellipsoid's edge, where the weight is zero: they are
+    // left out (within rounding), not kept as neighbours of weight ~1e-30 that would only widen the stencils.
+    if (j != i && (!metric.normal || metric(X[j] - X[i]) < h * (1.0 - 1e-9))) t.nbr.push_back(j);
   });
   std::sort(t.nbr.begin(), t.nbr.end());
   for (Index j : t.nbr) {
     const Vec3 Xij = X[j] - X[i];
-    const double w = kernels::poly6(Xij.norm(), h);
+    const double w = kernels::poly6(metric(Xij), h);
     t.w.push_back(w);
     t.A += w * Xij * Xij.transpose();
   }
@@ -107,7 +123,12 @@ Discretization::Discretization(const NodeCloud& cloud, const Material& material,
 void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
   const Index n = num_nodes();
   const double h0 = opt.support_radius_factor * mean_spacing_;
-  const double hmax = h0 * std::pow(opt.growth_factor, opt.max_growths);
+  const bool wall = opt.support == DiscretizationOptions::Support::Wall;
+  if (wall && (opt.wall_normals.size() != static_cast<std::size_t>(n) || !(opt.wall_stretch >= 1.0)))
+    throw InputError(fmt::format("discretization: wall-aligned supports need one wall normal per node ({} for {} nodes) "
+                                 "and a stretch >= 1 ({})",
+                                 opt.wall_normals.size(), n, opt.wall_stretch));
+  const double hmax = h0 * std::pow(opt.growth_factor, opt.max_growths) * (wall ? opt.wall_stretch : 1.0);
   SpatialGrid grid(X_, hmax);
   h_.assign(n, h0);
   std::vector<NeighbourhoodTrial> trials(n);
@@ -122,7 +143,8 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
   for (Index i = 0; i < n; ++i) {
     double h = h0;
     for (int g = 0;; ++g) {
-      trials[i] = evaluate(X_, i, h, grid, opt.basis);
+      const SupportMetric metric{wall ? &opt.wall_normals[static_cast<std::size_t>(i)] : nullptr, opt.wall_stretch};
+      trials[i] = evaluate(X_, i, h, grid, opt.basis, metric);
       if (accepted(trials[i])) break;
       if (g == opt.max_growths) {
         failed[i] = 1;

@@ -25,6 +25,15 @@ struct DiscretizationOptions {
   int max_growths = 3;                 ///< then fail loudly
   VolumeRule volume = VolumeRule::TetPartition;
   GradientBasis basis = GradientBasis::Linear;  ///< the local fit's polynomial (local_fit.hpp)
+  /// Supports that follow a wall (docs/model.md section 3.1): per node the wall's unit normal, and the ratio of the
+  /// lattice spacing along the wall to the spacing of its node layers (>= 1). A node's support is then an ellipsoid:
+  /// radius h_i along the normal and wall_stretch h_i in the wall's tangent plane, with the weights
+  /// w_ij = W(|M_i X_ij|, h_i), M_i = n n^T + (I - n n^T) / wall_stretch. Empty normals: isotropic supports.
+  std::vector<Vec3> wall_normals;
+  double wall_stretch = 1.0;
+  /// The scene's choice (discretization.support): Wall asks the simulation to fill wall_normals and wall_stretch
+  /// from the body's wall coordinates.
+  enum class Support { Isotropic, Wall } support = Support::Isotropic;
   /// The quadratic fit's guard, on top of the linear one: at least this many neighbours (9 unknowns per
   /// component; twice that for a least-squares fit that averages), and lambda_min / lambda_max of B_i / tr(B_i)
   /// at least quadratic_min_eigen_ratio (docs/model.md section 5.1 for how these were chosen).

@@ -26,6 +26,20 @@ Simulation::Simulation(const Scene& scene) : scene_(scene) {
   }
 }
 
+namespace {
+// The scene's discretisation options, with the wall's frame filled in for supports that follow the wall.
+DiscretizationOptions discretization_options(const Scene& scene, const Body& body) {
+  DiscretizationOptions o = scene.discretization;
+  if (o.support != DiscretizationOptions::Support::Wall) return o;
+  if (!body.wall || !(body.wall->layer_spacing_m > 0.0) || !(body.cloud.spacing_m > 0.0))
+    throw InputError("key 'discretization.support': 'wall' needs a body with node layers through a wall (geometry "
+                     "type 'vessel' or 'tube'); use 'isotropic'");
+  o.wall_normals = body.wall->outward;
+  o.wall_stretch = std::max(1.0, body.cloud.spacing_m / body.wall->layer_spacing_m);
+  return o;
+}
+}  // namespace
+
 void Simulation::build() {
   const Scene& scene = scene_;
   const auto t0 = SteadyClock::now();
@@ -33,7 +47,7 @@ void Simulation::build() {
   const NodeCloud& cloud = body_->cloud;
   spdlog::info("geometry: {} with {} nodes and {} virtual tetrahedra", cloud.kind, cloud.positions.size(),
                cloud.tets.size());
-  disc_ = std::make_unique<Discretization>(cloud, scene.material, scene.discretization);
+  disc_ = std::make_unique<Discretization>(cloud, scene.material, discretization_options(scene, *body_));
   spdlog::info("discretization: mean spacing {:.4g} m, mean neighbours {:.1f}, volume {:.4g} m^3 (tets {:.4g} m^3)",
                disc_->mean_spacing(), disc_->mean_neighbours(), disc_->total_volume(), disc_->tet_volume());
   EnergyOptions energy = scene.energy;

@@ -275,6 +275,9 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
   sc.discretization.basis = disc.string("basis", "linear", {"linear", "quadratic"}) == "quadratic"
                                 ? GradientBasis::Quadratic
                                 : GradientBasis::Linear;
+  sc.discretization.support = disc.string("support", "isotropic", {"isotropic", "wall"}) == "wall"
+                                  ? DiscretizationOptions::Support::Wall
+                                  : DiscretizationOptions::Support::Isotropic;
   sc.discretization.quadratic_min_neighbours = disc.integer("quadratic_min_neighbours", 18, 9, 200);
   sc.discretization.quadratic_min_eigen_ratio = disc.number("quadratic_min_eigen_ratio", 1e-6, 1e-14, 1.0);
   disc.finish();

@@ -52,9 +52,13 @@ SessionInputs read_session_inputs(const Scene& scene, const HapticRunOptions& op
   }
   in.duration_s = spec.duration_s > 0.0 ? spec.duration_s
                                         : in.trajectory.end_time_s() - in.trajectory.start_time_s();
+  const std::string source = options.replay.empty() ? spec.trajectory : options.replay.string();
   if (!(in.duration_s > 0.0))
-    throw InputError(fmt::format("{}: the trajectory has no duration (one sample): set haptics.duration_s",
-                                 options.replay.empty() ? spec.trajectory : options.replay.string()));
+    throw InputError(fmt::format("{}: the trajectory has no duration (one sample): set haptics.duration_s", source));
+  if (!(in.duration_s * spec.rate_hz <= kMaxSessionTicks))
+    throw InputError(fmt::format("{}: the trajectory lasts {:.6g} s, {:.3g} ticks at {} Hz; a session may have at "
+                                 "most {:.0e} (every tick is kept in memory): shorten it or set haptics.duration_s",
+                                 source, in.duration_s, in.duration_s * spec.rate_hz, spec.rate_hz, kMaxSessionTicks));
   return in;
 }
 

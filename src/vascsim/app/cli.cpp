@@ -9,6 +9,7 @@
 
 #include "vascsim/app/command.hpp"
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/interrupt.hpp"
 #include "vascsim/core/text.hpp"
 
 namespace vascsim {
@@ -87,9 +88,16 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   } restore_logger;
   setup_logging(err, ctx.quiet, ctx.verbose);
   if (ctx.threads > 0) omp_set_num_threads(ctx.threads);
+  const InterruptGuard interrupt_guard;
   try {
     for (const Command& c : commands)
-      if (c.app->parsed()) return c.run();
+      if (c.app->parsed()) {
+        const int code = c.run();
+        if (!interrupt_requested()) return code;
+        clear_interrupt();
+        err << "vascsim: interrupted: stopped at a step boundary; the files written so far are complete\n";
+        return kInterruptedExitCode;
+      }
   } catch (const InputError& e) {
     err << "vascsim: error: " << one_line(e.what()) << "\n";
     return 2;

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/interrupt.hpp"
 #include "vascsim/core/statistics.hpp"
 #include "vascsim/core/stopwatch.hpp"
 #include "vascsim/interaction/scripted_device.hpp"
@@ -110,29 +111,32 @@ class ProgressThrottle {
 };
 
 // Lockstep: one thread; the loop ticks at the nominal times and the model steps every ticks_per_step ticks
-// with the pose of that tick. Deterministic.
-void run_lockstep(const Scene& scene, std::size_t n_ticks, HapticRig& rig, std::vector<FrameSample>& history,
+// with the pose of that tick. Deterministic. Returns false when interrupted (at a frame boundary).
+bool run_lockstep(const Scene& scene, std::size_t n_ticks, HapticRig& rig, std::vector<FrameSample>& history,
                   const std::function<void()>& after_frame, ProgressThrottle& progress) {
   const double period = 1.0 / scene.haptics.rate_hz;
   const auto per_frame = static_cast<std::size_t>(scene.haptics.ticks_per_step);
   for (std::size_t k = 0; k < n_ticks; k += per_frame) {
+    if (interrupt_requested()) return false;
     history.push_back(rig.lockstep_frame(k));
     after_frame();
     progress(static_cast<double>(k) * period);
   }
   rig.tick_through(n_ticks - 1);
+  return true;
 }
 
 // Realtime: the haptic loop on its own thread at wall-clock rate, the model on this thread as fast as it can
-// (never ahead of the wall clock); only the two LatestValue hand-offs are shared.
-void run_realtime(const SessionInputs& in, HapticRig& rig, DeviceDrivenModel& model, std::vector<FrameSample>& history,
+// (never ahead of the wall clock); only the two LatestValue hand-offs are shared. Returns false when
+// interrupted.
+bool run_realtime(const SessionInputs& in, HapticRig& rig, DeviceDrivenModel& model, std::vector<FrameSample>& history,
                   const std::function<void()>& after_frame, ProgressThrottle& progress) {
   const DeformationThreads threads;
   rig.start();
   try {
     const RealtimeClock clock;
     FrameSample sample;
-    while (clock.seconds() < in.duration_s) {
+    while (clock.seconds() < in.duration_s && !interrupt_requested()) {
       if (!rig.realtime_frame(sample)) {
         std::this_thread::sleep_for(std::chrono::microseconds(100));
         continue;
@@ -147,6 +151,7 @@ void run_realtime(const SessionInputs& in, HapticRig& rig, DeviceDrivenModel& mo
     throw;
   }
   rig.stop();
+  return !interrupt_requested();
 }
 
 std::string history_row(const FrameSample& s) {
@@ -244,6 +249,9 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   };
   auto after_frame = [&]() {
     ++frames;
+    // Inverted material ends the session (exit 3), checked at the output interval: O(nodes) per check.
+    if (frames % frames_per_output == 0)
+      sim.check_state(fmt::format("frame {} (t = {:.6g} s)", frames, model.time()));
     write_frame();
   };
 
@@ -252,10 +260,8 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   write_frame();
   ProgressThrottle progress(options, in.duration_s);
   const Stopwatch run;
-  if (in.mode == "lockstep")
-    run_lockstep(scene, n_ticks, rig, history, after_frame, progress);
-  else
-    run_realtime(in, rig, model, history, after_frame, progress);
+  const bool completed = in.mode == "lockstep" ? run_lockstep(scene, n_ticks, rig, history, after_frame, progress)
+                                               : run_realtime(in, rig, model, history, after_frame, progress);
   const double run_s = run.seconds();
   if (options.on_progress) options.on_progress(in.duration_s, in.duration_s);
 
@@ -267,6 +273,7 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
 
   nlohmann::json summary = describe_run(scene, sim);
   summary["haptics"] = session_statistics(scene, options, in, rig, history, run_s);
+  summary["interrupted"] = !completed;
   summary["timings_s"] = {{"setup", setup_s}, {"session", run_s}, {"total", total.seconds()}};
   summary["outputs"] = {{"force_history_csv", "force_history.csv"},
                         {"session_csv", "session.csv"},

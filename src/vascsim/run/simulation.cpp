@@ -9,6 +9,7 @@
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/stopwatch.hpp"
 #include "vascsim/geometry/vertex_normals.hpp"
+#include "vascsim/model/inversion_check.hpp"
 #include "vascsim/model/registry.hpp"
 #include "vascsim/run/body_builder.hpp"
 #include "vascsim/run/region_builder.hpp"
@@ -55,8 +56,29 @@ void Simulation::build() {
       spdlog::warn("obstacle '{}': radius {:.3g} m + node_radius_m {:.3g} m is below 2 node spacings ({:.3g} m): the "
                    "tool may slip between nodes; set node_radius_m to about half the spacing (docs/haptics.md)",
                    o.name, o.radius_m, o.node_radius_m, 2.0 * disc_->mean_spacing());
+  check_motion_sizes();
   model_ = make_model(scene.model, *problem_, scene.own_model_settings());
   setup_s_ = seconds_since(t0);
+}
+
+// A prescribed displacement or a tool motion longer than the body's bounding-box diagonal is a mistake in the
+// input (a unit slip: 10 m for 10 mm), not a load any model can follow.
+void Simulation::check_motion_sizes() const {
+  const Vec3Array& X = disc_->rest_positions();
+  Vec3 lo = X.front(), hi = X.front();
+  for (const Vec3& p : X) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const double size = (hi - lo).norm();
+  const auto check = [&](const std::string& key, const Vec3& motion) {
+    if (motion.norm() > size)
+      throw InputError(fmt::format("{}: key '{}': a motion of {:.4g} m is larger than the body (its bounding box "
+                                   "diagonal is {:.4g} m); lengths are in metres",
+                                   scene_.file, key, motion.norm(), size));
+  };
+  for (std::size_t r = 0; r < scene_.regions.size(); ++r)
+    if (scene_.regions[r].bc == RegionBcType::Displacement)
+      check(fmt::format("regions.{}.bc.vector_m", r), scene_.regions[r].vector);
+  for (std::size_t o = 0; o < scene_.obstacles.size(); ++o)
+    check(fmt::format("obstacles.{}.motion_m", o), scene_.obstacles[o].motion_m);
 }
 
 StepRecord Simulation::measure(int step, const StepReport& report) const {
@@ -122,9 +144,18 @@ SurfaceFrame Simulation::surface_frame() {
 
 StepRecord Simulation::initial_record() const { return measure(0, StepReport{}); }
 
+void Simulation::check_state(const std::string& where) const {
+  const InversionReport inversion = check_inversion(*problem_, model_->positions());
+  if (inversion.any())
+    throw NumericalError(fmt::format("{}: {}: {}; the state is no longer physical: use smaller steps (load_steps, "
+                                     "step_s or frame_s) or a smaller load",
+                                     scene_.model, where, inversion.describe()));
+}
+
 StepRecord Simulation::advance(int k) {
   const auto t0 = SteadyClock::now();
   const StepReport rep = model_->advance(k);
+  check_state(fmt::format("step {} (t = {:.6g} s, load factor {:.4g})", k, rep.time_s, rep.load_factor));
   StepRecord rec = measure(k, rep);
   rec.wall_s = seconds_since(t0);
   return rec;

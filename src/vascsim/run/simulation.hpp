@@ -52,13 +52,17 @@ class Simulation {
 
   /// The rest state (step 0).
   StepRecord initial_record() const;
-  /// Advances the model to output point k (1..num_steps) and measures it.
+  /// Advances the model to output point k (1..num_steps) and measures it. Throws NumericalError naming the
+  /// step when the state has inverted material (model/inversion_check.hpp).
   StepRecord advance(int k);
+  /// Throws NumericalError("<model>: <where>: ...") when the model's state has inverted material.
+  void check_state(const std::string& where) const;
   /// Reference values of the scene (e.g. the Timoshenko deflection), for summary.json; null if none.
   nlohmann::json reference(const StepRecord& last) const;
 
  private:
   void build();
+  void check_motion_sizes() const;
   StepRecord measure(int step, const StepReport& report) const;
 
   Scene scene_;

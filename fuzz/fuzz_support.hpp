@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
 #include <unistd.h>
 
@@ -18,6 +19,15 @@ inline std::filesystem::path write_input(const std::uint8_t* data, std::size_t s
   static const std::filesystem::path dir =
       std::filesystem::exists("/dev/shm") ? std::filesystem::path("/dev/shm") : std::filesystem::temp_directory_path();
   const std::filesystem::path file = dir / ("vascsim-fuzz-" + std::to_string(getpid()) + extension);
+  // Removed when the process ends.
+  static struct Cleanup {
+    std::set<std::filesystem::path> files;
+    ~Cleanup() {
+      std::error_code ignored;
+      for (const auto& f : files) std::filesystem::remove(f, ignored);
+    }
+  } cleanup;
+  cleanup.files.insert(file);
   std::ofstream out(file, std::ios::binary | std::ios::trunc);
   out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   return file;

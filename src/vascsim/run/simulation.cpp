@@ -68,17 +68,20 @@ void Simulation::check_motion_sizes() const {
   Vec3 lo = X.front(), hi = X.front();
   for (const Vec3& p : X) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
   const double size = (hi - lo).norm();
-  const auto check = [&](const std::string& key, const Vec3& motion) {
-    if (motion.norm() > size)
+  const auto check = [&](const std::string& key, double length) {
+    if (length > size)
       throw InputError(fmt::format("{}: key '{}': a motion of {:.4g} m is larger than the body (its bounding box "
                                    "diagonal is {:.4g} m); lengths are in metres",
-                                   scene_.file, key, motion.norm(), size));
+                                   scene_.file, key, length, size));
   };
-  for (std::size_t r = 0; r < scene_.regions.size(); ++r)
-    if (scene_.regions[r].bc == RegionBcType::Displacement)
-      check(fmt::format("regions.{}.bc.vector_m", r), scene_.regions[r].vector);
+  for (std::size_t r = 0; r < scene_.regions.size(); ++r) {
+    const RegionSpec& region = scene_.regions[r];
+    if (region.bc == RegionBcType::Displacement)
+      check(fmt::format("regions.{}.bc.{}", r, region.has_vector ? "vector_m" : "magnitude_m"),
+            region.has_vector ? region.vector.norm() : std::abs(region.magnitude));
+  }
   for (std::size_t o = 0; o < scene_.obstacles.size(); ++o)
-    check(fmt::format("obstacles.{}.motion_m", o), scene_.obstacles[o].motion_m);
+    check(fmt::format("obstacles.{}.motion_m", o), scene_.obstacles[o].motion_m.norm());
 }
 
 StepRecord Simulation::measure(int step, const StepReport& report) const {

@@ -194,7 +194,7 @@ FUZZ_TARGETS ?= scene mesh trajectory recording
 fuzz: deps
 	cmake -S . -B $(FUZZ_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \
 	  -DVASCSIM_FUZZ=ON -DVASCSIM_BUILD_TESTS=OFF -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_BUILD_VIEWER=OFF -DVASCSIM_WERROR=ON
-	cmake --build $(FUZZ_DIR) -j $(JOBS)
+	cmake --build $(FUZZ_DIR) -j $(JOBS) --target $(addprefix fuzz_,$(FUZZ_TARGETS))
 	@for t in $(FUZZ_TARGETS); do \
 	  $(PYTHON) scripts/fuzz_corpus.py $$t out/fuzz/seeds-$$t && mkdir -p out/fuzz/corpus-$$t && \
 	  $(FUZZ_DIR)/fuzz/fuzz_$$t out/fuzz/corpus-$$t out/fuzz/seeds-$$t -max_total_time=$(FUZZ_SECONDS) \

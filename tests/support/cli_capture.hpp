@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -19,7 +20,7 @@ namespace vascsim::test {
 struct CliCapture {
   int code = -1;
   std::string out, err;
-  std::vector<std::string> messages;  ///< lines of err that are not log lines ("[level] msg")
+  std::vector<std::string> messages;  ///< lines of err that are neither log lines ("[level] msg") nor progress lines
 };
 
 inline CliCapture run_cli_captured(const std::vector<std::string>& args) {
@@ -32,8 +33,10 @@ inline CliCapture run_cli_captured(const std::vector<std::string>& args) {
   r.out = out.str();
   r.err = err.str();
   std::istringstream lines(r.err);
+  // Progress lines when err is not a terminal: "<scene>: 3/10 (30%) 1.2s ..." (app/progress.cpp).
+  static const std::regex progress(R"(^\S+: \d+/\d+ \(\d+%\) )");
   for (std::string line; std::getline(lines, line);)
-    if (!line.empty() && line[0] != '[') r.messages.push_back(line);
+    if (!line.empty() && line[0] != '[' && !std::regex_search(line, progress)) r.messages.push_back(line);
   return r;
 }
 

@@ -17,7 +17,7 @@ struct TooDeep {};
 // Stops the parser at the first value nested deeper than kMaxJsonDepth (the callback sees every depth).
 const nlohmann::json::parser_callback_t depth_limit = [](int depth, nlohmann::json::parse_event_t,
                                                          nlohmann::json&) {
-  if (depth > kMaxJsonDepth) throw TooDeep{};
+  if (depth >= kMaxJsonDepth) throw TooDeep{};  // depth counts from 0 at the outermost value
   return true;
 };
 

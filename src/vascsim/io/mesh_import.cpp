@@ -17,6 +17,7 @@
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/io/ply_check.hpp"
+#include "vascsim/io/stl_check.hpp"
 
 namespace vascsim {
 
@@ -104,7 +105,10 @@ TriangleMesh import_triangle_mesh(const std::filesystem::path& file, double scal
   const auto size = std::filesystem::file_size(file, ec);
   if (ec) fail("cannot read the file size: " + ec.message());
   if (size == 0) fail("the file is empty");
-  if (ext == ".ply") check_ply(read_bytes(file, name), name);  // assimp's PLY loader trusts the header
+  // What assimp does not check or hides: the PLY structure (its loader trusts the header), STL numbers (its
+  // vertex joining merges a NaN corner into another vertex).
+  if (ext == ".ply") check_ply(read_bytes(file, name), name);
+  if (ext == ".stl") check_stl_numbers(read_bytes(file, name), name);
 
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(name, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);

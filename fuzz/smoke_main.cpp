@@ -43,7 +43,10 @@ std::string mutate(std::string s, std::uint64_t& state) {
   return s;
 }
 
+// With VASCSIM_FUZZ_SMOKE_LAST=<file> every input is written there first: after a crash it holds the culprit.
 void run(const std::string& input) {
+  static const char* const last = std::getenv("VASCSIM_FUZZ_SMOKE_LAST");
+  if (last != nullptr) std::ofstream(last, std::ios::binary | std::ios::trunc) << input;
   LLVMFuzzerTestOneInput(reinterpret_cast<const std::uint8_t*>(input.data()), input.size());
 }
 

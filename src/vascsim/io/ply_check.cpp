@@ -87,6 +87,10 @@ class PlyChecker {
   void walk_binary(std::size_t at);
   void walk_ascii(std::size_t at);
   void check_value(double v, const Element& e, double item, const Property& p, bool list_item) const;
+  void check_list_size(double n, const Element& e, double item, const Property& p) const;
+  static bool is_face_indices(const Element& e, const Property& p) {
+    return e.name == "face" && (p.name == "vertex_indices" || p.name == "vertex_index");
+  }
 
   std::string_view bytes_;
   const std::string& name_;
@@ -161,10 +165,17 @@ void PlyChecker::header_line(const std::vector<std::string_view>& w, int line_no
 void PlyChecker::check_value(double v, const Element& e, double item, const Property& p, bool list_item) const {
   if (!std::isfinite(v)) fail(fmt::format("{}: the value is not finite", where(e, item, p)));
   if (!p.type.is_float && std::floor(v) != v) fail(fmt::format("{}: {} is not an integer", where(e, item, p), v));
-  if (list_item && e.name == "face" && (p.name == "vertex_indices" || p.name == "vertex_index") &&
-      !(v >= 0 && v < vertices_))
+  if (list_item && is_face_indices(e, p) && !(v >= 0 && v < vertices_))
     fail(fmt::format("{}: vertex index {} is outside [0, {}) (the file has {} vertices)", where(e, item, p), v,
                      vertices_, vertices_));
+}
+
+// A list's length: a whole number >= 0; a face's vertex list at least 3 (assimp's triangulation asserts on
+// faces of fewer).
+void PlyChecker::check_list_size(double n, const Element& e, double item, const Property& p) const {
+  if (!(n >= 0 && std::floor(n) == n)) fail(fmt::format("{}: a list of {} items", where(e, item, p), n));
+  if (is_face_indices(e, p) && n < 3)
+    fail(fmt::format("{}: a face of {} vertices; a face needs at least 3", where(e, item, p), n));
 }
 
 double read_binary(const char* p, const Type& t, bool big_endian) {
@@ -212,7 +223,7 @@ void PlyChecker::walk_binary(std::size_t at) {
           continue;
         }
         const double n = take(p.count_type, e, item, p);
-        if (!(n >= 0)) fail(fmt::format("{}: a list of {} items", where(e, item, p), n));
+        check_list_size(n, e, item, p);
         for (double k = 0; k < n; ++k) check_value(take(p.type, e, item, p), e, item, p, true);
       }
   }
@@ -250,7 +261,7 @@ void PlyChecker::walk_ascii(std::size_t at) {
           continue;
         }
         const double n = number(p);
-        if (!(n >= 0 && std::floor(n) == n)) fail_item(fmt::format("property '{}': a list of {} items", p.name, n));
+        check_list_size(n, e, item, p);
         for (double k = 0; k < n; ++k) check_value(number(p), e, item, p, true);
       }
       if (next != w.size()) fail_item(fmt::format("{} values where the header declares {}", w.size(), next));

@@ -26,10 +26,10 @@ struct MemorySample {
 // Samples resident memory every interval on its own thread until destroyed.
 class MemorySampler {
  public:
-  MemorySampler(double interval_s, std::size_t expected) {
+  MemorySampler(double interval_s, std::size_t expected) : start_(std::chrono::steady_clock::now()) {
     samples_.reserve(expected);  // the sampler itself must not grow
     thread_ = std::jthread([this, interval_s](std::stop_token stop) {
-      const auto start = std::chrono::steady_clock::now();
+      const auto start = start_;
       auto next = start;
       while (!stop.stop_requested()) {
         const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -43,6 +43,8 @@ class MemorySampler {
       }
     });
   }
+  /// Seconds since the sampler started (the samples' clock).
+  double now_s() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
   std::vector<MemorySample> stop() {
     thread_.request_stop();
     thread_.join();
@@ -50,19 +52,23 @@ class MemorySampler {
   }
 
  private:
+  const std::chrono::steady_clock::time_point start_;
   std::mutex mutex_;
   std::vector<MemorySample> samples_;
   std::jthread thread_;
 };
 
-// Growth after warm-up: the last sample against the first one after warm-up, the largest excursion, and the
-// least-squares slope (MiB per hour).
-nlohmann::json memory_report(const std::vector<MemorySample>& samples, double warmup_s) {
+// Growth after warm-up (counted from the session's first frame, after the set-up): the last sample against the
+// first one after warm-up, the largest excursion, and the least-squares slope (MiB per hour).
+nlohmann::json memory_report(const std::vector<MemorySample>& samples, double session_start_s, double warmup_s) {
   std::vector<MemorySample> after;
   for (const auto& s : samples)
-    if (s.time_s >= warmup_s) after.push_back(s);
-  nlohmann::json j = {{"samples", samples.size()}, {"warmup_s", warmup_s},
-                      {"rss_start_mib", samples.empty() ? 0.0 : samples.front().rss_mib}};
+    if (s.time_s >= session_start_s + warmup_s) after.push_back(s);
+  nlohmann::json every = nlohmann::json::array();
+  for (const auto& s : samples) every.push_back({s.time_s, s.rss_mib});
+  nlohmann::json j = {{"samples", samples.size()}, {"session_start_s", session_start_s}, {"warmup_s", warmup_s},
+                      {"rss_start_mib", samples.empty() ? 0.0 : samples.front().rss_mib},
+                      {"rss_time_s_mib", every}};
   if (after.size() < 2) return j;
   double mean_t = 0.0, mean_m = 0.0, peak = after.front().rss_mib;
   for (const auto& s : after) mean_t += s.time_s, mean_m += s.rss_mib, peak = std::max(peak, s.rss_mib);
@@ -97,7 +103,7 @@ std::string soak_markdown(const nlohmann::json& r) {
   row("late restarts of the haptic schedule", fmt::format("{}", r["late_restarts"].get<std::uint64_t>()));
   row("max force sent / on the tool", fmt::format("{} N / {} N", num(r["max_force_sent_n"]), num(r["max_force_on_tool_n"])));
   row("tick jitter p50 / p99 / max", fmt::format("{} / {} / {} ms", num(j["p50"]), num(j["p99"]), num(j["max"])));
-  row("resident memory after warm-up -> end", fmt::format("{} -> {} MiB (warm-up {} s)", num(m.value("rss_after_warmup_mib", nlohmann::json())),
+  row("resident memory after warm-up -> end", fmt::format("{} -> {} MiB (warm-up {} s after the set-up)", num(m.value("rss_after_warmup_mib", nlohmann::json())),
                                                           num(m.value("rss_end_mib", nlohmann::json())), num(m["warmup_s"])));
   row("memory growth after warm-up", fmt::format("{} MiB (slope {} MiB/h, peak {} MiB)",
                                                  num(m.value("growth_after_warmup_mib", nlohmann::json())),
@@ -130,10 +136,13 @@ nlohmann::json run_soak(const Scene& scene, const SoakOptions& options) {
   session.mode = "realtime";
   session.device = &device;
   session.keep_ticks = false;
-  session.on_progress = options.on_progress;
-
   MemorySampler sampler(options.rss_interval_s,
                         static_cast<std::size_t>(options.seconds / options.rss_interval_s) + 4096);
+  double session_start_s = -1.0;  // the first progress call comes with the session's first frame
+  session.on_progress = [&](double done, double total) {
+    if (session_start_s < 0.0) session_start_s = sampler.now_s();
+    if (options.on_progress) options.on_progress(done, total);
+  };
   const nlohmann::json summary = run_haptic_session(soak_scene, session);
   const std::vector<MemorySample> samples = sampler.stop();
 
@@ -160,7 +169,7 @@ nlohmann::json run_soak(const Scene& scene, const SoakOptions& options) {
       {"max_force_sent_n", loop["max_force_sent_n"]},
       {"max_force_on_tool_n", h["max_force_on_tool_n"]},
       {"jitter_ms", {{"p50", loop["jitter_p50_ms"]}, {"p99", loop["jitter_p99_ms"]}, {"max", loop["jitter_max_ms"]}}},
-      {"memory", memory_report(samples, warmup)}};
+      {"memory", memory_report(samples, std::max(session_start_s, 0.0), warmup)}};
   const OutputWriter out(options.out_dir);
   out.write_json("soak.json", report);
   out.write_text("soak.md", soak_markdown(report));

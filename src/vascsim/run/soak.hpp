@@ -19,8 +19,8 @@ struct SoakOptions {
   double seconds = 3600.0;      ///< session length, s (wall clock: the session runs in real time)
   WanderingBounds bounds;       ///< the tool's motion around the first pose of the scene's trajectory
   double rss_interval_s = 1.0;  ///< resident memory sampled this often, s
-  /// Memory growth is measured from this time on (allocations of the first frames, caches and the OS
-  /// settling in are not growth); < 0: max(10 s, 10 % of the session).
+  /// Memory growth is measured from this long after the session's first frame on (the set-up, allocations of
+  /// the first frames, caches and the OS settling in are not growth); < 0: max(10 s, 10 % of the session).
   double warmup_s = -1.0;
   std::function<void(double, double)> on_progress;  ///< (session time done, session length), s
 };

@@ -118,12 +118,12 @@ TEST(MeshImportMalformed, BinaryStlWithNanCoordinates) {
     bytes.append(reinterpret_cast<const char*>(t), sizeof t);
     bytes.append(2, '\0');
   }
-  expect_error("nan.stl", bytes, "STL: triangle 2 has a corner coordinate that is not finite");
+  expect_error("nan.stl", bytes, "STL: triangle 2 has a non-finite coordinate");
   // The same in ASCII.
   expect_error("nan-ascii.stl",
                "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 nan 0\nendloop\n"
                "endfacet\nendsolid t\n",
-               "STL: line 6 has a corner coordinate that is not finite");
+               "STL: line 6 has a non-finite coordinate");
 }
 
 }  // namespace

@@ -25,7 +25,8 @@ bool is_binary(std::string_view b) {
 
 void check_stl_numbers(std::string_view bytes, const std::string& name) {
   const auto fail = [&](const std::string& where) {
-    throw InputError(fmt::format("{}: STL: {} has a non-finite coordinate (NaN or infinite) at a corner", name, where));
+    throw InputError(
+        fmt::format("{}: STL: {} has a non-finite coordinate (NaN or infinite) at a corner", name, where));
   };
   if (is_binary(bytes)) {
     const std::size_t count = (bytes.size() - 84) / 50;

@@ -60,13 +60,15 @@ class MemorySampler {
 
 // Growth after warm-up (counted from the session's first frame, after the set-up): the last sample against the
 // first one after warm-up, the largest excursion, and the least-squares slope (MiB per hour).
-nlohmann::json memory_report(const std::vector<MemorySample>& samples, double session_start_s, double warmup_s) {
-  std::vector<MemorySample> after;
+nlohmann::json memory_report(const std::vector<MemorySample>& samples, double session_start_s, double session_end_s,
+                             double warmup_s) {
+  std::vector<MemorySample> after;  // the session's frames after warm-up (not the set-up, not the tear-down)
   for (const auto& s : samples)
-    if (s.time_s >= session_start_s + warmup_s) after.push_back(s);
+    if (s.time_s >= session_start_s + warmup_s && s.time_s <= session_end_s) after.push_back(s);
   nlohmann::json every = nlohmann::json::array();
   for (const auto& s : samples) every.push_back({s.time_s, s.rss_mib});
-  nlohmann::json j = {{"samples", samples.size()}, {"session_start_s", session_start_s}, {"warmup_s", warmup_s},
+  nlohmann::json j = {{"samples", samples.size()}, {"session_start_s", session_start_s},
+                      {"session_end_s", session_end_s}, {"warmup_s", warmup_s},
                       {"rss_start_mib", samples.empty() ? 0.0 : samples.front().rss_mib},
                       {"rss_time_s_mib", every}};
   if (after.size() < 2) return j;
@@ -138,9 +140,11 @@ nlohmann::json run_soak(const Scene& scene, const SoakOptions& options) {
   session.keep_ticks = false;
   MemorySampler sampler(options.rss_interval_s,
                         static_cast<std::size_t>(options.seconds / options.rss_interval_s) + 4096);
-  double session_start_s = -1.0;  // the first progress call comes with the session's first frame
+  // The first progress call comes with the session's first frame, the last one when its loop ends.
+  double session_start_s = -1.0, session_end_s = 0.0;
   session.on_progress = [&](double done, double total) {
     if (session_start_s < 0.0) session_start_s = sampler.now_s();
+    session_end_s = sampler.now_s();
     if (options.on_progress) options.on_progress(done, total);
   };
   const nlohmann::json summary = run_haptic_session(soak_scene, session);
@@ -169,7 +173,7 @@ nlohmann::json run_soak(const Scene& scene, const SoakOptions& options) {
       {"max_force_sent_n", loop["max_force_sent_n"]},
       {"max_force_on_tool_n", h["max_force_on_tool_n"]},
       {"jitter_ms", {{"p50", loop["jitter_p50_ms"]}, {"p99", loop["jitter_p99_ms"]}, {"max", loop["jitter_max_ms"]}}},
-      {"memory", memory_report(samples, std::max(session_start_s, 0.0), warmup)}};
+      {"memory", memory_report(samples, std::max(session_start_s, 0.0), session_end_s, warmup)}};
   const OutputWriter out(options.out_dir);
   out.write_json("soak.json", report);
   out.write_text("soak.md", soak_markdown(report));

@@ -177,6 +177,8 @@ StepReport QuasiStaticModel::advance(int k) {
 
 StepReport QuasiStaticModel::solve_without_inversion(double s_from, double s, int depth) {
   constexpr int kMaxHalvings = 6;  // down to 1/64 of a load step
+  // With tools, contact may fold the lattice under a tool's rim at any step size: run/simulation.cpp counts it.
+  if (!problem_.tools().empty()) return solve(s);
   const Vec3Array x = x_, x_prev = x_prev_;
   const double s_now = s_, s_prev = s_prev_;
   const int unconverged = unconverged_steps_;

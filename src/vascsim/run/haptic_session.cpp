@@ -303,6 +303,7 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   nlohmann::json summary = describe_run(scene, sim);
   summary["haptics"] = session_statistics(scene, options, in, rig, history, run_s);
   summary["interrupted"] = !completed;
+  summary["inverted_steps"] = sim.inverted_steps();
   summary["timings_s"] = {{"setup", setup_s}, {"session", run_s}, {"total", total.seconds()}};
   const bool ticks = options.keep_ticks;
   summary["outputs"] = {{"force_history_csv", ticks ? "force_history.csv" : ""},

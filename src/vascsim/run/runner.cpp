@@ -161,6 +161,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   summary.update({{"timings_s", {{"setup", sim.setup_seconds()}, {"solve", solve_s}, {"total", total.seconds()}}},
                   {"unconverged_steps", unconverged},
                   {"interrupted", interrupted},
+                  {"inverted_steps", sim.inverted_steps()},
                   {"planned_steps", model.num_steps()},
                   {"steps", steps},
                   {"surface_map", surface_info},

@@ -147,10 +147,19 @@ SurfaceFrame Simulation::surface_frame() {
 
 StepRecord Simulation::initial_record() const { return measure(0, StepReport{}); }
 
-void Simulation::check_state(const std::string& where) const {
+void Simulation::check_state(const std::string& where) {
   const InversionReport inversion = check_inversion(*problem_, model_->positions());
-  if (inversion.any())
-    throw NumericalError(fmt::format("{}: {}: {}; the state is no longer physical: use smaller steps (load_steps, "
+  if (!inversion.any()) return;
+  // A rigid tool in frictionless contact projects nodes onto its surface: under its rim the node lattice can
+  // fold locally (a press of the haptic test block by 0.8 mm folds 1-4 of its 5,184 virtual tetrahedra) while
+  // the solution elsewhere holds. With tools the run goes on and counts such steps; without, it is a failure.
+  if (!scene_.obstacles.empty()) {
+    if (inverted_steps_++ == 0)
+      spdlog::warn("{}: {}: {} (under a tool's contact; the run goes on, summary.json counts such steps)",
+                   scene_.model, where, inversion.describe());
+    return;
+  }
+  throw NumericalError(fmt::format("{}: {}: {}; the state is no longer physical: use smaller steps (load_steps, "
                                      "step_s or frame_s) or a smaller load",
                                      scene_.model, where, inversion.describe()));
 }

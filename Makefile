@@ -197,7 +197,7 @@ fuzz: deps
 	cmake --build $(FUZZ_DIR) -j $(JOBS) --target $(addprefix fuzz_,$(FUZZ_TARGETS))
 	@for t in $(FUZZ_TARGETS); do \
 	  $(PYTHON) scripts/fuzz_corpus.py $$t out/fuzz/seeds-$$t && mkdir -p out/fuzz/corpus-$$t && \
-	  $(FUZZ_DIR)/fuzz/fuzz_$$t out/fuzz/corpus-$$t out/fuzz/seeds-$$t -max_total_time=$(FUZZ_SECONDS) \
+	  LSAN_OPTIONS=suppressions=fuzz/lsan-suppressions.txt $(FUZZ_DIR)/fuzz/fuzz_$$t out/fuzz/corpus-$$t out/fuzz/seeds-$$t -max_total_time=$(FUZZ_SECONDS) \
 	    -max_len=65536 -rss_limit_mb=4096 -timeout=20 -print_final_stats=1 -artifact_prefix=out/fuzz/crash-$$t- \
 	    2> out/fuzz/$$t.log; status=$$?; grep -E '^stat::number_of_executed_units|^#[0-9]+.*DONE' out/fuzz/$$t.log; \
 	  if [ $$status -ne 0 ]; then tail -n 40 out/fuzz/$$t.log; exit 1; fi; done

@@ -99,6 +99,24 @@ TEST(MeshImportMalformed, BinaryPlyIsWalkedAsDeclared) {
   expect_error("bad-binary.ply", header + body(4), "vertex index 4 is outside [0, 4)");
 }
 
+// Found by fuzz_mesh (SIGSEGV in assimp's post-processing): a header with a second format line and a second
+// vertex element, and the face list under another name; each is now rejected by the check.
+TEST(MeshImportMalformed, PlyHeaderThatAssimpWouldMisread) {
+  expect_error("twice.ply",
+               "ply\nformat ascii 1.0\nformat ascii 1.0\n" + kPlyHeader.substr(21) + kPlyVertices + kPlyFaces,
+               "a second 'format' line");
+  std::string two_vertex_elements = kPlyHeader;
+  two_vertex_elements.insert(two_vertex_elements.find("element face"), "element vertex 45\nproperty float x\n");
+  expect_error("twice-vertex.ply", two_vertex_elements + kPlyVertices + kPlyFaces, "a second element 'vertex'");
+  std::string renamed = kPlyHeader;
+  renamed.replace(renamed.find("vertex_indices"), 14, "vertex_idx");
+  expect_error("renamed.ply", renamed + kPlyVertices + kPlyFaces,
+               "the face list 'vertex_idx' is not 'vertex_indices'");
+  std::string no_z = kPlyHeader;
+  no_z.replace(no_z.find("property float z"), 16, "property float w");
+  expect_error("no-z.ply", no_z + kPlyVertices + kPlyFaces, "element 'vertex' has no property 'z'");
+}
+
 TEST(MeshImportMalformed, ObjWithNanCoordinates) {
   expect_error("nan.obj", "v 0 0 0\nv 1 0 0\nv 0 nan 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
                "non-finite");

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -119,6 +120,14 @@ std::size_t PlyChecker::read_header() {
     header_line(w, line_no);
   }
   if (!have_format_) fail("the header has no 'format' line");
+  // The vertex element must carry x, y and z as numbers (assimp takes the positions from them).
+  for (const Element& e : elements_) {
+    if (e.name != "vertex") continue;
+    for (const char* axis : {"x", "y", "z"})
+      if (std::none_of(e.properties.begin(), e.properties.end(),
+                       [&](const Property& p) { return p.name == axis && !p.is_list(); }))
+        fail(fmt::format("element 'vertex' has no property '{}'", axis));
+  }
   for (const Element& e : elements_)
     if (e.name == "vertex") vertices_ = e.count;
   return at;
@@ -128,6 +137,7 @@ void PlyChecker::header_line(const std::vector<std::string_view>& w, int line_no
   const auto bad = [&](const std::string& why) { fail(fmt::format("header line {}: {}", line_no, why)); };
   if (w.empty() || w[0] == "comment" || w[0] == "obj_info") return;
   if (w[0] == "format") {
+    if (have_format_) bad("a second 'format' line");
     if (w.size() != 3) bad("expected 'format ascii|binary_little_endian|binary_big_endian 1.0'");
     if (w[1] == "ascii") format_ = Format::ascii;
     else if (w[1] == "binary_little_endian") format_ = Format::binary_le;
@@ -139,6 +149,8 @@ void PlyChecker::header_line(const std::vector<std::string_view>& w, int line_no
     if (w.size() == 3) std::from_chars(w[2].data(), w[2].data() + w[2].size(), count);
     if (!(count >= 0 && count <= kMaxItems && std::floor(count) == count))
       bad(fmt::format("expected 'element <name> <count>' with a count in [0, {:.0e}]", kMaxItems));
+    for (const Element& e : elements_)
+      if (e.name == w[1]) bad(fmt::format("a second element '{}'", w[1]));
     elements_.push_back({std::string(w[1]), count, {}});
   } else if (w[0] == "property") {
     if (elements_.empty()) bad("a property before any element");
@@ -155,6 +167,13 @@ void PlyChecker::header_line(const std::vector<std::string_view>& w, int line_no
       bad("expected 'property <type> <name>' or 'property list <count type> <item type> <name>'");
     }
     if (p.type.bytes == 0) bad("unknown property type");
+    for (const char c : p.name)
+      if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_'))
+        bad("a property name must be letters, digits or '_'");
+    // assimp reads a face's vertices from its list property named vertex_indices (or vertex_index): any other list
+    // on a face would be indices this check does not bound.
+    if (elements_.back().name == "face" && p.is_list() && p.name != "vertex_indices" && p.name != "vertex_index")
+      bad(fmt::format("the face list '{}' is not 'vertex_indices'", p.name));
     elements_.back().properties.push_back(p);
   } else {
     bad(fmt::format("'{}' is not a PLY header keyword", w[0]));

@@ -17,7 +17,7 @@ CMAKE_UNITY = -DCMAKE_UNITY_BUILD=$(UNITY) -DCMAKE_UNITY_BUILD_BATCH_SIZE=8
 
 .PHONY: deps build run test test-release test-sanitize test-threads bench bench-realtime compare-models xpbd-convergence \
   cantilever-table vessels vessel-aorta-vmtk mls-validation force-displacement catheter-aorta experiments fig10 timing \
-  screenshots view-bench format clean
+  screenshots view-bench fuzz soak format clean
 
 deps:
 	@scripts/install-deps.sh
@@ -190,6 +190,36 @@ else
 endif
 	$(BUILD_DIR)/vascsim experiment timing $(TIMING_SCENE) --merge --models $(subst $(space),$(comma),$(TIMING_MODELS)) \
 	  $(if $(wildcard $(FIG10_OUT)/rms_error.json),--force-errors $(FIG10_OUT)/rms_error.json) --out $(TIMING_OUT)
+
+# The fuzz targets of docs/reliability.md (libFuzzer with ASan + UBSan; clang-14 and libclang-rt-14-dev, which
+# scripts/install-deps.sh installs): the library in its own clang build folder, then each target for FUZZ_SECONDS
+# (default 600 s; 1,000,000 executions took 318 s for recordings here, and need about 10 and 18 minutes for
+# trajectories and scenes and hours for meshes: docs/reliability.md) from a seed corpus made from the bundled files
+# (scripts/fuzz_corpus.py). Inputs that found new coverage collect in out/fuzz/corpus-<target>, a crash in
+# out/fuzz/crash-<target>-*; not committed. Not part of `make test` (which runs each harness for a few seconds).
+FUZZ_DIR     ?= build-fuzz
+FUZZ_SECONDS ?= 600
+FUZZ_TARGETS ?= scene mesh trajectory recording
+fuzz: deps
+	cmake -S . -B $(FUZZ_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \
+	  -DVASCSIM_FUZZ=ON -DVASCSIM_BUILD_TESTS=OFF -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_BUILD_VIEWER=OFF -DVASCSIM_WERROR=ON
+	cmake --build $(FUZZ_DIR) -j $(JOBS) --target $(addprefix fuzz_,$(FUZZ_TARGETS))
+	@for t in $(FUZZ_TARGETS); do \
+	  $(PYTHON) scripts/fuzz_corpus.py $$t out/fuzz/seeds-$$t && mkdir -p out/fuzz/corpus-$$t && \
+	  LSAN_OPTIONS=suppressions=fuzz/lsan-suppressions.txt $(FUZZ_DIR)/fuzz/fuzz_$$t out/fuzz/corpus-$$t out/fuzz/seeds-$$t -max_total_time=$(FUZZ_SECONDS) \
+	    -max_len=65536 -rss_limit_mb=4096 -timeout=20 -print_final_stats=1 -artifact_prefix=out/fuzz/crash-$$t- \
+	    2> out/fuzz/$$t.log; status=$$?; grep -E '^stat::number_of_executed_units|^#[0-9]+.*DONE' out/fuzz/$$t.log; \
+	  if [ $$status -ne 0 ]; then tail -n 40 out/fuzz/$$t.log; exit 1; fi; done
+
+# The soak test of docs/reliability.md (not in CI): a realtime haptic session on SOAK_SCENE with a wandering tool
+# (random but bounded motion, seeded) for SOAK_SECONDS of wall clock; soak.json and soak.md in SOAK_OUT. Run it on
+# an otherwise idle machine: the jitter it reports is the machine's too.
+SOAK_SCENE   ?= scenes/realtime/hand-dorsal-vein-catheter.json
+SOAK_SECONDS ?= 3600
+SOAK_SEED    ?= 1
+SOAK_OUT     ?= out/soak
+soak: build
+	$(BUILD_DIR)/vascsim soak $(SOAK_SCENE) --seconds $(SOAK_SECONDS) --seed $(SOAK_SEED) --out $(SOAK_OUT)
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')

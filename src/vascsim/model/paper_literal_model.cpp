@@ -74,6 +74,7 @@ PaperLiteralSettings read_paper_literal_settings(JsonReader& pl) {
   s.ramp_time_s = schedule.ramp_time_s;
   s.output_interval_s = schedule.output_interval_s;
   s.step_s = pl.number("step_s", d.step_s, 1e-9, 1.0);
+  check_step_count(pl, schedule, s.step_s, "step_s");
   s.iterations = pl.integer("iterations", d.iterations, 1, 1000);
   s.stretch_stiffness = pl.number("stretch_stiffness", d.stretch_stiffness, 0.0, 1.0);
   s.energy_stiffness = pl.number("energy_stiffness", d.energy_stiffness, 0.0, 1.0);
@@ -155,9 +156,10 @@ PaperLiteralModel::PaperLiteralModel(const Problem& problem, const PaperLiteralS
   ke_prime_ = constraints::pbd_iteration_stiffness(s.energy_stiffness, s.iterations);
 
   // Whole steps per output interval, so output times are exact.
-  const long long per_output = static_cast<long long>(std::ceil(s.output_interval_s / s.step_s - 1e-9));
+  const TimeSchedule schedule{s.duration_s, s.ramp_time_s, s.output_interval_s};
+  const long long per_output = whole_steps_per_output(schedule, s.step_s, "paper_literal.step_s");
   dt_ = s.output_interval_s / static_cast<double>(per_output);
-  num_steps_ = static_cast<int>(std::ceil(s.duration_s / s.output_interval_s - 1e-9));
+  num_steps_ = output_count(schedule);
 
   // MODEL.md 3.1: report the explicit limit of the literal forces; above it only PBD keeps the run bounded.
   int power_its = 0;

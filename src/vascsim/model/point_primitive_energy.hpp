@@ -66,6 +66,13 @@ class PointPrimitiveEnergy {
   };
   Linearization linearize(const Vec3Array& x) const;
 
+  /// The MLS deformation gradient F_i of node i in configuration x (1 at rest): det F_i <= 0 is an inverted node.
+  Mat3 deformation_gradient(Index i, const Vec3Array& x) const {
+    Vec3 weighted_sum;
+    double weighted_squares = 0.0;
+    return gradient_and_moments(i, x, weighted_sum, weighted_squares);
+  }
+
   /// Hessian-vector product: out = (d^2 U / dx^2)(x) v, N per m of v. Exact (analytic) for every term.
   void hessian_product(const Vec3Array& x, const Vec3Array& v, Vec3Array& out) const;
   void hessian_product(const Linearization& lin, const Vec3Array& v, Vec3Array& out) const;

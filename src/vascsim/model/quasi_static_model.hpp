@@ -77,6 +77,9 @@ class QuasiStaticModel final : public Model, public DeviceDrivenModel {
 
   /// Solves for equilibrium at load factor s starting from the current state (also used by experiments).
   StepReport solve(double s);
+  // solve(s) from load factor s_from; an equilibrium with inverted material (model/inversion_check.hpp) is
+  // undone and s reached in two half steps, at most kMaxHalvings deep, then a NumericalError.
+  StepReport solve_without_inversion(double s_from, double s, int depth);
 
  private:
   // One load step, in the order solve() runs them.

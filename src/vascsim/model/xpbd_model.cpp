@@ -43,6 +43,7 @@ XpbdSettings read_xpbd_settings(JsonReader& xp) {
   s.output_interval_s = schedule.output_interval_s;
   s.step_s = xp.number("step_s", 1e-3, 1e-9, 1.0);
   s.substeps = xp.integer("substeps", XpbdSettings{}.substeps, 1, 10000);
+  check_step_count(xp, schedule, s.step_s / s.substeps, "step_s");
   s.iterations = xp.integer("iterations", XpbdSettings{}.iterations, 1, 1000);
   s.damping_per_s = xp.number("damping_per_s", 10.0, 0.0, 1e6);
   s.elastic = xp.string("elastic", "meshless_strain", {"meshless_strain", "tet_neo_hookean"}) == "meshless_strain"
@@ -100,11 +101,12 @@ XpbdModel::XpbdModel(const Problem& problem, const XpbdSettings& s) : problem_(p
   parallel_ = n >= kParallelMinNodes;
 
   // Whole steps per output interval, so output times are exact; then n_sub substeps per step.
-  const long long per_output = static_cast<long long>(std::ceil(s.output_interval_s / s.step_s - 1e-9));
+  const TimeSchedule schedule{s.duration_s, s.ramp_time_s, s.output_interval_s};
+  const long long per_output = whole_steps_per_output(schedule, s.step_s, "xpbd.step_s");
   step_ = s.output_interval_s / static_cast<double>(per_output);
   h_ = step_ / s.substeps;
   inv_h2_ = 1.0 / (h_ * h_);
-  num_steps_ = static_cast<int>(std::ceil(s.duration_s / s.output_interval_s - 1e-9));
+  num_steps_ = output_count(schedule);
 
   if (s.elastic == XpbdElastic::MeshlessStrain)
     setup_meshless();

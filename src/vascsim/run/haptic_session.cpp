@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/interrupt.hpp"
 #include "vascsim/core/statistics.hpp"
 #include "vascsim/core/stopwatch.hpp"
 #include "vascsim/interaction/scripted_device.hpp"
@@ -52,9 +53,13 @@ SessionInputs read_session_inputs(const Scene& scene, const HapticRunOptions& op
   }
   in.duration_s = spec.duration_s > 0.0 ? spec.duration_s
                                         : in.trajectory.end_time_s() - in.trajectory.start_time_s();
+  const std::string source = options.replay.empty() ? spec.trajectory : options.replay.string();
   if (!(in.duration_s > 0.0))
-    throw InputError(fmt::format("{}: the trajectory has no duration (one sample): set haptics.duration_s",
-                                 options.replay.empty() ? spec.trajectory : options.replay.string()));
+    throw InputError(fmt::format("{}: the trajectory has no duration (one sample): set haptics.duration_s", source));
+  if (!(in.duration_s * spec.rate_hz <= kMaxSessionTicks))
+    throw InputError(fmt::format("{}: the trajectory lasts {:.6g} s, {:.3g} ticks at {} Hz; a session may have at "
+                                 "most {:.0e} (every tick is kept in memory): shorten it or set haptics.duration_s",
+                                 source, in.duration_s, in.duration_s * spec.rate_hz, spec.rate_hz, kMaxSessionTicks));
   return in;
 }
 
@@ -105,35 +110,66 @@ class ProgressThrottle {
   double duration_, last_ = -1.0;
 };
 
+// The frames of a session: every one, or (keep_ticks false: soaks) the newest kRecentFrames in a ring, so that
+// memory stays constant however long the session runs; the count and the largest force cover all of them.
+class FrameLog {
+ public:
+  static constexpr std::size_t kRecentFrames = 1 << 16;
+  FrameLog(bool keep_all, std::size_t expected) : keep_all_(keep_all) {
+    frames_.reserve(keep_all ? expected : kRecentFrames);
+  }
+  void add(const FrameSample& s) {
+    max_force_n_ = std::max(max_force_n_, s.force_n.norm());
+    if (keep_all_ || frames_.size() < kRecentFrames)
+      frames_.push_back(s);
+    else
+      frames_[count_ % kRecentFrames] = s;
+    ++count_;
+  }
+  /// Every frame in order, or the newest kRecentFrames (in ring order).
+  const std::vector<FrameSample>& frames() const { return frames_; }
+  std::size_t count() const { return count_; }
+  double max_force_n() const { return max_force_n_; }
+
+ private:
+  bool keep_all_;
+  std::vector<FrameSample> frames_;
+  std::size_t count_ = 0;
+  double max_force_n_ = 0.0;
+};
+
 // Lockstep: one thread; the loop ticks at the nominal times and the model steps every ticks_per_step ticks
-// with the pose of that tick. Deterministic.
-void run_lockstep(const Scene& scene, std::size_t n_ticks, HapticRig& rig, std::vector<FrameSample>& history,
+// with the pose of that tick. Deterministic. Returns false when interrupted (at a frame boundary).
+bool run_lockstep(const Scene& scene, std::size_t n_ticks, HapticRig& rig, FrameLog& history,
                   const std::function<void()>& after_frame, ProgressThrottle& progress) {
   const double period = 1.0 / scene.haptics.rate_hz;
   const auto per_frame = static_cast<std::size_t>(scene.haptics.ticks_per_step);
   for (std::size_t k = 0; k < n_ticks; k += per_frame) {
-    history.push_back(rig.lockstep_frame(k));
+    if (interrupt_requested()) return false;
+    history.add(rig.lockstep_frame(k));
     after_frame();
     progress(static_cast<double>(k) * period);
   }
   rig.tick_through(n_ticks - 1);
+  return true;
 }
 
 // Realtime: the haptic loop on its own thread at wall-clock rate, the model on this thread as fast as it can
-// (never ahead of the wall clock); only the two LatestValue hand-offs are shared.
-void run_realtime(const SessionInputs& in, HapticRig& rig, DeviceDrivenModel& model, std::vector<FrameSample>& history,
+// (never ahead of the wall clock); only the two LatestValue hand-offs are shared. Returns false when
+// interrupted.
+bool run_realtime(const SessionInputs& in, HapticRig& rig, DeviceDrivenModel& model, FrameLog& history,
                   const std::function<void()>& after_frame, ProgressThrottle& progress) {
   const DeformationThreads threads;
   rig.start();
   try {
     const RealtimeClock clock;
     FrameSample sample;
-    while (clock.seconds() < in.duration_s) {
+    while (clock.seconds() < in.duration_s && !interrupt_requested()) {
       if (!rig.realtime_frame(sample)) {
         std::this_thread::sleep_for(std::chrono::microseconds(100));
         continue;
       }
-      history.push_back(sample);
+      history.add(sample);
       after_frame();
       progress(clock.seconds());
       clock.wait_for(model.time());
@@ -143,6 +179,7 @@ void run_realtime(const SessionInputs& in, HapticRig& rig, DeviceDrivenModel& mo
     throw;
   }
   rig.stop();
+  return !interrupt_requested();
 }
 
 std::string history_row(const FrameSample& s) {
@@ -172,13 +209,10 @@ nlohmann::json replay_comparison(const HapticRunOptions& options, const SessionR
 }
 
 nlohmann::json session_statistics(const Scene& scene, const HapticRunOptions& options, const SessionInputs& in,
-                                  const HapticRig& rig, const std::vector<FrameSample>& history, double run_s) {
+                                  const HapticRig& rig, const FrameLog& history, double run_s) {
   std::vector<double> step_ms;
-  double max_force = 0.0;
-  for (const auto& s : history) {
-    step_ms.push_back(s.wall_s * 1e3);
-    max_force = std::max(max_force, s.force_n.norm());
-  }
+  for (const auto& s : history.frames()) step_ms.push_back(s.wall_s * 1e3);
+  const double max_force = history.max_force_n();
   const HapticsSpec& spec = scene.haptics;
   nlohmann::json haptics = {
       {"mode", in.mode},
@@ -187,9 +221,9 @@ nlohmann::json session_statistics(const Scene& scene, const HapticRunOptions& op
       {"trajectory", options.replay.empty() ? spec.trajectory : options.replay.string()},
       {"duration_s", in.duration_s},
       {"rate_hz", spec.rate_hz},
-      {"ticks", rig.recording().size()},
-      {"simulation_steps", history.size()},
-      {"deformation_rate_hz", run_s > 0.0 ? static_cast<double>(history.size()) / run_s : 0.0},
+      {"ticks", rig.loop().stats().ticks},
+      {"simulation_steps", history.count()},
+      {"deformation_rate_hz", run_s > 0.0 ? static_cast<double>(history.count()) / run_s : 0.0},
       {"step_wall_ms",
        {{"p50", quantile(step_ms, 0.5)},
         {"p99", quantile(step_ms, 0.99)},
@@ -222,7 +256,10 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   model.set_realtime(in.mode == "realtime");
   const auto n_ticks = static_cast<std::size_t>(std::floor(in.duration_s * spec.rate_hz + 1e-9)) + 1;
   const SessionDevice device = session_device(scene, options, in, n_ticks);
-  HapticRig rig(model, scene, *device.device, {in.tool, in.trajectory.start_time_s(), true, n_ticks + 16});
+  if (!options.keep_ticks && !options.record.empty())
+    throw InputError("a session that keeps no ticks cannot write a recording (--record)");
+  HapticRig rig(model, scene, *device.device,
+                {in.tool, in.trajectory.start_time_s(), options.keep_ticks, options.keep_ticks ? n_ticks + 16 : 0});
   const double setup_s = total.seconds();
 
   // Surface series at the model's output interval (every frame for a load-stepped model).
@@ -240,33 +277,38 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   };
   auto after_frame = [&]() {
     ++frames;
+    // Inverted material ends the session (exit 3), checked at the output interval: O(nodes) per check.
+    if (frames % frames_per_output == 0)
+      sim.check_state(fmt::format("frame {} (t = {:.6g} s)", frames, model.time()));
     write_frame();
   };
 
-  std::vector<FrameSample> history;
-  history.reserve(n_ticks / static_cast<std::size_t>(spec.ticks_per_step) + 16);
+  FrameLog history(options.keep_ticks, n_ticks / static_cast<std::size_t>(spec.ticks_per_step) + 16);
   write_frame();
   ProgressThrottle progress(options, in.duration_s);
   const Stopwatch run;
-  if (in.mode == "lockstep")
-    run_lockstep(scene, n_ticks, rig, history, after_frame, progress);
-  else
-    run_realtime(in, rig, model, history, after_frame, progress);
+  const bool completed = in.mode == "lockstep" ? run_lockstep(scene, n_ticks, rig, history, after_frame, progress)
+                                               : run_realtime(in, rig, model, history, after_frame, progress);
   const double run_s = run.seconds();
   if (options.on_progress) options.on_progress(in.duration_s, in.duration_s);
 
-  CsvTable history_csv = out.table("force_history.csv", force_history_columns());
-  for (const auto& s : history) history_csv.add_row(history_row(s));
-  rig.recording().write_csv(out.path("session.csv"));
-  rig.recording().write_ticks_csv(out.path("haptic_ticks.csv"));
-  if (!options.record.empty()) rig.recording().write_csv(options.record);
+  if (options.keep_ticks) {
+    CsvTable history_csv = out.table("force_history.csv", force_history_columns());
+    for (const auto& s : history.frames()) history_csv.add_row(history_row(s));
+    rig.recording().write_csv(out.path("session.csv"));
+    rig.recording().write_ticks_csv(out.path("haptic_ticks.csv"));
+    if (!options.record.empty()) rig.recording().write_csv(options.record);
+  }
 
   nlohmann::json summary = describe_run(scene, sim);
   summary["haptics"] = session_statistics(scene, options, in, rig, history, run_s);
+  summary["interrupted"] = !completed;
+  summary["inverted_steps"] = sim.inverted_steps();
   summary["timings_s"] = {{"setup", setup_s}, {"session", run_s}, {"total", total.seconds()}};
-  summary["outputs"] = {{"force_history_csv", "force_history.csv"},
-                        {"session_csv", "session.csv"},
-                        {"haptic_ticks_csv", "haptic_ticks.csv"},
+  const bool ticks = options.keep_ticks;
+  summary["outputs"] = {{"force_history_csv", ticks ? "force_history.csv" : ""},
+                        {"session_csv", ticks ? "session.csv" : ""},
+                        {"haptic_ticks_csv", ticks ? "haptic_ticks.csv" : ""},
                         {"surface", surface ? surface_series.pvd_relative() : ""}};
   out.write_summary(summary);
   return summary;

@@ -6,6 +6,7 @@
 #include <omp.h>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/interrupt.hpp"
 #include "vascsim/core/stopwatch.hpp"
 #include "vascsim/model/registry.hpp"
 #include "vascsim/run/output_writer.hpp"
@@ -143,7 +144,13 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   record(last);
   double solve_s = 0.0;
   int unconverged = 0;
+  bool interrupted = false;
   for (int k = 1; k <= model.num_steps(); ++k) {
+    // Ctrl-C: stop at this step boundary with every file complete up to the last step.
+    if (interrupt_requested()) {
+      interrupted = true;
+      break;
+    }
     last = sim.advance(k);
     solve_s += last.wall_s;
     unconverged += last.report.converged ? 0 : 1;
@@ -153,6 +160,9 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   nlohmann::json summary = describe_run(scene, sim);
   summary.update({{"timings_s", {{"setup", sim.setup_seconds()}, {"solve", solve_s}, {"total", total.seconds()}}},
                   {"unconverged_steps", unconverged},
+                  {"interrupted", interrupted},
+                  {"inverted_steps", sim.inverted_steps()},
+                  {"planned_steps", model.num_steps()},
                   {"steps", steps},
                   {"surface_map", surface_info},
                   {"outputs",

@@ -18,6 +18,8 @@ struct RunOptions {
 };
 
 /// Runs the scene and returns summary.json's content (also written). Throws InputError / NumericalError.
+/// After an interrupt (core/interrupt.hpp) it stops at the next step boundary: summary.json then has
+/// "interrupted": true and the steps done so far.
 nlohmann::json run_scene(const Scene& scene, const RunOptions& options);
 
 /// summary.json's description of the MLS surface map of a run (the body must have a surface).

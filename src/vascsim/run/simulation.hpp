@@ -52,13 +52,21 @@ class Simulation {
 
   /// The rest state (step 0).
   StepRecord initial_record() const;
-  /// Advances the model to output point k (1..num_steps) and measures it.
+  /// Advances the model to output point k (1..num_steps) and measures it. Throws NumericalError naming the
+  /// step when the state has inverted material (model/inversion_check.hpp).
   StepRecord advance(int k);
+  /// Throws NumericalError("<model>: <where>: ...") when the model's state has inverted material; in a scene
+  /// with tools it warns (the first time) and counts instead (inverted_steps()): contact folds the lattice
+  /// under a tool's rim.
+  void check_state(const std::string& where);
+  /// Checks that found inverted material under a tool's contact.
+  int inverted_steps() const { return inverted_steps_; }
   /// Reference values of the scene (e.g. the Timoshenko deflection), for summary.json; null if none.
   nlohmann::json reference(const StepRecord& last) const;
 
  private:
   void build();
+  void check_motion_sizes() const;
   StepRecord measure(int step, const StepReport& report) const;
 
   Scene scene_;
@@ -70,6 +78,7 @@ class Simulation {
   std::unique_ptr<Model> model_;
   std::vector<Index> probe_nodes_;
   double setup_s_ = 0.0;
+  int inverted_steps_ = 0;
 };
 
 }  // namespace vascsim

@@ -1,4 +1,4 @@
-// The catheter tool and frictionless contact (docs/haptics.md): geometry, device posing, and MODEL.md T14 -
+// The catheter tool and frictionless contact (docs/haptics.md): geometry, device posing, and docs/validation.md T14 -
 // at equilibrium the force the tool exerts on the tissue balances the support reactions, and so does
 // its moment - for the quasi_static active set and for the xpbd contact constraints.
 
@@ -126,7 +126,7 @@ Balance run_to_end(Simulation& sim) {
   return b;
 }
 
-// T14 with the quasi_static active set. Tolerance 1 % (MODEL.md); the Newton residual of 1e-9 of the
+// T14 with the quasi_static active set. Tolerance 1 % (T14, docs/validation.md); the Newton residual of 1e-9 of the
 // reactions puts the actual balance far below it. The moment is compared against |F| x the block size,
 // the moment a 1 % force error would make.
 TEST(Catheter, QuasiStaticPressBalancesForceAndMoment) {

@@ -71,7 +71,7 @@ NeighbourhoodTrial evaluate(const Vec3Array& X, Index i, double h, const Spatial
   }
   const double tr = t.A.trace();
   if (tr > 0.0) {
-    // Dimensionless A / tr(A): eigenvalues in (0, 1]; never test det(A) != 0 (MODEL.md 1.5).
+    // Dimensionless A / tr(A): eigenvalues in (0, 1]; never test det(A) != 0 (docs/model.md section 5).
     Eigen::SelfAdjointEigenSolver<Mat3> es(t.A / tr, Eigen::EigenvaluesOnly);
     const Vec3 ev = es.eigenvalues();
     t.eigen_ratio = ev.maxCoeff() > 0.0 ? ev.minCoeff() / ev.maxCoeff() : 0.0;
@@ -238,7 +238,7 @@ void Discretization::compute_volumes(const DiscretizationOptions& opt) {
         throw InputError(fmt::format(
             "discretization: node {} belongs to no virtual tetrahedron, so it has no volume (tet-partition rule)", i));
   } else {
-    // Mueller et al. 2004 (MODEL.md 1.4): rbar_i = mean distance to the 10 nearest neighbours,
+    // Mueller et al. 2004 (docs/model.md section 4): rbar_i = mean distance to the 10 nearest neighbours,
     // m_i = s rbar_i^3 rho with s normalising the density estimate, V_i = m_i / rho_i.
     std::vector<double> rbar3(n);
     for (Index i = 0; i < n; ++i) {

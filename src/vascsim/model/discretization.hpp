@@ -1,5 +1,5 @@
 #pragma once
-// Rest-state discretisation of the point-primitive model (MODEL.md 1.3-1.5): per-node support radii,
+// Rest-state discretisation of the point-primitive model (docs/model.md sections 3-5): per-node support radii,
 // neighbour lists, the precomputed gradient vectors d_ij in CSR form with a transposed copy for
 // gather-form assembly, nodal volumes and masses. Immutable during a run (total Lagrangian).
 
@@ -13,12 +13,12 @@
 namespace vascsim {
 
 enum class VolumeRule {
-  TetPartition,  ///< V_i = 1/4 sum_{T containing i} |T| (sound default, MODEL.md decision 3)
+  TetPartition,  ///< V_i = 1/4 sum_{T containing i} |T| (sound default, docs/model.md design decision 3)
   MuellerKernel  ///< Mueller 2004 kernel density estimate V_i = m_i / rho_i (paper-literal option)
 };
 
 struct DiscretizationOptions {
-  double support_radius_factor = 2.0;  ///< h = factor * mean nearest spacing (MODEL.md decision 7)
+  double support_radius_factor = 2.0;  ///< h = factor * mean nearest spacing (docs/model.md design decision 7)
   int min_neighbours = 12;             ///< K_min
   double min_eigen_ratio = 1e-3;       ///< lambda_min / lambda_max of A_i / tr(A_i) (cond <= 1e3)
   double growth_factor = 1.2;          ///< h_i <- 1.2 h_i when a node fails the guard
@@ -90,7 +90,7 @@ class Discretization {
   const Material& material() const { return material_; }
   const NodeCloud& cloud() const { return cloud_; }
 
-  /// G_i = sum_j (u_j - u_i) d_ij^T (Eq. 2-3, MODEL.md 1.6). With eq3_literal_sign the paper's printed
+  /// G_i = sum_j (u_j - u_i) d_ij^T (Eq. 2-3, docs/model.md section 6). With eq3_literal_sign the paper's printed
   /// x_ij = x_i - x_j is used, which returns -G (negative test E1 only).
   Mat3 displacement_gradient(Index i, const Vec3Array& u, bool eq3_literal_sign = false) const;
   /// F_i = sum_j (x_j - x_i) d_ij^T.

@@ -272,7 +272,7 @@ void EnergyHessian::compute_tangents(const Vec3Array& x) {
   const EnergyOptions& eo = energy_.options();
   const Index n = disc.num_nodes();
   const double lambda = energy_.strain_lambda(), mu = energy_.shear_modulus(), kv = eo.volume_stiffness_pa;
-  // Literal strain (MODEL.md 1.7): eps = 2E and sigma = 2S, so U_lit = 4 U_SVK and its tangent is 4x.
+  // Literal strain (docs/model.md section 7): eps = 2E and sigma = 2S, so U_lit = 4 U_SVK and its tangent is 4x.
   const double svk_scale = eo.strain == StrainMeasure::GreenHalf ? 1.0 : 4.0;
   const Mat3 I = Mat3::Identity();
 #pragma omp parallel for schedule(static) if (n >= kParallelMinRows)
@@ -292,7 +292,7 @@ void EnergyHessian::compute_tangents(const Vec3Array& x) {
           });
     }
     if (kv > 0.0) {
-      // MODEL.md 1.9a: P_v = k_v (J - 1) cof(F), dP_v = k_v [(cof : dF) cof + (J - 1) dcof[dF]].
+      // docs/model.md section 9.1: P_v = k_v (J - 1) cof(F), dP_v = k_v [(cof : dF) cof + (J - 1) dcof[dF]].
       const double J = F.determinant();
       const Mat3 cof = cofactor(F);
       C += tangent_of([&](const Mat3& dF) {

@@ -39,9 +39,12 @@ test-release: build
 # that measure against the wall clock (label "wallclock": the instrumented model cannot keep up). Without the
 # viewer: its tests (label "render") run in the Release build only, and this also checks that the library
 # builds without any GL package. -g1 (line tables: the sanitizers' reports name file and line) instead of -g
-# compiles about a quarter faster.
+# compiles about a quarter faster. At -O1 with the sanitizers, g++ 12 reports false "maybe-uninitialized" warnings
+# inside libstdc++ (std::regex's std::function moves): SANITIZER_FLAGS turns that one warning off there; the
+# Release build (-O2) still checks it with -Werror.
+SANITIZER_FLAGS = -O1 -g1 -Wno-maybe-uninitialized
 test-sanitize: deps
-	cmake -S . -B $(ASAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g1" $(CMAKE_UNITY) \
+	cmake -S . -B $(ASAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="$(SANITIZER_FLAGS)" $(CMAKE_UNITY) \
 	  -DVASCSIM_SANITIZE=address,undefined -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_BUILD_VIEWER=OFF -DVASCSIM_WERROR=ON
 	cmake --build $(ASAN_DIR) -j $(JOBS)
 	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
@@ -53,7 +56,7 @@ test-sanitize: deps
 # simulation thread, which are std::threads. -O1 -g1 compiles about a third faster than -O2 -g.
 THREADED_TESTS ?= LatestValue*:FrameExchange*:HapticLoop*:VirtualCoupling*:ForceOutput*:MouseMapping*:HapticSession.Realtime*:LiveSession.Realtime*
 test-threads: deps
-	cmake -S . -B $(TSAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
+	cmake -S . -B $(TSAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$(SANITIZER_FLAGS) -DNDEBUG" \
 	  $(CMAKE_UNITY) \
 	  -DVASCSIM_SANITIZE=thread \
 	  -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_BUILD_VIEWER=OFF -DVASCSIM_WERROR=ON

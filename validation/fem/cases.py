@@ -14,7 +14,6 @@ from . import ccx, scene_params
 from .geometry import BentLine, StraightLine, quarter_wall_breaks, quarter_wall_mesh, wall_map
 from .hexmesh import Mesh, graded, refine
 
-GROWTH = 1.5  # size ratio of neighbouring base elements away from the patch (far field: coarse)
 
 
 def _axis(v):
@@ -30,7 +29,7 @@ class WallCase:
     """A vessel wall clamped at both ends, half of it modelled in theta and half in s around a patch or a
     tool at mid-length, theta = theta_c."""
 
-    def __init__(self, scene_path, base_size_per_thickness=0.85, growth=GROWTH):
+    def __init__(self, scene_path, base_size_per_thickness=0.85):
         self.scene_path = scene_path
         self.scene = scene_params.load(scene_path)
         scene_params.clamped_ends(self.scene, scene_path)
@@ -43,7 +42,6 @@ class WallCase:
             self.line = BentLine(line["radius"], line["angle"], line["leg"])
         self.steps = scene_params.load_steps(self.scene)
         self.base_size = base_size_per_thickness * self.t
-        self.growth = growth
 
     def _symmetry(self, theta_c, s_c):
         """Axes normal to the two symmetry planes: the theta = theta_c plane and the s = s_c cross-section."""
@@ -57,9 +55,13 @@ class WallCase:
         tangent = np.cross(n, b)
         return _axis(e_theta), _axis(tangent)
 
+    # Power-law grading exponents of the wall mesh (geometry.quarter_wall_breaks): outside the patch, inside
+    # it, through the wall.
+    grading = (2.0, 2.0, 2.0)
+
     def _wall_mesh(self, theta_c, half_width, s_patch_start, s_c, m):
         breaks = quarter_wall_breaks(self.r_in, self.r_out, theta_c, half_width, s_patch_start, s_c,
-                                     self.base_size, self.growth, m)
+                                     self.base_size, m, *self.grading)
         return quarter_wall_mesh(self.line, self.r_in, self.r_out, breaks), breaks
 
     def _common(self, deck, mesh, theta_c, s_c, sym_theta, sym_s):
@@ -128,6 +130,9 @@ class CatheterPress(WallCase):
     contact surface; the force is the reaction at its reference node along the push (N)."""
 
     quantity = ("depth_m", "force_n")
+    # The contact edge moves with the push and the pressure vanishes there (no fixed singular line): uniform
+    # elements over the contact zone and through the wall, graded only outside the zone.
+    grading = (2.0, 1.0, 1.0)
 
     def __init__(self, scene_path, penalty=5e7, fine_half_width=45.0, fine_half_length_per_radius=1.25, **kw):
         super().__init__(scene_path, **kw)

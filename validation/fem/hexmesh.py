@@ -42,6 +42,14 @@ def graded(x0, x1, n, first=None):
     return list(x0 + np.sign(x1 - x0) * np.concatenate([[0.0], np.cumsum(steps)]))
 
 
+def power_graded(x0, x1, n, beta):
+    """n + 1 breakpoints x0 + (x1 - x0) t^beta at t = i/n: fine at x0 for beta > 1 (algebraic grading
+    towards a singular point at x0; every level of a refinement sequence maps its own uniform t grid through
+    the same function, so the sequence stays systematic)."""
+    t = np.arange(n + 1) / n
+    return list(x0 + (x1 - x0) * t ** beta)
+
+
 def refine(breaks, m):
     """Every interval of `breaks` split into m equal parts (systematic refinement of a base mesh)."""
     out = [breaks[0]]

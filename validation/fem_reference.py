@@ -10,8 +10,8 @@ generated here), runs ccx under `nice -n 19`, reads the curve back, and after th
                                            Newton iterations, wall time)
 
 Richardson extrapolation uses the three finest levels (observed order and the GCI of Celik et al. 2008, see
-fem/richardson.py). The decks and ccx's outputs stay in --work (default out/fem/<case>/L<m>); a level whose
-.dat is already there is read back instead of run again unless --rerun is given.
+fem/richardson.py). The decks and ccx's outputs stay in --work (default out/fem/<case>/L<m>); a level that
+already ran to the end with the same deck is read back instead of run again unless --rerun is given.
 
 Cases (scene files are read for every dimension, material and boundary condition):
   vein-indent     scenes/vein-indent.json            bonded patch on the straight vein, force vs depth
@@ -36,24 +36,30 @@ sys.path.insert(0, HERE)
 from fem import cases, ccx, richardson, svk_check  # noqa: E402
 
 CASES = {
-    "vein-indent": lambda a: cases.BondedPatch(os.path.join(ROOT, "scenes", "vein-indent.json")),
+    "vein-indent": lambda a: cases.BondedPatch(os.path.join(ROOT, "scenes", "vein-indent.json"), family=a.family,
+                                               whole_circumference=a.whole_circumference),
     "vein-catheter": lambda a: cases.CatheterPress(os.path.join(ROOT, "scenes", "hand-dorsal-vein-catheter.json"),
                                                    penalty=a.penalty),
-    "aorta-bent": lambda a: cases.BondedPatch(os.path.join(ROOT, "scenes", "aorta-bent.json")),
+    "aorta-bent": lambda a: cases.BondedPatch(os.path.join(ROOT, "scenes", "aorta-bent.json"), family=a.family),
     "cantilever": lambda a: cases.Cantilever(os.path.join(ROOT, "scenes", "cantilever.json")),
 }
 
 
 def run_level(case, m, workdir, element, rerun):
+    """Writes the level's deck and runs ccx, unless the same deck already ran to the end here (job.wall is
+    written after a finished run; a changed deck or an interrupted run is run again)."""
     os.makedirs(workdir, exist_ok=True)
+    path = os.path.join(workdir, "job")
+    previous = open(path + ".inp").read() if os.path.exists(path + ".inp") else None
     path, info = case.deck(m, workdir, element)
-    wall = None
-    if rerun or not os.path.exists(path + ".dat") or not os.path.exists(path + ".sta"):
+    done = os.path.exists(path + ".wall") and previous == open(path + ".inp").read()
+    if rerun or not done:
+        if os.path.exists(path + ".wall"):
+            os.remove(path + ".wall")
         wall = ccx.run(path, path + ".log")
         with open(path + ".wall", "w") as f:
             f.write(f"{wall:.1f}\n")
-    elif os.path.exists(path + ".wall"):
-        wall = float(open(path + ".wall").read())
+    wall = float(open(path + ".wall").read())
     increments, iterations = ccx.increments(path + ".sta")
     info.update({"level": m, "element": element, "dofs": 3 * info["nodes"], "increments": increments,
                  "newton_iterations": iterations, "wall_time_s": wall})
@@ -95,6 +101,10 @@ def main():
     ap.add_argument("--levels", default="1,2,3", help="refinement levels m (comma list; the finest three "
                     "are extrapolated)")
     ap.add_argument("--element", default="C3D20", choices=["C3D20", "C3D20R"])
+    ap.add_argument("--family", default=None, choices=["geometric", "power"],
+                    help="wall mesh family of the bonded patches (default geometric; fem/geometry.py)")
+    ap.add_argument("--whole-circumference", action="store_true",
+                    help="vein-indent: model both halves in theta (the check of the theta symmetry plane)")
     ap.add_argument("--penalty", type=float, default=5e7, help="vein-catheter: contact penalty slope, Pa/mm")
     ap.add_argument("--work", default=None, help="deck directory (default out/fem/<case>)")
     ap.add_argument("--out", default=os.path.join(HERE, "references"), help="where the CSV files go")

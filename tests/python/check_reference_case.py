@@ -64,7 +64,7 @@ def main():
     for k, (st, (x_ref, y_ref)) in enumerate(zip(summary["steps"][1:], ref)):
         reg = st["regions"][column]
         x, y = (reg["force_n"], reg["displacement_m"]) if case == "cantilever" else (reg["displacement_m"], reg["force_n"])
-        if abs(x - x_ref) > 1e-9 * abs(x_ref):
+        if abs(x - x_ref) > 1e-6 * abs(x_ref):
             sys.exit(f"{case}: step {k + 1} is at {x:.6g}, the reference's at {x_ref:.6g}")
         err = y / y_ref - 1.0
         ok = abs(err) <= bounds[k]

@@ -11,9 +11,17 @@ import os
 import numpy as np
 
 from . import ccx, scene_params
-from .geometry import BentLine, StraightLine, quarter_wall_breaks, quarter_wall_mesh, wall_map
+from .geometry import BentLine, StraightLine, geometric_wall_breaks, power_wall_breaks, quarter_wall_mesh
 from .hexmesh import Mesh, graded, refine
 
+
+
+def load_factor(time, steps):
+    """The exact load factor k/steps of a printed step time (CalculiX prints 7 digits)."""
+    k = round(time * steps)
+    if abs(time * steps - k) > 1e-4:
+        raise RuntimeError(f"step time {time} is not one of the {steps} load steps")
+    return k / steps
 
 
 def _axis(v):
@@ -29,8 +37,18 @@ class WallCase:
     """A vessel wall clamped at both ends, half of it modelled in theta and half in s around a patch or a
     tool at mid-length, theta = theta_c."""
 
-    def __init__(self, scene_path, base_size_per_thickness=0.85):
+    # Mesh family (geometry.py): "geometric" or "power" with the exponents outside the patch, inside it and
+    # through the wall.
+    family = "geometric"
+    grading = (2.0, 2.0, 2.0)
+
+    def __init__(self, scene_path, base_size_per_thickness=0.85, family=None, whole_circumference=False):
         self.scene_path = scene_path
+        if family:
+            self.family = family
+        # The symmetry check: both halves in theta (a half model, no theta symmetry plane).
+        self.whole_circumference = whole_circumference
+        self.symmetry_factor = 2.0 if whole_circumference else 4.0
         self.scene = scene_params.load(scene_path)
         scene_params.clamped_ends(self.scene, scene_path)
         self.youngs, self.poisson = scene_params.material(self.scene, scene_path)
@@ -55,25 +73,33 @@ class WallCase:
         tangent = np.cross(n, b)
         return _axis(e_theta), _axis(tangent)
 
-    # Power-law grading exponents of the wall mesh (geometry.quarter_wall_breaks): outside the patch, inside
-    # it, through the wall.
-    grading = (2.0, 2.0, 2.0)
-
     def _wall_mesh(self, theta_c, half_width, s_patch_start, s_c, m):
-        breaks = quarter_wall_breaks(self.r_in, self.r_out, theta_c, half_width, s_patch_start, s_c,
-                                     self.base_size, m, *self.grading)
+        if self.family == "geometric":
+            breaks = geometric_wall_breaks(self.r_in, self.r_out, theta_c, half_width, s_patch_start, s_c,
+                                           self.base_size, m)
+        else:
+            breaks = power_wall_breaks(self.r_in, self.r_out, theta_c, half_width, s_patch_start, s_c,
+                                       self.base_size, m, *self.grading)
+        if self.whole_circumference:
+            t = breaks[1]
+            breaks = (breaks[0], [2.0 * theta_c - x for x in reversed(t)] + t[1:], breaks[2])
         return quarter_wall_mesh(self.line, self.r_in, self.r_out, breaks), breaks
 
     def _common(self, deck, mesh, theta_c, s_c, sym_theta, sym_s):
         eps = 1e-9
         wall = {"WALL"}
         deck.nset("FIX", mesh.nodes_where_param(lambda r, th, s: abs(s) < eps, wall))
-        deck.nset("SYMT", mesh.nodes_where_param(
-            lambda r, th, s: scene_params.angle_is(th, theta_c) or scene_params.angle_is(th, theta_c + 180), wall))
+        if not self.whole_circumference:
+            deck.nset("SYMT", mesh.nodes_where_param(
+                lambda r, th, s: scene_params.angle_is(th, theta_c) or scene_params.angle_is(th, theta_c + 180),
+                wall))
         deck.nset("SYMS", mesh.nodes_where_param(lambda r, th, s: abs(s - s_c) < eps, wall))
         deck.elastic("TISSUE", self.youngs, self.poisson, elset="WALL")
-        return (f"*BOUNDARY\nFIX, 1, 3\nSYMT, {sym_theta + 1}, {sym_theta + 1}\n"
-                f"SYMS, {sym_s + 1}, {sym_s + 1}\n")
+        bcs = "*BOUNDARY\nFIX, 1, 3\n"
+        if not self.whole_circumference:
+            bcs += f"SYMT, {sym_theta + 1}, {sym_theta + 1}\n"
+        bcs += f"SYMS, {sym_s + 1}, {sym_s + 1}\n"
+        return bcs
 
 
 class BondedPatch(WallCase):
@@ -101,7 +127,8 @@ class BondedPatch(WallCase):
         deck.mesh(mesh, element, blocks={"WALL": "WALL"})
         eps = 1e-9
         patch = mesh.nodes_where_param(
-            lambda r, th, s: abs(r - self.r_out) < eps and th <= p["theta"] + p["half_width"] + eps
+            lambda r, th, s: abs(r - self.r_out) < eps
+            and abs(math.remainder(th - p["theta"], 360.0)) <= p["half_width"] + eps
             and s >= self.s_c - p["half_length"] - eps, {"WALL"})
         deck.nset("PATCH", patch)
         bcs = self._common(deck, mesh, p["theta"], self.s_c, sym_theta, sym_s)
@@ -115,7 +142,8 @@ class BondedPatch(WallCase):
 
     def result(self, path):
         totals = ccx.read_totals(path + ".dat", "PATCH")
-        curve = [(t * self.patch["push"] * ccx.MM, 4.0 * ccx.MICRONEWTON * float(np.dot(rf, self.push_dir)))
+        curve = [(load_factor(t, self.steps) * self.patch["push"] * ccx.MM,
+                  self.symmetry_factor * ccx.MICRONEWTON * float(np.dot(rf, self.push_dir)))
                  for t, rf in totals]
         if len(curve) != self.steps:
             raise RuntimeError(f"{path}.dat: {len(curve)} of {self.steps} load steps printed")
@@ -132,6 +160,7 @@ class CatheterPress(WallCase):
     quantity = ("depth_m", "force_n")
     # The contact edge moves with the push and the pressure vanishes there (no fixed singular line): uniform
     # elements over the contact zone and through the wall, graded only outside the zone.
+    family = "power"
     grading = (2.0, 1.0, 1.0)
 
     def __init__(self, scene_path, penalty=5e7, fine_half_width=45.0, fine_half_length_per_radius=1.25, **kw):
@@ -225,7 +254,8 @@ class CatheterPress(WallCase):
 
     def result(self, path):
         totals = ccx.read_totals(path + ".dat", "REFNODE")
-        curve = [(t * self.tool["push"] * ccx.MM, 4.0 * ccx.MICRONEWTON * float(np.dot(rf, self.push_dir)))
+        curve = [(load_factor(t, self.steps) * self.tool["push"] * ccx.MM,
+                  self.symmetry_factor * ccx.MICRONEWTON * float(np.dot(rf, self.push_dir)))
                  for t, rf in totals]
         if len(curve) != self.steps:
             raise RuntimeError(f"{path}.dat: {len(curve)} of {self.steps} load steps printed")
@@ -295,7 +325,7 @@ class Cantilever:
         curve = []
         for t, nodes in sorted(values.items()):
             mean = sum(weights[n] * np.dot(u, self.load_dir) for n, u in nodes.items()) / area
-            curve.append((t * self.beam["force"], mean * ccx.MM))
+            curve.append((load_factor(t, self.steps) * self.beam["force"], mean * ccx.MM))
         if len(curve) != self.steps:
             raise RuntimeError(f"{path}.dat: {len(curve)} of {self.steps} load steps printed")
         return curve

@@ -57,6 +57,13 @@ nlohmann::json step_json(const Scene& scene, const StepRecord& r) {
           {"probes", probes}};
 }
 
+// What each region selected beside what was asked (the warnings were logged when the simulation was built).
+nlohmann::json region_reports(const Simulation& sim) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const RegionSelection& r : sim.region_selections()) out.push_back(r.report);
+  return out;
+}
+
 }  // namespace
 
 std::vector<std::string> probe_columns(const Scene& scene) {
@@ -91,7 +98,8 @@ nlohmann::json describe_run(const Scene& scene, Simulation& sim) {
           {"volume_m3", disc.total_volume()},
           {"mass_kg", std::accumulate(disc.masses().begin(), disc.masses().end(), 0.0)},
           {"solver", sim.model().info()},
-          {"threads", omp_get_max_threads()}};
+          {"threads", omp_get_max_threads()},
+          {"regions", region_reports(sim)}};
 }
 
 nlohmann::json surface_map_info(Simulation& sim) {

@@ -56,6 +56,9 @@ void Simulation::build() {
   energy_ = std::make_unique<PointPrimitiveEnergy>(*disc_, energy);
   problem_ = std::make_unique<Problem>(*energy_, build_regions(scene, *disc_, *body_), scene.gravity_m_s2,
                                        scene.obstacles);
+  selections_ = describe_selections(scene, *disc_, *body_, problem_->regions());
+  for (const RegionSelection& r : selections_)
+    for (const std::string& w : r.warnings) spdlog::warn("{}", w);
   for (const auto& p : scene.probes) {
     Index best = 0;
     double bd = INFINITY;

@@ -11,6 +11,7 @@
 #include "vascsim/model/model.hpp"
 #include "vascsim/run/body_builder.hpp"
 #include "vascsim/run/region_builder.hpp"
+#include "vascsim/run/region_report.hpp"
 #include "vascsim/scene/scene.hpp"
 
 namespace vascsim {
@@ -49,6 +50,8 @@ class Simulation {
   SurfaceFrame surface_frame();
   Model& model() { return *model_; }
   double setup_seconds() const { return setup_s_; }
+  /// What every region selected beside what the scene asked (region_report.hpp), in scene order.
+  const std::vector<RegionSelection>& region_selections() const { return selections_; }
 
   /// The rest state (step 0).
   StepRecord initial_record() const;
@@ -77,6 +80,7 @@ class Simulation {
   std::unique_ptr<Problem> problem_;
   std::unique_ptr<Model> model_;
   std::vector<Index> probe_nodes_;
+  std::vector<RegionSelection> selections_;
   double setup_s_ = 0.0;
   int inverted_steps_ = 0;
 };

@@ -83,12 +83,16 @@ MeshGeometrySpec read_mesh(JsonReader& g) {
 GeometrySpec read_geometry(JsonReader g) {
   GeometrySpec s;
   s.type = g.required_string("type", {"tube", "vessel", "mesh", "box", "beam"});
+  if (s.type == "tube" || s.type == "vessel") {
+    s.lattice_angle_given = g.has("lattice_angle_deg");
+    s.tube.lattice_angle_deg = g.number("lattice_angle_deg", 0.0, -360.0, 360.0);
+  }
   if (s.type == "tube") {
     read_wall_section(g, s.tube);
     s.tube.length_m = g.required_number("length_m", 1e-7, 100.0);
   } else if (s.type == "vessel") {
     read_wall_section(g, s.tube);
-    if (s.tube.min_layers < 3) g.fail("min_layers", "a swept vessel needs at least 3 layers (MODEL.md decision 2)");
+    if (s.tube.min_layers < 3) g.fail("min_layers", "a swept vessel needs at least 3 layers (docs/model.md design decision 2)");
     if (!g.has("centerline")) g.fail("centerline", "missing; a centre-line object is required");
     s.centerline = read_centerline(g.object("centerline"));
   } else if (s.type == "mesh") {
@@ -303,6 +307,18 @@ void read_energy(JsonReader& root, bool literal, Scene& sc) {
   sc.energy.law = law;
   if (law && sc.energy.strain != StrainMeasure::GreenHalf)
     en.fail("strain", fmt::format("the literal strain applies to material law 'svk' only (law is '{}')", sc.material_law));
+}
+
+// A patch of +-w deg is symmetric and w wide only if its centre lies on a lattice line. Unless the scene
+// sets geometry.lattice_angle_deg, the tube/vessel lattice is turned (by less than half a column) so that a
+// line runs through the first wall patch's centre.
+void align_lattice_to_first_patch(Scene& sc) {
+  if (sc.geometry.lattice_angle_given || (sc.geometry.type != "tube" && sc.geometry.type != "vessel")) return;
+  for (const auto& r : sc.regions)
+    if (r.select.type == "wall_patch") {
+      sc.geometry.tube.lattice_angle_deg = r.select.angle_center_deg;
+      return;
+    }
 }
 
 void read_regions(JsonReader& root, Scene& sc) {
@@ -557,6 +573,7 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   read_discretization(root, literal, sc);
   read_energy(root, literal, sc);
   read_regions(root, sc);
+  align_lattice_to_first_patch(sc);
   read_probes(root, sc);
   sc.gravity_m_s2 = root.vec3("gravity_m_s2", Vec3::Zero());
   read_tools(root, sc);

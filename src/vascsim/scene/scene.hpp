@@ -44,6 +44,7 @@ struct MeshGeometrySpec {
 struct GeometrySpec {
   std::string type;  ///< "tube", "vessel", "mesh", "box" or "beam"
   TubeSpec tube;     ///< tube; for "vessel" the radius, thickness, spacing and layers (length unused)
+  bool lattice_angle_given = false;  ///< tube, vessel: the scene set lattice_angle_deg (else: the first wall patch's)
   CenterlineSpec centerline;
   MeshGeometrySpec mesh;
   BoxSpec box;

@@ -1,4 +1,4 @@
-// Throughput of the point-primitive force kernels (MODEL.md 7): PointPrimitiveEnergy::forces,
+// Throughput of the point-primitive force kernels (docs/performance.md): PointPrimitiveEnergy::forces,
 // PointPrimitiveEnergy::hessian_product and one ExplicitIntegrator::substep, on jittered box lattices of
 // about 1k, 10k and 100k nodes (h = 2 Delta, SVK, stabiliser alpha 0.1: the library defaults).
 //
@@ -6,7 +6,7 @@
 //   N            nodes
 //   K            mean neighbours per node (pairs / N)
 //   ns_per_node  wall time per call / N, ns
-//   ns_per_pair  wall time per call / #neighbour pairs, ns (the MODEL.md 7 figure of merit)
+//   ns_per_pair  wall time per call / #neighbour pairs, ns (the docs/performance.md figure of merit)
 // Times are wall-clock (UseRealTime), since the kernels run on an OpenMP team.
 //
 // Run: build-bench/bench/vascsim_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true

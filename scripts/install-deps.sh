@@ -14,6 +14,8 @@ packages=(
   # rasteriser, the HUD, PNG writing; xvfb/xauth for a virtual X display (xvfb-run -a) as a fallback.
   libglfw3-dev libimgui-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev
   xvfb xauth
+  # `make fuzz`: libFuzzer, ASan and UBSan with clang (docs/reliability.md).
+  clang-14 libclang-rt-14-dev
   # `make experiments` fans its independent runs out with GNU parallel (a plain loop without it).
   parallel
 )

@@ -1,4 +1,4 @@
-// MODEL.md section 6, T1: kernel normalisation and shape (poly6 of Eq. 1, cubic spline of Eq. 37).
+// docs/validation.md (tests T1-T15), T1: kernel normalisation and shape (poly6 of Eq. 1, cubic spline of Eq. 37).
 
 #include <gtest/gtest.h>
 
@@ -30,7 +30,7 @@ constexpr double kH = 2e-3;  // support radius, m (h = 2 Delta at Delta = 1 mm)
 
 TEST(KernelT1, Poly6IntegratesToOne) {
   const double integral = integrate_3d([](double r) { return kernels::poly6(r, kH); }, kH);
-  // Tolerance 1e-3 (MODEL.md T1): midpoint error at h/50 is O(1e-4) at most. Measured 4.4e-10.
+  // Tolerance 1e-3 (docs/validation.md T1): midpoint error at h/50 is O(1e-4) at most. Measured 4.4e-10.
   EXPECT_NEAR(integral, 1.0, 1e-3);
 }
 

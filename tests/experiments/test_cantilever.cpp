@@ -1,4 +1,4 @@
-// MODEL.md T9: cantilever convergence against the Timoshenko reference, at small sizes (the full
+// docs/validation.md T9: cantilever convergence against the Timoshenko reference, at small sizes (the full
 // table is `vascsim validate cantilever`, recorded in docs/validation.md).
 #include <gtest/gtest.h>
 
@@ -30,7 +30,7 @@ TEST(CantileverT9, TimoshenkoFormulaMatchesHandValue) {
   EXPECT_NEAR(bending, 0.04, 1e-15);
 }
 
-// Sound mode at n = 3 (both Poisson ratios): MODEL.md's bound 8 % (coarse-resolution error of a
+// Sound mode at n = 3 (both Poisson ratios): the T9 bound 8 % (docs/validation.md) (coarse-resolution error of a
 // 4-node-wide beam). n = 2 is NOT asserted: the K_min = 12 guard widens the corner stencils there
 // and the beam comes out 6-11 % soft (docs/validation.md).
 TEST(CantileverT9, SoundModeWithinEightPercentAtThreeCellsAcross) {
@@ -41,7 +41,7 @@ TEST(CantileverT9, SoundModeWithinEightPercentAtThreeCellsAcross) {
   }
 }
 
-// n = 4: MODEL.md's tighter 3 % bound for n >= 4.
+// n = 4: T9's tighter 3 % bound for n >= 4.
 TEST(CantileverT9, SoundModeWithinThreePercentAtFourCellsAcrossSlow) {
   const auto r = run_cantilever(make(4, 0.45));
   EXPECT_NEAR(r.ratio, 1.0, 0.03);
@@ -60,7 +60,7 @@ TEST(CantileverT9, SmallSupportConvergesMonotonicallySlow) {
 }
 
 // Mueller's kernel volumes overestimate boundary volumes: the documented literal-mode defect, a beam
-// 2-5x too stiff (MODEL.md: ratio in [0.15, 0.55]).
+// 2-5x too stiff (docs/model.md section 4: ratio in [0.15, 0.55]).
 TEST(CantileverT9, MuellerKernelVolumesAreTooStiff) {
   CantileverCase c = make(3, 0.45);
   c.volume = "mueller_kernel";

@@ -141,6 +141,37 @@ TEST(SweptVessel, StraightCentrelineReproducesMakeTube) {
   EXPECT_NEAR(total_tet_volume(v.cloud), total_tet_volume(tube), 1e-12 * total_tet_volume(tube));
 }
 
+// The lattice angle turns the angular lattice by less than half a column so that a column of nodes runs at
+// it, in make_tube and in the sweep alike (the wall-patch regions rely on it), and leaves a lattice that
+// already has a column there bit for bit as it was.
+TEST(SweptVessel, LatticeAngleTurnsTheColumnsOntoIt) {
+  const int nt = 57;  // the vein's columns at 0.15 mm: 360/57 = 6.316 deg, 90 deg is 14.25 columns
+  const double step = 360.0 / nt, deg = std::numbers::pi / 180.0;
+  EXPECT_EQ(lattice_phase_rad(0.0, nt), 0.0);
+  EXPECT_EQ(lattice_phase_rad(180.0, 74), 0.0);  // 180 deg on an even lattice: no turn at all
+  const double phase = lattice_phase_rad(90.0, nt);
+  EXPECT_NEAR(phase / deg, 90.0 - 14 * step, 1e-12);
+  EXPECT_LE(std::abs(phase / deg), 0.5 * step);
+  TubeSpec ts;
+  ts.length_m = 1e-3;
+  ts.lattice_angle_deg = 90.0;
+  const NodeCloud tube = make_tube(ts);
+  SweptVesselSpec ss;
+  ss.lattice_angle_deg = 90.0;
+  const SweptVessel v = make_swept_vessel(straight_centerline(ts.length_m), ss);
+  ASSERT_EQ(v.angular_nodes, nt);
+  int on_line = 0;
+  for (std::size_t i = 0; i < tube.positions.size(); ++i) {
+    EXPECT_LT((v.cloud.positions[i] - tube.positions[i]).norm(), 1e-15);
+    on_line += std::abs(tube.positions[i].x()) < 1e-15 && tube.positions[i].y() > 0.0 ? 1 : 0;
+  }
+  EXPECT_EQ(on_line, v.radial_layers * v.axial_nodes);  // one full column at 90 deg
+  // Breaking it: without the angle the column closest to 90 deg is a quarter step off (1.6 deg).
+  ts.lattice_angle_deg = 0.0;
+  const NodeCloud plain = make_tube(ts);
+  for (const Vec3& p : plain.positions) EXPECT_GT(std::abs(p.x()), 1e-6 * p.norm());
+}
+
 TEST(SweptVessel, AorticArchIsPositivePappusAndInsideTheWall) {
   const double R = 12.5e-3, t = 1.5e-3, r = R - t, rc = 40e-3, leg = 10e-3;
   SweptVesselSpec spec;

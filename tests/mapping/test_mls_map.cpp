@@ -1,4 +1,4 @@
-// MLS surface map (MODEL.md section 4; tests T11 and T15 of section 6): partition of unity, affine and
+// MLS surface map (docs/model.md section 20; tests T11 and T15 of section 6): partition of unity, affine and
 // rigid reproduction, conditioning guards, transpose (force) map and vertex normals.
 
 #include <fmt/format.h>
@@ -57,7 +57,7 @@ SurfaceMesh boundary_surface(const NodeCloud& cloud) {
 }
 
 // Points near the tube's outer and inner walls at random (theta, z), so they are not nodes: radial
-// offsets from 0.1 Delta inside the wall to 0.5 Delta outside it (MODEL.md 4.3: surface points sit up
+// offsets from 0.1 Delta inside the wall to 0.5 Delta outside it (docs/model.md section 20.2: surface points sit up
 // to about Delta/2 outside the cloud), z up to Delta/4 beyond the ends.
 Vec3Array tube_offset_points(const TubeShape& tube, double delta, int count, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
@@ -95,7 +95,7 @@ Measured measure_t11(const MlsMap& map, const Vec3Array& X, double delta, std::u
   return measure_mls_t11(map, X, delta, seed);
 }
 
-// T11 pass criteria (MODEL.md section 6). The double bounds hold with margin: the solve with cond(A^)
+// T11 pass criteria (docs/validation.md (tests T1-T15)). The double bounds hold with margin: the solve with cond(A^)
 // <= 1e3 loses at most ~3 of 16 digits, and Sum phi, Sum phi X are then exact to ~1e-13. Float32: input
 // and output rounding of positions of a few mm and of phi give ~1e-6 Delta; the bound is 1e-5 Delta.
 void expect_t11(const MlsMap& map, const Measured& m, const std::string& tag) {

@@ -1,4 +1,4 @@
-// MODEL.md T11 and T15 on the render surfaces of the shipped vessel scenes, at their full resolution
+// docs/validation.md T11 and T15 on the render surfaces of the shipped vessel scenes, at their full resolution
 // (the per-vessel table of docs/validation.md comes from `vascsim validate mls`, the same code).
 // About 1 s in Release (map construction over ~20k nodes per vessel); also run under the sanitizers.
 
@@ -18,7 +18,7 @@ std::string scene(const char* name) { return std::string(VASCSIM_SOURCE_DIR) + "
 void expect_t11_and_t15(const nlohmann::json& rows) {
   for (const auto& r : rows) {
     SCOPED_TRACE(r["scene"].get<std::string>());
-    // T11 bounds (MODEL.md section 6): double precision to 1e-12 / 1e-10 Delta; the solve with
+    // T11 bounds (docs/validation.md (tests T1-T15)): double precision to 1e-12 / 1e-10 Delta; the solve with
     // cond <= 1e3 loses at most ~3 digits, so these hold with margin.
     EXPECT_LE(r["unity"].get<double>(), 1e-12);
     EXPECT_LE(r["linear_over_delta"].get<double>(), 1e-10);

@@ -1,8 +1,10 @@
-// The catheter tool and frictionless contact (docs/haptics.md): geometry, device posing, and MODEL.md T14 -
+// The catheter tool and frictionless contact (docs/haptics.md): geometry, device posing, and docs/validation.md T14 -
 // at equilibrium the force the tool exerts on the tissue balances the support reactions, and so does
 // its moment - for the quasi_static active set and for the xpbd contact constraints.
 
 #include <gtest/gtest.h>
+
+#include "support/scenes.hpp"
 
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -73,20 +75,11 @@ TEST(Catheter, SceneTakesFrenchOrMetresAndRejectsBoth) {
   EXPECT_THROW(Simulation(parse_scene(bad, "cat")), InputError);
 }
 
-// A 6 x 6 x 3 mm block (node spacing 0.5 mm: half the catheter's radius, docs/haptics.md), base fixed,
-// pressed 1 mm by a 6 Fr catheter lying across its top along x, tilted so the press is deeper at x = 6 mm
-// (0.9 mm) than at x = 0 (0.42 mm) and the moment is not trivially zero.
+// The shared catheter block (tests/support/scenes.hpp), pressed 1 mm.
 json pressed_block(const std::string& model) {
-  json doc = json::parse(R"({
-    "name": "catheter-block",
-    "geometry": { "type": "box", "min_m": [0, 0, 0], "max_m": [0.006, 0.006, 0.003], "node_spacing_m": 0.0005 },
-    "material": { "youngs_modulus_pa": 3e5, "poisson_ratio": 0.45, "density_kg_m3": 1060 },
-    "regions": [ { "name": "base", "select": { "type": "box", "max_m": [1, 1, 0] }, "bc": { "type": "fixed" } } ],
-    "obstacles": [ { "name": "catheter", "shape": "catheter", "diameter_fr": 6, "length_m": 0.01,
-                     "tip_m": [0.0075, 0.0032, 0.00398], "direction": [1, 0, -0.08], "motion_m": [0, 0, -0.001] } ],
-    "quasi_static": { "load_steps": 3, "rel_tolerance": 1e-9 },
-    "xpbd": { "duration_s": 0.4, "ramp_time_s": 0.05, "output_interval_s": 0.05, "damping_per_s": 60 }
-  })");
+  json doc = test::catheter_pressed_block();
+  doc["quasi_static"] = {{"load_steps", 3}, {"rel_tolerance", 1e-9}};
+  doc["xpbd"] = {{"duration_s", 0.4}, {"ramp_time_s", 0.05}, {"output_interval_s", 0.05}, {"damping_per_s", 60}};
   doc["model"] = model;
   return doc;
 }
@@ -133,7 +126,7 @@ Balance run_to_end(Simulation& sim) {
   return b;
 }
 
-// T14 with the quasi_static active set. Tolerance 1 % (MODEL.md); the Newton residual of 1e-9 of the
+// T14 with the quasi_static active set. Tolerance 1 % (T14, docs/validation.md); the Newton residual of 1e-9 of the
 // reactions puts the actual balance far below it. The moment is compared against |F| x the block size,
 // the moment a 1 % force error would make.
 TEST(Catheter, QuasiStaticPressBalancesForceAndMoment) {

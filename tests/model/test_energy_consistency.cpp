@@ -1,4 +1,4 @@
-// MODEL.md section 6, T4 (momentum conservation) and T5 (forces are minus the energy gradient, with the
+// docs/validation.md (tests T1-T15), T4 (momentum conservation) and T5 (forces are minus the energy gradient, with the
 // two negative tests: the G G^T strain variant and adj(F) in place of cof(F)); plus the analytic
 // Hessian-vector product against central differences of the forces.
 
@@ -32,7 +32,7 @@ using test::fd_force_error;
 using test::large_deformation;
 using test::max_norm;
 
-// MODEL.md section 6 default: jittered (+-0.2 Delta) 7^3 cloud, h = 2 Delta.
+// docs/validation.md (tests T1-T15) default: jittered (+-0.2 Delta) 7^3 cloud, h = 2 Delta.
 NodeCloud jittered_cloud() { return test::lattice(6, 0.2, 11); }
 
 Material tissue() { return test::tissue(1e5); }
@@ -42,7 +42,7 @@ struct TermCase {
   EnergyOptions options;
 };
 
-// SVK, literal strain, Mueller's volume term, stabiliser (MODEL.md 1.7-1.9), and the material laws of
+// SVK, literal strain, Mueller's volume term, stabiliser (docs/model.md sections 7-9), and the material laws of
 // model/materials through the same assembly (issue 6): neo-Hookean, Mooney-Rivlin and HGO (fibres at
 // +-29 deg from one tilted wall frame at every node; under large_deformation some nodes stretch their
 // fibres and some compress them).
@@ -69,7 +69,7 @@ std::vector<TermCase> term_cases(const Material& m, Index num_nodes) {
             frames}}};
 }
 
-// A local scatter-form assembly of MODEL.md 1.8, f_k = -sum_i Ptilde_i d_ik, for formulations the library
+// A local scatter-form assembly of docs/model.md section 8, f_k = -sum_i Ptilde_i d_ik, for formulations the library
 // does not implement. `stress` returns Ptilde_i = V_i dpsi/dF (or a wrong variant) and adds the energy.
 using StressFn = std::function<Mat3(double V, const Mat3& F, double& energy)>;
 
@@ -111,7 +111,7 @@ TEST(MomentumT4, ForcesConserveLinearAndAngularMomentum) {
       torque += x[i].cross(f[i]);
     }
     const double f_max = max_norm(f);
-    // MODEL.md T4: sum d_ik = 0 makes sum f = 0, rotation invariance makes sum x cross f = 0, both up to
+    // docs/validation.md T4: sum d_ik = 0 makes sum f = 0, rotation invariance makes sum x cross f = 0, both up to
     // rounding of ~343 terms: tolerance 1e-12 relative (prototype 6e-15, 4e-15). Measured
     // <= 1.1e-14, 6.4e-15.
     EXPECT_LE(sum.norm(), 1e-12 * f_max) << c.name;
@@ -130,7 +130,7 @@ TEST(ForceEnergyT5, ForcesAreMinusEnergyGradient) {
     Vec3Array f;
     energy.forces(x, f);
     const double err = fd_force_error([&](const Vec3Array& y) { return energy.energy(y).total(); }, f, x);
-    // MODEL.md T5: <= 1e-6 (central-difference truncation at 1e-7 Delta is ~1e-14 and rounding of U
+    // docs/validation.md T5: <= 1e-6 (central-difference truncation at 1e-7 Delta is ~1e-14 and rounding of U
     // over the step ~1e-8; prototype 1.5e-8 to 8e-8). Measured 1.1e-8 to 1.8e-8.
     EXPECT_LE(err, 1e-6) << c.name;
     record(std::string("fd_error_") + c.name, err);
@@ -179,7 +179,7 @@ TEST(ForceEnergyT5, LocalAssemblyReproducesLibraryForces) {
 }
 
 TEST(ForceEnergyT5, NegativeGGtStrainVariantIsNotAGradient) {
-  // E2 variant: eps = G + G^T + G G^T = F F^T - I with Mueller's force -2 V F sigma d (MODEL.md 1.7).
+  // E2 variant: eps = G + G^T + G G^T = F F^T - I with Mueller's force -2 V F sigma d (docs/model.md section 7).
   const Material mat = tissue();
   const Discretization disc(jittered_cloud(), mat);
   const Vec3Array x = large_deformation(disc.rest_positions(), 2);
@@ -194,13 +194,13 @@ TEST(ForceEnergyT5, NegativeGGtStrainVariantIsNotAGradient) {
   local_forces(disc, ggt, x, f);
   const double err =
       fd_force_error([&](const Vec3Array& y) { return local_forces(disc, ggt, y, scratch); }, f, x);
-  // MODEL.md T5: the same check must fail by > 1e-3 (prototype 4.7e-2). Measured 0.24.
+  // docs/validation.md T5: the same check must fail by > 1e-3 (prototype 4.7e-2). Measured 0.24.
   EXPECT_GT(err, 1e-3);
   record("fd_error_GGt_variant", err);
 }
 
 TEST(ForceEnergyT5, NegativeAdjugateInPlaceOfCofactorIsNotAGradient) {
-  // MODEL.md 1.9a: the OpenCloth port builds cof(F)^T = adj(F); wrong for every non-symmetric F.
+  // docs/model.md section 9.1: the OpenCloth port builds cof(F)^T = adj(F); wrong for every non-symmetric F.
   const Material mat = tissue();
   const Discretization disc(jittered_cloud(), mat);
   const Vec3Array x = large_deformation(disc.rest_positions(), 2);
@@ -211,7 +211,7 @@ TEST(ForceEnergyT5, NegativeAdjugateInPlaceOfCofactorIsNotAGradient) {
   local_forces(disc, adj, x, f);
   const double err =
       fd_force_error([&](const Vec3Array& y) { return local_forces(disc, adj, y, scratch); }, f, x);
-  // MODEL.md T5: must fail by > 1e-3. Measured 0.52.
+  // docs/validation.md T5: must fail by > 1e-3. Measured 0.52.
   EXPECT_GT(err, 1e-3);
   record("fd_error_adjugate_variant", err);
 }

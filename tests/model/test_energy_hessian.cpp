@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "support/energy_checks.hpp"
 #include "support/test_support.hpp"
 #include "vascsim/core/sparse_cholesky.hpp"
 #include "vascsim/model/energy_hessian.hpp"
@@ -21,18 +22,7 @@ namespace {
 using test::kDelta;
 using test::record;
 
-// The large deformation of the energy-consistency tests: x = R (I + 0.1 B) X + 0.05 Delta noise.
-Vec3Array large_deformation(const Vec3Array& X, std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> uni(-1.0, 1.0);
-  Mat3 B;
-  for (int k = 0; k < 9; ++k) B(k) = uni(rng);
-  const Mat3 R = Eigen::AngleAxisd(2.0, Vec3(1.0, 2.0, -0.5).normalized()).toRotationMatrix();
-  const Mat3 A = R * (Mat3::Identity() + 0.1 * B);
-  Vec3Array x(X.size());
-  for (std::size_t i = 0; i < X.size(); ++i) x[i] = A * X[i] + 0.05 * kDelta * Vec3(uni(rng), uni(rng), uni(rng));
-  return x;
-}
+using test::large_deformation;  // x = R (I + 0.1 B) X + 0.05 Delta noise
 
 Vec3Array random_vectors(std::size_t n, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
@@ -184,7 +174,7 @@ TEST(EnergyHessian, PsdProjectionMakesCompressedSvkSemiDefiniteAndLeavesRestAlon
   const Material mat = test::tissue(1e5);
   const Discretization disc(test::lattice(4, 0.2, 16), mat);
   const PointPrimitiveEnergy energy(disc, {StrainMeasure::GreenHalf, 0.0, 0.1, {}, {}});
-  // Uniaxial compression to half the length: SVK's tangent is indefinite there (MODEL.md 1.10b; the
+  // Uniaxial compression to half the length: SVK's tangent is indefinite there (docs/model.md section 17; the
   // geometric term S_zz ~ -4 mu outweighs the material term mu for shear along z).
   Vec3Array x = disc.rest_positions();
   for (auto& p : x) p.z() *= 0.5;

@@ -1,4 +1,4 @@
-// MODEL.md section 6, T7 (energy behaviour of symplectic Euler with and without damping) and T8 (the
+// docs/validation.md (tests T1-T15), T7 (energy behaviour of symplectic Euler with and without damping) and T8 (the
 // explicit stability limit dt_crit = 2 / omega_max, from a dense eigen-decomposition of M^-1/2 H M^-1/2).
 // The two tests named *Slow* take 10^4 explicit steps: ~1 s each in Release, ~30 s each under
 // AddressSanitizer + UBSan at -O1 with Eigen asserts on.
@@ -141,7 +141,7 @@ TEST(ExplicitEnergyT7, UndampedEnergyIsBoundedSlow) {
   ASSERT_EQ(E.size(), 10000u);
   double dev = 0.0;
   for (double e : E) dev = std::max(dev, std::abs(e - E0) / E0);
-  // MODEL.md T7: |E(t) - E0| / E0 <= 5 % over 10^4 steps at dt = 0.5 dt_crit. Symplectic Euler conserves
+  // docs/validation.md T7: |E(t) - E0| / E0 <= 5 % over 10^4 steps at dt = 0.5 dt_crit. Symplectic Euler conserves
   // a shadow energy; the measured E oscillates about it by O((omega dt)^2 / 4), about 2 % for modes up to
   // 0.3 omega_max. Measured 0.67 %.
   EXPECT_LE(dev, 0.05);
@@ -164,7 +164,7 @@ TEST(ExplicitEnergyT7, DampedEnergyDecays) {
   double E0 = 0.0;
   const std::vector<double> E = run(md.body, smooth_stretch(md), dt, damping, steps, &E0);
   ASSERT_EQ(E.size(), static_cast<std::size_t>(steps));
-  // MODEL.md T7: the maximum energy of consecutive 200-step windows never increases ...
+  // docs/validation.md T7: the maximum energy of consecutive 200-step windows never increases ...
   double prev = INFINITY;
   int increases = 0;
   for (int w = 0; w + 200 <= steps; w += 200) {
@@ -195,7 +195,7 @@ TEST(ExplicitStabilityT8, PowerIterationAndChosenStep) {
   EXPECT_GE(omega_pi, 0.97 * md.omega_max());
   record("omega_power_over_dense", omega_pi / md.omega_max());
 
-  // MODEL.md T8: the dt chosen by the code is <= 0.5 dt_crit. Measured 0.335 (the CFL rule 0.4 Delta_min /
+  // docs/validation.md T8: the dt chosen by the code is <= 0.5 dt_crit. Measured 0.335 (the CFL rule 0.4 Delta_min /
   // c_p binds; safety * 2 / omega_pi alone would give 0.5 dt_crit / 0.9999).
   ExplicitSettings settings;
   settings.duration_s = 1e-3;
@@ -208,7 +208,7 @@ TEST(ExplicitStabilityT8, PowerIterationAndChosenStep) {
 TEST(ExplicitStabilityT8, StableBelowTheLimitSlow) {
   const SingleThreaded serial;
   const Modes& md = modes();
-  // MODEL.md T8: dt = 0.9 dt_crit is bounded for 10^4 steps, max E <= 1.1 E0 (oscillation of the measured
+  // docs/validation.md T8: dt = 0.9 dt_crit is bounded for 10^4 steps, max E <= 1.1 E0 (oscillation of the measured
   // energy about the shadow energy, O((0.9 * 0.3 * 2)^2 / 4) for the smooth modes). Measured 1.022.
   double E0 = 0.0;
   const std::vector<double> E = run(md.body, smooth_stretch(md), 0.9 * md.dt_crit(), 0.0, 10000, &E0, 1e3);
@@ -221,7 +221,7 @@ TEST(ExplicitStabilityT8, StableBelowTheLimitSlow) {
 TEST(ExplicitStabilityT8, UnstableAboveTheLimit) {
   const SingleThreaded serial;
   const Modes& md = modes();
-  // MODEL.md T8: dt = 1.2 dt_crit gives E > 10^3 E0 within 2000 steps (the top mode's amplitude grows ~3.5x
+  // docs/validation.md T8: dt = 1.2 dt_crit gives E > 10^3 E0 within 2000 steps (the top mode's amplitude grows ~3.5x
   // per step from whatever content the nonlinear forces give it). Measured: 10 steps.
   double E0 = 0.0;
   const std::vector<double> E = run(md.body, smooth_stretch(md), 1.2 * md.dt_crit(), 0.0, 2000, &E0, 1e3);

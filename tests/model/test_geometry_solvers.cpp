@@ -81,7 +81,7 @@ TEST(Geometry, BoxBoundaryIsClosedWithTheBoxArea) {
   for (const auto& [edge, count] : edges) EXPECT_EQ(count, 2);  // watertight: every edge in two faces
 }
 
-// MODEL.md T15 for the point-primitive operator: a single coplanar layer must be flagged, never
+// docs/validation.md T15 for the point-primitive operator: a single coplanar layer must be flagged, never
 // silently inverted, and the message must name the node and its position.
 TEST(Discretization, CoplanarCloudFailsLoudlyNamingTheNode) {
   NodeCloud c;

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/scenes.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -48,19 +50,12 @@ TEST(ImplicitModel, CantileverSteadyStateIsTheStaticEquilibrium) {
   EXPECT_LT(last.report.residual, 1e-6);
 }
 
-// A 6 x 6 x 3 mm block pressed 1 mm by a tilted 6 Fr catheter (as tests/model/test_catheter_contact.cpp).
+// The shared catheter block (tests/support/scenes.hpp) pressed 1 mm by the tilted 6 Fr catheter.
 json pressed_block(const std::string& model) {
-  json doc = json::parse(R"({
-    "name": "catheter-block",
-    "geometry": { "type": "box", "min_m": [0, 0, 0], "max_m": [0.006, 0.006, 0.003], "node_spacing_m": 0.0005 },
-    "material": { "youngs_modulus_pa": 3e5, "poisson_ratio": 0.45, "density_kg_m3": 1060 },
-    "regions": [ { "name": "base", "select": { "type": "box", "max_m": [1, 1, 0] }, "bc": { "type": "fixed" } } ],
-    "obstacles": [ { "name": "catheter", "shape": "catheter", "diameter_fr": 6, "length_m": 0.01,
-                     "tip_m": [0.0075, 0.0032, 0.00398], "direction": [1, 0, -0.08], "motion_m": [0, 0, -0.001] } ],
-    "quasi_static": { "load_steps": 5, "rel_tolerance": 1e-9 },
-    "implicit": { "duration_s": 0.15, "ramp_time_s": 0.1, "output_interval_s": 0.05, "frame_s": 0.01,
-                  "rel_tolerance": 1e-9, "max_newton_iterations": 30, "max_cg_iterations": 300 }
-  })");
+  json doc = test::catheter_pressed_block();
+  doc["quasi_static"] = {{"load_steps", 5}, {"rel_tolerance", 1e-9}};
+  doc["implicit"] = {{"duration_s", 0.15}, {"ramp_time_s", 0.1}, {"output_interval_s", 0.05}, {"frame_s", 0.01},
+                     {"rel_tolerance", 1e-9}, {"max_newton_iterations", 30}, {"max_cg_iterations", 300}};
   doc["model"] = model;
   return doc;
 }

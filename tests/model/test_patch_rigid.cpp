@@ -1,4 +1,4 @@
-// MODEL.md section 6, T2 (patch test, incl. float32 and the Eq. 3 sign negative test) and T3 (rigid
+// docs/validation.md (tests T1-T15), T2 (patch test, incl. float32 and the Eq. 3 sign negative test) and T3 (rigid
 // motion gives no force and no energy, for every energy term).
 
 #include <gtest/gtest.h>
@@ -23,7 +23,7 @@ using namespace vascsim;
 using test::kDelta;
 using test::record;
 
-// The MODEL.md section 6 default: jittered (+-0.2 Delta) 7^3 cloud; h = 2 Delta-bar by default.
+// The docs/validation.md (tests T1-T15) default: jittered (+-0.2 Delta) 7^3 cloud; h = 2 Delta-bar by default.
 NodeCloud jittered_cloud() { return test::lattice(6, 0.2, 7); }
 
 Material tissue() { return test::tissue(3e5); }
@@ -53,7 +53,7 @@ TEST(PatchT2, AffineFieldGivesExactGradientAtEveryNode) {
     for (Index i = 0; i < disc.num_nodes(); ++i)
       worst = std::max(worst, (disc.deformation_gradient(i, x) - A).norm());
   }
-  // MODEL.md T2: <= 1e-10 over all nodes including the boundary (sum_j X_ij d_ij^T = I is exact in
+  // docs/validation.md T2: <= 1e-10 over all nodes including the boundary (sum_j X_ij d_ij^T = I is exact in
   // exact arithmetic; prototype 2.5e-15). Measured 2.8e-15.
   EXPECT_LE(worst, 1e-10);
   record("max_F_error_double", worst);
@@ -74,7 +74,7 @@ TEST(PatchT2, AffineFieldInFloat32) {
       F += (x[P.col[e]].cast<float>() - xi) * P.d[e].cast<float>().transpose();
     worst = std::max(worst, (F.cast<double>() - A).norm());
   }
-  // MODEL.md T2: <= 1e-4 in float32 (single precision eps 6e-8 times |x|/Delta ~ 10 and the
+  // docs/validation.md T2: <= 1e-4 in float32 (single precision eps 6e-8 times |x|/Delta ~ 10 and the
   // cancellation in sum_j |d_ij| |X_ij| ~ 10). Measured 1.0e-6.
   EXPECT_LE(worst, 1e-4);
   record("max_F_error_float32", worst);
@@ -96,14 +96,14 @@ TEST(PatchT2, Eq3LiteralSignReturnsMinusTheGradient) {
     err_literal = std::max(err_literal, (G_lit + G).norm());
     min_err_sound = std::min(min_err_sound, (G_lit - G).norm());
   }
-  // MODEL.md T2 negative test: G_lit = -(A - I) to 1e-10 (prototype 2.6e-15; measured 3.2e-15) ...
+  // docs/validation.md T2 negative test: G_lit = -(A - I) to 1e-10 (prototype 2.6e-15; measured 3.2e-15) ...
   EXPECT_LE(err_literal, 1e-10);
   // ... so at every node it misses the true gradient by 2 ||A - I|| = 0.4.
   EXPECT_NEAR(min_err_sound, 2.0 * G.norm(), 1e-9);
   record("max_G_literal_plus_G", err_literal);
 }
 
-// The four energy terms of MODEL.md 1.7-1.9 in the configurations used by T3.
+// The four energy terms of docs/model.md sections 7-9 in the configurations used by T3.
 struct TermCase {
   const char* name;
   EnergyOptions options;
@@ -148,7 +148,7 @@ TEST(RigidT3, RigidMotionGivesNoForceAndNoEnergy) {
       const EnergyBreakdown U = energy.energy(x);
       u_max = std::max({u_max, std::abs(U.strain), std::abs(U.volume), std::abs(U.stabilizer)});
     }
-    // MODEL.md T3: max|f_i| <= 1e-10 E Delta^2 and |U| <= 1e-20 E Delta^3 for every term (rotation
+    // docs/validation.md T3: max|f_i| <= 1e-10 E Delta^2 and |U| <= 1e-20 E Delta^3 for every term (rotation
     // invariance; only rounding remains: prototype 2e-15 N at E Delta^2 = 0.3 N). Measured <= 1.4e-14 N
     // (vs 3e-11 N) and <= 4e-31 J (vs 3e-26 J).
     EXPECT_LE(f_max, f_tol) << c.name;

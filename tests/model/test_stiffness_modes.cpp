@@ -1,4 +1,4 @@
-// MODEL.md section 6, T6 (stiffness scaling: SVK matches linear elasticity, the literal strain is 4x
+// docs/validation.md (tests T1-T15), T6 (stiffness scaling: SVK matches linear elasticity, the literal strain is 4x
 // stiffer) and T10 (nodal-integration zero-energy modes and the stabiliser that removes them).
 
 #include <gtest/gtest.h>
@@ -41,7 +41,7 @@ TEST(StiffnessT6, UniaxialStrainEnergyMatchesLinearElasticity) {
       Vec3Array x = disc.rest_positions();
       for (Vec3& p : x) p[axis] *= 1.0 + e;
       const double r_svk = svk.energy(x).total() / U_lin, r_lit = literal.energy(x).total() / U_lin;
-      // MODEL.md T6: [0.999, 1.001] and [3.996, 4.004]. The exact ratios are (1 + e/2)^2 = 1.0001 and
+      // docs/validation.md T6: [0.999, 1.001] and [3.996, 4.004]. The exact ratios are (1 + e/2)^2 = 1.0001 and
       // 4.0004 (Green strain e + e^2/2), since the patch test makes F exact at every node. Measured 1.0001
       // and 4.0004 for nu = 0.3 and 0.45.
       EXPECT_GE(r_svk, 0.999) << "nu " << nu << " axis " << axis;
@@ -89,7 +89,7 @@ TEST(ZeroModesT10, CheckerboardHasNoStrainAtInteriorNodes) {
         double& worst = cb.interior(i, j, k) ? interior_max : boundary_max;
         worst = std::max(worst, g);
       }
-  // MODEL.md T10: interior |F_i - I| <= 1e-12, documenting the defect (symmetric neighbourhoods cancel
+  // docs/validation.md T10: interior |F_i - I| <= 1e-12, documenting the defect (symmetric neighbourhoods cancel
   // the mode exactly; prototype 3e-16). Measured 7.7e-16.
   EXPECT_LE(interior_max, 1e-12);
   // The same measure is O(a / Delta) at boundary nodes, so it is not vacuous there (prototype 1.8e-3
@@ -106,7 +106,7 @@ TEST(ZeroModesT10, StabiliserPenalisesCheckerboardButNotAffineFields) {
   const double U_hg = energy.energy(cb.positions()).stabilizer;
   // Scale of the stabiliser energy: alpha mu (a / Delta)^2 per unit volume (r_ij ~ 2a, |X_ij| ~ Delta).
   const double scale = alpha * mu * (cb.a / kDelta) * (cb.a / kDelta) * cb.disc.total_volume();
-  // MODEL.md T10: "> 0"; asserted as > 0.1 of its natural scale so rounding noise cannot pass.
+  // docs/validation.md T10: "> 0"; asserted as > 0.1 of its natural scale so rounding noise cannot pass.
   // Measured 0.90x the scale.
   EXPECT_GT(U_hg, 0.1 * scale);
   record("stabiliser_energy_over_scale", U_hg / scale);
@@ -123,7 +123,7 @@ TEST(ZeroModesT10, StabiliserPenalisesCheckerboardButNotAffineFields) {
     for (Vec3& p : x) p = A * p + t;
     U_affine = std::max(U_affine, std::abs(energy.energy(x).stabilizer));
   }
-  // MODEL.md T10: <= 1e-20 E Delta^3 for any affine field (the local fit is exact, so only rounding of
+  // docs/validation.md T10: <= 1e-20 E Delta^3 for any affine field (the local fit is exact, so only rounding of
   // r_ij ~ 1e-16 Delta remains). Measured 1.7e-33 J vs 5e-25 J.
   EXPECT_LE(U_affine, 1e-20 * E * kDelta * kDelta * kDelta);
   record("stabiliser_energy_affine_J", U_affine);

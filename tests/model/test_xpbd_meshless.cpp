@@ -1,5 +1,5 @@
 // The real-time `xpbd` model with its default elastic option (A), the meshless strain constraint
-// (MODEL.md 3.3 (A)): the closed-form block, the colouring, rest stability at any substep, convergence of
+// (docs/model.md section 19 (A)): the closed-form block, the colouring, rest stability at any substep, convergence of
 // the steady state to quasi_static (the same energy) as sweeps grow, reaction forces from lambda/h^2, and
 // the issue-3 stability test (a patch pushed 50 % of the radius in 10 ms, released, 10 s simulated).
 #include <gtest/gtest.h>
@@ -276,9 +276,9 @@ TEST(XpbdMeshless, ReleaseIsValidated) {
 
 namespace {
 
-// MODEL.md T14 in its quasi-static form: a rigid sphere pressed 1.5 mm into the top of a 10 mm block whose
+// docs/validation.md T14 in its quasi-static form: a rigid sphere pressed 1.5 mm into the top of a 10 mm block whose
 // base is fixed. At steady state the force the sphere exerts on the tissue (sum lambda n / h^2) balances
-// the base reaction (1 %: the steady state is reached to ~0.1 %, the rest is MODEL's bound), no node is
+// the base reaction (1 %: the steady state is reached to ~0.1 %, the rest is T14's bound), no node is
 // inside the sphere, and the force pushes along the motion.
 TEST(XpbdMeshless, SphereContactForceBalancesTheSupports) {
   json doc = json::parse(R"({

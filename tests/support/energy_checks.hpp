@@ -1,6 +1,6 @@
 #pragma once
 // Checks shared by the energy tests: the large deformation of the T4/T5 checks, and forces against central
-// differences of the energy (MODEL.md T5, docs/validation.md).
+// differences of the energy (docs/validation.md T5, docs/validation.md).
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +13,7 @@
 
 namespace vascsim::test {
 
-// MODEL.md T4/T5 deformation: x = R (I + 0.1 rand) X plus 0.05 Delta noise (rand, noise uniform in [-1, 1]).
+// docs/validation.md T4/T5 deformation: x = R (I + 0.1 rand) X plus 0.05 Delta noise (rand, noise uniform in [-1, 1]).
 inline Vec3Array large_deformation(const Vec3Array& X, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> uni(-1.0, 1.0);

@@ -10,6 +10,8 @@
 
 #include "vascsim/app/command.hpp"
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/interrupt.hpp"
+#include "vascsim/core/text.hpp"
 #include "vascsim/core/thread_default.hpp"
 #include "vascsim/experiments/machine_info.hpp"
 
@@ -52,6 +54,16 @@ void apply_thread_count(int requested) {
                  threads, threads == 1 ? "" : "s", cores, load);
 }
 
+// An empty value is never meaningful (`--out ''` is no folder, `--record ''` no file): every option that takes a
+// value rejects it at parse time instead of falling back to a default silently.
+void reject_empty_values(CLI::App& app) {
+  const CLI::Validator non_empty([](std::string& value) { return value.empty() ? "an empty value" : ""; }, "",
+                                 "non-empty");
+  for (CLI::Option* option : app.get_options())
+    if (option->get_expected_min() > 0) option->check(non_empty);
+  for (CLI::App* sub : app.get_subcommands({})) reject_empty_values(*sub);
+}
+
 }  // namespace
 
 int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
@@ -73,8 +85,10 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   add_bench_command(app, ctx, commands);
   add_experiment_commands(app, ctx, commands);
   add_ahp_command(app, ctx, commands);
+  add_soak_command(app, ctx, commands);
   for (const CommandAdder add : extra_commands) add(app, ctx, commands);
   fall_through(app);
+  reject_empty_values(app);
   // After fall_through: the stub keeps whatever follows it as its own extras.
   if (std::none_of(commands.begin(), commands.end(), [](const Command& c) { return c.app->get_name() == "view"; }))
     add_view_stub_command(app, ctx, commands);
@@ -89,7 +103,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
     out << app.help("", CLI::AppFormatMode::All);
     return 0;
   } catch (const CLI::ParseError& e) {
-    err << "vascsim: " << e.what() << " (see vascsim --help)\n";
+    err << "vascsim: " << one_line(e.what()) << " (see vascsim --help)\n";
     return 2;
   }
   // The logger writes to `err`, which may not outlive this call: restore the previous one on return.
@@ -99,17 +113,24 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   } restore_logger;
   setup_logging(err, ctx.quiet, ctx.verbose);
   apply_thread_count(ctx.threads);
+  const InterruptGuard interrupt_guard;
   try {
     for (const Command& c : commands)
-      if (c.app->parsed()) return c.run();
+      if (c.app->parsed()) {
+        const int code = c.run();
+        if (!interrupt_requested()) return code;
+        clear_interrupt();
+        err << "vascsim: interrupted: stopped at a step boundary; the files written so far are complete\n";
+        return kInterruptedExitCode;
+      }
   } catch (const InputError& e) {
-    err << "vascsim: error: " << e.what() << "\n";
+    err << "vascsim: error: " << one_line(e.what()) << "\n";
     return 2;
   } catch (const NumericalError& e) {
-    err << "vascsim: numerical error: " << e.what() << "\n";
+    err << "vascsim: numerical error: " << one_line(e.what()) << "\n";
     return 3;
   } catch (const std::exception& e) {
-    err << "vascsim: internal error (please report): " << e.what() << "\n";
+    err << "vascsim: internal error (please report): " << one_line(e.what()) << "\n";
     return 1;
   }
   return 0;

@@ -42,6 +42,7 @@ void add_timing_experiment(CLI::App& experiment, CliContext& ctx, std::vector<Co
 void add_validate_commands(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 void add_bench_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 void add_ahp_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
+void add_soak_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 /// `view` in a build without the viewer: one line saying so, exit code 2 (the viewer's own is viewer/).
 void add_view_stub_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 

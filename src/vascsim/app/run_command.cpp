@@ -61,6 +61,8 @@ int run_session(const Scene& scene, const std::filesystem::path& out_dir, const 
       loop["jitter_p99_ms"].get<double>(), loop["jitter_max_ms"].get<double>(),
       h["simulation_steps"].get<std::size_t>(), h["deformation_rate_hz"].get<double>(),
       h["max_force_on_tool_n"].get<double>(), (out_dir / "force_history.csv").string());
+  if (summary["interrupted"].get<bool>())
+    ctx.out << "interrupted: summary.json, force_history.csv, session.csv and haptic_ticks.csv hold the ticks done\n";
   if (h.contains("replay"))
     ctx.out << fmt::format("replay of {}: {} ticks compared, max force difference {:.3g} N, bit-identical: {}\n",
                            h["replay"]["file"].get<std::string>(), h["replay"]["ticks_compared"].get<std::size_t>(),
@@ -105,6 +107,10 @@ int run_headless(const Scene& scene, const std::filesystem::path& out_dir, const
                            ref["tip_deflection_m"].get<double>(), ref["reference_deflection_m"].get<double>(),
                            ref["ratio"].get<double>());
   }
+  if (summary["interrupted"].get<bool>())
+    ctx.out << fmt::format("interrupted after step {} of {}: summary.json, probes.csv and the VTK series hold the "
+                           "steps done\n",
+                           summary["steps"].size() - 1, summary["planned_steps"].get<int>());
   print_warnings(summary, ctx);
   const int unconverged = summary["unconverged_steps"].get<int>();
   if (unconverged == 0) return 0;

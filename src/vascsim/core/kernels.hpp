@@ -1,14 +1,14 @@
 #pragma once
 // Smoothing kernels of the paper.
 //  - poly6 (Eq. 1, Mueller et al. 2004): weights of the point-primitive gradient operator.
-//  - cubic spline (Eq. 37): the MLS surface-map weight, W_cs(s) of MODEL.md section 4.1.
+//  - cubic spline (Eq. 37): the MLS surface-map weight, W_cs(s) of docs/model.md section 20.
 
 #include <numbers>
 
 namespace vascsim::kernels {
 
 /// Eq. 1: W(r,h) = 315/(64 pi h^9) (h^2 - r^2)^3 for 0 <= r < h, else 0. Units 1/m^3;
-/// integrates to one over R^3 (MODEL.md 1.2).
+/// integrates to one over R^3 (docs/model.md section 2.1).
 inline double poly6(double r, double h) {
   if (r < 0.0 || r >= h) return 0.0;
   const double h2 = h * h;
@@ -29,7 +29,7 @@ inline double cubic_spline(double s) {
   return 0.0;
 }
 
-/// Derivative dW_cs/ds of Eq. 37 (MODEL.md 4.4).
+/// Derivative dW_cs/ds of Eq. 37 (docs/model.md section 20).
 inline double cubic_spline_derivative(double s) {
   if (s < 0.0) return -cubic_spline_derivative(-s);
   if (s <= 0.5) return -8.0 * s + 12.0 * s * s;

@@ -363,9 +363,10 @@ std::string to_string(ScoreSource source) {
   return "?";
 }
 
-AhpReport evaluate(const Hierarchy& h, const Standard& s, const Ratings& ratings, const Measurements* meas,
-                   bool paper_weights) {
-  // The bands must describe exactly the hierarchy's indicators.
+namespace {
+
+// The bands must describe exactly the hierarchy's indicators.
+void check_bands_match(const Hierarchy& h, const Standard& s) {
   std::vector<std::string> ids;
   for (const auto& i : h.indicators) ids.push_back(i.id);
   for (const auto& i : h.indicators)
@@ -376,7 +377,63 @@ AhpReport evaluate(const Hierarchy& h, const Standard& s, const Ratings& ratings
     if (!h.find(id))
       throw InputError(fmt::format("{}: key 'indicators.{}': not an indicator of the hierarchy {} ({})", s.file, id,
                                    h.file, fmt::join(ids, ", ")));
+}
 
+// W_i of every indicator: the hierarchy's (from its matrices) or Table 1's printed ones.
+Eigen::VectorXd indicator_weights(const Hierarchy& h, bool paper_weights) {
+  const auto n = static_cast<Eigen::Index>(h.indicators.size());
+  Eigen::VectorXd w(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Indicator& in = h.indicators[static_cast<std::size_t>(i)];
+    if (paper_weights && !in.paper_global_weight)
+      throw InputError(fmt::format("{}: key '{}.paper_global_weight': missing; the paper's weights (Table 1's W_i) "
+                                   "are needed for every indicator of {}",
+                                   h.file, in.key, in.id));
+    w[i] = paper_weights ? *in.paper_global_weight : in.global_weight;
+  }
+  return w;
+}
+
+// One indicator's score for one model: measured (Table 2's band of the value) before rated.
+IndicatorScore score_indicator(const Standard& s, const IndicatorStandard& is, const std::string& indicator,
+                               const ModelRatings* mr, const ModelMeasurements* mm, ScoreSource rated) {
+  IndicatorScore sc;
+  sc.indicator = indicator;
+  std::optional<double> rating;
+  if (mr) {
+    const auto it = mr->scores.find(indicator);
+    if (it != mr->scores.end()) rating = it->second;
+  }
+  std::optional<double> value;
+  if (is.measured() && mm) {
+    const auto it = mm->values.find(is.measure);
+    if (it != mm->values.end()) value = it->second;
+  }
+  if (value) {
+    const BandScore b = score_measured(s, is, *value);
+    sc.score = b.score;
+    sc.source = ScoreSource::measured;
+    sc.value = value;
+    sc.measure = is.measure;
+    sc.unit = find_measure(is.measure)->unit;
+    sc.band = is.levels[static_cast<std::size_t>(b.band)];
+    sc.unused_rating = rating;
+  } else if (rating) {
+    sc.score = rating;
+    sc.source = rated;
+    // The level whose score band holds the rating (a score on an inner edge: the better band).
+    std::size_t k = 0;
+    while (k + 1 < is.levels.size() && *rating >= s.score_edges[k + 1]) ++k;
+    sc.band = is.levels[k];
+  }
+  return sc;
+}
+
+}  // namespace
+
+AhpReport evaluate(const Hierarchy& h, const Standard& s, const Ratings& ratings, const Measurements* meas,
+                   bool paper_weights) {
+  check_bands_match(h, s);
   AhpReport rep;
   rep.hierarchy = h;
   rep.standard = s;
@@ -388,16 +445,8 @@ AhpReport evaluate(const Hierarchy& h, const Standard& s, const Ratings& ratings
     rep.measurements_source = meas->source;
   }
   rep.paper_weights = paper_weights;
+  rep.weights = indicator_weights(h, paper_weights);
   const auto n = static_cast<Eigen::Index>(h.indicators.size());
-  rep.weights.resize(n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Indicator& in = h.indicators[static_cast<std::size_t>(i)];
-    if (paper_weights && !in.paper_global_weight)
-      throw InputError(fmt::format("{}: key '{}.paper_global_weight': missing; the paper's weights (Table 1's W_i) "
-                                   "are needed for every indicator of {}",
-                                   h.file, in.key, in.id));
-    rep.weights[i] = paper_weights ? *in.paper_global_weight : in.global_weight;
-  }
 
   // Models: the ratings file's, then those only measured.
   std::vector<std::string> order;
@@ -423,36 +472,7 @@ AhpReport evaluate(const Hierarchy& h, const Standard& s, const Ratings& ratings
     Eigen::VectorXd beta = Eigen::VectorXd::Zero(n);
     for (Eigen::Index i = 0; i < n; ++i) {
       const Indicator& in = h.indicators[static_cast<std::size_t>(i)];
-      const IndicatorStandard& is = s.indicators.at(in.id);
-      IndicatorScore sc;
-      sc.indicator = in.id;
-      std::optional<double> rating;
-      if (mr) {
-        const auto it = mr->scores.find(in.id);
-        if (it != mr->scores.end()) rating = it->second;
-      }
-      std::optional<double> value;
-      if (is.measured() && mm) {
-        const auto it = mm->values.find(is.measure);
-        if (it != mm->values.end()) value = it->second;
-      }
-      if (value) {
-        const BandScore b = score_measured(s, is, *value);
-        sc.score = b.score;
-        sc.source = ScoreSource::measured;
-        sc.value = value;
-        sc.measure = is.measure;
-        sc.unit = find_measure(is.measure)->unit;
-        sc.band = is.levels[static_cast<std::size_t>(b.band)];
-        sc.unused_rating = rating;
-      } else if (rating) {
-        sc.score = rating;
-        sc.source = rated;
-        // The level whose score band holds the rating (a score on an inner edge: the better band).
-        std::size_t k = 0;
-        while (k + 1 < is.levels.size() && *rating >= s.score_edges[k + 1]) ++k;
-        sc.band = is.levels[k];
-      }
+      IndicatorScore sc = score_indicator(s, s.indicators.at(in.id), in.id, mr, mm, rated);
       if (sc.score) {
         beta[i] = *sc.score;
         res.weight_covered += rep.weights[i];

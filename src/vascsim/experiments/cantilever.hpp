@@ -1,5 +1,5 @@
 #pragma once
-// The cantilever convergence study of MODEL.md T9: a square beam, L/b = 10, clamped by the node
+// The cantilever convergence study of docs/validation.md T9: a square beam, L/b = 10, clamped by the node
 // layers at x <= 0, loaded at the tip face by a small transverse force spread by area, solved
 // quasi-statically, compared with the Timoshenko deflection (experiments/timoshenko.hpp).
 
@@ -13,7 +13,7 @@ struct CantileverCase {
   int cells_across = 4;            ///< n = b / Delta
   double poisson_ratio = 0.45;
   double support_radius_factor = 2.0;
-  int min_neighbours = 12;         ///< K_min of the support-radius guard (MODEL.md decision 7)
+  int min_neighbours = 12;         ///< K_min of the support-radius guard (docs/model.md design decision 7)
   double stabilizer_alpha = 0.1;
   std::string volume = "tet_partition";  ///< or "mueller_kernel"
   std::string strain = "green";          ///< or "mueller_no_half"

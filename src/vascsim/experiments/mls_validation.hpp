@@ -1,5 +1,5 @@
 #pragma once
-// `vascsim validate mls`: MODEL.md tests T11 (MLS reproduction) and T15 (conditioning guards) on the
+// `vascsim validate mls`: docs/validation.md T11 (MLS reproduction) and T15 (conditioning guards) on the
 // render surface of each scene's body, for the per-vessel table of docs/validation.md.
 
 #include <nlohmann/json.hpp>

@@ -62,6 +62,13 @@ NodeCloud make_box(const BoxSpec& spec) {
   return cloud;
 }
 
+double lattice_phase_rad(double lattice_angle_deg, int columns) {
+  const double step = 360.0 / columns;
+  const double phase = lattice_angle_deg - step * std::round(lattice_angle_deg / step);
+  // Rounding of an angle that is already a multiple of the step must not turn the lattice.
+  return std::abs(phase) < 1e-9 * step ? 0.0 : phase * std::numbers::pi / 180.0;
+}
+
 NodeCloud make_tube(const TubeSpec& s) {
   auto require = [](bool ok, const std::string& what) {
     if (!ok) throw InputError("tube: " + what);
@@ -72,6 +79,7 @@ NodeCloud make_tube(const TubeSpec& s) {
   require(s.length_m > 0.0, "length must be > 0");
   require(s.node_spacing_m > 0.0, "node spacing must be > 0");
   require(s.min_layers >= 2, "at least 2 layers through the wall are needed");
+  require(std::isfinite(s.lattice_angle_deg), "lattice angle must be finite");
   const double r_in = s.outer_radius_m - s.wall_thickness_m;
   const double r_mid = 0.5 * (r_in + s.outer_radius_m);
   const int nr = std::max(s.min_layers, static_cast<int>(std::ceil(s.wall_thickness_m / s.node_spacing_m - 1e-9)) + 1);
@@ -85,12 +93,13 @@ NodeCloud make_tube(const TubeSpec& s) {
   cloud.spacing_m = s.node_spacing_m;
   cloud.tube = TubeShape{s.outer_radius_m, r_in, s.length_m, nr};
   auto id = [&](int ir, int it, int iz) { return static_cast<Index>(ir + nr * ((it % nt) + nt * iz)); };
+  const double phase = lattice_phase_rad(s.lattice_angle_deg, nt);
   cloud.positions.resize(static_cast<std::size_t>(total));
   for (int iz = 0; iz < nz; ++iz)
     for (int it = 0; it < nt; ++it)
       for (int ir = 0; ir < nr; ++ir) {
         const double r = r_in + s.wall_thickness_m * ir / (nr - 1);
-        const double th = 2.0 * std::numbers::pi * it / nt;
+        const double th = 2.0 * std::numbers::pi * it / nt + phase;
         const double z = s.length_m * iz / (nz - 1);
         cloud.positions[id(ir, it, iz)] = Vec3(r * std::cos(th), r * std::sin(th), z);
       }

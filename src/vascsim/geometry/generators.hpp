@@ -24,13 +24,21 @@ struct TubeSpec {
   double wall_thickness_m = 0.3e-3;
   double length_m = 20e-3;
   double node_spacing_m = 0.15e-3;  ///< target spacing Delta along all three directions
-  int min_layers = 3;               ///< minimum node layers through the wall (MODEL.md decision 2)
+  int min_layers = 3;               ///< minimum node layers through the wall (docs/model.md design decision 2)
+  /// A lattice line (a column of nodes along the axis) runs at this angle, deg (theta from +x towards +y):
+  /// the lattice is turned by less than half a column so that a patch centred here is symmetric.
+  double lattice_angle_deg = 0.0;
 };
+
+/// Angle (rad) of the first of `columns` equally spaced lattice angles so that one of them is
+/// `lattice_angle_deg`: the smallest turn of the plain lattice (whose column 0 is at angle 0), and exactly 0
+/// when the plain lattice already has a column there.
+double lattice_phase_rad(double lattice_angle_deg, int columns);
 
 /// Hollow cylinder wall along +z from z = 0 to z = length, centred on the z axis. Node layers at the
 /// inner and outer surface (so boundary conditions can act on surface nodes), max(min_layers,
 /// ceil(t/Delta)+1) layers through the wall, round(2 pi r_mid / Delta) nodes around, round(L/Delta)+1
-/// along. Every (r, theta, z) cell is split into 6 tetrahedra.
+/// along, the angles turned by lattice_phase_rad. Every (r, theta, z) cell is split into 6 tetrahedra.
 NodeCloud make_tube(const TubeSpec& spec);
 
 }  // namespace vascsim

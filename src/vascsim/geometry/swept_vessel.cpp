@@ -7,6 +7,7 @@
 #include <string>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/geometry/generators.hpp"
 #include "vascsim/geometry/kuhn.hpp"
 
 namespace vascsim {
@@ -21,6 +22,7 @@ void check_spec(const Centerline& cl, const SweptVesselSpec& s) {
     fail("wall thickness must be > 0 and < outer radius");
   if (!(std::isfinite(s.node_spacing_m) && s.node_spacing_m > 0.0)) fail("node spacing must be finite and > 0");
   if (s.min_layers < 3) fail("at least 3 node layers through the wall are needed (docs/model.md, hollow vessels)");
+  if (!std::isfinite(s.lattice_angle_deg)) fail("lattice angle must be finite");
   if (!(cl.min_radius_of_curvature() > s.outer_radius_m))
     fail(fmt::format("the centre-line's smallest radius of curvature {:.6g} m must exceed the outer radius {:.6g} m "
                      "(the wall would fold over itself)",
@@ -30,7 +32,7 @@ void check_spec(const Centerline& cl, const SweptVesselSpec& s) {
 // The (r, theta, s) lattice of the sweep: nr layers through the wall, nt around, nz along the centre-line.
 struct SweepLattice {
   int nr = 0, nt = 0, nz = 0;
-  double r_in = 0.0, length = 0.0;
+  double r_in = 0.0, length = 0.0, phase = 0.0;
   std::vector<double> cos_t, sin_t;  // per angular index
   std::vector<Frame> frames;         // per axial index (rotation-minimising)
   Index id(int ir, int it, int iz) const { return static_cast<Index>(ir + nr * ((it % nt) + nt * iz)); }
@@ -54,8 +56,9 @@ SweepLattice sweep_lattice(const Centerline& cl, const SweptVesselSpec& s) {
   g.nz = std::max(2, static_cast<int>(std::lround(nz_real)) + 1);
   g.cos_t.resize(static_cast<std::size_t>(g.nt));
   g.sin_t.resize(static_cast<std::size_t>(g.nt));
+  g.phase = lattice_phase_rad(s.lattice_angle_deg, g.nt);
   for (int it = 0; it < g.nt; ++it) {
-    const double th = 2.0 * std::numbers::pi * it / g.nt;
+    const double th = 2.0 * std::numbers::pi * it / g.nt + g.phase;
     g.cos_t[static_cast<std::size_t>(it)] = std::cos(th);
     g.sin_t[static_cast<std::size_t>(it)] = std::sin(th);
   }
@@ -159,6 +162,7 @@ SweptVessel make_swept_vessel(const Centerline& cl, const SweptVesselSpec& s) {
   out.radial_layers = g.nr;
   out.angular_nodes = g.nt;
   out.axial_nodes = g.nz;
+  out.angle_phase_rad = g.phase;
   out.cloud.kind = "swept_vessel";
   out.cloud.spacing_m = s.node_spacing_m;
   sweep_nodes(cl, s, g, out.cloud);

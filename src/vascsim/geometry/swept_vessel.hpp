@@ -15,7 +15,9 @@ struct SweptVesselSpec {
   double outer_radius_m = 1.5e-3;
   double wall_thickness_m = 0.3e-3;
   double node_spacing_m = 0.15e-3;  ///< target spacing Delta along all three directions
-  int min_layers = 3;               ///< minimum node layers through the wall (MODEL.md decision 2), >= 3
+  int min_layers = 3;               ///< minimum node layers through the wall (docs/model.md design decision 2), >= 3
+  /// A lattice line runs at this angle around the centre-line, deg (from N towards B); see TubeSpec.
+  double lattice_angle_deg = 0.0;
 };
 
 struct SweptVessel {
@@ -36,6 +38,9 @@ struct SweptVessel {
   std::vector<Eigen::Vector2d> uv;
   double length_m = 0.0;  ///< centre-line arc length
   int radial_layers = 0, angular_nodes = 0, axial_nodes = 0;
+  /// Angle of lattice column 0, rad (lattice_phase_rad of the spec's lattice angle); column k is at
+  /// angle_phase_rad + 2 pi k / angular_nodes.
+  double angle_phase_rad = 0.0;
 };
 
 /// Throws InputError for a bad spec, a centre-line whose smallest radius of curvature is <= the outer

@@ -42,17 +42,21 @@ Body body_from_swept_vessel(SweptVessel v, std::shared_ptr<const Centerline> cen
   // Thickness from the geometry itself: the distance between the inner and outer layer of node 0's ray.
   w.thickness_m = (v.cloud.positions[static_cast<std::size_t>(nr - 1)] - v.cloud.positions[0]).norm();
   w.shell_tolerance_m = 0.01 * w.thickness_m / (nr - 1);
+  w.layer_spacing_m = w.thickness_m / (nr - 1);
+  w.angle_step_deg = 360.0 / nt;
+  w.s_step_m = v.length_m / (nz - 1);
   for (int iz = 0; iz < nz; ++iz) {
     const double s = v.length_m * iz / (nz - 1);
     const Frame f = w.centerline->frame(s);
     for (int it = 0; it < nt; ++it) {
-      const double th = 2.0 * std::numbers::pi * it / nt;
+      const double th = 2.0 * std::numbers::pi * it / nt + v.angle_phase_rad;
       const Vec3 dir = std::cos(th) * f.N + std::sin(th) * f.B;
+      const double th_deg = 360.0 * it / nt + v.angle_phase_rad * 180.0 / std::numbers::pi;
       for (int ir = 0; ir < nr; ++ir) {
         const auto i = static_cast<std::size_t>(ir + nr * (it + nt * iz));
         w.depth_m[i] = w.thickness_m * ir / (nr - 1);
         w.s_m[i] = s;
-        w.theta_deg[i] = 360.0 * it / nt;
+        w.theta_deg[i] = th_deg < 0.0 ? th_deg + 360.0 : th_deg >= 360.0 ? th_deg - 360.0 : th_deg;
         w.outward[i] = dir;
       }
     }
@@ -85,6 +89,7 @@ Body body_from_tube(NodeCloud tube, SweptVessel swept) {
   const std::size_t n = tube.positions.size();
   w.thickness_m = shape.outer_radius_m - shape.inner_radius_m;
   w.shell_tolerance_m = 0.01 * w.thickness_m / (shape.radial_layers - 1);
+  w.layer_spacing_m = w.thickness_m / (shape.radial_layers - 1);
   w.depth_m.resize(n);
   w.s_m.resize(n);
   w.theta_deg.resize(n);

@@ -28,12 +28,18 @@ struct WallCoordinates {
   /// with depth <= shell_tolerance on the inner surface (m); lattices aligned with the wall use 1 % of
   /// the layer step.
   double shell_tolerance_m = 0.0;
+  /// Spacing of the node layers through the wall, m (lattices aligned with the wall; 0: not layered).
+  double layer_spacing_m = 0.0;
 
   // Centre-line coordinates: only for vessels swept along a centre-line (empty for imported meshes).
   std::shared_ptr<const Centerline> centerline;
   std::vector<double> s_m;        ///< arc length of the node's cross-section, m
   std::vector<double> theta_deg;  ///< angle around the centre-line from the frame's N towards B, [0, 360)
   double length_m = 0.0;          ///< centre-line length, m
+  /// Lattice steps of a swept wall (0 for an imported mesh): the angle between node columns, deg, and the
+  /// arc length between cross-sections, m. A node stands for the strip of half a step on either side.
+  double angle_step_deg = 0.0;
+  double s_step_m = 0.0;
 
   /// Per node, when the generator knows it exactly (imported meshes: nodes snapped onto a surface):
   /// 1 on the inner (lumen) surface, 2 on the outer surface, 0 inside. Empty: decide by depth.

@@ -128,6 +128,11 @@ void parse_row(const std::vector<std::string_view>& cells, const std::vector<std
 
 Table read(const std::filesystem::path& file) {
   const std::string name = file.string();
+  std::error_code ec;
+  if (std::filesystem::exists(file, ec) && !std::filesystem::is_regular_file(file, ec))
+    throw InputError(fmt::format("{}: not a regular file (a folder, device or pipe); expected a CSV file with the "
+                                 "header {}",
+                                 name, kLayout));
   std::ifstream in(file);
   if (!in)
     throw InputError(fmt::format(

@@ -11,6 +11,7 @@
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/interaction/device_csv.hpp"
+#include "vascsim/core/json_file.hpp"
 #include "vascsim/core/json_reader.hpp"
 
 namespace vascsim {
@@ -44,14 +45,16 @@ Trajectory::Trajectory(std::vector<DevicePose> samples, const std::string& sourc
     if (!q.coeffs().allFinite())
       throw InputError(fmt::format("{}: orientation is not finite; every value must be a finite number",
                                    at(i, "orientation_wxyz")));
-    const double n = q.norm();
+    // The norm of the coefficients scaled by the largest one: no overflow for (1e300, 1e300, 0, 0).
+    const double largest = q.coeffs().cwiseAbs().maxCoeff();
+    const double n = largest > 0.0 ? largest * (q.coeffs() / largest).norm() : 0.0;
     if (n < kMinQuaternionNorm)
       throw InputError(
           fmt::format("{}: orientation quaternion (qw,qx,qy,qz) = ({}, {}, {}, {}) has zero norm; a rotation "
                       "needs a non-zero quaternion "
                       "(identity: 1,0,0,0)",
                       at(i, "orientation_wxyz"), q.w(), q.x(), q.y(), q.z()));
-    if (std::abs(n - 1.0) > kUnitTolerance) q.coeffs() /= n;
+    if (std::abs(n - 1.0) > kUnitTolerance) q.coeffs() = (q.coeffs() / largest).normalized();
     if (i > 0 && !(p.time_s > samples_[i - 1].time_s))
       throw InputError(fmt::format(
           "{}: time_s {} is not greater than the previous sample's {}; times must strictly increase",
@@ -97,20 +100,7 @@ Trajectory read_trajectory_csv(const std::filesystem::path& file) {
 
 Trajectory read_trajectory_json(const std::filesystem::path& file) {
   const std::string name = file.string();
-  std::ifstream in(file);
-  if (!in)
-    throw InputError(fmt::format(
-        "{}: cannot open the file (missing or unreadable); expected a JSON trajectory {{\"samples\": [...]}}",
-        name));
-  nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(fmt::format("{}: not valid JSON at byte {}: {}", name, e.byte, e.what()));
-  } catch (const nlohmann::json::exception& e) {
-    // nlohmann reports a number too large for a double (1e999) as out_of_range, not as a parse error.
-    throw InputError(fmt::format("{}: not valid JSON: {}", name, e.what()));
-  }
+  const nlohmann::json doc = read_json_file(file, "the file", "expected a JSON trajectory {\"samples\": [...]}");
 
   JsonReader root(doc, "", name);
   root.string("description", "");  // free text for people; ignored

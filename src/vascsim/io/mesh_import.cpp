@@ -10,10 +10,14 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <map>
+#include <sstream>
 #include <string>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/io/ply_check.hpp"
+#include "vascsim/io/stl_check.hpp"
 
 namespace vascsim {
 
@@ -45,10 +49,17 @@ struct Collector {
   }
 };
 
-void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent, Collector& out) {
+// assimp's scene is checked before use: mesh references, face indices and the depth of the node tree.
+void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent, Collector& out,
+             const std::string& name, int depth = 0) {
+  const auto fail = [&](const std::string& why) { throw InputError(name + ": " + why); };
+  if (depth > 64) fail("the file's node hierarchy nests deeper than 64 levels");
   const aiMatrix4x4 transform = parent * node.mTransformation;
   for (unsigned i = 0; i < node.mNumMeshes; ++i) {
+    if (node.mMeshes[i] >= scene.mNumMeshes || scene.mMeshes[node.mMeshes[i]] == nullptr)
+      fail("the file refers to a mesh it does not hold");
     const aiMesh& mesh = *scene.mMeshes[node.mMeshes[i]];
+    if (mesh.mNumVertices > 0 && mesh.mVertices == nullptr) fail("a mesh without vertex positions");
     std::vector<Index> local(mesh.mNumVertices);
     for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
       const aiVector3D p = transform * mesh.mVertices[v];
@@ -57,11 +68,24 @@ void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent
     for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
       const aiFace& face = mesh.mFaces[f];
       if (face.mNumIndices != 3) continue;  // points and lines carry no surface
+      for (unsigned k = 0; k < 3; ++k)
+        if (face.mIndices[k] >= mesh.mNumVertices)
+          fail(fmt::format("face {} refers to vertex {}, past the end of its {} vertices", f, face.mIndices[k],
+                           mesh.mNumVertices));
       out.mesh.triangles.push_back(
           {local[face.mIndices[0]], local[face.mIndices[1]], local[face.mIndices[2]]});
     }
   }
-  for (unsigned c = 0; c < node.mNumChildren; ++c) collect(scene, *node.mChildren[c], transform, out);
+  for (unsigned c = 0; c < node.mNumChildren; ++c)
+    if (node.mChildren[c] != nullptr) collect(scene, *node.mChildren[c], transform, out, name, depth + 1);
+}
+
+std::string read_bytes(const std::filesystem::path& file, const std::string& name) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  if (!in || in.bad()) throw InputError(name + ": cannot read the file");
+  return bytes.str();
 }
 
 }  // namespace
@@ -81,6 +105,10 @@ TriangleMesh import_triangle_mesh(const std::filesystem::path& file, double scal
   const auto size = std::filesystem::file_size(file, ec);
   if (ec) fail("cannot read the file size: " + ec.message());
   if (size == 0) fail("the file is empty");
+  // What assimp does not check or hides: the PLY structure (its loader trusts the header), STL numbers (its
+  // vertex joining merges a NaN corner into another vertex).
+  if (ext == ".ply") check_ply(read_bytes(file, name), name);
+  if (ext == ".stl") check_stl_numbers(read_bytes(file, name), name);
 
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(name, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
@@ -88,7 +116,7 @@ TriangleMesh import_triangle_mesh(const std::filesystem::path& file, double scal
   if ((scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE) != 0 || scene->mRootNode == nullptr)
     fail("the file holds no complete mesh");
   Collector out;
-  collect(*scene, *scene->mRootNode, aiMatrix4x4(), out);
+  collect(*scene, *scene->mRootNode, aiMatrix4x4(), out, name);
   for (Vec3& v : out.mesh.vertices) v *= scale_to_m;
   check_mesh(out.mesh, name, /*require_closed=*/false);
   return out.mesh;

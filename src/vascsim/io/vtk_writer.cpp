@@ -1,14 +1,25 @@
 #include "vascsim/io/vtk_writer.hpp"
 
 #include <fmt/format.h>
-#include <fmt/os.h>
+#include <iterator>
 
-#include "vascsim/core/error.hpp"
+#include "vascsim/core/atomic_file.hpp"
 
 namespace vascsim {
 
 namespace {
-void write_vectors(fmt::ostream& out, const std::string& name, const Vec3Array& v) {
+
+// A file's text, built in memory and written at once (write_file_atomically): a frame is complete or absent.
+struct Text {
+  fmt::memory_buffer buffer;
+  template <class... Args>
+  void print(fmt::format_string<Args...> format, Args&&... args) {
+    fmt::format_to(std::back_inserter(buffer), format, std::forward<Args>(args)...);
+  }
+  void write(const std::filesystem::path& file) const { write_file_atomically(file, {buffer.data(), buffer.size()}); }
+};
+
+void write_vectors(Text& out, const std::string& name, const Vec3Array& v) {
   out.print("        <DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"3\" format=\"ascii\">\n", name);
   for (const auto& p : v) out.print("{:.10g} {:.10g} {:.10g}\n", p.x(), p.y(), p.z());
   out.print("        </DataArray>\n");
@@ -22,8 +33,8 @@ template <std::size_t Corners, class WritePointData, class WriteCellData>
 void write_grid(const std::filesystem::path& file, const Vec3Array& points,
                 const std::vector<std::array<Index, Corners>>& cells, int vtk_type, const char* point_vectors,
                 WritePointData&& point_data, WriteCellData&& cell_data) {
-  try {
-    auto out = fmt::output_file(file.string());
+  Text out;
+  {
     out.print("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n");
     out.print("  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", points.size(), cells.size());
     out.print("      <PointData Vectors=\"{}\">\n", point_vectors);
@@ -43,9 +54,8 @@ void write_grid(const std::filesystem::path& file, const Vec3Array& points,
     out.print("        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
     for (std::size_t c = 0; c < cells.size(); ++c) out.print("{}\n", vtk_type);
     out.print("        </DataArray>\n      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
-  } catch (const std::system_error& e) {
-    throw InputError(fmt::format("{}: cannot write: {}", file.string(), e.what()));
   }
+  out.write(file);
 }
 
 }  // namespace
@@ -56,17 +66,17 @@ void write_vtu(const std::filesystem::path& file, const Vec3Array& X, const Vec3
   for (std::size_t i = 0; i < x.size(); ++i) u[i] = x[i] - X[i];
   write_grid(
       file, x, tets, 10 /* VTK_TETRA */, "displacement",
-      [&](fmt::ostream& out) {
+      [&](Text& out) {
         write_vectors(out, "displacement", u);
         for (const auto& [name, values] : extra) write_vectors(out, name, *values);
       },
-      [](fmt::ostream&) {});
+      [](Text&) {});
 }
 
 void write_surface_vtu(const std::filesystem::path& file, const SurfaceVtu& s) {
   write_grid(
       file, *s.positions, *s.triangles, 5 /* VTK_TRIANGLE */, "displacement",
-      [&](fmt::ostream& out) {
+      [&](Text& out) {
         write_vectors(out, "displacement", *s.displacements);
         if (s.normals) write_vectors(out, "normal", *s.normals);
         if (s.uv && !s.uv->empty()) {
@@ -75,7 +85,7 @@ void write_surface_vtu(const std::filesystem::path& file, const SurfaceVtu& s) {
           out.print("        </DataArray>\n");
         }
       },
-      [&](fmt::ostream& out) {
+      [&](Text& out) {
         if (!s.outer) return;
         out.print("        <DataArray type=\"UInt8\" Name=\"outer\" format=\"ascii\">\n");
         for (char o : *s.outer) out.print("{}\n", o ? 1 : 0);
@@ -84,15 +94,14 @@ void write_surface_vtu(const std::filesystem::path& file, const SurfaceVtu& s) {
 }
 
 void write_pvd(const std::filesystem::path& file, const std::vector<PvdEntry>& entries) {
-  try {
-    auto out = fmt::output_file(file.string());
+  Text out;
+  {
     out.print("<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n");
     for (const auto& e : entries)
       out.print("    <DataSet timestep=\"{:.10g}\" part=\"0\" file=\"{}\"/>\n", e.time, e.file);
     out.print("  </Collection>\n</VTKFile>\n");
-  } catch (const std::system_error& e) {
-    throw InputError(fmt::format("{}: cannot write: {}", file.string(), e.what()));
   }
+  out.write(file);
 }
 
 }  // namespace vascsim

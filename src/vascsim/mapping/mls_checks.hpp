@@ -1,5 +1,5 @@
 #pragma once
-// Measurements of MODEL.md test T11 on a built MLS map: partition of unity, linear reproduction, and
+// Measurements of docs/validation.md T11 on a built MLS map: partition of unity, linear reproduction, and
 // affine and rigid nodal fields reproduced at the surface in double and float32. Used by the unit
 // tests and by `vascsim validate mls` (per-vessel tables in docs/validation.md).
 

@@ -13,10 +13,8 @@
 
 namespace vascsim {
 
-namespace {
-
 // Neighbourhood of one node at a trial radius: weights, A_i and the conditioning verdict.
-struct Trial {
+struct NeighbourhoodTrial {
   std::vector<Index> nbr;
   std::vector<double> w;
   Mat3 A = Mat3::Zero();
@@ -24,8 +22,10 @@ struct Trial {
   double fit_ratio = 1.0;  // quadratic basis: lambda_min / lambda_max of B_i / tr(B_i)
 };
 
+namespace {
+
 // B_i = sum_j w_ij p_ij p_ij^T of the quadratic basis (local_fit.hpp), monomials scaled by h.
-Mat9 quadratic_moment(const Vec3Array& X, Index i, const Trial& t, double h) {
+Mat9 quadratic_moment(const Vec3Array& X, Index i, const NeighbourhoodTrial& t, double h) {
   Mat9 B = Mat9::Zero();
   for (std::size_t a = 0; a < t.nbr.size(); ++a) {
     const Vec9 p = quadratic_monomials(X[t.nbr[a]] - X[i], h);
@@ -41,21 +41,37 @@ double eigen_ratio_of(const Mat9& B) {
   return es.eigenvalues().maxCoeff() > 0.0 ? es.eigenvalues().minCoeff() / es.eigenvalues().maxCoeff() : 0.0;
 }
 
-Trial evaluate(const Vec3Array& X, Index i, double h, const SpatialGrid& grid, GradientBasis basis) {
-  Trial t;
-  grid.for_each_within(X[i], h, [&](Index j, double) {
-    if (j != i) t.nbr.push_back(j);
+// The distance that measures a node's support: |X| (isotropic), or |M X| with M = n n^T + (I - n n^T) / stretch
+// (a support that follows the wall: radius h along the normal n, stretch h in the tangent plane).
+struct SupportMetric {
+  const Vec3* normal = nullptr;
+  double stretch = 1.0;
+  double operator()(const Vec3& X) const {
+    if (!normal) return X.norm();
+    const double xn = X.dot(*normal);
+    return std::sqrt(xn * xn + (X - xn * *normal).squaredNorm() / (stretch * stretch));
+  }
+  double reach(double h) const { return normal ? stretch * h : h; }  // the largest distance inside the support
+};
+
+NeighbourhoodTrial evaluate(const Vec3Array& X, Index i, double h, const SpatialGrid& grid, GradientBasis basis,
+                            const SupportMetric& metric) {
+  NeighbourhoodTrial t;
+  grid.for_each_within(X[i], metric.reach(h), [&](Index j, double) {
+    // A wall lattice puts whole layers and rows exactly on the ellipsoid's edge, where the weight is zero: they are
+    // left out (within rounding), not kept as neighbours of weight ~1e-30 that would only widen the stencils.
+    if (j != i && (!metric.normal || metric(X[j] - X[i]) < h * (1.0 - 1e-9))) t.nbr.push_back(j);
   });
   std::sort(t.nbr.begin(), t.nbr.end());
   for (Index j : t.nbr) {
     const Vec3 Xij = X[j] - X[i];
-    const double w = kernels::poly6(Xij.norm(), h);
+    const double w = kernels::poly6(metric(Xij), h);
     t.w.push_back(w);
     t.A += w * Xij * Xij.transpose();
   }
   const double tr = t.A.trace();
   if (tr > 0.0) {
-    // Dimensionless A / tr(A): eigenvalues in (0, 1]; never test det(A) != 0 (MODEL.md 1.5).
+    // Dimensionless A / tr(A): eigenvalues in (0, 1]; never test det(A) != 0 (docs/model.md section 5).
     Eigen::SelfAdjointEigenSolver<Mat3> es(t.A / tr, Eigen::EigenvaluesOnly);
     const Vec3 ev = es.eigenvalues();
     t.eigen_ratio = ev.maxCoeff() > 0.0 ? ev.minCoeff() / ev.maxCoeff() : 0.0;
@@ -107,14 +123,19 @@ Discretization::Discretization(const NodeCloud& cloud, const Material& material,
 void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
   const Index n = num_nodes();
   const double h0 = opt.support_radius_factor * mean_spacing_;
-  const double hmax = h0 * std::pow(opt.growth_factor, opt.max_growths);
+  const bool wall = opt.support == DiscretizationOptions::Support::Wall;
+  if (wall && (opt.wall_normals.size() != static_cast<std::size_t>(n) || !(opt.wall_stretch >= 1.0)))
+    throw InputError(fmt::format("discretization: wall-aligned supports need one wall normal per node ({} for {} nodes) "
+                                 "and a stretch >= 1 ({})",
+                                 opt.wall_normals.size(), n, opt.wall_stretch));
+  const double hmax = h0 * std::pow(opt.growth_factor, opt.max_growths) * (wall ? opt.wall_stretch : 1.0);
   SpatialGrid grid(X_, hmax);
   h_.assign(n, h0);
-  std::vector<Trial> trials(n);
+  std::vector<NeighbourhoodTrial> trials(n);
   std::vector<int> failed(n, 0);
   const bool quadratic = opt.basis == GradientBasis::Quadratic;
   const int min_neighbours = quadratic ? std::max(opt.min_neighbours, opt.quadratic_min_neighbours) : opt.min_neighbours;
-  auto accepted = [&](const Trial& t) {
+  auto accepted = [&](const NeighbourhoodTrial& t) {
     return static_cast<int>(t.nbr.size()) >= min_neighbours && t.eigen_ratio >= opt.min_eigen_ratio &&
            (!quadratic || t.fit_ratio >= opt.quadratic_min_eigen_ratio);
   };
@@ -122,7 +143,8 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
   for (Index i = 0; i < n; ++i) {
     double h = h0;
     for (int g = 0;; ++g) {
-      trials[i] = evaluate(X_, i, h, grid, opt.basis);
+      const SupportMetric metric{wall ? &opt.wall_normals[static_cast<std::size_t>(i)] : nullptr, opt.wall_stretch};
+      trials[i] = evaluate(X_, i, h, grid, opt.basis, metric);
       if (accepted(trials[i])) break;
       if (g == opt.max_growths) {
         failed[i] = 1;
@@ -152,6 +174,14 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
     spdlog::info("discretization: support radius grown for {} of {} nodes (K_min / conditioning guard)",
                  grown_nodes_, n);
 
+  store_gradient_vectors(trials, opt.basis);
+  transposed_ = transpose(pairs_, n);
+}
+
+// The accepted neighbourhoods as the pair tables: d_ij (linear or quadratic fit), w_ij, d_ii and the moments.
+void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial>& trials, GradientBasis basis) {
+  const Index n = num_nodes();
+  const bool quadratic = basis == GradientBasis::Quadratic;
   pairs_.row_start.assign(static_cast<std::size_t>(n) + 1, 0);
   for (Index i = 0; i < n; ++i) pairs_.row_start[i + 1] = pairs_.row_start[i] + static_cast<Index>(trials[i].nbr.size());
   const std::size_t npairs = static_cast<std::size_t>(pairs_.row_start[n]);
@@ -161,11 +191,11 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
   self_d_.assign(n, Vec3::Zero());
   moment_trace_.assign(n, 0.0);
   moment_.assign(n, Mat3::Zero());
-  basis_ = opt.basis;
+  basis_ = basis;
   if (quadratic) fit_.resize(npairs);
 #pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) {
-    const Trial& t = trials[i];
+    const NeighbourhoodTrial& t = trials[i];
     const Mat3 Ainv = t.A.inverse();  // well conditioned by the guard above (double precision)
     moment_trace_[i] = t.A.trace();
     moment_[i] = t.A;
@@ -187,7 +217,6 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
     }
     self_d_[i] = -dsum;
   }
-  transposed_ = transpose(pairs_, n);
 }
 
 void Discretization::compute_volumes(const DiscretizationOptions& opt) {
@@ -209,7 +238,7 @@ void Discretization::compute_volumes(const DiscretizationOptions& opt) {
         throw InputError(fmt::format(
             "discretization: node {} belongs to no virtual tetrahedron, so it has no volume (tet-partition rule)", i));
   } else {
-    // Mueller et al. 2004 (MODEL.md 1.4): rbar_i = mean distance to the 10 nearest neighbours,
+    // Mueller et al. 2004 (docs/model.md section 4): rbar_i = mean distance to the 10 nearest neighbours,
     // m_i = s rbar_i^3 rho with s normalising the density estimate, V_i = m_i / rho_i.
     std::vector<double> rbar3(n);
     for (Index i = 0; i < n; ++i) {

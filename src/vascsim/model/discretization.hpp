@@ -1,5 +1,5 @@
 #pragma once
-// Rest-state discretisation of the point-primitive model (MODEL.md 1.3-1.5): per-node support radii,
+// Rest-state discretisation of the point-primitive model (docs/model.md sections 3-5): per-node support radii,
 // neighbour lists, the precomputed gradient vectors d_ij in CSR form with a transposed copy for
 // gather-form assembly, nodal volumes and masses. Immutable during a run (total Lagrangian).
 
@@ -13,24 +13,35 @@
 namespace vascsim {
 
 enum class VolumeRule {
-  TetPartition,  ///< V_i = 1/4 sum_{T containing i} |T| (sound default, MODEL.md decision 3)
+  TetPartition,  ///< V_i = 1/4 sum_{T containing i} |T| (sound default, docs/model.md design decision 3)
   MuellerKernel  ///< Mueller 2004 kernel density estimate V_i = m_i / rho_i (paper-literal option)
 };
 
 struct DiscretizationOptions {
-  double support_radius_factor = 2.0;  ///< h = factor * mean nearest spacing (MODEL.md decision 7)
+  double support_radius_factor = 2.0;  ///< h = factor * mean nearest spacing (docs/model.md design decision 7)
   int min_neighbours = 12;             ///< K_min
   double min_eigen_ratio = 1e-3;       ///< lambda_min / lambda_max of A_i / tr(A_i) (cond <= 1e3)
   double growth_factor = 1.2;          ///< h_i <- 1.2 h_i when a node fails the guard
   int max_growths = 3;                 ///< then fail loudly
   VolumeRule volume = VolumeRule::TetPartition;
   GradientBasis basis = GradientBasis::Linear;  ///< the local fit's polynomial (local_fit.hpp)
+  /// Supports that follow a wall (docs/model.md section 3.1): per node the wall's unit normal, and the ratio of the
+  /// lattice spacing along the wall to the spacing of its node layers (>= 1). A node's support is then an ellipsoid:
+  /// radius h_i along the normal and wall_stretch h_i in the wall's tangent plane, with the weights
+  /// w_ij = W(|M_i X_ij|, h_i), M_i = n n^T + (I - n n^T) / wall_stretch. Empty normals: isotropic supports.
+  std::vector<Vec3> wall_normals;
+  double wall_stretch = 1.0;
+  /// The scene's choice (discretization.support): Wall asks the simulation to fill wall_normals and wall_stretch
+  /// from the body's wall coordinates.
+  enum class Support { Isotropic, Wall } support = Support::Isotropic;
   /// The quadratic fit's guard, on top of the linear one: at least this many neighbours (9 unknowns per
   /// component; twice that for a least-squares fit that averages), and lambda_min / lambda_max of B_i / tr(B_i)
   /// at least quadratic_min_eigen_ratio (docs/model.md section 5.1 for how these were chosen).
   int quadratic_min_neighbours = 18;
   double quadratic_min_eigen_ratio = 1e-6;
 };
+
+struct NeighbourhoodTrial;  // one node's neighbourhood at a trial support radius (discretization.cpp)
 
 /// One compressed-sparse-row table of pair data: row r lists (col, d, w).
 struct PairTable {
@@ -79,7 +90,7 @@ class Discretization {
   const Material& material() const { return material_; }
   const NodeCloud& cloud() const { return cloud_; }
 
-  /// G_i = sum_j (u_j - u_i) d_ij^T (Eq. 2-3, MODEL.md 1.6). With eq3_literal_sign the paper's printed
+  /// G_i = sum_j (u_j - u_i) d_ij^T (Eq. 2-3, docs/model.md section 6). With eq3_literal_sign the paper's printed
   /// x_ij = x_i - x_j is used, which returns -G (negative test E1 only).
   Mat3 displacement_gradient(Index i, const Vec3Array& u, bool eq3_literal_sign = false) const;
   /// F_i = sum_j (x_j - x_i) d_ij^T.
@@ -87,6 +98,7 @@ class Discretization {
 
  private:
   void build_neighbourhoods(const DiscretizationOptions& opt);
+  void store_gradient_vectors(const std::vector<NeighbourhoodTrial>& trials, GradientBasis basis);
   void compute_volumes(const DiscretizationOptions& opt);
 
   NodeCloud cloud_;

@@ -11,6 +11,7 @@ BaselineFrames read_baseline_frames(JsonReader& block) {
   BaselineFrames f;
   f.schedule = read_time_schedule(block);
   f.frame_s = block.number("frame_s", 1e-3, 1e-7, 1.0);
+  check_step_count(block, f.schedule, f.frame_s, "frame_s");
   return f;
 }
 
@@ -36,9 +37,9 @@ DynamicBaseline::DynamicBaseline(const Problem& problem, std::string name, const
   if (!(sc.duration_s > 0.0) || !(sc.output_interval_s > 0.0) || !(frames.frame_s > 0.0))
     throw InputError(fmt::format("{}: duration_s, output_interval_s and frame_s must be > 0", name_));
   // Whole frames per output interval, so output times are exact.
-  const double per_output = std::ceil(sc.output_interval_s / frames.frame_s - 1e-9);
+  const double per_output = static_cast<double>(whole_steps_per_output(sc, frames.frame_s, name_ + ".frame_s"));
   h_ = sc.output_interval_s / per_output;
-  num_steps_ = static_cast<int>(std::ceil(sc.duration_s / sc.output_interval_s - 1e-9));
+  num_steps_ = output_count(sc);
   x_ = problem.discretization().rest_positions();
   v_.assign(x_.size(), Vec3::Zero());
   f_int_.assign(x_.size(), Vec3::Zero());

@@ -44,13 +44,30 @@ Mat3 psd_sqrt(const Mat3& A) {
 
 }  // namespace
 
+// Stencil of node i: i itself, then N_i (the order of PairTable row i).
+Index EnergyHessian::stencil_size(Index i) const { return 1 + energy_.discretization().pairs().row_size(i); }
+Index EnergyHessian::stencil_node(Index i, Index a) const {
+  const PairTable& P = energy_.discretization().pairs();
+  return a == 0 ? i : P.col[static_cast<std::size_t>(P.row_start[i] + a - 1)];
+}
+
 EnergyHessian::EnergyHessian(const PointPrimitiveEnergy& energy, const EnergyHessianOptions& options,
                              std::vector<Index> node_slot)
     : energy_(energy), opt_(options), slot_(std::move(node_slot)) {
-  const Discretization& disc = energy.discretization();
-  const Index n = disc.num_nodes();
-  const PairTable& P = disc.pairs();
-  const PairTable& T = disc.transposed();
+  number_block_rows();
+  std::vector<std::int64_t> map_count;
+  std::vector<std::vector<Index>> cols = couple_block_rows(map_count);
+  build_scatter_map(cols, map_count);
+  build_pattern();
+  const std::int64_t nblocks = row_start_.back();
+  stab_.assign(static_cast<std::size_t>(nblocks), 0.0);
+  if (energy.options().stabilizer_alpha > 0.0) add_stabilizer_blocks();
+  tangent_.resize(static_cast<std::size_t>(energy.discretization().num_nodes()));
+}
+
+// The block row of every kept node (node_slot, or node order), and the node of every block row.
+void EnergyHessian::number_block_rows() {
+  const Index n = energy_.discretization().num_nodes();
   if (slot_.empty()) {
     slot_.resize(static_cast<std::size_t>(n));
     for (Index i = 0; i < n; ++i) slot_[static_cast<std::size_t>(i)] = i;
@@ -67,18 +84,20 @@ EnergyHessian::EnergyHessian(const PointPrimitiveEnergy& energy, const EnergyHes
     if (s >= 0) row_node_[static_cast<std::size_t>(s)] = i;
   }
 
-  // Stencil of node i: i itself, then N_i (the order of PairTable row i).
-  auto stencil_size = [&](Index i) { return 1 + P.row_size(i); };
-  auto stencil_node = [&](Index i, Index a) { return a == 0 ? i : P.col[P.row_start[i] + a - 1]; };
+}
 
-  // Pass 1: per block row, the coupled block columns (union of the stencils that hold the row's node) and
-  // the number of terms and map entries.
+// Pass 1: per block row, the coupled block columns (the union of the stencils that hold the row's node), the
+// number of energy terms (contrib_start_) and, in map_count, of scatter-map entries before each row.
+std::vector<std::vector<Index>> EnergyHessian::couple_block_rows(std::vector<std::int64_t>& map_count) {
+  const Discretization& disc = energy_.discretization();
+  const PairTable& T = disc.transposed();
+  const Index nrows = num_block_rows();
   row_start_.assign(static_cast<std::size_t>(nrows) + 1, 0);
   contrib_start_.assign(static_cast<std::size_t>(nrows) + 1, 0);
-  std::vector<std::int64_t> map_count(static_cast<std::size_t>(nrows) + 1, 0);
+  map_count.assign(static_cast<std::size_t>(nrows) + 1, 0);
   std::vector<std::vector<Index>> cols(static_cast<std::size_t>(nrows));
+  std::vector<char> mark(static_cast<std::size_t>(nrows), 0);
   {
-    std::vector<char> mark(static_cast<std::size_t>(nrows), 0);
     for (Index r = 0; r < nrows; ++r) {
       const Index k = row_node_[static_cast<std::size_t>(r)];
       auto& c = cols[static_cast<std::size_t>(r)];
@@ -105,6 +124,17 @@ EnergyHessian::EnergyHessian(const PointPrimitiveEnergy& energy, const EnergyHes
       map_count[static_cast<std::size_t>(r) + 1] += map_count[static_cast<std::size_t>(r)];
     }
   }
+  return cols;
+}
+
+// Pass 2: the scatter map of every (energy i, stencil node l) term of a block row to its block (parallel over
+// rows; each row owns its ranges), and the compact stencil's kept blocks.
+void EnergyHessian::build_scatter_map(const std::vector<std::vector<Index>>& cols,
+                                      const std::vector<std::int64_t>& map_count) {
+  const Discretization& disc = energy_.discretization();
+  const PairTable& P = disc.pairs();
+  const PairTable& T = disc.transposed();
+  const Index nrows = num_block_rows();
   const std::int64_t nblocks = row_start_.back();
   row_col_.resize(static_cast<std::size_t>(nblocks));
   row_diag_.resize(static_cast<std::size_t>(nrows));
@@ -114,7 +144,7 @@ EnergyHessian::EnergyHessian(const PointPrimitiveEnergy& energy, const EnergyHes
   contrib_map_.resize(static_cast<std::size_t>(contrib_start_.back()));
   map_.resize(static_cast<std::size_t>(map_count.back()));
 
-  // Pass 2: the scatter map (parallel over rows; each row owns its ranges). pos: slot -> position in row.
+  // pos: slot -> position in the row.
 #pragma omp parallel if (nrows >= kParallelMinRows)
   {
     std::vector<std::uint16_t> pos(static_cast<std::size_t>(nrows), kSkip);
@@ -154,9 +184,12 @@ EnergyHessian::EnergyHessian(const PointPrimitiveEnergy& energy, const EnergyHes
       for (Index s : c) pos[static_cast<std::size_t>(s)] = kSkip;
     }
   }
-  cols.clear();
-  cols.shrink_to_fit();
+}
 
+// The stored pattern of H_ (CSC, 3x3 blocks, a fixed pattern with explicit zeros).
+void EnergyHessian::build_pattern() {
+  const Index nrows = num_block_rows();
+  const std::int64_t nblocks = row_start_.back();
   // The stored pattern: block column r holds the kept blocks of block row r (the pattern is symmetric),
   // from the diagonal down only if lower_triangle_only. H is symmetric, so block column r is block row r
   // transposed: entry (3 l + a, 3 r + b) = H_rl(b, a).
@@ -192,9 +225,6 @@ EnergyHessian::EnergyHessian(const PointPrimitiveEnergy& energy, const EnergyHes
   outer[dim] = static_cast<int>(col_base.back());
   std::fill(H_.valuePtr(), H_.valuePtr() + H_.nonZeros(), 0.0);
 
-  stab_.assign(static_cast<std::size_t>(nblocks), 0.0);
-  if (energy.options().stabilizer_alpha > 0.0) add_stabilizer_blocks();
-  tangent_.resize(static_cast<std::size_t>(n));
 }
 
 void EnergyHessian::add_stabilizer_blocks() {
@@ -242,7 +272,7 @@ void EnergyHessian::compute_tangents(const Vec3Array& x) {
   const EnergyOptions& eo = energy_.options();
   const Index n = disc.num_nodes();
   const double lambda = energy_.strain_lambda(), mu = energy_.shear_modulus(), kv = eo.volume_stiffness_pa;
-  // Literal strain (MODEL.md 1.7): eps = 2E and sigma = 2S, so U_lit = 4 U_SVK and its tangent is 4x.
+  // Literal strain (docs/model.md section 7): eps = 2E and sigma = 2S, so U_lit = 4 U_SVK and its tangent is 4x.
   const double svk_scale = eo.strain == StrainMeasure::GreenHalf ? 1.0 : 4.0;
   const Mat3 I = Mat3::Identity();
 #pragma omp parallel for schedule(static) if (n >= kParallelMinRows)
@@ -262,7 +292,7 @@ void EnergyHessian::compute_tangents(const Vec3Array& x) {
           });
     }
     if (kv > 0.0) {
-      // MODEL.md 1.9a: P_v = k_v (J - 1) cof(F), dP_v = k_v [(cof : dF) cof + (J - 1) dcof[dF]].
+      // docs/model.md section 9.1: P_v = k_v (J - 1) cof(F), dP_v = k_v [(cof : dF) cof + (J - 1) dcof[dF]].
       const double J = F.determinant();
       const Mat3 cof = cofactor(F);
       C += tangent_of([&](const Mat3& dF) {

@@ -82,8 +82,15 @@ class EnergyHessian {
   std::int64_t num_stored_blocks() const { return static_cast<std::int64_t>(H_.nonZeros() / 9); }
 
  private:
-  void compute_tangents(const Vec3Array& x);
+  Index stencil_size(Index i) const;            // 1 + |N_i|
+  Index stencil_node(Index i, Index a) const;   // node a of S_i: i, then N_i
+  // The symbolic step (the constructor), in order:
+  void number_block_rows();
+  std::vector<std::vector<Index>> couple_block_rows(std::vector<std::int64_t>& map_count);
+  void build_scatter_map(const std::vector<std::vector<Index>>& cols, const std::vector<std::int64_t>& map_count);
+  void build_pattern();
   void add_stabilizer_blocks();
+  void compute_tangents(const Vec3Array& x);
 
   const PointPrimitiveEnergy& energy_;
   EnergyHessianOptions opt_;

@@ -21,6 +21,7 @@ ExplicitSettings read_explicit_settings(JsonReader& ex) {
   s.safety = ex.number("safety", 0.5, 0.01, 0.95);
   s.cfl_coefficient = ex.number("cfl_coefficient", 0.4, 0.01, 2.0);
   s.power_iterations = ex.integer("power_iterations", 60, 1, 100000);
+  if (s.dt_s > 0.0) check_step_count(ex, schedule, s.dt_s, "dt_s");
   ex.finish();
   return s;
 }
@@ -102,9 +103,11 @@ ExplicitModel::ExplicitModel(const Problem& problem, const ExplicitSettings& s) 
     dt_ = dt_auto;
   }
   // Whole substeps per output interval, so output times are exact.
-  const long long per_output = static_cast<long long>(std::ceil(s.output_interval_s / dt_ - 1e-9));
+  const TimeSchedule schedule{s.duration_s, s.ramp_time_s, s.output_interval_s};
+  const long long per_output =
+      whole_steps_per_output(schedule, dt_, s.dt_s > 0.0 ? "explicit.dt_s" : "explicit.duration_s");
   dt_ = s.output_interval_s / static_cast<double>(per_output);
-  num_steps_ = static_cast<int>(std::ceil(s.duration_s / s.output_interval_s - 1e-9));
+  num_steps_ = output_count(schedule);
   spdlog::info("explicit: stability limit 2/omega_max = {:.4g} s ({} power iterations), CFL rule {:.4g} s; "
                "substep dt = {:.4g} s, {} substeps per output, {} outputs",
                dt_stability_, iters, dt_cfl_, dt_, per_output, num_steps_);

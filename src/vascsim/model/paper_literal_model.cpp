@@ -20,7 +20,7 @@ namespace {
 
 constexpr int kPowerIterations = 60;        // as ExplicitModel
 
-// The paper's pipeline: literal strain, no stabiliser, no volume term (MODEL.md 3.1 step 1).
+// The paper's pipeline: literal strain, no stabiliser, no volume term (docs/model.md section 19.5 step 1).
 EnergyOptions literal_energy_options() {
   EnergyOptions o;
   o.strain = StrainMeasure::MuellerNoHalf;
@@ -74,6 +74,7 @@ PaperLiteralSettings read_paper_literal_settings(JsonReader& pl) {
   s.ramp_time_s = schedule.ramp_time_s;
   s.output_interval_s = schedule.output_interval_s;
   s.step_s = pl.number("step_s", d.step_s, 1e-9, 1.0);
+  check_step_count(pl, schedule, s.step_s, "step_s");
   s.iterations = pl.integer("iterations", d.iterations, 1, 1000);
   s.stretch_stiffness = pl.number("stretch_stiffness", d.stretch_stiffness, 0.0, 1.0);
   s.energy_stiffness = pl.number("energy_stiffness", d.energy_stiffness, 0.0, 1.0);
@@ -155,11 +156,12 @@ PaperLiteralModel::PaperLiteralModel(const Problem& problem, const PaperLiteralS
   ke_prime_ = constraints::pbd_iteration_stiffness(s.energy_stiffness, s.iterations);
 
   // Whole steps per output interval, so output times are exact.
-  const long long per_output = static_cast<long long>(std::ceil(s.output_interval_s / s.step_s - 1e-9));
+  const TimeSchedule schedule{s.duration_s, s.ramp_time_s, s.output_interval_s};
+  const long long per_output = whole_steps_per_output(schedule, s.step_s, "paper_literal.step_s");
   dt_ = s.output_interval_s / static_cast<double>(per_output);
-  num_steps_ = static_cast<int>(std::ceil(s.duration_s / s.output_interval_s - 1e-9));
+  num_steps_ = output_count(schedule);
 
-  // MODEL.md 3.1: report the explicit limit of the literal forces; above it only PBD keeps the run bounded.
+  // docs/model.md section 19.5: report the explicit limit of the literal forces; above it only PBD keeps the run bounded.
   int power_its = 0;
   const double omega = max_angular_frequency(impl_->literal_problem, x_, kPowerIterations, 1e-4, &power_its);
   dt_explicit_ = omega > 0.0 ? 2.0 / (1.05 * omega) : INFINITY;
@@ -178,7 +180,7 @@ PaperLiteralModel::PaperLiteralModel(const Problem& problem, const PaperLiteralS
     spdlog::warn(
         "paper_literal: dt = {:.3g} s is {:.3g}x the explicit stability limit {:.3g} s of the literal "
         "forces; only the PBD constraints can keep the run bounded, and their stiffness depends on dt, "
-        "n and k (MODEL.md 1.12)",
+        "n and k (docs/model.md section 19.5)",
         dt_, dt_ / dt_explicit_, dt_explicit_);
 }
 

@@ -80,7 +80,7 @@ Mat3 PointPrimitiveEnergy::weighted_stress(Index i, const Mat3& F, EnergyBreakdo
     const Mat3 eps = F.transpose() * F - I;  // Eq. 5 as printed (no 1/2)
     const double tr = eps.trace();
     const Mat3 sigma = lambda_ * tr * I + 2.0 * mu_ * eps;
-    Pt = 2.0 * V * (F * sigma);  // Mueller's F_e = -2 v J sigma (MODEL.md 1.8)
+    Pt = 2.0 * V * (F * sigma);  // Mueller's F_e = -2 v J sigma (docs/model.md section 8)
     if (e) e->strain += 0.5 * V * (eps.cwiseProduct(sigma)).sum();
   }
   if (opt_.volume_stiffness_pa > 0.0) {

@@ -1,8 +1,8 @@
 #pragma once
 // Elastic energy, forces and Hessian-vector products of the point-primitive (meshless) model,
-// MODEL.md 1.6-1.9: SVK strain energy per node (sound) or Mueller's no-1/2 strain (paper literal),
+// docs/model.md sections 6-9: SVK strain energy per node (sound) or Mueller's no-1/2 strain (paper literal),
 // Mueller's volume term k_v and the zero-energy-mode stabiliser alpha_hg. Forces are assembled in the
-// gather form of MODEL.md 1.8 (two passes over nodes, no atomics), parallel over nodes with OpenMP.
+// gather form of docs/model.md section 8 (two passes over nodes, no atomics), parallel over nodes with OpenMP.
 
 #include <memory>
 #include <vector>
@@ -21,8 +21,8 @@ enum class StrainMeasure {
 
 struct EnergyOptions {
   StrainMeasure strain = StrainMeasure::GreenHalf;
-  double volume_stiffness_pa = 0.0;  ///< k_v of MODEL.md 1.9a (0 <= k_v; lambda is reduced by k_v to keep E, nu)
-  double stabilizer_alpha = 0.1;     ///< alpha_hg of MODEL.md 1.9b (0 disables)
+  double volume_stiffness_pa = 0.0;  ///< k_v of docs/model.md section 9.1 (0 <= k_v; lambda is reduced by k_v to keep E, nu)
+  double stabilizer_alpha = 0.1;     ///< alpha_hg of docs/model.md section 9.2 (0 disables)
   /// The strain-energy law psi(F) (model/materials/). Null: the built-in SVK of the Material's E and nu
   /// (the default, and the only one the literal strain applies to). With a law, the small-strain moduli of
   /// the law set lambda and mu for the stabiliser and the preconditioner.
@@ -49,7 +49,7 @@ class PointPrimitiveEnergy {
   double strain_lambda() const { return lambda_; }
   double shear_modulus() const { return mu_; }
   /// Stabiliser coefficient per node, c_i = alpha_hg mu V_i / tr(A_i), N m^2 (c_i w_ij is a pair stiffness in N/m;
-  /// MODEL.md 1.9b): node i's
+  /// docs/model.md section 9.2): node i's
   /// stabiliser energy is c_i/2 sum_j w_ij |r_ij|^2. All zero when alpha_hg = 0.
   const std::vector<double>& stabilizer_coefficients() const { return stab_c_; }
 
@@ -66,12 +66,19 @@ class PointPrimitiveEnergy {
   };
   Linearization linearize(const Vec3Array& x) const;
 
+  /// The MLS deformation gradient F_i of node i in configuration x (1 at rest): det F_i <= 0 is an inverted node.
+  Mat3 deformation_gradient(Index i, const Vec3Array& x) const {
+    Vec3 weighted_sum;
+    double weighted_squares = 0.0;
+    return gradient_and_moments(i, x, weighted_sum, weighted_squares);
+  }
+
   /// Hessian-vector product: out = (d^2 U / dx^2)(x) v, N per m of v. Exact (analytic) for every term.
   void hessian_product(const Vec3Array& x, const Vec3Array& v, Vec3Array& out) const;
   void hessian_product(const Linearization& lin, const Vec3Array& v, Vec3Array& out) const;
 
  private:
-  // Pass 1 of MODEL.md 1.8 for one node: V_i P_i (+ volume term), and the energy.
+  // Pass 1 of docs/model.md section 8 for one node: V_i P_i (+ volume term), and the energy.
   Mat3 weighted_stress(Index i, const Mat3& F, EnergyBreakdown* e) const;
   // Stress S (SVK) or sigma (literal) of F, Pa.
   Mat3 stress(const Mat3& F) const;

@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/model/inversion_check.hpp"
 #include "vascsim/model/tet_stiffness.hpp"
 
 namespace vascsim {
@@ -171,7 +172,31 @@ void QuasiStaticModel::finish_step(double s, double res, StepReport& rep) {
 }
 
 StepReport QuasiStaticModel::advance(int k) {
-  return solve(static_cast<double>(k) / settings_.load_steps);
+  return solve_without_inversion(s_, static_cast<double>(k) / settings_.load_steps, 0);
+}
+
+StepReport QuasiStaticModel::solve_without_inversion(double s_from, double s, int depth) {
+  constexpr int kMaxHalvings = 6;  // down to 1/64 of a load step
+  // With tools, contact may fold the lattice under a tool's rim at any step size: run/simulation.cpp counts it.
+  if (!problem_.tools().empty()) return solve(s);
+  const Vec3Array x = x_, x_prev = x_prev_;
+  const double s_now = s_, s_prev = s_prev_;
+  const int unconverged = unconverged_steps_;
+  StepReport rep = solve(s);
+  const InversionReport inversion = check_inversion(problem_, x_);
+  if (!inversion.any()) return rep;
+  if (depth == kMaxHalvings)
+    throw NumericalError(fmt::format("quasi_static: load factor {:.6g}: {}, even in load steps of 1/{} of the scene's; "
+                                     "the load inverts the material (too large a displacement or force?)",
+                                     s, inversion.describe(), 1 << kMaxHalvings));
+  spdlog::info("quasi_static: load factor {:.6g}: {}; two half steps instead", s, inversion.describe());
+  x_ = x, x_prev_ = x_prev, s_ = s_now, s_prev_ = s_prev, unconverged_steps_ = unconverged;
+  const double mid = 0.5 * (s_from + s);
+  const StepReport first = solve_without_inversion(s_from, mid, depth + 1);
+  StepReport second = solve_without_inversion(mid, s, depth + 1);
+  second.iterations += first.iterations + rep.iterations;
+  second.inner_iterations += first.inner_iterations + rep.inner_iterations;
+  return second;
 }
 
 nlohmann::json QuasiStaticModel::info() const {

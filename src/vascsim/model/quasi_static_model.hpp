@@ -1,6 +1,6 @@
 #pragma once
 // `quasi_static`: static equilibrium at each load step by minimising the total potential
-// Pi(x) = U(x) - f_ext . x over the free nodes (MODEL decision 4; docs/model.md section 13). Truncated Newton:
+// Pi(x) = U(x) - f_ext . x over the free nodes (docs/model.md design decision 4; docs/model.md section 13). Truncated Newton:
 // the Newton system H dx = r is solved by preconditioned conjugate gradients on analytic Hessian-vector
 // products, with the linear-elastic stiffness of the virtual tetrahedra (incomplete or exact Cholesky,
 // factorised once) as the preconditioner; negative curvature stops CG early; a backtracking Armijo line
@@ -77,6 +77,9 @@ class QuasiStaticModel final : public Model, public DeviceDrivenModel {
 
   /// Solves for equilibrium at load factor s starting from the current state (also used by experiments).
   StepReport solve(double s);
+  // solve(s) from load factor s_from; an equilibrium with inverted material (model/inversion_check.hpp) is
+  // undone and s reached in two half steps, at most kMaxHalvings deep, then a NumericalError.
+  StepReport solve_without_inversion(double s_from, double s, int depth);
 
  private:
   // One load step, in the order solve() runs them.

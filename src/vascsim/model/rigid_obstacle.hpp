@@ -1,5 +1,5 @@
 #pragma once
-// Rigid tools in contact with the tissue (MODEL.md 3.3 contact): spheres, capsules and the catheter, a
+// Rigid tools in contact with the tissue (docs/model.md section 19 contact): spheres, capsules and the catheter, a
 // capsule with a rounded tip on a short shaft. A tool is placed either by the load factor s (translated by
 // s * motion_m: quasi-static indentation, scripted pushes) or by a device pose (the haptic session), and
 // both models that support contact (xpbd, quasi_static) see the same geometry through obstacle_contact().

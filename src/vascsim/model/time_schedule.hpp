@@ -4,6 +4,7 @@
 // model's settings block.
 
 #include <algorithm>
+#include <string>
 
 #include "vascsim/core/json_reader.hpp"
 
@@ -15,14 +16,27 @@ struct TimeSchedule {
   double output_interval_s = 1e-3;  ///< time between output points, s
 };
 
+/// At most this many output points per run (rows of probes.csv, entries of summary.json).
+inline constexpr double kMaxOutputs = 1e6;
+/// At most this many steps (substeps, frames) per output interval and over the whole run: beyond these a run
+/// would not finish in any useful time, and the counts would overflow.
+inline constexpr double kMaxStepsPerOutput = 1e9;
+inline constexpr double kMaxStepsPerRun = 1e10;
+
 /// Reads duration_s, ramp_time_s and output_interval_s from a model's block, with `defaults` for absent keys.
-inline TimeSchedule read_time_schedule(JsonReader& block, const TimeSchedule& defaults = {}) {
-  TimeSchedule s;
-  s.duration_s = block.number("duration_s", defaults.duration_s, 1e-9, 1e4);
-  s.ramp_time_s = block.number("ramp_time_s", defaults.ramp_time_s, 0.0, 1e4);
-  s.output_interval_s = block.number("output_interval_s", defaults.output_interval_s, 1e-9, 1e4);
-  return s;
-}
+/// More than kMaxOutputs output points is an InputError at output_interval_s.
+TimeSchedule read_time_schedule(JsonReader& block, const TimeSchedule& defaults = {});
+
+/// The number of output points of a schedule (at least 1).
+int output_count(const TimeSchedule& s);
+
+/// Whole steps of at most step_s per output interval (so that output times are exact). Throws InputError
+/// naming `key` (e.g. "explicit.dt_s") when that is more than kMaxStepsPerOutput per output or
+/// kMaxStepsPerRun in all; warns when output_interval_s is shorter than step_s (the step then shrinks to it).
+long long whole_steps_per_output(const TimeSchedule& s, double step_s, const std::string& key);
+
+/// The same check at read time: fails at `step_key` of `block`.
+void check_step_count(JsonReader& block, const TimeSchedule& s, double step_s, const std::string& step_key);
 
 /// The load factor at time t of a linear ramp over ramp_time_s (1 at once for no ramp).
 inline double ramped_load_factor(double t_s, double ramp_time_s) {

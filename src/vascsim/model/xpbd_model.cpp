@@ -43,6 +43,7 @@ XpbdSettings read_xpbd_settings(JsonReader& xp) {
   s.output_interval_s = schedule.output_interval_s;
   s.step_s = xp.number("step_s", 1e-3, 1e-9, 1.0);
   s.substeps = xp.integer("substeps", XpbdSettings{}.substeps, 1, 10000);
+  check_step_count(xp, schedule, s.step_s / s.substeps, "step_s");
   s.iterations = xp.integer("iterations", XpbdSettings{}.iterations, 1, 1000);
   s.damping_per_s = xp.number("damping_per_s", 10.0, 0.0, 1e6);
   s.elastic = xp.string("elastic", "meshless_strain", {"meshless_strain", "tet_neo_hookean"}) == "meshless_strain"
@@ -100,11 +101,12 @@ XpbdModel::XpbdModel(const Problem& problem, const XpbdSettings& s) : problem_(p
   parallel_ = n >= kParallelMinNodes;
 
   // Whole steps per output interval, so output times are exact; then n_sub substeps per step.
-  const long long per_output = static_cast<long long>(std::ceil(s.output_interval_s / s.step_s - 1e-9));
+  const TimeSchedule schedule{s.duration_s, s.ramp_time_s, s.output_interval_s};
+  const long long per_output = whole_steps_per_output(schedule, s.step_s, "xpbd.step_s");
   step_ = s.output_interval_s / static_cast<double>(per_output);
   h_ = step_ / s.substeps;
   inv_h2_ = 1.0 / (h_ * h_);
-  num_steps_ = static_cast<int>(std::ceil(s.duration_s / s.output_interval_s - 1e-9));
+  num_steps_ = output_count(schedule);
 
   if (s.elastic == XpbdElastic::MeshlessStrain)
     setup_meshless();
@@ -268,7 +270,7 @@ void XpbdModel::project_node(Index i) {
   const PairTable& P = disc.pairs();
   const Index begin = P.row_start[i], end = P.row_start[i + 1];
   const Vec3& d_self = disc.self_d()[i];
-  // Strain block: c = s Mandel(E), E = 1/2 (F^T F - I), F = sum_j (p_j - p_i) d_ij^T (MODEL.md 1.6).
+  // Strain block: c = s Mandel(E), E = 1/2 (F^T F - I), F = sum_j (p_j - p_i) d_ij^T (docs/model.md section 6).
   Mat3 F = Mat3::Zero();
   for (Index e = begin; e < end; ++e) F.noalias() += (p_[P.col[e]] - p_[i]) * P.d[e].transpose();
   Mat3 G;
@@ -335,7 +337,7 @@ Mat3 XpbdModel::svk_strain_correction(Index i, const Mat3& F) {
 }
 
 void XpbdModel::project_stabiliser(Index i, const Mat3& F) {
-  // Stabiliser (MODEL.md 1.9b): U_i = c_i/2 sum_j w_ij |r_ij|^2, r_ij = p_j - p_i - F_i X_ij. F_i is the
+  // Stabiliser (docs/model.md section 9.2): U_i = c_i/2 sum_j w_ij |r_ij|^2, r_ij = p_j - p_i - F_i X_ij. F_i is the
   // weighted least-squares fit of the neighbourhood, so dU_i/dF_i = (sum_j w_ij r_ij X_ij^T) A_i^{-1} = 0 and
   // the gradients with F_i frozen are exact: each pair is a 3-vector constraint with grad_j = I,
   // grad_i = -I and compliance 1/(c_i w_ij). F is the fit after the elastic correction, obtained without a

@@ -88,6 +88,17 @@ class Renderer {
 
  private:
   struct Impl;
+  struct View;  // the pose, the projection and the lights of one picture
+  // upload() in steps; each returns the bytes it sent.
+  std::size_t upload_per_frame_arrays(const RenderFrame& frame);
+  std::size_t upload_topology(const RenderFrame& frame);
+  std::size_t upload_tools_and_arrow(const RenderFrame& frame);
+  std::size_t upload_overlays(const RenderFrame& frame);
+  void draw_fluoroscopy(const View& view, const RenderSettings& settings, unsigned framebuffer, int width, int height);
+  void draw_lit_background(const RenderSettings& settings, unsigned framebuffer);
+  void draw_wall(const View& view, const OrbitCamera& camera, const RenderSettings& settings);
+  void draw_solids(const View& view, const RenderSettings& settings);
+  void draw_overlays(const View& view, const RenderSettings& settings);
   std::unique_ptr<Impl> impl_;
   FrameTiming timing_;
 };

@@ -27,7 +27,7 @@ Body body_from_mesh(const MeshGeometrySpec& spec) {
 Body build_body(const GeometrySpec& spec) {
   if (spec.type == "tube") {
     SweptVesselSpec ss{spec.tube.outer_radius_m, spec.tube.wall_thickness_m, spec.tube.node_spacing_m,
-                       std::max(3, spec.tube.min_layers)};
+                       std::max(3, spec.tube.min_layers), spec.tube.lattice_angle_deg};
     return body_from_tube(make_tube(spec.tube), make_swept_vessel(straight_centerline(spec.tube.length_m), ss));
   }
   if (spec.type == "vessel") {
@@ -38,7 +38,7 @@ Body build_body(const GeometrySpec& spec) {
         : c.type == "s"      ? s_centerline(c.radius_of_curvature_m, c.angle_deg, c.leg_length_m)
                              : Centerline(c.points_m));
     SweptVesselSpec ss{spec.tube.outer_radius_m, spec.tube.wall_thickness_m, spec.tube.node_spacing_m,
-                       spec.tube.min_layers};
+                       spec.tube.min_layers, spec.tube.lattice_angle_deg};
     return body_from_swept_vessel(make_swept_vessel(*line, ss), line);
   }
   if (spec.type == "mesh") return body_from_mesh(spec.mesh);

@@ -57,7 +57,8 @@ DeviceLimits scripted_device_limits(const HapticsSpec& haptics) {
   return l;
 }
 
-HapticRig::HapticRig(DeviceDrivenModel& model, const Scene& scene, Device& device, const HapticRigOptions& options)
+// The loop's parts check their settings (the coupling's stability, the clamp); a failure names the scene's keys.
+HapticRig::HapticRig(DeviceDrivenModel& model, const Scene& scene, Device& device, const HapticRigOptions& options) try
     : device_(device),
       tool_(options.tool),
       start_time_s_(options.start_time_s),
@@ -72,6 +73,9 @@ HapticRig::HapticRig(DeviceDrivenModel& model, const Scene& scene, Device& devic
   last_pose_.time_s = first.time_s;
   last_pose_.set_position(first.position_m);
   last_pose_.set_orientation(first.orientation);
+} catch (const InputError& e) {
+  throw InputError(fmt::format("{}: key 'haptics' (rate_hz = {} Hz, force_limit_n = {} N, coupling): {}", scene.file,
+                               scene.haptics.rate_hz, scene.haptics.force_limit_n, e.what()));
 }
 
 void HapticRig::tick_through(std::size_t k) {

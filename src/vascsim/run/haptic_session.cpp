@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/interrupt.hpp"
 #include "vascsim/core/statistics.hpp"
 #include "vascsim/core/stopwatch.hpp"
 #include "vascsim/interaction/session_recording.hpp"
@@ -39,35 +40,74 @@ class ProgressThrottle {
   double duration_, last_ = -1.0;
 };
 
+// The frames of a session: every one, or (keep_ticks false: soaks) the newest kRecentFrames in a ring, so that
+// memory stays constant however long the session runs; the count and the largest force cover all of them.
+class FrameLog {
+ public:
+  static constexpr std::size_t kRecentFrames = 1 << 16;
+  FrameLog(bool keep_all, std::size_t expected) : keep_all_(keep_all) {
+    frames_.reserve(keep_all ? expected : kRecentFrames);
+  }
+  void add(const FrameSample& s) {
+    max_force_n_ = std::max(max_force_n_, s.force_n.norm());
+    touched_ = touched_ || s.contacts > 0 || s.force_n.norm() > 0.0;
+    if (!s.converged) ++unconverged_;
+    if (keep_all_ || frames_.size() < kRecentFrames)
+      frames_.push_back(s);
+    else
+      frames_[count_ % kRecentFrames] = s;
+    ++count_;
+  }
+  /// Every frame in order, or the newest kRecentFrames (in ring order).
+  const std::vector<FrameSample>& frames() const { return frames_; }
+  std::size_t count() const { return count_; }
+  double max_force_n() const { return max_force_n_; }
+  /// Frames that did not converge, of all of them.
+  std::size_t unconverged() const { return unconverged_; }
+  /// Whether any frame had a contact or a force on the tool.
+  bool touched() const { return touched_; }
+
+ private:
+  bool keep_all_;
+  std::vector<FrameSample> frames_;
+  std::size_t count_ = 0;
+  double max_force_n_ = 0.0;
+  std::size_t unconverged_ = 0;
+  bool touched_ = false;
+};
+
 // Lockstep: one thread; the loop ticks at the nominal times and the model steps every ticks_per_step ticks
-// with the pose of that tick. Deterministic.
-void run_lockstep(const Scene& scene, std::size_t n_ticks, HapticRig& rig, std::vector<FrameSample>& history,
+// with the pose of that tick. Deterministic. Returns false when interrupted (at a frame boundary).
+bool run_lockstep(const Scene& scene, std::size_t n_ticks, HapticRig& rig, FrameLog& history,
                   const std::function<void()>& after_frame, ProgressThrottle& progress) {
   const double period = 1.0 / scene.haptics.rate_hz;
   const auto per_frame = static_cast<std::size_t>(scene.haptics.ticks_per_step);
   for (std::size_t k = 0; k < n_ticks; k += per_frame) {
-    history.push_back(rig.lockstep_frame(k));
+    if (interrupt_requested()) return false;
+    history.add(rig.lockstep_frame(k));
     after_frame();
     progress(static_cast<double>(k) * period);
   }
   rig.tick_through(n_ticks - 1);
+  return true;
 }
 
 // Realtime: the haptic loop on its own thread at wall-clock rate, the model on this thread as fast as it can
-// (never ahead of the wall clock); only the two LatestValue hand-offs are shared.
-void run_realtime(const SessionInputs& in, HapticRig& rig, DeviceDrivenModel& model, std::vector<FrameSample>& history,
+// (never ahead of the wall clock); only the two LatestValue hand-offs are shared. Returns false when
+// interrupted.
+bool run_realtime(const SessionInputs& in, HapticRig& rig, DeviceDrivenModel& model, FrameLog& history,
                   const std::function<void()>& after_frame, ProgressThrottle& progress) {
   const DeformationThreads threads;
   rig.start();
   try {
     const RealtimeClock clock;
     FrameSample sample;
-    while (clock.seconds() < in.duration_s) {
+    while (clock.seconds() < in.duration_s && !interrupt_requested()) {
       if (!rig.realtime_frame(sample)) {
         std::this_thread::sleep_for(std::chrono::microseconds(100));
         continue;
       }
-      history.push_back(sample);
+      history.add(sample);
       after_frame();
       progress(clock.seconds());
       clock.wait_for(model.time());
@@ -77,6 +117,7 @@ void run_realtime(const SessionInputs& in, HapticRig& rig, DeviceDrivenModel& mo
     throw;
   }
   rig.stop();
+  return !interrupt_requested();
 }
 
 std::string history_row(const FrameSample& s) {
@@ -106,13 +147,10 @@ nlohmann::json replay_comparison(const HapticRunOptions& options, const SessionR
 }
 
 nlohmann::json session_statistics(const Scene& scene, const HapticRunOptions& options, const SessionInputs& in,
-                                  const HapticRig& rig, const std::vector<FrameSample>& history, double run_s) {
+                                  const HapticRig& rig, const FrameLog& history, double run_s) {
   std::vector<double> step_ms;
-  double max_force = 0.0;
-  for (const auto& s : history) {
-    step_ms.push_back(s.wall_s * 1e3);
-    max_force = std::max(max_force, s.force_n.norm());
-  }
+  for (const auto& s : history.frames()) step_ms.push_back(s.wall_s * 1e3);
+  const double max_force = history.max_force_n();
   const HapticsSpec& spec = scene.haptics;
   nlohmann::json haptics = {
       {"mode", in.mode},
@@ -121,9 +159,9 @@ nlohmann::json session_statistics(const Scene& scene, const HapticRunOptions& op
       {"trajectory", options.replay.empty() ? spec.trajectory : options.replay.string()},
       {"duration_s", in.duration_s},
       {"rate_hz", spec.rate_hz},
-      {"ticks", rig.recording().size()},
-      {"simulation_steps", history.size()},
-      {"deformation_rate_hz", run_s > 0.0 ? static_cast<double>(history.size()) / run_s : 0.0},
+      {"ticks", rig.loop().stats().ticks},
+      {"simulation_steps", history.count()},
+      {"deformation_rate_hz", run_s > 0.0 ? static_cast<double>(history.count()) / run_s : 0.0},
       {"step_wall_ms",
        {{"p50", quantile(step_ms, 0.5)},
         {"p99", quantile(step_ms, 0.99)},
@@ -136,15 +174,23 @@ nlohmann::json session_statistics(const Scene& scene, const HapticRunOptions& op
   return haptics;
 }
 
+// force_history.csv, session.csv, haptic_ticks.csv and the --record file (sessions that keep their ticks).
+void write_session_files(const OutputWriter& out, const HapticRunOptions& options, const HapticRig& rig,
+                         const FrameLog& history) {
+  CsvTable history_csv = out.table("force_history.csv", force_history_columns());
+  for (const auto& s : history.frames()) history_csv.add_row(history_row(s));
+  rig.recording().write_csv(out.path("session.csv"));
+  rig.recording().write_ticks_csv(out.path("haptic_ticks.csv"));
+  if (!options.record.empty()) rig.recording().write_csv(options.record);
+}
+
 // What the finished session found suspicious, one line each: a tool that never touched the tissue.
 std::vector<std::string> session_warnings(const Scene& scene, const SessionInputs& in,
-                                          const std::vector<FrameSample>& history) {
-  const bool touched = std::any_of(history.begin(), history.end(),
-                                   [](const FrameSample& f) { return f.contacts > 0 || f.force_n.norm() > 0.0; });
-  if (touched || history.empty()) return {};
+                                          const FrameLog& history) {
+  if (history.touched() || history.count() == 0) return {};
   return {fmt::format("the tool '{}' never touched the tissue (no contact and zero force in all {} frames): check the "
                       "positions of the trajectory (haptics.device.trajectory, m)",
-                      scene.obstacles[in.tool].name, history.size())};
+                      scene.obstacles[in.tool].name, history.count())};
 }
 
 }  // namespace
@@ -195,26 +241,22 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   };
   auto after_frame = [&]() {
     ++frames;
+    // Inverted material ends the session (exit 3), checked at the output interval: O(nodes) per check.
+    if (frames % frames_per_output == 0)
+      sim.check_state(fmt::format("frame {} (t = {:.6g} s)", frames, model.time()));
     write_frame();
   };
 
-  std::vector<FrameSample> history;
-  history.reserve(n_ticks / static_cast<std::size_t>(spec.ticks_per_step) + 16);
+  FrameLog history(options.keep_ticks, n_ticks / static_cast<std::size_t>(spec.ticks_per_step) + 16);
   write_frame();
   ProgressThrottle progress(options, in.duration_s);
   const Stopwatch run;
-  if (in.mode == "lockstep")
-    run_lockstep(scene, n_ticks, rig, history, after_frame, progress);
-  else
-    run_realtime(in, rig, model, history, after_frame, progress);
+  const bool completed = in.mode == "lockstep" ? run_lockstep(scene, n_ticks, rig, history, after_frame, progress)
+                                               : run_realtime(in, rig, model, history, after_frame, progress);
   const double run_s = run.seconds();
   if (options.on_progress) options.on_progress(in.duration_s, in.duration_s);
 
-  CsvTable history_csv = out.table("force_history.csv", force_history_columns());
-  for (const auto& s : history) history_csv.add_row(history_row(s));
-  rig.recording().write_csv(out.path("session.csv"));
-  rig.recording().write_ticks_csv(out.path("haptic_ticks.csv"));
-  if (!options.record.empty()) rig.recording().write_csv(options.record);
+  if (options.keep_ticks) write_session_files(out, options, rig, history);
 
   for (const std::string& w : session_warnings(scene, in, history)) {
     spdlog::warn("{}", w);
@@ -223,12 +265,15 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
 
   nlohmann::json summary = describe_run(scene, sim);
   summary["haptics"] = session_statistics(scene, options, in, rig, history, run_s);
-  summary["unconverged_frames"] = std::count_if(history.begin(), history.end(), [](const FrameSample& f) { return !f.converged; });
+  summary["interrupted"] = !completed;
+  summary["inverted_steps"] = sim.inverted_steps();
+  summary["unconverged_frames"] = history.unconverged();
   summary["warnings"] = warnings;
   summary["timings_s"] = {{"setup", setup_s}, {"session", run_s}, {"total", total.seconds()}};
-  summary["outputs"] = {{"force_history_csv", "force_history.csv"},
-                        {"session_csv", "session.csv"},
-                        {"haptic_ticks_csv", "haptic_ticks.csv"},
+  const bool ticks = options.keep_ticks;
+  summary["outputs"] = {{"force_history_csv", ticks ? "force_history.csv" : ""},
+                        {"session_csv", ticks ? "session.csv" : ""},
+                        {"haptic_ticks_csv", ticks ? "haptic_ticks.csv" : ""},
                         {"surface", surface ? surface_series.pvd_relative() : ""},
                         {"tools", tool_series.pvd_relative()}};
   out.write_summary(summary);

@@ -37,6 +37,9 @@ struct HapticRunOptions {
   /// the scene's scripted one; it must outlive the call. Its poses are scene positions (m) and its limits
   /// cap the clamp. The session then lasts haptics.duration_s (required).
   Device* device = nullptr;
+  /// false (soaks): no tick or frame is kept, so memory stays constant however long the session runs; no
+  /// force_history.csv, session.csv or haptic_ticks.csv, and the frame statistics cover the newest 65,536 frames.
+  bool keep_ticks = true;
   /// Called now and then with (session time done, session length), s.
   std::function<void(double, double)> on_progress;
   /// Run while the simulation is built (e.g. a limit on the node count).

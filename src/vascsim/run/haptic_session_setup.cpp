@@ -46,9 +46,13 @@ SessionInputs read_session_inputs(const Scene& scene, const HapticRunOptions& op
   }
   in.duration_s = spec.duration_s > 0.0 ? spec.duration_s
                                         : in.trajectory.end_time_s() - in.trajectory.start_time_s();
+  const std::string source = options.replay.empty() ? spec.trajectory : options.replay.string();
   if (!(in.duration_s > 0.0))
-    throw InputError(fmt::format("{}: the trajectory has no duration (one sample): set haptics.duration_s",
-                                 options.replay.empty() ? spec.trajectory : options.replay.string()));
+    throw InputError(fmt::format("{}: the trajectory has no duration (one sample): set haptics.duration_s", source));
+  if (!(in.duration_s * spec.rate_hz <= kMaxSessionTicks))
+    throw InputError(fmt::format("{}: the trajectory lasts {:.6g} s, {:.3g} ticks at {} Hz; a session may have at "
+                                 "most {:.0e} (every tick is kept in memory): shorten it or set haptics.duration_s",
+                                 source, in.duration_s, in.duration_s * spec.rate_hz, spec.rate_hz, kMaxSessionTicks));
   return in;
 }
 
@@ -66,8 +70,11 @@ SessionSetup::SessionSetup(const Scene& scene, const HapticRunOptions& options)
     scripted_->reserve_forces(ticks_ + 16);
     device_ = scripted_.get();
   }
+  if (!options.keep_ticks && !options.record.empty())
+    throw InputError("a session that keeps no ticks cannot write a recording (--record)");
   rig_ = std::make_unique<HapticRig>(*model_, scene, *device_,
-                                     HapticRigOptions{inputs_.tool, inputs_.trajectory.start_time_s(), true, ticks_ + 16});
+                                     HapticRigOptions{inputs_.tool, inputs_.trajectory.start_time_s(),
+                                                      options.keep_ticks, options.keep_ticks ? ticks_ + 16 : 0});
 }
 
 double SessionSetup::frames() const { return std::ceil(inputs_.duration_s / model_->frame_length_s() - 1e-9); }

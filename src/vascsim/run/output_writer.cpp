@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "vascsim/core/atomic_file.hpp"
 #include "vascsim/core/error.hpp"
 
 namespace vascsim {
@@ -53,15 +54,12 @@ OutputWriter::OutputWriter(fs::path dir) : dir_(std::move(dir)) {
 }
 
 void OutputWriter::write_json(const std::string& name, const nlohmann::json& content) const {
-  write_text(name, content.dump(2) + "\n");
+  // Text that is not UTF-8 (a scene path in another encoding) is written with U+FFFD, never an exception.
+  write_text(name, content.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
 void OutputWriter::write_text(const std::string& name, const std::string& content) const {
-  const fs::path file = path(name);
-  std::ofstream out(file);
-  out << content;
-  out.close();
-  if (!out) throw InputError(fmt::format("{}: cannot write", file.string()));
+  write_file_atomically(path(name), content);
 }
 
 }  // namespace vascsim

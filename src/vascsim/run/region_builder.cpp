@@ -8,11 +8,11 @@
 
 namespace vascsim {
 
-namespace {
-
-double patch_center_s(const SelectorSpec& s, const WallCoordinates& wall) {
+double wall_patch_center_s(const SelectorSpec& s, const WallCoordinates& wall) {
   return s.s_center_fraction >= 0.0 ? s.s_center_fraction * wall.length_m : s.s_center_m;
 }
+
+namespace {
 
 std::vector<char> select_nodes(const SelectorSpec& s, const RegionSpec& reg, const Scene& scene,
                                const Discretization& disc, const Body& body) {
@@ -42,7 +42,7 @@ std::vector<char> select_nodes(const SelectorSpec& s, const RegionSpec& reg, con
     } else {
       const bool on_surface = s.surface == "outer" ? wall->on_outer(n) : wall->on_inner(n);
       if (s.type == "wall_patch") {
-        const double s_center = patch_center_s(s, *wall);
+        const double s_center = wall_patch_center_s(s, *wall);
         const double dtheta = std::remainder(wall->theta_deg[i] - s.angle_center_deg, 360.0);
         hit = on_surface && std::abs(dtheta) <= s.angle_half_width_deg + 1e-9 &&
               std::abs(wall->s_m[i] - s_center) <= s.s_half_length_m + tol;
@@ -58,7 +58,7 @@ std::vector<char> select_nodes(const SelectorSpec& s, const RegionSpec& reg, con
 // The "inward" direction of a patch: into the wall at the patch centre (wall_patch: minus the radial
 // direction of the centre-line frame; surface_patch: minus the mean outward normal of its nodes).
 Vec3 inward_direction(const SelectorSpec& s, const WallCoordinates& wall, const std::vector<Index>& nodes) {
-  if (s.type == "wall_patch") return -wall.radial(patch_center_s(s, wall), s.angle_center_deg);
+  if (s.type == "wall_patch") return -wall.radial(wall_patch_center_s(s, wall), s.angle_center_deg);
   Vec3 sum = Vec3::Zero();
   for (Index i : nodes) sum += wall.outward[static_cast<std::size_t>(i)];
   return -sum.normalized();

@@ -12,6 +12,9 @@
 
 namespace vascsim {
 
+/// Arc length (m) of a wall patch's centre: s_center_fraction of the length, or s_center_m.
+double wall_patch_center_s(const SelectorSpec& s, const WallCoordinates& wall);
+
 /// Selects the nodes of every region and turns the scene's boundary conditions into Regions. Throws
 /// InputError naming the region for a selector that selects nothing or does not fit the geometry.
 std::vector<Region> build_regions(const Scene& scene, const Discretization& disc, const Body& body);

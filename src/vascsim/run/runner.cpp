@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/interrupt.hpp"
 #include "vascsim/core/stopwatch.hpp"
 #include "vascsim/model/registry.hpp"
 #include "vascsim/run/output_writer.hpp"
@@ -59,6 +60,13 @@ nlohmann::json step_json(const Scene& scene, const StepRecord& r) {
           {"probes", probes}};
 }
 
+// What each region selected beside what was asked (the warnings were logged when the simulation was built).
+nlohmann::json region_reports(const Simulation& sim) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const RegionSelection& r : sim.region_selections()) out.push_back(r.report);
+  return out;
+}
+
 }  // namespace
 
 std::vector<std::string> probe_columns(const Scene& scene) {
@@ -93,7 +101,8 @@ nlohmann::json describe_run(const Scene& scene, Simulation& sim) {
           {"volume_m3", disc.total_volume()},
           {"mass_kg", std::accumulate(disc.masses().begin(), disc.masses().end(), 0.0)},
           {"solver", sim.model().info()},
-          {"threads", omp_get_max_threads()}};
+          {"threads", omp_get_max_threads()},
+          {"regions", region_reports(sim)}};
 }
 
 nlohmann::json surface_map_info(Simulation& sim) {
@@ -121,32 +130,48 @@ std::unique_ptr<Simulation> build_run(const Scene& scene, const BuildChecks& che
 
 namespace {
 
-// What the finished run found suspicious, one line each: a tool that never touched the tissue, load steps that
-// did not converge while a tool was in contact.
-std::vector<std::string> run_warnings(const Scene& scene, Simulation& sim, const std::vector<StepRecord>& records) {
-  std::vector<std::string> warnings;
-  for (std::size_t o = 0; o < scene.obstacles.size(); ++o) {
-    bool touched = false;
-    for (const StepRecord& r : records)
-      touched = touched || (o < r.obstacles.size() && (r.obstacles[o].contacts > 0 || r.obstacles[o].force_n.norm() > 0.0));
-    if (!touched && records.size() > 1)
-      warnings.push_back(fmt::format("the tool '{}' never touched the tissue (no contact and zero force at all {} "
-                                     "output points): check obstacles.{} (m)",
-                                     scene.obstacles[o].name, records.size() - 1, o));
-  }
-  const bool dynamic = find_model(scene.model).capabilities.dynamic;
-  int in_contact = 0;
-  for (const StepRecord& r : records) {
+// What a run finds suspicious, gathered step by step (records are not kept: a dynamic run may have 10^6).
+class RunFindings {
+ public:
+  explicit RunFindings(const Scene& scene) : scene_(scene), touched_(scene.obstacles.size(), false) {}
+
+  void add(const StepRecord& r) {
     bool contact = false;
-    for (const ObstacleMeasure& m : r.obstacles) contact = contact || m.contacts > 0;
-    in_contact += !r.report.converged && contact ? 1 : 0;
+    for (std::size_t o = 0; o < r.obstacles.size() && o < touched_.size(); ++o) {
+      contact = contact || r.obstacles[o].contacts > 0;
+      touched_[o] = touched_[o] || r.obstacles[o].contacts > 0 || r.obstacles[o].force_n.norm() > 0.0;
+    }
+    unconverged_in_contact_ += !r.report.converged && contact ? 1 : 0;
+    ++records_;
   }
-  if (in_contact > 0 && !dynamic) {
-    const int steps = sim.model().num_steps();
-    warnings.push_back(fmt::format("{} of {} load steps did not converge with a tool in contact: the contact changes "
-                                   "too much in one step; use more load steps ({}.load_steps, now {}; try {})",
-                                   in_contact, steps, scene.model, steps, std::max(2 * steps, 12)));
+
+  /// One line each: a tool that never touched the tissue, load steps that did not converge while a tool was in
+  /// contact (with the load_steps value to try).
+  std::vector<std::string> warnings(int load_steps) const {
+    std::vector<std::string> out;
+    for (std::size_t o = 0; o < touched_.size(); ++o)
+      if (!touched_[o] && records_ > 1)
+        out.push_back(fmt::format("the tool '{}' never touched the tissue (no contact and zero force at all {} "
+                                  "output points): check obstacles.{} (m)",
+                                  scene_.obstacles[o].name, records_ - 1, o));
+    if (unconverged_in_contact_ > 0 && !find_model(scene_.model).capabilities.dynamic)
+      out.push_back(fmt::format("{} of {} load steps did not converge with a tool in contact: the contact changes "
+                                "too much in one step; use more load steps ({}.load_steps, now {}; try {})",
+                                unconverged_in_contact_, load_steps, scene_.model, load_steps,
+                                std::max(2 * load_steps, 12)));
+    return out;
   }
+
+ private:
+  const Scene& scene_;
+  std::vector<bool> touched_;
+  int unconverged_in_contact_ = 0;
+  std::size_t records_ = 0;
+};
+
+// Before the first step: the tools whose motion never reaches the body, one warning each (also logged).
+std::vector<std::string> tool_reach_warnings(const Scene& scene, const Simulation& sim) {
+  std::vector<std::string> warnings = tool_reach_warnings(scene, sim);
   return warnings;
 }
 
@@ -159,12 +184,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   Simulation& sim = *built;
   Model& model = sim.model();
   if (options.after_setup) options.after_setup(sim);
-  std::vector<std::string> warnings;
-  for (std::size_t o = 0; o < scene.obstacles.size(); ++o) {
-    const ToolReach reach = tool_reach_by_load(scene.obstacles[o], sim.discretization().rest_positions());
-    if (!reach.touches()) warnings.push_back(tool_reach_warning(reach, scene.obstacles[o], o));
-  }
-  for (const std::string& w : warnings) spdlog::warn("{}", w);
+  std::vector<std::string> warnings = tool_reach_warnings(scene, sim);
   CsvTable probes = out.table("probes.csv", probe_columns(scene));
 
   const bool surface = scene.output.surface;
@@ -187,11 +207,11 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   };
 
   nlohmann::json steps = nlohmann::json::array();
-  std::vector<StepRecord> records;
+  RunFindings findings(scene);
   auto record = [&](const StepRecord& r) {
     probes.add_row(csv_row(r));
     steps.push_back(step_json(scene, r));
-    records.push_back(r);
+    findings.add(r);
     write_vtk(r);
     if (options.on_step) options.on_step(r, model.num_steps());
   };
@@ -199,13 +219,19 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   record(last);
   double solve_s = 0.0;
   int unconverged = 0;
+  bool interrupted = false;
   for (int k = 1; k <= model.num_steps(); ++k) {
+    // Ctrl-C: stop at this step boundary with every file complete up to the last step.
+    if (interrupt_requested()) {
+      interrupted = true;
+      break;
+    }
     last = sim.advance(k);
     solve_s += last.wall_s;
     unconverged += last.report.converged ? 0 : 1;
     record(last);
   }
-  for (const std::string& w : run_warnings(scene, sim, records)) {
+  for (const std::string& w : findings.warnings(model.num_steps())) {
     spdlog::warn("{}", w);
     warnings.push_back(w);
   }
@@ -214,6 +240,9 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   summary.update({{"timings_s", {{"setup", sim.setup_seconds()}, {"solve", solve_s}, {"total", total.seconds()}}},
                   {"unconverged_steps", unconverged},
                   {"warnings", warnings},
+                  {"interrupted", interrupted},
+                  {"inverted_steps", sim.inverted_steps()},
+                  {"planned_steps", model.num_steps()},
                   {"steps", steps},
                   {"surface_map", surface_info},
                   {"outputs",

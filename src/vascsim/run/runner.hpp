@@ -25,6 +25,8 @@ struct RunOptions {
 /// Runs the scene and returns summary.json's content (also written). Throws InputError / NumericalError.
 /// summary.json's "warnings" lists what the run found suspicious (a tool that never touched the tissue, load
 /// steps that did not converge with a tool in contact), each also logged as a warning.
+/// After an interrupt (core/interrupt.hpp) it stops at the next step boundary: summary.json then has
+/// "interrupted": true and the steps done so far.
 nlohmann::json run_scene(const Scene& scene, const RunOptions& options);
 
 /// What run_scene builds before its first step, with the same checks and errors: the simulation (body,

@@ -12,6 +12,7 @@
 #include "vascsim/model/model.hpp"
 #include "vascsim/run/body_builder.hpp"
 #include "vascsim/run/region_builder.hpp"
+#include "vascsim/run/region_report.hpp"
 #include "vascsim/scene/scene.hpp"
 
 namespace vascsim {
@@ -56,16 +57,26 @@ class Simulation {
   SurfaceFrame surface_frame();
   Model& model() { return *model_; }
   double setup_seconds() const { return setup_s_; }
+  /// What every region selected beside what the scene asked (region_report.hpp), in scene order.
+  const std::vector<RegionSelection>& region_selections() const { return selections_; }
 
   /// The rest state (step 0).
   StepRecord initial_record() const;
-  /// Advances the model to output point k (1..num_steps) and measures it.
+  /// Advances the model to output point k (1..num_steps) and measures it. Throws NumericalError naming the
+  /// step when the state has inverted material (model/inversion_check.hpp).
   StepRecord advance(int k);
+  /// Throws NumericalError("<model>: <where>: ...") when the model's state has inverted material; in a scene
+  /// with tools it warns (the first time) and counts instead (inverted_steps()): contact folds the lattice
+  /// under a tool's rim.
+  void check_state(const std::string& where);
+  /// Checks that found inverted material under a tool's contact.
+  int inverted_steps() const { return inverted_steps_; }
   /// Reference values of the scene (e.g. the Timoshenko deflection), for summary.json; null if none.
   nlohmann::json reference(const StepRecord& last) const;
 
  private:
   void build(const BuildChecks& checks);
+  void check_motion_sizes() const;
   StepRecord measure(int step, const StepReport& report) const;
 
   Scene scene_;
@@ -76,7 +87,9 @@ class Simulation {
   std::unique_ptr<Problem> problem_;
   std::unique_ptr<Model> model_;
   std::vector<Index> probe_nodes_;
+  std::vector<RegionSelection> selections_;
   double setup_s_ = 0.0;
+  int inverted_steps_ = 0;
 };
 
 }  // namespace vascsim

@@ -9,7 +9,9 @@
 #include <cctype>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/json_file.hpp"
 #include "vascsim/core/json_reader.hpp"
+#include "vascsim/core/text.hpp"
 #include "vascsim/model/materials/law_factory.hpp"
 #include "vascsim/model/registry.hpp"
 
@@ -81,12 +83,16 @@ MeshGeometrySpec read_mesh(JsonReader& g) {
 GeometrySpec read_geometry(JsonReader g) {
   GeometrySpec s;
   s.type = g.required_string("type", {"tube", "vessel", "mesh", "box", "beam"});
+  if (s.type == "tube" || s.type == "vessel") {
+    s.lattice_angle_given = g.has("lattice_angle_deg");
+    s.tube.lattice_angle_deg = g.number("lattice_angle_deg", 0.0, -360.0, 360.0);
+  }
   if (s.type == "tube") {
     read_wall_section(g, s.tube);
     s.tube.length_m = g.required_number("length_m", 1e-7, 100.0);
   } else if (s.type == "vessel") {
     read_wall_section(g, s.tube);
-    if (s.tube.min_layers < 3) g.fail("min_layers", "a swept vessel needs at least 3 layers (MODEL.md decision 2)");
+    if (s.tube.min_layers < 3) g.fail("min_layers", "a swept vessel needs at least 3 layers (docs/model.md design decision 2)");
     if (!g.has("centerline")) g.fail("centerline", "missing; a centre-line object is required");
     s.centerline = read_centerline(g.object("centerline"));
   } else if (s.type == "mesh") {
@@ -228,7 +234,8 @@ void read_material(JsonReader& root, Scene& sc) {
   nlohmann::json law_parameters = nlohmann::json::object();
   if (sc.material_law == "svk" || sc.material_law == "neo_hookean") {
     sc.material.youngs_modulus_pa = mat.number("youngs_modulus_pa", 0.5e6, 1e-6, 1e12);
-    sc.material.poisson_ratio = mat.number("poisson_ratio", 0.45, -0.99, 0.499);
+    // >= 0: the point-primitive energy splits lambda into a volume term and lambda - k_v, both >= 0.
+    sc.material.poisson_ratio = mat.number("poisson_ratio", 0.45, 0.0, 0.499);
     law_parameters = {{"youngs_modulus_pa", sc.material.youngs_modulus_pa},
                       {"poisson_ratio", sc.material.poisson_ratio}};
   } else if (sc.material_law == "mooney_rivlin") {
@@ -258,6 +265,10 @@ void read_material(JsonReader& root, Scene& sc) {
       mat.fail("bulk_modulus_pa", fmt::format("gives a Poisson ratio of {:.6f} at small strain; it must be below 0.4999 "
                                               "(lower the bulk modulus)",
                                               sc.material.poisson_ratio));
+    if (!(sc.material.poisson_ratio >= 0.0))
+      mat.fail("bulk_modulus_pa", fmt::format("gives a Poisson ratio of {:.6f} at small strain; the point-primitive "
+                                              "energy needs it >= 0 (a bulk modulus >= 2/3 of the shear modulus)",
+                                              sc.material.poisson_ratio));
   }
 }
 
@@ -275,6 +286,9 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
   sc.discretization.basis = disc.string("basis", "linear", {"linear", "quadratic"}) == "quadratic"
                                 ? GradientBasis::Quadratic
                                 : GradientBasis::Linear;
+  sc.discretization.support = disc.string("support", "isotropic", {"isotropic", "wall"}) == "wall"
+                                  ? DiscretizationOptions::Support::Wall
+                                  : DiscretizationOptions::Support::Isotropic;
   sc.discretization.quadratic_min_neighbours = disc.integer("quadratic_min_neighbours", 18, 9, 200);
   sc.discretization.quadratic_min_eigen_ratio = disc.number("quadratic_min_eigen_ratio", 1e-6, 1e-14, 1.0);
   disc.finish();
@@ -293,6 +307,18 @@ void read_energy(JsonReader& root, bool literal, Scene& sc) {
   sc.energy.law = law;
   if (law && sc.energy.strain != StrainMeasure::GreenHalf)
     en.fail("strain", fmt::format("the literal strain applies to material law 'svk' only (law is '{}')", sc.material_law));
+}
+
+// A patch of +-w deg is symmetric and w wide only if its centre lies on a lattice line. Unless the scene
+// sets geometry.lattice_angle_deg, the tube/vessel lattice is turned (by less than half a column) so that a
+// line runs through the first wall patch's centre.
+void align_lattice_to_first_patch(Scene& sc) {
+  if (sc.geometry.lattice_angle_given || (sc.geometry.type != "tube" && sc.geometry.type != "vessel")) return;
+  for (const auto& r : sc.regions)
+    if (r.select.type == "wall_patch") {
+      sc.geometry.tube.lattice_angle_deg = r.select.angle_center_deg;
+      return;
+    }
 }
 
 void read_regions(JsonReader& root, Scene& sc) {
@@ -394,7 +420,11 @@ void read_haptics(JsonReader& root, const std::string& file, Scene& sc) {
     hs.rate_hz = h.number("rate_hz", 1000.0, 1.0, 100000.0);
     hs.ticks_per_step = h.integer("ticks_per_step", 1, 1, 1000);
     hs.duration_s = h.number("duration_s", 0.0, 0.0, 1e5);
-    hs.force_limit_n = h.number("force_limit_n", 0.88, 0.0, 100.0);
+    if (hs.duration_s * hs.rate_hz > kMaxSessionTicks)
+      h.fail("duration_s", fmt::format("{} s at rate_hz = {} Hz is {:.3g} ticks; a session may have at most {:.0e} "
+                                       "(every tick is kept in memory)",
+                                       hs.duration_s, hs.rate_hz, hs.duration_s * hs.rate_hz, kMaxSessionTicks));
+    hs.force_limit_n = h.number("force_limit_n", 0.88, 1e-6, 100.0);
     hs.force_step_n = h.number("force_step_n", 0.1, 1e-6, 100.0);
     hs.force_scale = h.number("force_scale", 1.0, 0.0, 1e9);
     JsonReader c = h.object("coupling");
@@ -490,12 +520,10 @@ void apply_override(nlohmann::json& doc, const std::string& assignment) {
   if (eq == std::string::npos || eq == 0)
     throw InputError(fmt::format("--set '{}': expected path.to.key=value", assignment));
   const std::string path = assignment.substr(0, eq), text = assignment.substr(eq + 1);
-  nlohmann::json value;
-  try {
-    value = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception&) {
-    value = text;  // a bare word: a string
-  }
+  // JSON if it parses, else a bare word: a string.
+  const nlohmann::json value = try_parse_json(text).value_or(nlohmann::json(text));
+  if (value.is_string() && !is_valid_utf8(value.get_ref<const std::string&>()))
+    throw InputError(fmt::format("--set '{}': the value is not valid UTF-8 text", assignment));
   nlohmann::json* node = &doc;
   std::size_t start = 0;
   while (true) {
@@ -545,6 +573,7 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   read_discretization(root, literal, sc);
   read_energy(root, literal, sc);
   read_regions(root, sc);
+  align_lattice_to_first_patch(sc);
   read_probes(root, sc);
   sc.gravity_m_s2 = root.vec3("gravity_m_s2", Vec3::Zero());
   read_tools(root, sc);
@@ -574,17 +603,7 @@ std::size_t find_tool(const Scene& scene, const std::string& name, const std::st
 }
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("{}: cannot open the scene file (missing or unreadable)", path));
-  nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(fmt::format("{}: not valid JSON at byte {}: {}", path, e.byte, e.what()));
-  } catch (const nlohmann::json::exception& e) {
-    // e.g. out_of_range for a number beyond a double (1e999)
-    throw InputError(fmt::format("{}: not valid JSON: {}", path, e.what()));
-  }
+  nlohmann::json doc = read_json_file(path, "the scene file", "expected a scene JSON file (docs/scene-format.md)");
   for (const auto& o : overrides) apply_override(doc, o);
   return parse_scene(doc, path);
 }

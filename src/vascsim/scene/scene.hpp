@@ -44,6 +44,7 @@ struct MeshGeometrySpec {
 struct GeometrySpec {
   std::string type;  ///< "tube", "vessel", "mesh", "box" or "beam"
   TubeSpec tube;     ///< tube; for "vessel" the radius, thickness, spacing and layers (length unused)
+  bool lattice_angle_given = false;  ///< tube, vessel: the scene set lattice_angle_deg (else: the first wall patch's)
   CenterlineSpec centerline;
   MeshGeometrySpec mesh;
   BoxSpec box;
@@ -90,6 +91,10 @@ struct ReferenceSpec {
 
 /// A haptic session (docs/haptics.md): a device poses one tool through the 1 kHz haptic loop while a
 /// device-driven model deforms the tissue. Present when the scene has a "haptics" block.
+/// A haptic session keeps every tick in memory (the recording, about 200 bytes a tick): at most this many ticks
+/// (duration_s x rate_hz; 5.5 hours at 1 kHz).
+inline constexpr double kMaxSessionTicks = 2e7;
+
 struct HapticsSpec {
   bool enabled = false;
   std::string tool;                  ///< the obstacle the device poses ("" : the scene's only obstacle)

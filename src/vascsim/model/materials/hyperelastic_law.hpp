@@ -1,6 +1,6 @@
 #pragma once
 // Interface of a hyperelastic strain-energy law psi(F) (issue "Vessel-wall materials"). The laws are pure
-// functions of the deformation gradient F (F_kl = dx_k/dX_l, MODEL.md 1.1) and, for anisotropic laws, of a
+// functions of the deformation gradient F (F_kl = dx_k/dX_l, docs/model.md section 1) and, for anisotropic laws, of a
 // per-node MaterialFrame; they know nothing about nodes, volumes or solvers. SI units throughout: psi in
 // J/m^3 (= Pa), P in Pa.
 //
@@ -8,7 +8,7 @@
 // - One law object serves a whole body (or one wall layer). The model holds a `const HyperelasticLaw&`
 //   (made once by make_hyperelastic_law, law_factory.hpp) and calls it per node per force evaluation or
 //   Hessian-vector product. A call costs one indirect branch (~1-2 ns) next to the ~50-300 flops of the
-//   law and ~150 ns per node of force assembly (MODEL.md 0.9); there is no heap allocation per call
+//   law and ~150 ns per node of force assembly (docs/performance.md); there is no heap allocation per call
 //   (all results are fixed-size Eigen matrices returned by value).
 // - A std::variant would close the set of laws in this header and make every law a dependency of every
 //   user, for a saving that does not show at these costs. If the dispatch ever shows up in a profile, the

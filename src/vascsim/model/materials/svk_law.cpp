@@ -17,8 +17,8 @@ nlohmann::json SvkLaw::parameters() const {
 }
 
 std::string SvkLaw::reference() const {
-  return "St Venant-Kirchhoff, psi = lambda/2 (tr E)^2 + mu tr(E^2) (Bonet & Wood 2008, Ch. 6; MODEL.md "
-         "1.7)";
+  return "St Venant-Kirchhoff, psi = lambda/2 (tr E)^2 + mu tr(E^2) (Bonet & Wood 2008, Ch. 6; docs/model.md "
+         "section 7)";
 }
 
 double SvkLaw::do_energy_density(const Mat3& F, const MaterialFrame* /*frame*/) const {

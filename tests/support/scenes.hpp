@@ -1,0 +1,23 @@
+#pragma once
+// Scenes shared by several test files.
+
+#include <nlohmann/json.hpp>
+
+namespace vascsim::test {
+
+/// A 6 x 6 x 3 mm block (node spacing 0.5 mm: half the catheter's radius, docs/haptics.md), base fixed, under a
+/// 6 Fr catheter lying across its top along x, tilted so that a press is deeper at x = 6 mm than at x = 0 and the
+/// moment is not trivially zero; motion_m presses it 1 mm (0.9 mm at x = 6 mm, 0.42 mm at x = 0). The caller adds
+/// the model and its settings block.
+inline nlohmann::json catheter_pressed_block() {
+  return nlohmann::json::parse(R"({
+    "name": "catheter-block",
+    "geometry": { "type": "box", "min_m": [0, 0, 0], "max_m": [0.006, 0.006, 0.003], "node_spacing_m": 0.0005 },
+    "material": { "youngs_modulus_pa": 3e5, "poisson_ratio": 0.45, "density_kg_m3": 1060 },
+    "regions": [ { "name": "base", "select": { "type": "box", "max_m": [1, 1, 0] }, "bc": { "type": "fixed" } } ],
+    "obstacles": [ { "name": "catheter", "shape": "catheter", "diameter_fr": 6, "length_m": 0.01,
+                     "tip_m": [0.0075, 0.0032, 0.00398], "direction": [1, 0, -0.08], "motion_m": [0, 0, -0.001] } ]
+  })");
+}
+
+}  // namespace vascsim::test

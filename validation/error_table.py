@@ -1,0 +1,202 @@
+#!/usr/bin/python3
+"""Error of vascsim's quasi_static solution against the CalculiX references (validation/references), at
+several node spacings: the error-versus-nodes table of docs/validation.md.
+
+    /usr/bin/python3 validation/error_table.py [--vascsim build/vascsim] [--cases vein-indent,...]
+        [--out out/error-table] [--figure docs/images/error-vs-nodes.png] [--reuse] [--threads 2]
+
+Every run is `nice -n 19 vascsim -q run SCENE --set model=quasi_static --set geometry.node_spacing_m=D
+--set discretization.max_growths=10 ... --out OUT/<case>/<label>` (with --reuse a finished run is read
+back instead). Writes OUT/error_table.csv (one row per case, resolution and load step: SI units and the
+relative error), OUT/error_table.md (per case and resolution: nodes, the error at a few depths, the largest
+|error|, solve time) and the figure (force or deflection against depth with the FEM reference band per case,
+and the error at full depth against the node count).
+"""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+
+GROWTHS = "discretization.max_growths=10"
+# What each case runs: the scene, the column of probes.csv compared, the resolutions (label, overrides).
+CASES = {
+    "vein-indent": {
+        "scene": "scenes/vein-indent.json", "column": "indenter", "x": "depth", "unit": ("mm", "mN"),
+        "runs": [(f"{d} mm", [f"geometry.node_spacing_m={d}e-3", GROWTHS]) for d in ("0.15", "0.2", "0.3")]
+        + [("0.15 mm, lattice angle 0", ["geometry.node_spacing_m=0.15e-3", GROWTHS, "geometry.lattice_angle_deg=0"])],
+    },
+    "vein-catheter": {
+        "scene": "scenes/hand-dorsal-vein-catheter.json", "column": "catheter", "x": "depth", "unit": ("mm", "mN"),
+        "runs": [(f"{d} mm", [f"geometry.node_spacing_m={d}e-3", GROWTHS]) for d in ("0.15", "0.2", "0.3")],
+    },
+    "aorta-bent": {
+        "scene": "scenes/aorta-bent.json", "column": "indenter", "x": "depth", "unit": ("mm", "N"),
+        "runs": [(f"{d} mm", [f"geometry.node_spacing_m={d}e-3", GROWTHS, "output.surface=false"])
+                 for d in ("1.0", "1.5", "2.0")],
+    },
+    "cantilever": {
+        "scene": "scenes/cantilever.json", "column": "tip", "x": "load", "unit": ("uN", "um"),
+        "runs": [(f"n = {n}", [f"geometry.node_spacing_m={0.01 / n:.6g}", "output.vtk=false"]) for n in (2, 3, 4, 6)],
+    },
+}
+SCALE = {"mm": 1e3, "mN": 1e3, "N": 1.0, "uN": 1e6, "um": 1e6}
+
+
+def read_reference(case):
+    """Rows of validation/references/<case>.csv: (x, y, uncertainty) in SI units."""
+    with open(os.path.join(HERE, "references", f"{case}.csv")) as f:
+        rows = list(csv.DictReader(f))
+    xk, yk = [k for k in rows[0] if k not in ("step",)][:2]
+    uk = next(k for k in rows[0] if k.startswith("uncertainty_"))
+    return [(float(r[xk]), float(r[yk]), float(r[uk])) for r in rows], (xk, yk)
+
+
+def run_vascsim(vascsim, scene, sets, out_dir, reuse, threads):
+    summary = os.path.join(out_dir, "summary.json")
+    if not (reuse and os.path.isfile(summary)):
+        cmd = ["nice", "-n", "19", vascsim, "-q", "run", os.path.join(ROOT, scene), "--set", "model=quasi_static",
+               "--out", out_dir]
+        for s in sets:
+            cmd += ["--set", s]
+        print(" ".join(cmd), file=sys.stderr, flush=True)
+        t0 = time.monotonic()
+        env = dict(os.environ, OMP_NUM_THREADS=str(threads))
+        if subprocess.run(cmd, env=env).returncode != 0:
+            sys.exit(f"error_table.py: vascsim failed on {scene} with {sets}")
+        print(f"  {time.monotonic() - t0:.0f} s", file=sys.stderr)
+    with open(summary) as f:
+        return json.load(f)
+
+
+def curve(summary, column, x_kind):
+    """(x, y) per load step from summary.json: depth and force of a region or tool, or load and deflection."""
+    out = []
+    for st in summary["steps"][1:]:
+        r = st["regions"][column]
+        if x_kind == "load":
+            out.append((abs(r["force_n"]), r["displacement_m"]))
+        else:
+            out.append((r["displacement_m"], r["force_n"]))
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--vascsim", default=os.path.join(ROOT, "build", "vascsim"))
+    ap.add_argument("--cases", default=",".join(CASES))
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "error-table"))
+    ap.add_argument("--figure", default=None, help="figure path (default OUT/error-vs-nodes.png)")
+    ap.add_argument("--reuse", action="store_true", help="read finished runs back instead of running them")
+    ap.add_argument("--threads", type=int, default=2)
+    a = ap.parse_args()
+    if not os.path.isfile(a.vascsim):
+        sys.exit(f"error_table.py: {a.vascsim} not found; build first (make build)")
+    results = {}
+    for case in a.cases.split(","):
+        spec = CASES[case]
+        ref, _ = read_reference(case)
+        results[case] = []
+        for label, sets in spec["runs"]:
+            out_dir = os.path.join(a.out, case, label.replace(" ", "").replace(",", "-").replace("=", ""))
+            summary = run_vascsim(a.vascsim, spec["scene"], sets, out_dir, a.reuse, a.threads)
+            c = curve(summary, spec["column"], spec["x"])
+            if len(c) != len(ref) or any(abs(p[0] - r[0]) > 1e-6 * max(abs(r[0]), 1e-30) for p, r in zip(c, ref)):
+                sys.exit(f"error_table.py: {case} {label}: the run's load steps do not match the reference's")
+            results[case].append({"label": label, "nodes": summary["nodes"], "curve": c,
+                                  "solve_s": summary["timings_s"]["solve"],
+                                  "unconverged": summary.get("unconverged_steps", 0),
+                                  "errors": [p[1] / r[1] - 1.0 for p, r in zip(c, ref)]})
+    os.makedirs(a.out, exist_ok=True)
+    write_csv(results, os.path.join(a.out, "error_table.csv"))
+    md = markdown(results)
+    with open(os.path.join(a.out, "error_table.md"), "w") as f:
+        f.write(md)
+    print(md)
+    figure(results, a.figure or os.path.join(a.out, "error-vs-nodes.png"))
+    return 0
+
+
+def write_csv(results, path):
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["case", "resolution", "nodes", "step", "x_si", "vascsim_si", "reference_si", "reference_uncertainty_si",
+                    "relative_error", "solve_s"])
+        for case, runs in results.items():
+            ref, _ = read_reference(case)
+            for r in runs:
+                for k, ((x, y), (_, yr, ur)) in enumerate(zip(r["curve"], ref)):
+                    w.writerow([case, r["label"], r["nodes"], k + 1, f"{x:.6g}", f"{y:.6g}", f"{yr:.6g}", f"{ur:.3g}",
+                                f"{y / yr - 1:.5f}", f"{r['solve_s']:.1f}"])
+
+
+def markdown(results):
+    lines = []
+    for case, runs in results.items():
+        ref, _ = read_reference(case)
+        spec = CASES[case]
+        xu, yu = spec["unit"]
+        n = len(ref)
+        picks = sorted({0, n // 4, n // 2 - 1, n - 1}) if n > 1 else [0]
+        head = [f"{ref[k][0] * SCALE[xu]:.3g} {xu}" for k in picks]
+        lines.append(f"**{case}** (`{spec['scene']}`; reference at full {spec['x']}: "
+                     f"{ref[-1][1] * SCALE[yu]:.4g} ± {ref[-1][2] * SCALE[yu]:.2g} {yu})\n")
+        lines.append("| resolution | nodes | " + " | ".join(f"error at {h}" for h in head) + " | max \\|error\\| | solve time |")
+        lines.append("|---" * (4 + len(picks)) + "|")
+        for r in runs:
+            errs = " | ".join(f"{100 * r['errors'][k]:+.1f} %" for k in picks)
+            worst = max(abs(e) for e in r["errors"])
+            note = f" ({r['unconverged']} steps unconverged)" if r["unconverged"] else ""
+            lines.append(f"| {r['label']} | {r['nodes']:,} | {errs} | {100 * worst:.1f} % | {r['solve_s']:.0f} s{note} |")
+        lines.append("")
+    return "\n".join(lines)
+
+
+def figure(results, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    cases = list(results)
+    fig, axes = plt.subplots(1, len(cases) + 1, figsize=(4.2 * (len(cases) + 1), 4.0))
+    for ax, case in zip(axes, cases):
+        ref, _ = read_reference(case)
+        xu, yu = CASES[case]["unit"]
+        xs = [r[0] * SCALE[xu] for r in ref]
+        ys = [r[1] * SCALE[yu] for r in ref]
+        us = [r[2] * SCALE[yu] for r in ref]
+        ax.fill_between(xs, [y - u for y, u in zip(ys, us)], [y + u for y, u in zip(ys, us)], color="0.8")
+        ax.plot(xs, ys, "k-", lw=2, label="CalculiX, extrapolated")
+        for r in results[case]:
+            ax.plot([p[0] * SCALE[xu] for p in r["curve"]], [p[1] * SCALE[yu] for p in r["curve"]], "o-", ms=3,
+                    label=f"vascsim {r['label']} ({r['nodes']:,} nodes)")
+        ax.set_title(case)
+        ax.set_xlabel(f"{CASES[case]['x']} ({xu})")
+        ax.set_ylabel(("force" if CASES[case]["x"] == "depth" else "tip deflection") + f" ({yu})")
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
+    ax = axes[-1]
+    for case in cases:
+        runs = [r for r in results[case] if "lattice angle" not in r["label"]]
+        runs.sort(key=lambda r: r["nodes"])
+        ax.plot([r["nodes"] for r in runs], [100 * r["errors"][-1] for r in runs], "o-", label=case)
+    ax.axhspan(-5, 5, color="0.9")
+    ax.axhline(0, color="k", lw=0.8)
+    ax.set_xscale("log")
+    ax.set_xlabel("nodes")
+    ax.set_ylabel("error at full depth / load (%)")
+    ax.set_title("error against node count")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3, which="both")
+    fig.tight_layout()
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    fig.savefig(path, dpi=110)
+    print(f"error_table.py: figure {path}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

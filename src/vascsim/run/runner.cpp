@@ -171,7 +171,12 @@ class RunFindings {
 
 // Before the first step: the tools whose motion never reaches the body, one warning each (also logged).
 std::vector<std::string> tool_reach_warnings(const Scene& scene, const Simulation& sim) {
-  std::vector<std::string> warnings = tool_reach_warnings(scene, sim);
+  std::vector<std::string> warnings;
+  for (std::size_t o = 0; o < scene.obstacles.size(); ++o) {
+    const ToolReach reach = tool_reach_by_load(scene.obstacles[o], sim.discretization().rest_positions());
+    if (!reach.touches()) warnings.push_back(tool_reach_warning(reach, scene.obstacles[o], o));
+  }
+  for (const std::string& w : warnings) spdlog::warn("{}", w);
   return warnings;
 }
 

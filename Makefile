@@ -2,15 +2,17 @@
 #   make run   installs what is missing, builds in Release, runs the default scene and plots it
 #   make test  installs what is missing, builds, runs the whole test suite (Release, then ASan+UBSan,
 #              then the threaded tests under ThreadSanitizer)
+#   make package  the Debian packages vascsim and vascsim-dev (CPack; docs/api.md)
 BUILD_DIR ?= build
 ASAN_DIR  ?= build-asan
 TSAN_DIR  ?= build-tsan
+PACKAGE_DIR ?= build-package
 SCENE     ?= scenes/vein-indent.json
 OUT       ?= out/vein-indent
 PYTHON    ?= /usr/bin/python3
 JOBS      ?= $(shell nproc)
 
-.PHONY: deps build run test test-release test-sanitize test-threads bench bench-realtime compare-models xpbd-convergence \
+.PHONY: deps build run test test-release test-sanitize test-threads package check-deb bench bench-realtime compare-models xpbd-convergence \
   cantilever-table vessels vessel-aorta-vmtk mls-validation force-displacement catheter-aorta experiments fig10 timing \
   screenshots view-bench format clean
 
@@ -33,10 +35,12 @@ test-release: build
 # The unit tests again under AddressSanitizer + UndefinedBehaviorSanitizer (-O1, asserts on), except those
 # that measure against the wall clock (label "wallclock": the instrumented model cannot keep up). Without the
 # viewer: its tests (label "render") run in the Release build only, and this also checks that the library
-# builds without any GL package.
+# builds without any GL package. Without the Python module (label "python": a Python process would have to
+# preload the sanitizer runtime) and the install test (label "install"), which run in the Release stage.
 test-sanitize: deps
 	cmake -S . -B $(ASAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" \
-	  -DVASCSIM_SANITIZE=address,undefined -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_BUILD_VIEWER=OFF -DVASCSIM_WERROR=ON
+	  -DVASCSIM_SANITIZE=address,undefined -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_BUILD_VIEWER=OFF -DVASCSIM_WERROR=ON \
+	  -DVASCSIM_BUILD_PYTHON=OFF
 	cmake --build $(ASAN_DIR) -j $(JOBS)
 	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --test-dir $(ASAN_DIR) --output-on-failure -j $(JOBS) -L unit -LE wallclock
@@ -48,10 +52,25 @@ test-sanitize: deps
 THREADED_TESTS ?= LatestValue*:FrameExchange*:HapticLoop*:VirtualCoupling*:ForceOutput*:MouseMapping*:HapticSession.Realtime*:LiveSession.Realtime*
 test-threads: deps
 	cmake -S . -B $(TSAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DVASCSIM_SANITIZE=thread \
-	  -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_BUILD_VIEWER=OFF -DVASCSIM_WERROR=ON
+	  -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_BUILD_VIEWER=OFF -DVASCSIM_WERROR=ON -DVASCSIM_BUILD_PYTHON=OFF
 	cmake --build $(TSAN_DIR) -j $(JOBS) --target vascsim_tests
 	OMP_NUM_THREADS=1 TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 $(TSAN_DIR)/tests/vascsim_tests \
 	  --gtest_filter='$(THREADED_TESTS)'
+
+# The Debian packages (cmake/VascsimPackage.cmake): a Release build of its own installed to /usr, without tests
+# and benchmarks; vascsim_VERSION_ARCH.deb (library, command, Python module, scenes, data, scripts) and
+# vascsim-dev_VERSION_ARCH.deb (headers, CMake package) in $(PACKAGE_DIR).
+package: deps
+	cmake -S . -B $(PACKAGE_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=/usr \
+	  -DVASCSIM_BUILD_TESTS=OFF -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_WERROR=ON
+	cmake --build $(PACKAGE_DIR) -j $(JOBS)
+	cd $(PACKAGE_DIR) && cpack -G DEB
+	@ls -l $(PACKAGE_DIR)/*.deb
+
+# Installs the packages on a fresh Debian 12 in a chroot (debootstrap; root, network to deb.debian.org; minutes)
+# and runs the installed vascsim, Python module and examples/embed there (docs/api.md, "Debian package").
+check-deb: package
+	scripts/check-deb-in-chroot.sh $(PACKAGE_DIR)
 
 bench: build
 	$(BUILD_DIR)/bench/vascsim_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
@@ -123,7 +142,22 @@ screenshots: build
 # draw) of the real-time scenes at the default window size, headless with the threads of a window (minutes).
 VIEW_BENCH_SCENES ?= scenes/realtime/hand-dorsal-vein-catheter.json scenes/realtime/hand-dorsal-vein.json \
   scenes/realtime/aorta-bent.json scenes/realtime/retinal-artery-twice-bent.json
-view-bench: build
+view-# The Debian packages (cmake/VascsimPackage.cmake): a Release build of its own installed to /usr, without tests
+# and benchmarks; vascsim_VERSION_ARCH.deb (library, command, Python module, scenes, data, scripts) and
+# vascsim-dev_VERSION_ARCH.deb (headers, CMake package) in $(PACKAGE_DIR).
+package: deps
+	cmake -S . -B $(PACKAGE_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=/usr \
+	  -DVASCSIM_BUILD_TESTS=OFF -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_WERROR=ON
+	cmake --build $(PACKAGE_DIR) -j $(JOBS)
+	cd $(PACKAGE_DIR) && cpack -G DEB
+	@ls -l $(PACKAGE_DIR)/*.deb
+
+# Installs the packages on a fresh Debian 12 in a chroot (debootstrap; root, network to deb.debian.org; minutes)
+# and runs the installed vascsim, Python module and examples/embed there (docs/api.md, "Debian package").
+check-deb: package
+	scripts/check-deb-in-chroot.sh $(PACKAGE_DIR)
+
+bench: build
 	@uptime
 	@for s in $(VIEW_BENCH_SCENES); do for m in lit fluoro; do \
 	  $(BUILD_DIR)/vascsim -q view $$s --realtime --measure --frames 300 --mode $$m --screenshot /dev/null || exit 1; \
@@ -187,4 +221,4 @@ format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')
 
 clean:
-	rm -rf $(BUILD_DIR) $(ASAN_DIR)
+	rm -rf $(BUILD_DIR) $(ASAN_DIR) $(PACKAGE_DIR)

@@ -54,12 +54,15 @@ class Simulation {
   StepRecord initial_record() const;
   /// Advances the model to output point k (1..num_steps) and measures it.
   StepRecord advance(int k);
+  /// Measures the current state as output point `step` (0: the rest state, no tool loads) with the model's
+  /// `report`: what advance() does after the model moved; a driver that steps a DeviceDrivenModel itself (the
+  /// Python module) measures its frames with it.
+  StepRecord measure(int step, const StepReport& report) const;
   /// Reference values of the scene (e.g. the Timoshenko deflection), for summary.json; null if none.
   nlohmann::json reference(const StepRecord& last) const;
 
  private:
   void build();
-  StepRecord measure(int step, const StepReport& report) const;
 
   Scene scene_;
   std::unique_ptr<Body> body_;

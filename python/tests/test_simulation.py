@@ -127,3 +127,29 @@ def test_the_surface_is_mapped_from_the_nodes(vessel_path, block_path):
     np.testing.assert_allclose(pressed["vertices"], v + pressed["displacements"], atol=1e-15)
     with pytest.raises(vascsim.InputError, match="no render surface"):
         vascsim.Simulation(vascsim.load_scene(block_path)).surface()
+
+
+def test_two_simulations_run_in_two_threads(block_path, vessel_path):
+    import threading
+    scenes = [vascsim.load_scene(block_path), vascsim.load_scene(vessel_path)]
+    serial = [vascsim.Simulation(s).solve()[-1] for s in scenes]
+    parallel, errors = [None, None], []
+
+    def solve(i):
+        try:
+            parallel[i] = vascsim.Simulation(scenes[i]).solve()[-1]
+        except Exception as e:  # noqa: BLE001 (reported below)
+            errors.append(e)
+
+    threads = [threading.Thread(target=solve, args=(i,)) for i in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors
+    # Each Simulation owns its state, and one thread each (OMP_NUM_THREADS=1) computes bit for bit as alone.
+    for alone, together in zip(serial, parallel):
+        assert together["iterations"] == alone["iterations"]
+        for kind in ("regions", "tools"):
+            for name, values in alone[kind].items():
+                np.testing.assert_array_equal(together[kind][name]["force_n"], values["force_n"])

@@ -8,9 +8,9 @@
 #      every step (both print 9 significant digits of the same computation) and draws its plot with the
 #      installed script;
 #   4. the installed Python package imports from the prefix (when the module is built).
-# Usage: check_install.sh BUILD_DIR SOURCE_DIR VERSION PYTHON|none
+# Usage: check_install.sh CMAKE BUILD_DIR SOURCE_DIR VERSION PYTHON|none
 set -eu
-build=$1 src=$2 version=$3 python=$4
+cmake=$1 build=$2 src=$3 version=$4 python=$5
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/vascsim-install-test.XXXXXX")
 tmp=$(cd "$tmp" && pwd -P)
 trap 'rm -rf "$tmp"' EXIT
@@ -19,7 +19,7 @@ scene=$src/tests/data/pressed-block.json
 fail() { echo "check_install: $*" >&2; exit 1; }
 export OMP_NUM_THREADS=1
 
-cmake --install "$build" --prefix "$prefix" > "$tmp/install.log" || { cat "$tmp/install.log"; fail "cmake --install failed"; }
+"$cmake" --install "$build" --prefix "$prefix" > "$tmp/install.log" || { cat "$tmp/install.log"; fail "cmake --install failed"; }
 
 # 1. The installed command and the layout.
 "$prefix/bin/vascsim" --version > "$tmp/version.txt" || fail "the installed vascsim --version failed"
@@ -36,9 +36,9 @@ ls "$prefix"/lib*/cmake/vascsim/vascsimConfig.cmake "$prefix"/lib*/cmake/vascsim
 [ ! -e "$prefix/include/vascsim/viewer" ] || fail "the viewer's headers are installed (not a public API)"
 
 # 2. The example against the prefix.
-cmake -S "$src/examples/embed" -B "$tmp/embed" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release \
+"$cmake" -S "$src/examples/embed" -B "$tmp/embed" -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release \
   > "$tmp/embed-configure.log" 2>&1 || { cat "$tmp/embed-configure.log"; fail "examples/embed does not configure"; }
-cmake --build "$tmp/embed" > "$tmp/embed-build.log" 2>&1 || { cat "$tmp/embed-build.log"; fail "examples/embed does not build"; }
+"$cmake" --build "$tmp/embed" > "$tmp/embed-build.log" 2>&1 || { cat "$tmp/embed-build.log"; fail "examples/embed does not build"; }
 "$tmp/embed/embed" "$scene" > "$tmp/embed.txt" || fail "examples/embed failed on $scene"
 cat "$tmp/embed.txt"
 

@@ -22,6 +22,14 @@ install(TARGETS vascsim EXPORT vascsimTargets
 vascsim_set_install_rpath(vascsim_app ${CMAKE_INSTALL_BINDIR})
 install(TARGETS vascsim_app RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT runtime)
 
+# The Python package (python/CMakeLists.txt chose VASCSIM_PYTHON_DIR): the module beside __init__.py.
+if(VASCSIM_BUILD_PYTHON)
+  vascsim_set_install_rpath(vascsim_python ${VASCSIM_PYTHON_DIR}/vascsim)
+  install(TARGETS vascsim_python LIBRARY DESTINATION ${VASCSIM_PYTHON_DIR}/vascsim COMPONENT runtime)
+  file(GLOB VASCSIM_PYTHON_PACKAGE_FILES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/python/vascsim/*.py)
+  install(FILES ${VASCSIM_PYTHON_PACKAGE_FILES} DESTINATION ${VASCSIM_PYTHON_DIR}/vascsim COMPONENT runtime)
+endif()
+
 # The library's headers, as vascsim/<layer>/<file>.hpp (the renderer and the viewer are not a public API).
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/src/vascsim DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT dev
   FILES_MATCHING PATTERN "*.hpp" PATTERN "render" EXCLUDE PATTERN "viewer" EXCLUDE)

@@ -17,6 +17,10 @@ set(CPACK_DEBIAN_PACKAGE_SECTION science)
 
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_NAME vascsim)
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_SHLIBDEPS ON)
+# A shlibs file for libvascsim.so.0.1: a package linking it depends on exactly this version (the ABI is not
+# stable before 1.0).
+set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS ON)
+set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS_POLICY "=")
 set(CPACK_COMPONENT_RUNTIME_DESCRIPTION "point-primitive vascular tissue simulation: library, command line, Python module
  vascsim simulates blood-vessel tissue for interventional-surgery training (the point-primitive method of
  Zhang et al. 2021): the vascsim command runs scenes, experiments and the viewer; import vascsim drives it

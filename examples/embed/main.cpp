@@ -1,5 +1,7 @@
 // Embedding vascsim: load a scene, advance it through its output points, read the node positions and the force
 // on the tool. Usage: embed SCENE.json [path.to.key=value ...] (the overrides of `vascsim run --set`).
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <string>
@@ -14,6 +16,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "usage: embed SCENE.json [path.to.key=value ...]\n");
     return 2;
   }
+  spdlog::set_level(spdlog::level::warn);  // the library logs its progress through spdlog's default logger
   try {
     const vascsim::Scene scene = vascsim::load_scene(argv[1], std::vector<std::string>(argv + 2, argv + argc));
     vascsim::Simulation sim(scene);  // geometry, discretisation, energy, the scene's model

@@ -6,12 +6,21 @@ py::object to_python(const nlohmann::json& doc) {
   return py::module_::import("json").attr("loads")(doc.dump());
 }
 
-py::array view_of(const Vec3Array& points, py::handle owner) {
+namespace {
+
+// An (n, 3) float64 array over `points` (no copy) whose memory `owner` keeps alive; writeable.
+py::array wrap(const Vec3Array& points, py::handle owner) {
   static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 must be three packed doubles to be viewed");
   const auto n = static_cast<py::ssize_t>(points.size());
-  py::array a(py::dtype::of<double>(), {n, py::ssize_t{3}},
-              {static_cast<py::ssize_t>(sizeof(Vec3)), static_cast<py::ssize_t>(sizeof(double))},
-              points.empty() ? nullptr : points.front().data(), owner);
+  return py::array(py::dtype::of<double>(), {n, py::ssize_t{3}},
+                   {static_cast<py::ssize_t>(sizeof(Vec3)), static_cast<py::ssize_t>(sizeof(double))},
+                   points.empty() ? nullptr : points.front().data(), owner);
+}
+
+}  // namespace
+
+py::array view_of(const Vec3Array& points, py::handle owner) {
+  py::array a = wrap(points, owner);
   a.attr("setflags")(py::arg("write") = false);
   return a;
 }
@@ -19,9 +28,7 @@ py::array view_of(const Vec3Array& points, py::handle owner) {
 py::array array_of(Vec3Array&& points) {
   auto* held = new Vec3Array(std::move(points));
   py::capsule owner(held, [](void* p) { delete static_cast<Vec3Array*>(p); });
-  py::array a = view_of(*held, owner);
-  a.attr("setflags")(py::arg("write") = true);  // the caller's own array
-  return a;
+  return wrap(*held, owner);  // the caller's own array
 }
 
 py::array vec3(const Vec3& v) {

@@ -240,7 +240,7 @@ threads; the GIL is released while the model computes).)")
       .def("surface", [](py::object self) { return surface(self.cast<PySimulation&>(), self); },
            "The render surface mapped from the nodes by the MLS map (built on first call): a dict of vertices "
            "(V, 3) m, normals (V, 3) unit, displacements (V, 3) m and triangles (T, 3) vertex indices (a read-only "
-           "view). Raises InputError for a geometry without a surface (box, beam).")
+           "view).")
       .def("tool_loads", &tool_loads,
            "Per tool (scene order): name, force_n (3,) the force it exerts on the tissue (N; the tissue pushes the "
            "tool with -force_n), torque_n_m (3,) about the tool point (N m), contacts, and for a model that trails "

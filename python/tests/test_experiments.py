@@ -10,7 +10,7 @@ import vascsim
 def test_run_writes_the_summary_of_the_command_line(block_path, tmp_path):
     seen = []
     summary = vascsim.run(vascsim.load_scene(block_path), tmp_path, on_step=lambda r, total: seen.append((r["step"], total)))
-    assert seen == [(1, 4), (2, 4), (3, 4), (4, 4)]
+    assert seen == [(0, 4), (1, 4), (2, 4), (3, 4), (4, 4)]  # the rest state, then the 4 load steps
     assert summary == json.loads((tmp_path / "summary.json").read_text())
     assert summary["unconverged_steps"] == 0 and (tmp_path / "probes.csv").exists()
 

@@ -62,9 +62,9 @@ def test_a_missing_file_raises_input_error(tmp_path):
 
 def test_models_come_from_the_registry():
     models = {m["name"]: m for m in vascsim.models()}
-    assert not models["quasi_static"]["device_driven"]
-    assert models["implicit"]["device_driven"]
-    assert models["xpbd"]["dynamic"]
+    assert models["implicit"]["device_driven"] and models["implicit"]["dynamic"]
+    assert not models["explicit"]["device_driven"] and not models["explicit"]["takes_tools"]
+    assert not models["quasi_static"]["dynamic"]
 
 
 def test_the_version_is_the_projects_and_the_clis():

@@ -34,9 +34,10 @@ def test_positions_are_a_read_only_view_updated_in_place(block_path):
     assert np.array_equal(x, rest)
     before = np.array(x)  # a copy of the rest state
     sim.advance()
-    # The same array shows the new state: the ball pushes nodes down (-z) by at most its 0.05 mm step.
+    # The same array shows the new state: the nodes under the ball follow its first 0.05 mm step down (-z);
+    # within half of it either way (the contact's tolerance, the wall's bulge), not unmoved.
     dz = x[:, 2] - before[:, 2]
-    assert dz.min() < -1e-6 and dz.max() < 1e-9
+    assert 0.5 * 5e-5 < -dz.min() < 1.5 * 5e-5
     assert np.array_equal(x, sim.positions)
     with pytest.raises(ValueError):
         x[0, 0] = 1.0
@@ -95,8 +96,9 @@ def test_a_device_drives_the_tool_into_the_block(haptic_block_path):
     assert sim.positions[:, 2].min() < 0.003 - 5e-5  # the top surface is pressed in
 
 
-def test_device_calls_need_a_device_driven_model_and_a_valid_pose(block_path, haptic_block_path):
-    sim = vascsim.Simulation(vascsim.load_scene(block_path))  # quasi_static
+def test_device_calls_need_a_device_driven_model_and_a_valid_pose(vessel_path, haptic_block_path):
+    sim = vascsim.Simulation(vascsim.load_scene(vessel_path), model="explicit")  # no tools, no device
+    assert not sim.device_driven
     with pytest.raises(vascsim.InputError, match="cannot be driven by a device; use one of: .*implicit"):
         sim.step()
     driven = vascsim.Simulation(vascsim.load_scene(haptic_block_path))
@@ -108,7 +110,7 @@ def test_device_calls_need_a_device_driven_model_and_a_valid_pose(block_path, ha
         driven.set_tool_pose([np.nan, 0, 0])
 
 
-def test_the_surface_is_mapped_from_the_nodes(vessel_path, block_path):
+def test_the_surface_is_mapped_from_the_nodes(vessel_path):
     sim = vascsim.Simulation(vascsim.load_scene(vessel_path))
     rest = sim.surface()
     v, t, n = rest["vertices"], rest["triangles"], rest["normals"]
@@ -125,8 +127,6 @@ def test_the_surface_is_mapped_from_the_nodes(vessel_path, block_path):
     moved = np.linalg.norm(pressed["displacements"], axis=1).max()
     assert 1e-4 < moved < 4e-4
     np.testing.assert_allclose(pressed["vertices"], v + pressed["displacements"], atol=1e-15)
-    with pytest.raises(vascsim.InputError, match="no render surface"):
-        vascsim.Simulation(vascsim.load_scene(block_path)).surface()
 
 
 def test_two_simulations_run_in_two_threads(block_path, vessel_path):

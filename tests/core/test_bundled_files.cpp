@@ -1,6 +1,6 @@
 // Where the bundled scenes, data and scripts are found (core/bundled_files.hpp): the source tree for this
-// build-tree library, $VASCSIM_DATA_DIR first when set, and a file missing everywhere named under the first
-// root. The installed layout (share/vascsim next to the installed library) is checked by the install test
+// build-tree library, $VASCSIM_DATA_DIR first when set, and a file missing everywhere named under the root in
+// use. The installed layout (share/vascsim next to the installed library) is checked by the install test
 // (tests/install/check_install.sh).
 
 #include <gtest/gtest.h>
@@ -59,7 +59,7 @@ TEST(BundledFiles, TheEnvironmentComesFirstAndMissingFilesFallThrough) {
     EXPECT_EQ(bundled_file("scripts/plot_force_displacement.py"), dir / "scripts/plot_force_displacement.py");
     // Not in the override: the next root that has it (the source tree here).
     EXPECT_TRUE(fs::equivalent(bundled_file("scripts/plot_ahp.py"), fs::path(VASCSIM_SOURCE_DIR) / "scripts/plot_ahp.py"));
-    // Nowhere: named under the first root, so a message points where the user would look.
+    // Nowhere: named under the root in use, so a message points where the user would look.
     EXPECT_EQ(bundled_file("scripts/no-such-script.py"), dir / "scripts/no-such-script.py");
   }
   fs::remove_all(dir);

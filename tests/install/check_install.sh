@@ -43,7 +43,7 @@ ls "$prefix"/lib*/cmake/vascsim/vascsimConfig.cmake "$prefix"/lib*/cmake/vascsim
 cat "$tmp/embed.txt"
 
 # 3. The same forces from the installed command line, and its plot through the installed script.
-"$prefix/bin/vascsim" -q experiment force-displacement "$scene" --out "$tmp/fd" > /dev/null \
+"$prefix/bin/vascsim" -q experiment force-displacement "$scene" --out "$tmp/fd" > /dev/null 2> "$tmp/fd.log" \
   || fail "the installed vascsim experiment force-displacement failed"
 [ -f "$tmp/fd/force_displacement.png" ] || fail "no force_displacement.png: the installed plot script did not run"
 steps=$(grep -c '^step ' "$tmp/embed.txt")

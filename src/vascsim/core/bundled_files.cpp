@@ -65,7 +65,7 @@ fs::path bundled_file(const std::string& relative) {
   std::error_code ec;
   for (const fs::path& r : roots)
     if (fs::exists(r / relative, ec)) return r / relative;
-  return roots.front() / relative;
+  return bundled_root() / relative;
 }
 
 fs::path bundled_root() {

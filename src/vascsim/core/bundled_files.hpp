@@ -16,7 +16,7 @@ namespace vascsim {
 std::vector<std::filesystem::path> bundled_roots();
 
 /// `relative` (e.g. "scripts/plot_ahp.py", "scenes") in the first of bundled_roots() that has it; when none
-/// has it, under the first root (so a message names a path the user can look for).
+/// has it, under bundled_root() (so a message names a path where the user would look for it).
 std::filesystem::path bundled_file(const std::string& relative);
 
 /// The root bundled_file() takes files from: the first of bundled_roots() that has scenes/ and scripts/.

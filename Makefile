@@ -142,22 +142,7 @@ screenshots: build
 # draw) of the real-time scenes at the default window size, headless with the threads of a window (minutes).
 VIEW_BENCH_SCENES ?= scenes/realtime/hand-dorsal-vein-catheter.json scenes/realtime/hand-dorsal-vein.json \
   scenes/realtime/aorta-bent.json scenes/realtime/retinal-artery-twice-bent.json
-view-# The Debian packages (cmake/VascsimPackage.cmake): a Release build of its own installed to /usr, without tests
-# and benchmarks; vascsim_VERSION_ARCH.deb (library, command, Python module, scenes, data, scripts) and
-# vascsim-dev_VERSION_ARCH.deb (headers, CMake package) in $(PACKAGE_DIR).
-package: deps
-	cmake -S . -B $(PACKAGE_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=/usr \
-	  -DVASCSIM_BUILD_TESTS=OFF -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_WERROR=ON
-	cmake --build $(PACKAGE_DIR) -j $(JOBS)
-	cd $(PACKAGE_DIR) && cpack -G DEB
-	@ls -l $(PACKAGE_DIR)/*.deb
-
-# Installs the packages on a fresh Debian 12 in a chroot (debootstrap; root, network to deb.debian.org; minutes)
-# and runs the installed vascsim, Python module and examples/embed there (docs/api.md, "Debian package").
-check-deb: package
-	scripts/check-deb-in-chroot.sh $(PACKAGE_DIR)
-
-bench: build
+view-bench: build
 	@uptime
 	@for s in $(VIEW_BENCH_SCENES); do for m in lit fluoro; do \
 	  $(BUILD_DIR)/vascsim -q view $$s --realtime --measure --frames 300 --mode $$m --screenshot /dev/null || exit 1; \

@@ -8,6 +8,8 @@ packages=(
   libeigen3-dev nlohmann-json3-dev libcli11-dev libfmt-dev libspdlog-dev
   libgtest-dev libgmock-dev libbenchmark-dev libassimp-dev libsuitesparse-dev libopenblas0-pthread
   python3 python3-matplotlib python3-numpy python3-meshio
+  # The Python module (VASCSIM_BUILD_PYTHON) and its tests; dpkg-dev's dpkg-shlibdeps for `make package`.
+  pybind11-dev python3-dev python3-pytest dpkg-dev
   # The viewer / renderer (VASCSIM_BUILD_VIEWER): windows, GL loading, headless EGL on Mesa's software
   # rasteriser, the HUD, PNG writing; xvfb/xauth for a virtual X display (xvfb-run -a) as a fallback.
   libglfw3-dev libimgui-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev

@@ -1,5 +1,6 @@
 #pragma once
 // The `vascsim` command line, callable in-process (tests) with its own output streams.
+//   vascsim --version   (the version and the build configuration)
 //   vascsim [-q|-v] [-j THREADS] run SCENE.json [--set key=value ...] [--out DIR]   (global options may
 //   also follow the subcommand)
 //   vascsim [-q|-v] [-j THREADS] validate cantilever [--out DIR] [--sizes 2,3,4,6]

@@ -42,13 +42,14 @@ test-release: build
 # viewer: its tests (label "render") run in the Release build only, and this also checks that the library
 # builds without any GL package, and without the Python module (label "python": a Python process would have to
 # preload the sanitizer runtime) and the install test (label "install"), which run in the Release stage. -g1
-# (line tables: the sanitizers' reports name file and line) instead of -g compiles about a quarter faster. At -O1 with the sanitizers, g++ 12 reports false "maybe-uninitialized" warnings
-# inside libstdc++ (std::regex's std::function moves): SANITIZER_FLAGS turns that one warning off there; the
-# Release build (-O2) still checks it with -Werror.
-SANITIZER_FLAGS = -O1 -g1 -Wno-maybe-uninitialized
+# (line tables: the sanitizers' reports name file and line) instead of -g compiles about a quarter faster. At -O1
+# with the sanitizers' instrumentation, g++ 12 reports false warnings inside libstdc++ ("maybe-uninitialized" in
+# std::regex, "array-bounds" in std::string's operator+): the sanitizer builds turn those off and do not treat
+# warnings as errors; the Release build is the warning gate (-Wall -Wextra -Wpedantic -Werror).
+SANITIZER_FLAGS = -O1 -g1 -Wno-maybe-uninitialized -Wno-array-bounds -Wno-stringop-overflow
 test-sanitize: deps
 	cmake -S . -B $(ASAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="$(SANITIZER_FLAGS)" $(CMAKE_UNITY) \
-	  -DVASCSIM_SANITIZE=address,undefined -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_BUILD_VIEWER=OFF -DVASCSIM_WERROR=ON \
+	  -DVASCSIM_SANITIZE=address,undefined -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_BUILD_VIEWER=OFF -DVASCSIM_WERROR=OFF \
 	  -DVASCSIM_BUILD_PYTHON=OFF
 	cmake --build $(ASAN_DIR) -j $(JOBS)
 	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
@@ -63,7 +64,7 @@ test-threads: deps
 	cmake -S . -B $(TSAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$(SANITIZER_FLAGS) -DNDEBUG" \
 	  $(CMAKE_UNITY) \
 	  -DVASCSIM_SANITIZE=thread \
-	  -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_BUILD_VIEWER=OFF -DVASCSIM_WERROR=ON -DVASCSIM_BUILD_PYTHON=OFF
+	  -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_BUILD_VIEWER=OFF -DVASCSIM_WERROR=OFF -DVASCSIM_BUILD_PYTHON=OFF
 	cmake --build $(TSAN_DIR) -j $(JOBS) --target vascsim_tests
 	OMP_NUM_THREADS=1 TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 $(TSAN_DIR)/tests/vascsim_tests \
 	  --gtest_filter='$(THREADED_TESTS)'

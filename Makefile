@@ -73,7 +73,7 @@ test-threads: deps
 # and benchmarks; vascsim_VERSION_ARCH.deb (library, command, Python module, scenes, data, scripts) and
 # vascsim-dev_VERSION_ARCH.deb (headers, CMake package) in $(PACKAGE_DIR).
 package: deps
-	cmake -S . -B $(PACKAGE_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=/usr \
+	cmake -S . -B $(PACKAGE_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=/usr $(CMAKE_UNITY) \
 	  -DVASCSIM_BUILD_TESTS=OFF -DVASCSIM_BUILD_BENCH=OFF -DVASCSIM_WERROR=ON
 	cmake --build $(PACKAGE_DIR) -j $(JOBS)
 	cd $(PACKAGE_DIR) && cpack -G DEB

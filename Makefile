@@ -170,7 +170,7 @@ xpbd-convergence: build
 	  --configs 1x1,2x1,4x1,8x1,16x1,32x1,1x8,2x4,4x2,8x2,8x4,8x8 --duration 0.6 --ramp 0.1 --damping 60 \
 	  --output-interval 0.05 --force-region clamp --displacement-region tip --out out/xpbd-convergence/cantilever
 
-# docs/validation.md's cantilever convergence table (MODEL.md T9).
+# docs/validation.md's cantilever convergence table (T9).
 cantilever-table: build
 	$(BUILD_DIR)/vascsim validate cantilever --out out/cantilever-table
 

@@ -33,7 +33,7 @@ if(VASCSIM_BUILD_PYTHON)
   set(VASCSIM_DEB_DEPENDS "python3 (>= ${Python_VERSION_MAJOR}.${Python_VERSION_MINOR}), python3 (<< ${Python_VERSION_MAJOR}.${VASCSIM_PYTHON_NEXT_MINOR}), python3-numpy")
 endif()
 set(CPACK_DEBIAN_RUNTIME_PACKAGE_DEPENDS "${VASCSIM_DEB_DEPENDS}")
-set(CPACK_DEBIAN_RUNTIME_PACKAGE_RECOMMENDS "python3-matplotlib, python3-numpy, libgl1-mesa-dri, libegl-mesa0")
+set(CPACK_DEBIAN_RUNTIME_PACKAGE_RECOMMENDS "python3-matplotlib, python3-numpy, libegl1, libgl1-mesa-dri, libegl-mesa0")
 
 set(CPACK_DEBIAN_DEV_PACKAGE_NAME vascsim-dev)
 set(CPACK_COMPONENT_DEV_DESCRIPTION "point-primitive vascular tissue simulation: headers and CMake package

@@ -278,101 +278,252 @@ void print_header() {
   fmt::print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
 }
 
+// What every candidate preconditioner of one resolution is measured with: the problem, the mass shift and the
+// right-hand sides of the three situations (a) at rest, (a1) after the exact predictor, (b) drifted.
+struct SizeCase {
+  const Args& args;
+  double spacing;
+  const Problem& problem;
+  const PointPrimitiveEnergy& energy;
+  const Vec3Array& X;
+  Reduced red;
+  Index n = 0;
+  Eigen::Index dim = 0;
+  std::vector<double> shift_node;  // M/dt^2 per node, N/m (EnergyHessian)
+  Eigen::VectorXd shift;           // the same per free dof
+  Eigen::VectorXd b_a, b_a1, b_b;
+  PointPrimitiveEnergy::Linearization lin_rest, lin_a1, lin_drift;
+  Drift drift;
+
+  SizeCase(const Args& a, double h, const Simulation& sim)
+      : args(a), spacing(h), problem(sim.problem()), energy(sim.energy()), X(sim.discretization().rest_positions()),
+        red(sim.problem()), n(sim.discretization().num_nodes()), dim(red.size()) {}
+  std::size_t at(Index i) const { return static_cast<std::size_t>(i); }
+};
+
+void set_mass_shift(SizeCase& c, const Discretization& disc) {
+  c.shift_node.resize(c.at(c.n));
+  for (Index i = 0; i < c.n; ++i) c.shift_node[c.at(i)] = disc.masses()[c.at(i)] / (c.args.dt * c.args.dt);
+  c.shift.resize(c.dim);
+  for (Index i = 0; i < c.n; ++i)
+    if (c.red.slot()[c.at(i)] >= 0) c.shift.segment<3>(3 * c.red.slot()[c.at(i)]).setConstant(c.shift_node[c.at(i)]);
+}
+
+// Reference: one Hessian-vector product at rest (with and without the per-state linearisation).
+void print_hessian_product_time(const SizeCase& c) {
+  Vec3Array v(c.at(c.n), Vec3(1e-6, -2e-6, 0.5e-6)), out;
+  const auto lin = c.energy.linearize(c.X);
+  const double hv_lin = time_median(std::max(c.args.repeats, 11), [&] { c.energy.hessian_product(lin, v, out); });
+  const double hv_full = time_median(std::max(c.args.repeats, 11), [&] { c.energy.hessian_product(c.X, v, out); });
+  fmt::print("hessian_product: {:.2f} ms with a stored linearisation (per CG iteration), {:.2f} ms including it\n",
+             hv_lin * 1e3, hv_full * 1e3);
+}
+
+// (a) at rest: rhs = -(K dp)_f, dp the prescribed increment of load step 1 (s1 = 1/steps); returns dp.
+Vec3Array set_rest_case(SizeCase& c, double s1) {
+  Vec3Array dp(c.at(c.n), Vec3::Zero()), Kdp;
+  for (Index i = 0; i < c.n; ++i)
+    if (c.problem.constrained()[c.at(i)]) dp[c.at(i)] = c.problem.prescribed_position(i, s1) - c.X[c.at(i)];
+  c.energy.hessian_product(c.X, dp, Kdp);
+  c.b_a = -c.red.gather(Kdp);
+  c.lin_rest = c.energy.linearize(c.X);
+  return dp;
+}
+
+// (b) drifted: quasi_static to s = 1 (cached), rhs = -(K(x) dp)_f for one more increment.
+void set_drifted_case(SizeCase& c, const Scene& scene, double s1) {
+  if (c.n > c.args.drift_max_nodes) {
+    fmt::print("drifted case (b), (c) skipped at this size (--drift-max-nodes {})\n", c.args.drift_max_nodes);
+    return;
+  }
+  const std::string file = fmt::format("{}/vein-indent-{:.3g}mm-{}.bin", c.args.cache, c.spacing * 1e3, c.n);
+  Simulation qs(scene);  // a fresh model for the run
+  c.drift = drifted_state(qs, file);
+  if (!std::isnan(c.drift.quasi_static_s))
+    fmt::print("quasi_static to s = 1 (tet preconditioner, its default): {:.1f} s, {} Newton, {} CG iterations\n",
+               c.drift.quasi_static_s, c.drift.newton, c.drift.cg);
+  if (!c.drift.available) return;
+  Vec3Array dp2(c.at(c.n), Vec3::Zero()), K2;
+  for (Index i = 0; i < c.n; ++i)
+    if (c.problem.constrained()[c.at(i)])
+      dp2[c.at(i)] = c.problem.prescribed_position(i, 1.0 + s1) - c.problem.prescribed_position(i, 1.0);
+  c.energy.hessian_product(c.drift.x, dp2, K2);
+  c.b_b = -c.red.gather(K2);
+  c.lin_drift = c.energy.linearize(c.drift.x);
+  double umax = 0.0;
+  for (Index i = 0; i < c.n; ++i) umax = std::max(umax, (c.drift.x[c.at(i)] - c.X[c.at(i)]).norm());
+  fmt::print("drifted state: max displacement {:.3f} mm\n", umax * 1e3);
+}
+
+// (a1): x1 = X + dp + dx with dx the exact predictor (K(X)_ff dx = b_a, full Hessian factor), rhs = r(x1)_f.
+void set_predictor_case(SizeCase& c, const Vec3Array& dp, double s1) {
+  EnergyHessian H(c.energy, {HessianStencil::Full, false, true, CompactLumping::Polar}, c.red.slot());
+  H.assemble(c.X);
+  SparseCholesky chol;
+  chol.compute(H.matrix());
+  Eigen::VectorXd dx;
+  chol.solve(c.b_a, dx);
+  Vec3Array x1 = c.X, dxn;
+  c.red.scatter(dx, dxn);
+  for (Index i = 0; i < c.n; ++i) x1[c.at(i)] += dp[c.at(i)] + dxn[c.at(i)];
+  Vec3Array f_int, f_ext;
+  c.energy.forces(x1, f_int);
+  c.problem.external_forces(s1, f_ext);
+  for (Index i = 0; i < c.n; ++i) f_int[c.at(i)] += f_ext[c.at(i)];
+  c.b_a1 = c.red.gather(f_int);
+  c.lin_a1 = c.energy.linearize(x1);
+}
+
+struct Candidate {
+  std::string name;
+  HessianStencil stencil;
+  CompactLumping lumping;
+};
+
+// The candidate's matrix at rest: assembly times into r; A_tet or H holds it.
+const Eigen::SparseMatrix<double>* assemble_candidate(const SizeCase& c, const Candidate& cd, bool shifted, Row& r,
+                                                      Eigen::SparseMatrix<double>& A_tet,
+                                                      std::unique_ptr<EnergyHessian>& H) {
+  const std::vector<double> sh_node = shifted ? c.shift_node : std::vector<double>{};
+  if (cd.name == "tet") {
+    r.assemble_ms = 1e3 * time_median(c.args.repeats, [&] {
+      A_tet = tet_matrix(c.problem, c.red.slot(), shifted ? c.shift : Eigen::VectorXd::Zero(c.dim));
+    });
+    return &A_tet;
+  }
+  auto t0 = Clock::now();
+  H = std::make_unique<EnergyHessian>(c.energy, EnergyHessianOptions{cd.stencil, true, true, cd.lumping}, c.red.slot());
+  r.symbolic_ms = 1e3 * seconds_since(t0);
+  r.assemble_psd_ms = 1e3 * time_median(c.args.repeats, [&] { H->assemble(c.X, sh_node); });
+  // The exact refill (no projection) on a second object of the same pattern.
+  EnergyHessian exact(c.energy, EnergyHessianOptions{cd.stencil, false, true, cd.lumping}, c.red.slot());
+  r.assemble_ms = 1e3 * time_median(c.args.repeats, [&] { exact.assemble(c.X, sh_node); });
+  return &H->matrix();
+}
+
+// One row of the table: a candidate matrix (with or without the mass shift) as the preconditioner of the three
+// situations, and for the meshless candidates (c): refactored at the drifted state.
+Row measure_candidate(SizeCase& c, const Candidate& cd, bool shifted) {
+  Row r;
+  r.spacing_m = c.spacing;
+  r.nodes = c.n;
+  r.free_nodes = static_cast<Index>(c.dim / 3);
+  r.candidate = cd.name;
+  r.shifted = shifted;
+  const Eigen::VectorXd no_shift;
+  const Eigen::VectorXd& sh = shifted ? c.shift : no_shift;
+  Eigen::SparseMatrix<double> A_tet;
+  std::unique_ptr<EnergyHessian> H;
+  const Eigen::SparseMatrix<double>* A = assemble_candidate(c, cd, shifted, r, A_tet, H);
+  // Single right-hand sides through the float copy of the factor (what the preconditioners use; the PCG
+  // columns below run with it); one column as a matrix goes through CHOLMOD's double solve.
+  SparseCholesky chol(SparseCholeskyOptions{CholeskyOrdering::Default, true, true});
+  try {
+    r.analyse_ms = 1e3 * time_median(c.args.repeats, [&] { chol.analyse(*A); });
+    r.factor_ms = 1e3 * time_median(c.args.repeats, [&] { chol.factorize(*A); });
+  } catch (const NumericalError& e) {
+    r.failure = e.what();
+    return r;
+  }
+  r.nnz_a = chol.stats().nnz_a;
+  r.nnz_l = chol.stats().nnz_l;
+  r.stored_l = chol.stats().stored_l;
+  r.flops = chol.stats().flops;
+  r.ordering = chol.stats().ordering;
+  {
+    Eigen::VectorXd z;
+    Eigen::MatrixXd Z;
+    const Eigen::MatrixXd B = c.b_a;
+    r.solve_ms = 1e3 * time_median(std::max(c.args.repeats, 5), [&] { chol.solve(B, Z); });
+    r.solve32_ms = 1e3 * time_median(std::max(c.args.repeats, 5), [&] { chol.solve(c.b_a, z); });
+  }
+  const Args& a = c.args;
+  r.a = pcg(c.red, c.lin_rest, sh, chol, c.b_a, a.tol, a.max_iterations);
+  r.a1 = pcg(c.red, c.lin_a1, sh, chol, c.b_a1, a.tol, a.max_iterations);
+  if (!c.drift.available) return r;
+  r.b = pcg(c.red, c.lin_drift, sh, chol, c.b_b, a.tol, a.max_iterations);
+  if (!H) return r;
+  H->assemble(c.drift.x, shifted ? c.shift_node : std::vector<double>{});  // PSD-projected refill, drifted state
+  try {
+    chol.factorize(H->matrix());
+    r.c = pcg(c.red, c.lin_drift, sh, chol, c.b_b, a.tol, a.max_iterations);
+  } catch (const NumericalError& e) {
+    r.failure = std::string("(c): ") + e.what();
+  }
+  return r;
+}
+
+// CHOLMOD's orderings on the matrices at rest (no shift): nnz(L), analyse and factorize times.
+void compare_orderings(const SizeCase& c) {
+  fmt::print("\nCHOLMOD orderings (no shift, matrix at rest): nnz(L), analyse ms, factorize ms\n");
+  fmt::print("| nodes | cand. | ordering | nnz(L) | flops | analyse ms | factor ms |\n|---|---|---|---|---|---|---|\n");
+  for (const std::string cand : {"tet", "compact", "full"}) {
+    Eigen::SparseMatrix<double> A_tet;
+    std::unique_ptr<EnergyHessian> H;
+    const Eigen::SparseMatrix<double>* A = nullptr;
+    if (cand == "tet") {
+      A_tet = tet_matrix(c.problem, c.red.slot(), Eigen::VectorXd::Zero(c.dim));
+      A = &A_tet;
+    } else {
+      const HessianStencil stencil = cand == "full" ? HessianStencil::Full : HessianStencil::Compact;
+      H = std::make_unique<EnergyHessian>(c.energy, EnergyHessianOptions{stencil, false, true, CompactLumping::Polar},
+                                          c.red.slot());
+      H->assemble(c.X);
+      A = &H->matrix();
+    }
+    for (CholeskyOrdering o : {CholeskyOrdering::Default, CholeskyOrdering::Amd, CholeskyOrdering::Metis, CholeskyOrdering::Nesdis}) {
+      SparseCholesky chol({o, true});
+      const double an = time_median(1, [&] { chol.analyse(*A); });
+      double fa = NAN;
+      try {
+        fa = time_median(1, [&] { chol.factorize(*A); });
+      } catch (const NumericalError&) {
+      }
+      fmt::print("| {} | {} | {} -> {} | {:.3g} | {:.3g} | {:.1f} | {:.1f} |\n", c.n, cand, to_string(o), chol.stats().ordering,
+                 chol.stats().nnz_l, chol.stats().flops, an * 1e3, fa * 1e3);
+    }
+  }
+}
+
+// The numeric refill of the full Hessian on 1 and 2 OpenMP threads (gather per block row, no atomics), and its
+// factorisation on 1 and 2 BLAS threads (OpenBLAS only; the reference BLAS has one).
+void compare_threads(const SizeCase& c) {
+  EnergyHessian H(c.energy, {HessianStencil::Full, true, true, CompactLumping::Polar}, c.red.slot());
+  const int saved = omp_get_max_threads();
+  std::vector<std::pair<int, double>> t;
+  for (int th : {1, 2}) {
+    omp_set_num_threads(th);
+    t.emplace_back(th, time_median(c.args.repeats, [&] { H.assemble(c.X); }));
+  }
+  omp_set_num_threads(saved);
+  fmt::print("\nfull Hessian refill (PSD-projected): 1 thread {:.1f} ms, 2 threads {:.1f} ms (speed-up {:.2f})\n",
+             t[0].second * 1e3, t[1].second * 1e3, t[0].second / t[1].second);
+  const int blas_saved = blas_threads();
+  SparseCholesky chol;
+  chol.analyse(H.matrix());
+  for (int th : {1, 2}) {
+    if (!set_blas_threads(th) && th > 1) break;
+    fmt::print("full Hessian factorize, {} BLAS thread(s): {:.1f} ms\n", th,
+               1e3 * time_median(c.args.repeats, [&] { chol.factorize(H.matrix()); }));
+  }
+  set_blas_threads(blas_saved);
+}
+
 void run_size(const Args& args, double spacing, std::vector<Row>& rows) {
   const std::vector<std::string> overrides{fmt::format("geometry.node_spacing_m={}", spacing), "discretization.max_growths=10"};
   Scene scene = load_scene(args.scene, overrides);
   Simulation sim(scene);
-  const Problem& problem = sim.problem();
   const Discretization& disc = sim.discretization();
-  const PointPrimitiveEnergy& energy = sim.energy();
-  const Index n = disc.num_nodes();
-  Reduced red(problem);
-  const Eigen::Index dim = red.size();
-  const Vec3Array& X = disc.rest_positions();
-  fmt::print("\n## spacing {:.3g} mm: {} nodes, {} free, mean K {:.1f}, {} tets, nodes with grown h: {}\n", spacing * 1e3, n,
-             dim / 3, disc.mean_neighbours(), disc.tets().size(), disc.grown_nodes());
+  SizeCase c(args, spacing, sim);
+  fmt::print("\n## spacing {:.3g} mm: {} nodes, {} free, mean K {:.1f}, {} tets, nodes with grown h: {}\n", spacing * 1e3, c.n,
+             c.dim / 3, disc.mean_neighbours(), disc.tets().size(), disc.grown_nodes());
+  set_mass_shift(c, disc);
+  print_hessian_product_time(c);
+  const double s1 = 1.0 / scene.settings<QuasiStaticSettings>("quasi_static").load_steps;
+  const Vec3Array dp = set_rest_case(c, s1);
+  set_drifted_case(c, scene, s1);
+  set_predictor_case(c, dp, s1);
 
-  // Mass shift M/dt^2 per free dof, N/m, and the same per node for EnergyHessian.
-  std::vector<double> shift_node(static_cast<std::size_t>(n));
-  for (Index i = 0; i < n; ++i) shift_node[static_cast<std::size_t>(i)] = disc.masses()[static_cast<std::size_t>(i)] / (args.dt * args.dt);
-  Eigen::VectorXd shift(dim);
-  for (Index i = 0; i < n; ++i)
-    if (red.slot()[static_cast<std::size_t>(i)] >= 0) shift.segment<3>(3 * red.slot()[static_cast<std::size_t>(i)]).setConstant(shift_node[static_cast<std::size_t>(i)]);
-  const Eigen::VectorXd no_shift;
-
-  // Reference: one Hessian-vector product at rest (with and without the per-state linearisation).
-  {
-    Vec3Array v(static_cast<std::size_t>(n), Vec3(1e-6, -2e-6, 0.5e-6)), out;
-    const auto lin = energy.linearize(X);
-    const double hv_lin = time_median(std::max(args.repeats, 11), [&] { energy.hessian_product(lin, v, out); });
-    const double hv_full = time_median(std::max(args.repeats, 11), [&] { energy.hessian_product(X, v, out); });
-    fmt::print("hessian_product: {:.2f} ms with a stored linearisation (per CG iteration), {:.2f} ms including it\n",
-               hv_lin * 1e3, hv_full * 1e3);
-  }
-
-  // (a) at rest: rhs = -(K dp)_f, dp the prescribed increment of load step 1.
-  const int steps = scene.settings<QuasiStaticSettings>("quasi_static").load_steps;
-  const double s1 = 1.0 / steps;
-  Vec3Array dp(static_cast<std::size_t>(n), Vec3::Zero()), Kdp;
-  for (Index i = 0; i < n; ++i)
-    if (problem.constrained()[static_cast<std::size_t>(i)]) dp[static_cast<std::size_t>(i)] = problem.prescribed_position(i, s1) - X[static_cast<std::size_t>(i)];
-  energy.hessian_product(X, dp, Kdp);
-  const Eigen::VectorXd b_a = -red.gather(Kdp);
-  const auto lin_rest = energy.linearize(X);
-
-  // (b) drifted: quasi_static to s = 1 (cached), rhs = -(K(x) dp)_f for one more increment.
-  Drift drift;
-  if (n <= args.drift_max_nodes) {
-    const std::string file = fmt::format("{}/vein-indent-{:.3g}mm-{}.bin", args.cache, spacing * 1e3, n);
-    Simulation qs(scene);  // a fresh model for the run
-    drift = drifted_state(qs, file);
-    if (!std::isnan(drift.quasi_static_s))
-      fmt::print("quasi_static to s = 1 (tet preconditioner, its default): {:.1f} s, {} Newton, {} CG iterations\n",
-                 drift.quasi_static_s, drift.newton, drift.cg);
-  } else {
-    fmt::print("drifted case (b), (c) skipped at this size (--drift-max-nodes {})\n", args.drift_max_nodes);
-  }
-  Eigen::VectorXd b_b;
-  PointPrimitiveEnergy::Linearization lin_drift;
-  if (drift.available) {
-    Vec3Array dp2(static_cast<std::size_t>(n), Vec3::Zero()), K2;
-    for (Index i = 0; i < n; ++i)
-      if (problem.constrained()[static_cast<std::size_t>(i)])
-        dp2[static_cast<std::size_t>(i)] = problem.prescribed_position(i, 1.0 + s1) - problem.prescribed_position(i, 1.0);
-    energy.hessian_product(drift.x, dp2, K2);
-    b_b = -red.gather(K2);
-    lin_drift = energy.linearize(drift.x);
-    double umax = 0.0;
-    for (Index i = 0; i < n; ++i) umax = std::max(umax, (drift.x[static_cast<std::size_t>(i)] - X[static_cast<std::size_t>(i)]).norm());
-    fmt::print("drifted state: max displacement {:.3f} mm\n", umax * 1e3);
-  }
-
-  // (a1): x1 = X + dp + dx with dx the exact predictor (K(X)_ff dx = b_a, full Hessian factor), rhs = r(x1)_f.
-  Eigen::VectorXd b_a1;
-  PointPrimitiveEnergy::Linearization lin_a1;
-  {
-    EnergyHessian H(energy, {HessianStencil::Full, false, true, CompactLumping::Polar}, red.slot());
-    H.assemble(X);
-    SparseCholesky chol;
-    chol.compute(H.matrix());
-    Eigen::VectorXd dx;
-    chol.solve(b_a, dx);
-    Vec3Array x1 = X, dxn;
-    red.scatter(dx, dxn);
-    for (Index i = 0; i < n; ++i) x1[static_cast<std::size_t>(i)] += dp[static_cast<std::size_t>(i)] + dxn[static_cast<std::size_t>(i)];
-    Vec3Array f_int, f_ext;
-    energy.forces(x1, f_int);
-    problem.external_forces(s1, f_ext);
-    for (Index i = 0; i < n; ++i) f_int[static_cast<std::size_t>(i)] += f_ext[static_cast<std::size_t>(i)];
-    b_a1 = red.gather(f_int);
-    lin_a1 = energy.linearize(x1);
-  }
-
-  struct Candidate {
-    std::string name;
-    HessianStencil stencil;
-    CompactLumping lumping;
-  };
   const std::vector<Candidate> candidates{{"tet", HessianStencil::Full, CompactLumping::Polar},
                                           {"compact", HessianStencil::Compact, CompactLumping::Polar},
                                           {"c-rowsum", HessianStencil::Compact, CompactLumping::RowSum},
@@ -381,126 +532,11 @@ void run_size(const Args& args, double spacing, std::vector<Row>& rows) {
   print_header();
   for (const Candidate& cd : candidates)
     for (bool shifted : {false, true}) {
-      const std::string& cand = cd.name;
-      Row r;
-      r.spacing_m = spacing;
-      r.nodes = n;
-      r.free_nodes = static_cast<Index>(dim / 3);
-      r.candidate = cand;
-      r.shifted = shifted;
-      const Eigen::VectorXd& sh = shifted ? shift : no_shift;
-      const std::vector<double> sh_node = shifted ? shift_node : std::vector<double>{};
-      Eigen::SparseMatrix<double> A_tet;
-      std::unique_ptr<EnergyHessian> H;
-      const Eigen::SparseMatrix<double>* A = nullptr;
-      if (cand == "tet") {
-        r.assemble_ms = 1e3 * time_median(args.repeats, [&] { A_tet = tet_matrix(problem, red.slot(), shifted ? shift : Eigen::VectorXd::Zero(dim)); });
-        A = &A_tet;
-      } else {
-        auto t0 = Clock::now();
-        H = std::make_unique<EnergyHessian>(energy, EnergyHessianOptions{cd.stencil, true, true, cd.lumping}, red.slot());
-        r.symbolic_ms = 1e3 * seconds_since(t0);
-        r.assemble_psd_ms = 1e3 * time_median(args.repeats, [&] { H->assemble(X, sh_node); });
-        // The exact refill (no projection) on a second object of the same pattern.
-        EnergyHessian exact(energy, EnergyHessianOptions{cd.stencil, false, true, cd.lumping}, red.slot());
-        r.assemble_ms = 1e3 * time_median(args.repeats, [&] { exact.assemble(X, sh_node); });
-        A = &H->matrix();
-      }
-      // Single right-hand sides through the float copy of the factor (what the preconditioners use; the PCG
-      // columns below run with it); one column as a matrix goes through CHOLMOD's double solve.
-      SparseCholesky chol(SparseCholeskyOptions{CholeskyOrdering::Default, true, true});
-      try {
-        r.analyse_ms = 1e3 * time_median(args.repeats, [&] { chol.analyse(*A); });
-        r.factor_ms = 1e3 * time_median(args.repeats, [&] { chol.factorize(*A); });
-      } catch (const NumericalError& e) {
-        r.failure = e.what();
-        print_row(r);
-        rows.push_back(r);
-        continue;
-      }
-      r.nnz_a = chol.stats().nnz_a;
-      r.nnz_l = chol.stats().nnz_l;
-      r.stored_l = chol.stats().stored_l;
-      r.flops = chol.stats().flops;
-      r.ordering = chol.stats().ordering;
-      {
-        Eigen::VectorXd z;
-        Eigen::MatrixXd Z;
-        const Eigen::MatrixXd B = b_a;
-        r.solve_ms = 1e3 * time_median(std::max(args.repeats, 5), [&] { chol.solve(B, Z); });
-        r.solve32_ms = 1e3 * time_median(std::max(args.repeats, 5), [&] { chol.solve(b_a, z); });
-      }
-      r.a = pcg(red, lin_rest, sh, chol, b_a, args.tol, args.max_iterations);
-      r.a1 = pcg(red, lin_a1, sh, chol, b_a1, args.tol, args.max_iterations);
-      if (drift.available) {
-        r.b = pcg(red, lin_drift, sh, chol, b_b, args.tol, args.max_iterations);
-        if (H) {
-          H->assemble(drift.x, sh_node);  // PSD-projected refill at the drifted state
-          try {
-            chol.factorize(H->matrix());
-            r.c = pcg(red, lin_drift, sh, chol, b_b, args.tol, args.max_iterations);
-          } catch (const NumericalError& e) {
-            r.failure = std::string("(c): ") + e.what();
-          }
-        }
-      }
-      print_row(r);
-      rows.push_back(r);
+      rows.push_back(measure_candidate(c, cd, shifted));
+      print_row(rows.back());
     }
-
-  if (args.orderings) {
-    fmt::print("\nCHOLMOD orderings (no shift, matrix at rest): nnz(L), analyse ms, factorize ms\n");
-    fmt::print("| nodes | cand. | ordering | nnz(L) | flops | analyse ms | factor ms |\n|---|---|---|---|---|---|---|\n");
-    for (const std::string cand : {"tet", "compact", "full"}) {
-      Eigen::SparseMatrix<double> A_tet;
-      std::unique_ptr<EnergyHessian> H;
-      const Eigen::SparseMatrix<double>* A = nullptr;
-      if (cand == "tet") {
-        A_tet = tet_matrix(problem, red.slot(), Eigen::VectorXd::Zero(dim));
-        A = &A_tet;
-      } else {
-        H = std::make_unique<EnergyHessian>(energy, EnergyHessianOptions{cand == "full" ? HessianStencil::Full : HessianStencil::Compact, false, true, CompactLumping::Polar},
-                                            red.slot());
-        H->assemble(X);
-        A = &H->matrix();
-      }
-      for (CholeskyOrdering o : {CholeskyOrdering::Default, CholeskyOrdering::Amd, CholeskyOrdering::Metis, CholeskyOrdering::Nesdis}) {
-        SparseCholesky chol({o, true});
-        const double an = time_median(1, [&] { chol.analyse(*A); });
-        double fa = NAN;
-        try {
-          fa = time_median(1, [&] { chol.factorize(*A); });
-        } catch (const NumericalError&) {
-        }
-        fmt::print("| {} | {} | {} -> {} | {:.3g} | {:.3g} | {:.1f} | {:.1f} |\n", n, cand, to_string(o), chol.stats().ordering,
-                   chol.stats().nnz_l, chol.stats().flops, an * 1e3, fa * 1e3);
-      }
-    }
-  }
-
-  if (args.threads) {
-    // The numeric refill of the full Hessian on 1 and 2 OpenMP threads (gather per block row, no atomics).
-    EnergyHessian H(energy, {HessianStencil::Full, true, true, CompactLumping::Polar}, red.slot());
-    const int saved = omp_get_max_threads();
-    std::vector<std::pair<int, double>> t;
-    for (int th : {1, 2}) {
-      omp_set_num_threads(th);
-      t.emplace_back(th, time_median(args.repeats, [&] { H.assemble(X); }));
-    }
-    omp_set_num_threads(saved);
-    fmt::print("\nfull Hessian refill (PSD-projected): 1 thread {:.1f} ms, 2 threads {:.1f} ms (speed-up {:.2f})\n",
-               t[0].second * 1e3, t[1].second * 1e3, t[0].second / t[1].second);
-    // The factorisation on 1 and 2 BLAS threads (OpenBLAS only; the reference BLAS has one).
-    const int blas_saved = blas_threads();
-    SparseCholesky chol;
-    chol.analyse(H.matrix());
-    for (int th : {1, 2}) {
-      if (!set_blas_threads(th) && th > 1) break;
-      fmt::print("full Hessian factorize, {} BLAS thread(s): {:.1f} ms\n", th,
-                 1e3 * time_median(args.repeats, [&] { chol.factorize(H.matrix()); }));
-    }
-    set_blas_threads(blas_saved);
-  }
+  if (args.orderings) compare_orderings(c);
+  if (args.threads) compare_threads(c);
 }
 
 }  // namespace

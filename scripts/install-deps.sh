@@ -10,6 +10,8 @@ packages=(
   python3 python3-matplotlib python3-numpy python3-meshio
   # render_surface.py --all-frames writes its animated GIF through matplotlib's Pillow writer.
   python3-pil
+  # The Python module (VASCSIM_BUILD_PYTHON) and its tests; dpkg-dev's dpkg-shlibdeps for `make package`.
+  pybind11-dev python3-dev python3-pytest dpkg-dev
   # The viewer / renderer (VASCSIM_BUILD_VIEWER): windows, GL loading, headless EGL on Mesa's software
   # rasteriser, the HUD, PNG writing; xvfb/xauth for a virtual X display (xvfb-run -a) as a fallback.
   libglfw3-dev libimgui-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "support/cli_capture.hpp"
+#include "support/scenes.hpp"
 #include "vascsim/core/interrupt.hpp"
 
 namespace {
@@ -21,21 +22,6 @@ using namespace vascsim::test;
 
 const std::string kData = std::string(VASCSIM_SOURCE_DIR) + "/tests/data/";
 
-/// 125 nodes: a 1 mm box, base fixed, top pushed down 10 um in two quasi-static load steps.
-json tiny_box() {
-  return json::parse(R"({
-    "name": "tiny-box",
-    "model": "quasi_static",
-    "geometry": { "type": "box", "min_m": [0, 0, 0], "max_m": [1e-3, 1e-3, 1e-3], "node_spacing_m": 2.5e-4 },
-    "material": { "youngs_modulus_pa": 5e5, "poisson_ratio": 0.45, "density_kg_m3": 1060 },
-    "regions": [
-      { "name": "base", "select": { "type": "box", "max_m": [1, 1, 0] }, "bc": { "type": "fixed" } },
-      { "name": "top", "select": { "type": "box", "min_m": [-1, -1, 1e-3] },
-        "bc": { "type": "displacement", "direction": [0, 0, -1], "magnitude_m": 1e-5 } }
-    ],
-    "quasi_static": { "load_steps": 2, "rel_tolerance": 1e-6 }
-  })");
-}
 
 std::string box_scene(const fs::path& dir, const json& changes = json::object()) {
   json scene = tiny_box();

@@ -116,7 +116,9 @@ TEST(LiveSession, RecordingReplaysBitIdenticallyThroughTheHeadlessSession) {
   ExchangeObserver observer;
   LiveOptions options;
   options.lockstep = true;
-  LiveSession session(block_scene(), mouse, observer, options);
+  // The block at a 1 mm lattice (196 nodes): a replay's bit-identity does not depend on the resolution.
+  const std::vector<std::string> coarse = {"geometry.node_spacing_m=1e-3"};
+  LiveSession session(block_scene(coarse), mouse, observer, options);
   session.post({LiveCommand::Kind::start_recording, std::nullopt, {}});
   for (int k = 0; k < 60; ++k) {
     if (k < 20) mouse.scroll(1.0);
@@ -131,7 +133,7 @@ TEST(LiveSession, RecordingReplaysBitIdenticallyThroughTheHeadlessSession) {
   HapticRunOptions replay;
   replay.out_dir = dir / "replay";
   replay.replay = dir / "live.csv";
-  const auto summary = run_haptic_session(block_scene(), replay);
+  const auto summary = run_haptic_session(block_scene(coarse), replay);
   const auto& r = summary["haptics"]["replay"];
   EXPECT_EQ(r["ticks_compared"].get<std::size_t>(), 60u);
   EXPECT_TRUE(r["bit_identical"].get<bool>()) << r.dump();

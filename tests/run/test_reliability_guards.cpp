@@ -11,6 +11,7 @@
 #include <string>
 
 #include "support/cli_capture.hpp"
+#include "support/scenes.hpp"
 #include "vascsim/core/interrupt.hpp"
 #include "vascsim/model/inversion_check.hpp"
 #include "vascsim/run/runner.hpp"
@@ -23,22 +24,10 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-/// 125 nodes: a 1 mm box, base fixed, the top pushed down `push_m` in `load_steps` quasi-static steps.
+/// The shared tiny box (support/scenes.hpp) writing its VTK frames.
 json tiny_box(double push_m, int load_steps) {
-  json scene = json::parse(R"({
-    "name": "tiny-box",
-    "model": "quasi_static",
-    "geometry": { "type": "box", "min_m": [0, 0, 0], "max_m": [1e-3, 1e-3, 1e-3], "node_spacing_m": 2.5e-4 },
-    "material": { "youngs_modulus_pa": 5e5, "poisson_ratio": 0.45, "density_kg_m3": 1060 },
-    "regions": [
-      { "name": "base", "select": { "type": "box", "max_m": [1, 1, 0] }, "bc": { "type": "fixed" } },
-      { "name": "top", "select": { "type": "box", "min_m": [-1, -1, 1e-3] },
-        "bc": { "type": "displacement", "direction": [0, 0, -1], "magnitude_m": 1e-5 } }
-    ],
-    "output": { "vtk": true }
-  })");
-  scene["regions"][1]["bc"]["magnitude_m"] = push_m;
-  scene["quasi_static"] = {{"load_steps", load_steps}, {"rel_tolerance", 1e-6}};
+  json scene = test::tiny_box(push_m, load_steps);
+  scene["output"] = {{"vtk", true}};
   return scene;
 }
 

@@ -22,12 +22,14 @@
 #include "vascsim/model/explicit_model.hpp"
 #include "vascsim/model/quasi_static_model.hpp"
 #include "vascsim/scene/scene.hpp"
+#include "support/scenes.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace vascsim;
+using vascsim::test::tiny_box;
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
@@ -95,21 +97,6 @@ std::string read_text(const fs::path& file) {
   return s.str();
 }
 
-/// A valid 5 x 5 x 5 node box (125 nodes): clamped bottom face, top face pushed down 10 um.
-json tiny_box() {
-  return json::parse(R"({
-    "name": "tiny-box",
-    "model": "quasi_static",
-    "geometry": { "type": "box", "min_m": [0, 0, 0], "max_m": [1e-3, 1e-3, 1e-3], "node_spacing_m": 2.5e-4 },
-    "material": { "youngs_modulus_pa": 5e5, "poisson_ratio": 0.45, "density_kg_m3": 1060 },
-    "regions": [
-      { "name": "base", "select": { "type": "box", "max_m": [1, 1, 0] }, "bc": { "type": "fixed" } },
-      { "name": "top", "select": { "type": "box", "min_m": [-1, -1, 1e-3] },
-        "bc": { "type": "displacement", "direction": [0, 0, -1], "magnitude_m": 1e-5 } }
-    ],
-    "quasi_static": { "load_steps": 2, "rel_tolerance": 1e-6 }
-  })");
-}
 
 /// A valid tube (3 layers x 20 around x 5 rings = 300 nodes): both end rings clamped, a 3 x 3 node
 /// patch on the outer wall at theta = 90 deg pushed 50 um inward.

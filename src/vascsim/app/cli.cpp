@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "vascsim/app/command.hpp"
+#include "vascsim/core/build_info.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/interrupt.hpp"
 #include "vascsim/core/text.hpp"
@@ -90,8 +91,12 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   fall_through(app);
   reject_empty_values(app);
   // After fall_through: the stub keeps whatever follows it as its own extras.
-  if (std::none_of(commands.begin(), commands.end(), [](const Command& c) { return c.app->get_name() == "view"; }))
-    add_view_stub_command(app, ctx, commands);
+  const bool viewer =
+      std::any_of(commands.begin(), commands.end(), [](const Command& c) { return c.app->get_name() == "view"; });
+  if (!viewer) add_view_stub_command(app, ctx, commands);
+  app.set_version_flag("--version", [viewer] {
+    return format_build_info(build_info()) + "viewer: " + (viewer ? "on" : "off (built without VASCSIM_BUILD_VIEWER)");
+  }, "Print the version and the build configuration, then exit");
 
   std::vector<std::string> rev(args.rbegin(), args.rend());
   try {
@@ -101,6 +106,9 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
     return 0;
   } catch (const CLI::CallForAllHelp&) {
     out << app.help("", CLI::AppFormatMode::All);
+    return 0;
+  } catch (const CLI::CallForVersion& e) {
+    out << e.what() << "\n";
     return 0;
   } catch (const CLI::ParseError& e) {
     err << "vascsim: " << one_line(e.what()) << " (see vascsim --help)\n";

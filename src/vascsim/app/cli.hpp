@@ -1,5 +1,6 @@
 #pragma once
 // The `vascsim` command line, callable in-process (tests) with its own output streams.
+//   vascsim --version   (the version and the build configuration)
 //   vascsim [-q|-v] [-j THREADS] run SCENE.json [--set key=value ...] [--out DIR] [--yes]   (global options
 //   may also follow the subcommand)
 //   vascsim [-q|-v] check SCENE.json [--set key=value ...] [--yes] [--json FILE]   (builds, does not solve)

@@ -66,7 +66,7 @@ int merge(const TimingFlags& f, CliContext& ctx) {
                          (fs::path(f.out) / "timing.json").string(), (fs::path(f.out) / "ahp_measurements.json").string());
   if (f.no_plot) return 0;
   const fs::path png = fs::path(f.out) / "timing.png";
-  const PlotOutcome plot = run_plot_script(source_script("plot_timing.py"),
+  const PlotOutcome plot = run_plot_script(bundled_script("plot_timing.py"),
                                            {(fs::path(f.out) / "timing.json").string(), "--out", png.string()}, png);
   if (plot.problem.empty())
     ctx.out << "wrote " << png.string() << "\n";

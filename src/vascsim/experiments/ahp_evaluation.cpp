@@ -9,9 +9,9 @@
 #include <set>
 #include <stdexcept>
 
+#include "vascsim/core/bundled_files.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/json_reader.hpp"
-#include "vascsim/experiments/plot_script.hpp"
 
 
 namespace vascsim::ahp {
@@ -496,6 +496,6 @@ AhpReport run_ahp(const AhpInputs& in) {
   return evaluate(h, s, r, m ? &*m : nullptr, in.paper_weights);
 }
 
-std::filesystem::path default_data_dir() { return source_path("data/ahp"); }
+std::filesystem::path default_data_dir() { return bundled_file("data/ahp"); }
 
 }  // namespace vascsim::ahp

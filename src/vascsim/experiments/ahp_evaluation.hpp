@@ -174,7 +174,7 @@ AhpReport evaluate(const Hierarchy& hierarchy, const Standard& standard, const R
 /// Loads the files and evaluates. Throws InputError (one line naming file and key) for bad input.
 AhpReport run_ahp(const AhpInputs& inputs);
 
-/// data/ahp of the source tree this library was built from (the bundled paper files).
+/// data/ahp of the bundled files (core/bundled_files.hpp: the paper files).
 std::filesystem::path default_data_dir();
 
 }  // namespace vascsim::ahp

@@ -230,7 +230,7 @@ Outputs write_outputs(const AhpReport& r, const OutputOptions& o) {
   write("ahp_report.md", markdown(r));
   write("ahp_report.json", to_json(r).dump(2) + "\n");
   if (o.plot) {
-    const std::filesystem::path script = o.plot_script.empty() ? source_script("plot_ahp.py") : o.plot_script;
+    const std::filesystem::path script = o.plot_script.empty() ? bundled_script("plot_ahp.py") : o.plot_script;
     const std::filesystem::path png = folder.path("ahp_scores.png");
     const PlotOutcome plot =
         run_plot_script(script, {folder.path("ahp_scores.csv").string(), "--out", png.string()}, png, o.python);

@@ -29,7 +29,7 @@ struct OutputOptions {
   std::filesystem::path out_dir;
   bool plot = true;
   std::string python = "/usr/bin/python3";
-  /// Default: scripts/plot_ahp.py of the source tree this library was built from.
+  /// Default: the bundled scripts/plot_ahp.py (core/bundled_files.hpp).
   std::filesystem::path plot_script;
 };
 

@@ -53,7 +53,7 @@ ForceDisplacementResult run_force_displacement(const Scene& scene, const ForceDi
   result.summary["force_displacement"] = {{"tool", ob.name}, {"csv", result.csv.filename().string()}, {"rows", rows}};
 
   if (options.plot) {
-    const fs::path script = options.plot_script.empty() ? source_script("plot_force_displacement.py") : options.plot_script;
+    const fs::path script = options.plot_script.empty() ? bundled_script("plot_force_displacement.py") : options.plot_script;
     const fs::path png = options.out_dir / "force_displacement.png";
     const PlotOutcome plot = run_plot_script(
         script, {result.csv.string(), "--out", png.string(), "--label", scene.model, "--title", scene.name}, png,

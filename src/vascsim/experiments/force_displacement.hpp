@@ -23,7 +23,7 @@ struct ForceDisplacementOptions {
   std::string tool;  ///< obstacle name; empty: the scene's only obstacle
   bool plot = true;
   std::string python = "/usr/bin/python3";
-  /// Default: scripts/plot_force_displacement.py of the source tree this binary was built from.
+  /// Default: the bundled scripts/plot_force_displacement.py (core/bundled_files.hpp).
   std::filesystem::path plot_script;
   std::function<void(const StepRecord&, int)> on_step;
 };

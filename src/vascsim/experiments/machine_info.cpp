@@ -1,5 +1,7 @@
 #include "vascsim/experiments/machine_info.hpp"
 
+#include "vascsim/core/build_info.hpp"
+
 #include <omp.h>
 #include <chrono>
 #include <cstdlib>
@@ -7,21 +9,9 @@
 #include <fstream>
 #include <thread>
 
-#ifndef VASCSIM_BUILD_TYPE
-#define VASCSIM_BUILD_TYPE ""
-#endif
-
 namespace vascsim {
 
 namespace {
-
-#if defined(__clang__)
-constexpr const char* kCompiler = "clang " __clang_version__;
-#elif defined(__GNUC__)
-constexpr const char* kCompiler = "gcc " __VERSION__;
-#else
-constexpr const char* kCompiler = "unknown";
-#endif
 
 std::string cpu_model() {
   std::ifstream in("/proc/cpuinfo");
@@ -53,18 +43,19 @@ std::string utc_now() {
 nlohmann::json machine_info() {
   double l[3] = {-1.0, -1.0, -1.0};
   getloadavg(l, 3);
+  const BuildInfo build = build_info();
   return {{"cpu_model", cpu_model()},
           {"hardware_concurrency", std::thread::hardware_concurrency()},
           {"omp_num_procs", omp_get_num_procs()},
           {"omp_max_threads", omp_get_max_threads()},
           {"load_average", {l[0], l[1], l[2]}},
-          {"build_type", VASCSIM_BUILD_TYPE},
+          {"build_type", build.build_type},
 #ifdef NDEBUG
           {"ndebug", true},
 #else
           {"ndebug", false},
 #endif
-          {"compiler", kCompiler},
+          {"compiler", build.compiler},
           {"date_utc", utc_now()}};
 }
 

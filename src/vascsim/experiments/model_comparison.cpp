@@ -191,7 +191,7 @@ ModelComparisonResult run_model_comparison(const std::string& scene_path, const 
     for (const auto& c : res.curves) args.insert(args.end(), {"--label", c.model});
     const fs::path png = o.out_dir / "force_displacement_models.png";
     args.insert(args.end(), {"--reference", "--out", png.string(), "--title", fs::path(scene_path).stem().string()});
-    const PlotOutcome plot = run_plot_script(source_script("plot_force_displacement.py"), args, png, o.python);
+    const PlotOutcome plot = run_plot_script(bundled_script("plot_force_displacement.py"), args, png, o.python);
     res.png = plot.png;
     res.plot_problem = plot.problem;
   }

@@ -3,9 +3,7 @@
 #include <cstdlib>
 #include <fmt/format.h>
 
-#ifndef VASCSIM_SOURCE_DIR
-#define VASCSIM_SOURCE_DIR "."
-#endif
+#include "vascsim/core/bundled_files.hpp"
 
 namespace vascsim {
 
@@ -26,11 +24,7 @@ std::string shell_quote(const std::string& s) {
 
 }  // namespace
 
-std::filesystem::path source_path(const std::string& relative) {
-  return std::filesystem::path(VASCSIM_SOURCE_DIR) / relative;
-}
-
-std::filesystem::path source_script(const std::string& name) { return source_path("scripts") / name; }
+std::filesystem::path bundled_script(const std::string& name) { return bundled_file("scripts/" + name); }
 
 PlotOutcome run_plot_script(const std::filesystem::path& script, const std::vector<std::string>& args,
                             const std::filesystem::path& png, const std::string& python) {

@@ -14,11 +14,9 @@ struct PlotOutcome {
   std::string problem;        ///< why there is none (empty when drawn)
 };
 
-/// scripts/<name> of the source tree this binary was built from.
-std::filesystem::path source_script(const std::string& name);
-
-/// Files of the source tree this binary was built from (e.g. data/ahp).
-std::filesystem::path source_path(const std::string& relative);
+/// scripts/<name> of the bundled files (core/bundled_files.hpp: the source tree of a build tree, share/vascsim
+/// of an installed vascsim).
+std::filesystem::path bundled_script(const std::string& name);
 
 /// Runs `python script args...` (each argument quoted for the shell, stdout discarded); `png` is the picture
 /// the arguments ask for.

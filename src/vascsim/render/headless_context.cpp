@@ -1,6 +1,7 @@
 // The headless back-end of GlContext: EGL on Mesa's surfaceless platform, rendering into framebuffer
 // objects. No display, no window system, no X server.
 
+#include <dlfcn.h>
 #include <epoxy/egl.h>
 #include <epoxy/gl.h>
 #include <fmt/format.h>
@@ -31,8 +32,13 @@ std::string egl_error_name(EGLint e) {
 class HeadlessContext final : public GlContext {
  public:
   explicit HeadlessContext(const ContextOptions& options) : width_(options.width), height_(options.height) {
-    const char* hint = "; install Mesa's EGL (libegl-mesa0, libgl1-mesa-dri) or open a window (set DISPLAY, or "
-                       "run under xvfb-run -a)";
+    const char* hint = "; install EGL with Mesa's drivers (libegl1, libegl-mesa0, libgl1-mesa-dri) or open a window "
+                       "(set DISPLAY, or run under xvfb-run -a)";
+    // libepoxy aborts the process when it cannot load libEGL.so.1: look for it first.
+    if (void* egl = dlopen("libEGL.so.1", RTLD_LAZY | RTLD_LOCAL); egl != nullptr)
+      dlclose(egl);
+    else
+      throw RenderSetupError(fmt::format("cannot render headless: libEGL.so.1 not found{}", hint));
     if (!epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless"))
       throw RenderSetupError(fmt::format("cannot render headless: no EGL with EGL_MESA_platform_surfaceless{}", hint));
     display_ = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);

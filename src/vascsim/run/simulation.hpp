@@ -71,13 +71,16 @@ class Simulation {
   void check_state(const std::string& where);
   /// Checks that found inverted material under a tool's contact.
   int inverted_steps() const { return inverted_steps_; }
+  /// Measures the current state as output point `step` (0: the rest state, no tool loads) with the model's
+  /// `report`: what advance() does after the model moved; a driver that steps a DeviceDrivenModel itself (the
+  /// Python module) measures its frames with it.
+  StepRecord measure(int step, const StepReport& report) const;
   /// Reference values of the scene (e.g. the Timoshenko deflection), for summary.json; null if none.
   nlohmann::json reference(const StepRecord& last) const;
 
  private:
   void build(const BuildChecks& checks);
   void check_motion_sizes() const;
-  StepRecord measure(int step, const StepReport& report) const;
 
   Scene scene_;
   std::unique_ptr<Body> body_;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "vascsim/core/bundled_files.hpp"
 #include "vascsim/model/registry.hpp"
 
 namespace vascsim::viewer {
@@ -11,7 +12,7 @@ namespace fs = std::filesystem;
 
 std::vector<std::string> bundled_scenes(const std::string& current) {
   std::vector<std::string> out;
-  const fs::path source(VASCSIM_SOURCE_DIR);
+  const fs::path source = bundled_root();
   for (const char* dir : {"scenes", "scenes/realtime"}) {
     std::error_code ec;
     for (const auto& e : fs::directory_iterator(source / dir, ec))
@@ -26,7 +27,7 @@ std::vector<std::string> bundled_scenes(const std::string& current) {
 std::string scene_path(const std::string& choice) {
   const fs::path p(choice);
   if (p.is_absolute() || fs::exists(p)) return choice;
-  const fs::path bundled = fs::path(VASCSIM_SOURCE_DIR) / p;
+  const fs::path bundled = bundled_root() / p;
   return fs::exists(bundled) ? bundled.string() : choice;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
-// What the panel offers to choose from: the bundled scenes (scenes/*.json and scenes/realtime/*.json of this
-// source tree, plus the scene the viewer was started with) and each model's settings as its own reader takes
+// What the panel offers to choose from: the bundled scenes (scenes/*.json and scenes/realtime/*.json of the
+// bundled files (core/bundled_files.hpp), plus the scene the viewer was started with) and each model's settings as its own reader takes
 // them (the models a device can drive come from the registry: model_names_with(device_driven)).
 
 #include <string>
@@ -15,7 +15,7 @@ namespace vascsim::viewer {
 /// is not among them.
 std::vector<std::string> bundled_scenes(const std::string& current);
 
-/// The file of a choice: as given if it exists (or is absolute), else under this source tree.
+/// The file of a choice: as given if it exists (or is absolute), else among the bundled files.
 std::string scene_path(const std::string& choice);
 
 /// The settings block of `model` as its registry reader takes it for `scene` (the file's values or the

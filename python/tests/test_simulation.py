@@ -1,0 +1,155 @@
+"""Simulation: advancing output points, device-driven frames with a tool pose, node positions as NumPy views,
+the mapped surface, region and tool forces, the solver's statistics."""
+
+import numpy as np
+import pytest
+
+import vascsim
+
+
+def test_solve_reaches_equilibrium_between_the_tool_and_the_base(block_path):
+    sim = vascsim.Simulation(vascsim.load_scene(block_path))
+    assert sim.num_steps == 4
+    records = sim.solve()
+    assert [r["step"] for r in records] == [1, 2, 3, 4]
+    assert all(r["converged"] for r in records)
+    last = records[-1]
+    tool = last["tools"]["ball"]["force_n"]    # the ball's force on the tissue, N
+    base = last["regions"]["base"]["force_n"]  # the support's reaction on the tissue, N
+    assert tool[2] < 0 and last["tools"]["ball"]["contacts"] > 0
+    # Static equilibrium without gravity: the two external forces cancel. The Newton solve stops at a relative
+    # residual of 1e-8 (the scene's rel_tolerance); 1e-6 of the force leaves room for the residual's norm.
+    assert np.linalg.norm(tool + base) < 1e-6 * np.linalg.norm(tool)
+    with pytest.raises(ValueError, match="all 4 output points"):
+        sim.advance()
+
+
+def test_positions_are_a_read_only_view_updated_in_place(block_path):
+    sim = vascsim.Simulation(vascsim.load_scene(block_path))
+    x = sim.positions
+    assert x.shape == (sim.num_nodes, 3) and x.dtype == np.float64
+    assert not x.flags.writeable
+    assert not x.flags.owndata  # a view, not a copy
+    rest = sim.rest_positions
+    assert np.array_equal(x, rest)
+    before = np.array(x)  # a copy of the rest state
+    sim.advance()
+    # The same array shows the new state: the nodes under the ball follow its first 0.05 mm step down (-z);
+    # within half of it either way (the contact's tolerance, the wall's bulge), not unmoved.
+    dz = x[:, 2] - before[:, 2]
+    assert 0.5 * 5e-5 < -dz.min() < 1.5 * 5e-5
+    assert np.array_equal(x, sim.positions)
+    with pytest.raises(ValueError):
+        x[0, 0] = 1.0
+
+
+def test_the_python_records_equal_the_force_displacement_experiment(block_path, tmp_path):
+    scene = vascsim.load_scene(block_path)
+    records = vascsim.Simulation(scene).solve()
+    result = vascsim.force_displacement(scene, tmp_path)
+    assert (tmp_path / "force_displacement.csv").exists()
+    assert result["png"] is None  # plot=False
+    # The experiment's curve: the tool's travel and the tissue's force on it along the reversed push (+z here).
+    np.testing.assert_allclose(result["displacement_m"], [0, 5e-5, 1e-4, 1.5e-4, 2e-4], rtol=1e-12)
+    expected = [0.0] + [-r["tools"]["ball"]["force_n"][2] for r in records]
+    # The same computation on one thread (OMP_NUM_THREADS=1): equal to rounding.
+    np.testing.assert_allclose(result["force_n"], expected, rtol=1e-12, atol=0)
+    assert result["summary"]["force_displacement"]["tool"] == "ball"
+
+
+def test_statistics_report_the_solver(block_path):
+    sim = vascsim.Simulation(vascsim.load_scene(block_path))
+    sim.advance()
+    s = sim.statistics
+    assert s["model"] == "quasi_static" and s["steps_done"] == 1 and s["nodes"] == sim.num_nodes
+    assert s["iterations"] >= 1 and s["converged"] and s["residual"] <= 1e-8
+    assert s["info"]["newton_iterations"] >= s["iterations"]
+    assert s["total_wall_s"] > 0
+
+
+def test_another_model_is_chosen_by_name(block_path):
+    sim = vascsim.Simulation(vascsim.load_scene(block_path), model="tensor_mass")
+    assert sim.model == "tensor_mass" and sim.scene.model == "tensor_mass"
+    with pytest.raises(vascsim.InputError, match="no_such_model"):
+        vascsim.Simulation(vascsim.load_scene(block_path), model="no_such_model")
+
+
+def test_a_device_drives_the_tool_into_the_block(haptic_block_path):
+    sim = vascsim.Simulation(vascsim.load_scene(haptic_block_path))  # xpbd: device-driven
+    assert sim.device_driven and sim.frame_length_s == pytest.approx(1e-3)
+    tip_above = np.array([0.003, 0.003, 0.0032])  # the catheter tip's rest position, 0.2 mm above the block
+    sim.set_tool_pose(tip_above)
+    sim.step()
+    assert sim.tool_loads()[0]["contacts"] == 0
+    depths, forces = [1e-4, 2e-4], []
+    for depth in depths:
+        sim.set_tool_pose(tip_above - [0, 0, 2e-4 + depth], tool="catheter")
+        for _ in range(60):
+            record = sim.step()
+        load = sim.tool_loads()[0]
+        assert load["name"] == "catheter" and load["contacts"] > 0
+        # The record measures the same frame's tool force.
+        np.testing.assert_array_equal(record["tools"]["catheter"]["force_n"], load["force_n"])
+        forces.append(-load["force_n"][2])  # the tissue pushes the tool up (+z)
+    assert sim.frames_done == 121 and sim.time_s == pytest.approx(0.121)
+    assert 0 < forces[0] < forces[1]  # deeper, harder
+    assert sim.positions[:, 2].min() < 0.003 - 5e-5  # the top surface is pressed in
+
+
+def test_device_calls_need_a_device_driven_model_and_a_valid_pose(vessel_path, haptic_block_path):
+    sim = vascsim.Simulation(vascsim.load_scene(vessel_path), model="explicit")  # no tools, no device
+    assert not sim.device_driven
+    with pytest.raises(vascsim.InputError, match="cannot be driven by a device; use one of: .*implicit"):
+        sim.step()
+    driven = vascsim.Simulation(vascsim.load_scene(haptic_block_path))
+    with pytest.raises(vascsim.InputError, match="no obstacle named 'nope'"):
+        driven.set_tool_pose([0, 0, 0], tool="nope")
+    with pytest.raises(vascsim.InputError, match="quaternion"):
+        driven.set_tool_pose([0, 0, 0], orientation=[0, 0, 0, 0])
+    with pytest.raises(vascsim.InputError, match="finite"):
+        driven.set_tool_pose([np.nan, 0, 0])
+
+
+def test_the_surface_is_mapped_from_the_nodes(vessel_path):
+    sim = vascsim.Simulation(vascsim.load_scene(vessel_path))
+    rest = sim.surface()
+    v, t, n = rest["vertices"], rest["triangles"], rest["normals"]
+    assert v.shape[1] == 3 and t.shape[1] == 3 and n.shape == v.shape
+    assert t.min() >= 0 and t.max() < len(v)
+    assert not t.flags.writeable and not t.flags.owndata  # the triangles are a view
+    np.testing.assert_allclose(np.linalg.norm(n, axis=1), 1.0, atol=1e-12)
+    # The MLS map reproduces the rest state: the surface at rest does not move.
+    assert np.abs(rest["displacements"]).max() == 0.0
+    sim.solve()
+    pressed = sim.surface()
+    assert np.array_equal(pressed["triangles"], t)
+    # The indenter pushes 0.2 mm inward; the mapped surface follows by about that much at the patch.
+    moved = np.linalg.norm(pressed["displacements"], axis=1).max()
+    assert 1e-4 < moved < 4e-4
+    np.testing.assert_allclose(pressed["vertices"], v + pressed["displacements"], atol=1e-15)
+
+
+def test_two_simulations_run_in_two_threads(block_path, vessel_path):
+    import threading
+    scenes = [vascsim.load_scene(block_path), vascsim.load_scene(vessel_path)]
+    serial = [vascsim.Simulation(s).solve()[-1] for s in scenes]
+    parallel, errors = [None, None], []
+
+    def solve(i):
+        try:
+            parallel[i] = vascsim.Simulation(scenes[i]).solve()[-1]
+        except Exception as e:  # noqa: BLE001 (reported below)
+            errors.append(e)
+
+    threads = [threading.Thread(target=solve, args=(i,)) for i in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors
+    # Each Simulation owns its state, and one thread each (OMP_NUM_THREADS=1) computes bit for bit as alone.
+    for alone, together in zip(serial, parallel):
+        assert together["iterations"] == alone["iterations"]
+        for kind in ("regions", "tools"):
+            for name, values in alone[kind].items():
+                np.testing.assert_array_equal(together[kind][name]["force_n"], values["force_n"])

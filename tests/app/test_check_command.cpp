@@ -123,13 +123,14 @@ TEST(CheckCommand, FailsWhereRunFailsWithTheSameMessage) {
   const std::string tiny = source("tests/data/tiny-bent-vessel.json");
   const std::vector<Broken> cases = {
       {"unknown key", tiny, {"geometry.bogus=1"}, 2, "bogus"},
-      {"a region that selects nothing", tiny, {"regions.2.select.type=box", "regions.2.select.min_m=[1,1,1]"}, 2,
+      {"a region that selects nothing", tiny, {"regions.2.select={\"type\":\"box\",\"min_m\":[1,1,1],\"max_m\":[2,2,2]}",
+        "regions.2.bc={\"type\":\"fixed\"}"}, 2,
        "selects no nodes"},
       {"a vessel selector on a beam", source("scenes/cantilever.json"),
        {"regions.1.select={\"type\":\"cylinder_end\",\"end\":\"start\"}"}, 2, "needs a vessel geometry"},
-      {"the discretisation guard", tiny, {"discretization.max_growths=0", "discretization.support_radius_factor=1.0"}, 3,
-       "discretization.max_growths"},
-      {"the surface map's guard", tiny, {"mapping.max_growths=0", "mapping.support_radius_factor=1.0"}, 3,
+      {"the discretisation guard", tiny, {"discretization.max_growths=0", "discretization.support_radius_factor=1.01"}, 3,
+       "discretization.max_growths = "},
+      {"the surface map's guard", tiny, {"mapping.max_growths=0", "mapping.support_radius_factor=1.5"}, 3,
        "mapping.max_growths = "},
       {"a body above the node limit without --yes", source("scenes/vein-indent.json"),
        {"geometry.outer_radius_m=0.015"}, 2, "--yes"},
@@ -150,23 +151,29 @@ TEST(CheckCommand, FailsWhereRunFailsWithTheSameMessage) {
   }
 }
 
-// The surface map's guard names a value of mapping.max_growths that works, and that value does.
-TEST(CheckCommand, TheSurfaceMapGuardNamesAGrowthThatWorks) {
+// A failed guard names the smallest value of its max_growths key that works: that value passes, one less fails.
+void expect_guard_names_a_growth_that_works(const std::string& section, const std::string& factor) {
   const std::string tiny = source("tests/data/tiny-bent-vessel.json");
-  const CliResult failed = cli({"-q", "check", tiny, "--set", "mapping.max_growths=0", "--set",
-                                "mapping.support_radius_factor=1.0"});
+  auto check_with = [&](int growths) {
+    return cli({"-q", "check", tiny, "--set", section + ".max_growths=" + std::to_string(growths), "--set",
+                section + ".support_radius_factor=" + factor});
+  };
+  const CliResult failed = check_with(0);
   ASSERT_EQ(failed.code, 3) << failed.err;
-  const std::string key = "mapping.max_growths = ";
+  const std::string key = section + ".max_growths = ";
   const std::size_t at = failed.err.find(key);
   ASSERT_NE(at, std::string::npos) << failed.err;
   const int growths = std::stoi(failed.err.substr(at + key.size()));
   EXPECT_GT(growths, 0);
-  const CliResult fixed = cli({"-q", "check", tiny, "--set", "mapping.max_growths=" + std::to_string(growths), "--set",
-                               "mapping.support_radius_factor=1.0"});
+  const CliResult fixed = check_with(growths);
   EXPECT_EQ(fixed.code, 0) << fixed.err;
-  const CliResult one_less = cli({"-q", "check", tiny, "--set", "mapping.max_growths=" + std::to_string(growths - 1),
-                                  "--set", "mapping.support_radius_factor=1.0"});
-  EXPECT_EQ(one_less.code, 3) << "the smallest value that works is named";
+  EXPECT_EQ(check_with(growths - 1).code, 3) << "the smallest value that works is named";
+}
+
+TEST(CheckCommand, TheSurfaceMapGuardNamesAGrowthThatWorks) { expect_guard_names_a_growth_that_works("mapping", "1.5"); }
+
+TEST(CheckCommand, TheSupportGuardNamesAGrowthThatWorks) {
+  expect_guard_names_a_growth_that_works("discretization", "1.01");
 }
 
 // ------------------------------------------------------------------------------------------------------------

@@ -49,8 +49,9 @@ void apply_thread_count(int requested) {
   const double load = load_average_1min();
   const int threads = default_thread_count(cores, load);
   omp_set_num_threads(threads);
+  // Said with -v only: an error must stay one line, and the README states the rule.
   if (threads < cores)
-    spdlog::info("{} OpenMP thread{} of {} cores: the load average is {:.2f} (other work holds the rest; -j N or "
+    spdlog::debug("{} OpenMP thread{} of {} cores: the load average is {:.2f} (other work holds the rest; -j N or "
                  "OMP_NUM_THREADS=N chooses)",
                  threads, threads == 1 ? "" : "s", cores, load);
 }

@@ -1,9 +1,9 @@
 #pragma once
 // How many OpenMP threads vascsim uses when the user chooses none (no -j, no OMP_NUM_THREADS): the cores that
 // other work leaves idle. On a loaded machine every parallel region waits for its slowest thread, and a thread
-// that shares its core with another process waits for a time slice: on the shared 2-core machine, two threads
-// beside other work were measured 7.5x slower per frame than one (docs/performance.md, "Threads on a loaded
-// machine"); OMP_WAIT_POLICY=passive did not change that.
+// that shares its core with another process waits for a time slice: beside other work, two threads were measured
+// up to 10x slower per force evaluation than on an idle machine while one thread slowed by at most 1.6x
+// (docs/performance.md, section 6); OMP_WAIT_POLICY=passive did not change that.
 
 namespace vascsim {
 

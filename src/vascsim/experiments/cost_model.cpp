@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "vascsim/core/error.hpp"
-#include "vascsim/experiments/plot_script.hpp"
+#include "vascsim/core/bundled_files.hpp"
 
 namespace vascsim {
 
@@ -54,7 +54,7 @@ CostCalibration CostCalibration::read(const std::filesystem::path& file) {
   return c;
 }
 
-std::filesystem::path CostCalibration::default_file() { return source_path("data/calibration/cost_model.json"); }
+std::filesystem::path CostCalibration::default_file() { return bundled_file("data/calibration/cost_model.json"); }
 
 const ModelCost* CostCalibration::find(const std::string& model) const {
   const auto it = models.find(model);

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "vascsim/core/error.hpp"
-#include "vascsim/experiments/plot_script.hpp"
+#include "vascsim/core/bundled_files.hpp"
 
 namespace vascsim {
 
@@ -56,7 +56,7 @@ ForceAccuracyTable ForceAccuracyTable::read(const std::filesystem::path& file) {
   return t;
 }
 
-std::filesystem::path ForceAccuracyTable::default_file() { return source_path("data/calibration/force_accuracy.json"); }
+std::filesystem::path ForceAccuracyTable::default_file() { return bundled_file("data/calibration/force_accuracy.json"); }
 
 AccuracyEstimate estimate_accuracy(const ForceAccuracyTable& table, const Scene& scene, double nodes) {
   AccuracyEstimate e;

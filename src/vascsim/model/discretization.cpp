@@ -100,6 +100,18 @@ PairTable transpose(const PairTable& p, Index n) {
   return t;
 }
 
+// The neighbours a support needs: the linear basis's minimum, or the quadratic fit's when that is larger.
+int needed_neighbours(const DiscretizationOptions& opt) {
+  return opt.basis == GradientBasis::Quadratic ? std::max(opt.min_neighbours, opt.quadratic_min_neighbours)
+                                               : opt.min_neighbours;
+}
+
+// The support guard: enough neighbours, not coplanar, and (quadratic basis) a well-posed quadratic fit.
+bool accepted(const NeighbourhoodTrial& t, const DiscretizationOptions& opt) {
+  return static_cast<int>(t.nbr.size()) >= needed_neighbours(opt) && t.eigen_ratio >= opt.min_eigen_ratio &&
+         (opt.basis != GradientBasis::Quadratic || t.fit_ratio >= opt.quadratic_min_eigen_ratio);
+}
+
 }  // namespace
 
 Discretization::Discretization(const NodeCloud& cloud, const Material& material,
@@ -134,18 +146,14 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
   std::vector<NeighbourhoodTrial> trials(n);
   std::vector<int> failed(n, 0);
   const bool quadratic = opt.basis == GradientBasis::Quadratic;
-  const int min_neighbours = quadratic ? std::max(opt.min_neighbours, opt.quadratic_min_neighbours) : opt.min_neighbours;
-  auto accepted = [&](const NeighbourhoodTrial& t) {
-    return static_cast<int>(t.nbr.size()) >= min_neighbours && t.eigen_ratio >= opt.min_eigen_ratio &&
-           (!quadratic || t.fit_ratio >= opt.quadratic_min_eigen_ratio);
-  };
+  const int min_neighbours = needed_neighbours(opt);
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index i = 0; i < n; ++i) {
     double h = h0;
     for (int g = 0;; ++g) {
       const SupportMetric metric{wall ? &opt.wall_normals[static_cast<std::size_t>(i)] : nullptr, opt.wall_stretch};
       trials[i] = evaluate(X_, i, h, grid, opt.basis, metric);
-      if (accepted(trials[i])) break;
+      if (accepted(trials[i], opt)) break;
       if (g == opt.max_growths) {
         failed[i] = 1;
         break;
@@ -154,8 +162,10 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
     }
     h_[i] = h;
   }
-  for (Index i = 0; i < n; ++i) {
-    if (failed[i]) {
+  const auto first_failed = std::find(failed.begin(), failed.end(), 1);
+  if (first_failed != failed.end()) {
+    const Index i = static_cast<Index>(first_failed - failed.begin());
+    {
       const Vec3& p = X_[i];
       const std::string fit = quadratic ? fmt::format(", ratio {:.3g} of the quadratic fit's B_i/tr(B_i) (need >= {:.1g})",
                                                       trials[i].fit_ratio, opt.quadratic_min_eigen_ratio)
@@ -163,19 +173,50 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
       throw NumericalError(fmt::format(
           "discretization: node {} at ({:.6g}, {:.6g}, {:.6g}) m has {} neighbours and eigenvalue ratio {:.3g} "
           "of A_i/tr(A_i){} even at support radius {:.4g} m (need >= {} neighbours and ratio >= {:.1g}): its "
-          "neighbourhood is too sparse or coplanar. Let the support grow further (discretization.max_growths, now "
-          "{}; at most 10) or use a finer node_spacing_m",
+          "neighbourhood is too sparse or coplanar ({} of {} nodes fail): {}",
           i, p.x(), p.y(), p.z(), trials[i].nbr.size(), trials[i].eigen_ratio, fit, h_[i], min_neighbours,
-          opt.min_eigen_ratio, opt.max_growths));
+          opt.min_eigen_ratio, std::count(failed.begin(), failed.end(), 1), n, growth_advice(failed, h0, opt)));
     }
-    if (h_[i] > h0) ++grown_nodes_;
   }
+  grown_nodes_ = static_cast<int>(std::count_if(h_.begin(), h_.end(), [h0](double h) { return h > h0; }));
   if (grown_nodes_ > 0)
     spdlog::info("discretization: support radius grown for {} of {} nodes (K_min / conditioning guard)",
                  grown_nodes_, n);
 
   store_gradient_vectors(trials, opt.basis);
   transposed_ = transpose(pairs_, n);
+}
+
+// What fixes a failed support guard, for its message: the smallest discretization.max_growths (the key is read
+// in [0, kMaxGrowthsAllowed]) with which every failed node passes, or, when none does, a finer spacing.
+std::string Discretization::growth_advice(const std::vector<int>& failed, double h0,
+                                          const DiscretizationOptions& opt) const {
+  constexpr int kMaxGrowthsAllowed = 10;
+  const bool wall = opt.support == DiscretizationOptions::Support::Wall;
+  const double hmax = h0 * std::pow(opt.growth_factor, kMaxGrowthsAllowed) * (wall ? opt.wall_stretch : 1.0);
+  const SpatialGrid grid(X_, hmax);
+  int needed = opt.max_growths;
+  for (std::size_t i = 0; i < failed.size() && needed <= kMaxGrowthsAllowed; ++i) {
+    if (!failed[i]) continue;
+    const SupportMetric metric{wall ? &opt.wall_normals[i] : nullptr, opt.wall_stretch};
+    for (int g = opt.max_growths + 1;; ++g) {
+      if (g > kMaxGrowthsAllowed) {
+        needed = g;
+        break;
+      }
+      const NeighbourhoodTrial t =
+          evaluate(X_, static_cast<Index>(i), h0 * std::pow(opt.growth_factor, g), grid, opt.basis, metric);
+      if (accepted(t, opt)) {
+        needed = std::max(needed, g);
+        break;
+      }
+    }
+  }
+  if (needed <= kMaxGrowthsAllowed)
+    return fmt::format("let the support grow further: discretization.max_growths = {} makes every node pass (now {})",
+                       needed, opt.max_growths);
+  return fmt::format("even discretization.max_growths = {} does not help (now {}): use a finer geometry.node_spacing_m",
+                     kMaxGrowthsAllowed, opt.max_growths);
 }
 
 // The accepted neighbourhoods as the pair tables: d_ij (linear or quadratic fit), w_ij, d_ii and the moments.

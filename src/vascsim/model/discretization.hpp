@@ -99,6 +99,7 @@ class Discretization {
  private:
   void build_neighbourhoods(const DiscretizationOptions& opt);
   void store_gradient_vectors(const std::vector<NeighbourhoodTrial>& trials, GradientBasis basis);
+  std::string growth_advice(const std::vector<int>& failed, double h0, const DiscretizationOptions& opt) const;
   void compute_volumes(const DiscretizationOptions& opt);
 
   NodeCloud cloud_;

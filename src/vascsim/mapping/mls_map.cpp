@@ -84,74 +84,94 @@ int growths_needed(const Vec3Array& X, const Vec3Array& surface, const std::vect
   return needed;
 }
 
-}  // namespace
-
-MlsMap::MlsMap(const Vec3Array& rest_nodes_m, const Vec3Array& rest_surface_m, const MlsMapOptions& opt)
-    : rest_nodes_(rest_nodes_m), rest_surface_(rest_surface_m) {
+// The options' ranges and finite, distinct points; InputError otherwise.
+void check_inputs(const Vec3Array& nodes, const Vec3Array& surface, const MlsMapOptions& opt) {
   if (!(opt.support_radius_factor > 0.0) || !std::isfinite(opt.support_radius_factor))
     throw InputError("MLS map: support_radius_factor must be > 0");
   if (opt.min_nodes < 4) throw InputError("MLS map: min_nodes must be >= 4 (a linear basis has 4 terms)");
   if (!(opt.cond_limit >= 1.0)) throw InputError("MLS map: cond_limit must be >= 1");
   if (!(opt.growth_factor > 1.0)) throw InputError("MLS map: growth_factor must be > 1");
   if (opt.max_growths < 0) throw InputError("MLS map: max_growths must be >= 0");
-  if (rest_nodes_.size() < 4)
-    throw InputError(fmt::format("MLS map: {} nodes; at least 4 are needed", rest_nodes_.size()));
-  for (std::size_t i = 0; i < rest_nodes_.size(); ++i)
-    if (!rest_nodes_[i].allFinite()) throw InputError(fmt::format("MLS map: node {} is not finite", i));
-  for (std::size_t v = 0; v < rest_surface_.size(); ++v)
-    if (!rest_surface_[v].allFinite())
-      throw InputError(fmt::format("MLS map: surface vertex {} is not finite", v));
+  if (nodes.size() < 4) throw InputError(fmt::format("MLS map: {} nodes; at least 4 are needed", nodes.size()));
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    if (!nodes[i].allFinite()) throw InputError(fmt::format("MLS map: node {} is not finite", i));
+  for (std::size_t v = 0; v < surface.size(); ++v)
+    if (!surface[v].allFinite()) throw InputError(fmt::format("MLS map: surface vertex {} is not finite", v));
+}
 
+// Every vertex's support, grown from r0 by growth_factor until the guard passes or max_growths is spent.
+struct SupportSearch {
+  std::vector<Trial> trials;
+  std::vector<int> growths;
+  std::vector<char> failed;
+  std::vector<double> radius;
+};
+
+SupportSearch search_supports(const Vec3Array& X, const Vec3Array& surface, double r0, const SpatialGrid& grid,
+                              const MlsMapOptions& opt) {
+  const Index nv = static_cast<Index>(surface.size());
+  SupportSearch found{std::vector<Trial>(nv), std::vector<int>(nv, 0), std::vector<char>(nv, 0),
+                      std::vector<double>(nv, r0)};
+#pragma omp parallel for schedule(dynamic, 64)
+  for (Index v = 0; v < nv; ++v) {
+    double r = r0;
+    for (int g = 0;; ++g) {
+      found.trials[v] = evaluate(X, surface[v], r, grid);
+      found.growths[v] = g;
+      if (passes(found.trials[v], opt)) break;
+      if (g == opt.max_growths) {
+        found.failed[v] = 1;
+        break;
+      }
+      r *= opt.growth_factor;
+    }
+    found.radius[v] = r;
+  }
+  return found;
+}
+
+// The guard's message for the first failed vertex, with the value of mapping.max_growths that fixes it.
+[[noreturn]] void throw_guard_failure(const Vec3Array& X, const Vec3Array& surface, const SupportSearch& found,
+                                      Index v, double r0, const SpatialGrid& grid, const MlsMapOptions& opt) {
+  const auto n_failed = std::count(found.failed.begin(), found.failed.end(), char{1});
+  const Vec3& s = surface[v];
+  const int needed = growths_needed(X, surface, found.failed, r0, opt, grid);
+  const std::string fix =
+      needed > 0 ? fmt::format("let the support grow further: mapping.max_growths = {} makes every vertex pass (now {})",
+                               needed, opt.max_growths)
+                 : fmt::format("even {} growths do not help: the nodes near it are too few or coplanar (a single node "
+                               "layer through the wall?): use more node layers or keep the surface within about one "
+                               "spacing of the nodes",
+                               kMaxGrowthsTried);
+  throw NumericalError(fmt::format(
+      "MLS map: surface vertex {} at ({:.6g}, {:.6g}, {:.6g}) m has {} nodes in its support and cond(A^) "
+      "{:.3g} at support radius {:.4g} m after {} growths (need >= {} nodes and cond <= {:.3g}; {} of {} vertices "
+      "fail): {}",
+      v, s.x(), s.y(), s.z(), found.trials[v].nodes.size(), found.trials[v].cond, found.radius[v], opt.max_growths,
+      opt.min_nodes, opt.cond_limit, n_failed, surface.size(), fix));
+}
+
+}  // namespace
+
+MlsMap::MlsMap(const Vec3Array& rest_nodes_m, const Vec3Array& rest_surface_m, const MlsMapOptions& opt)
+    : rest_nodes_(rest_nodes_m), rest_surface_(rest_surface_m) {
+  check_inputs(rest_nodes_, rest_surface_, opt);
   const double spacing = mean_nearest_spacing(rest_nodes_);
   if (!(spacing > 0.0)) throw InputError("MLS map: the nodes coincide (mean nearest spacing is zero)");
   const double r0 = opt.support_radius_factor * spacing;
   SpatialGrid grid(rest_nodes_, r0);
 
+  const SupportSearch found = search_supports(rest_nodes_, rest_surface_, r0, grid, opt);
+  const auto failed = std::find(found.failed.begin(), found.failed.end(), char{1});
+  if (failed != found.failed.end())
+    throw_guard_failure(rest_nodes_, rest_surface_, found, static_cast<Index>(failed - found.failed.begin()), r0,
+                        grid, opt);
+  radius_ = found.radius;
+
   const Index nv = num_vertices();
-  std::vector<Trial> trials(nv);
-  std::vector<int> growths(nv, 0);
-  std::vector<char> failed(nv, 0);
-  radius_.assign(nv, r0);
-#pragma omp parallel for schedule(dynamic, 64)
-  for (Index v = 0; v < nv; ++v) {
-    double r = r0;
-    for (int g = 0;; ++g) {
-      trials[v] = evaluate(rest_nodes_, rest_surface_[v], r, grid);
-      const bool ok = passes(trials[v], opt);
-      growths[v] = g;
-      if (ok) break;
-      if (g == opt.max_growths) {
-        failed[v] = 1;
-        break;
-      }
-      r *= opt.growth_factor;
-    }
-    radius_[v] = r;
-  }
-
-  for (Index v = 0; v < nv; ++v) {
-    if (!failed[v]) continue;
-    const auto n_failed = std::count(failed.begin(), failed.end(), char{1});
-    const Vec3& s = rest_surface_[v];
-    const int needed = growths_needed(rest_nodes_, rest_surface_, failed, r0, opt, grid);
-    const std::string fix =
-        needed > 0 ? fmt::format("let the support grow further: mapping.max_growths = {} makes every vertex pass (now {})",
-                                 needed, opt.max_growths)
-                   : fmt::format("even {} growths do not help: the nodes near it are too few or coplanar (a single node "
-                                 "layer through the wall?): use more node layers or keep the surface within about one "
-                                 "spacing of the nodes",
-                                 kMaxGrowthsTried);
-    throw NumericalError(fmt::format(
-        "MLS map: surface vertex {} at ({:.6g}, {:.6g}, {:.6g}) m has {} nodes in its support and cond(A^) "
-        "{:.3g} at support radius {:.4g} m after {} growths (need >= {} nodes and cond <= {:.3g}; {} of {} vertices "
-        "fail): {}",
-        v, s.x(), s.y(), s.z(), trials[v].nodes.size(), trials[v].cond, radius_[v], opt.max_growths,
-        opt.min_nodes, opt.cond_limit, n_failed, nv, fix));
-  }
-
   row_start_.assign(static_cast<std::size_t>(nv) + 1, 0);
   for (Index v = 0; v < nv; ++v)
-    row_start_[v + 1] = row_start_[v] + static_cast<Index>(trials[v].nodes.size());
+    row_start_[v + 1] = row_start_[v] + static_cast<Index>(found.trials[v].nodes.size());
   const std::size_t nnz = static_cast<std::size_t>(row_start_[nv]);
   col_.resize(nnz);
   val_.resize(nnz);
@@ -159,7 +179,7 @@ MlsMap::MlsMap(const Vec3Array& rest_nodes_m, const Vec3Array& rest_surface_m, c
   cond_.assign(nv, 0.0);
 #pragma omp parallel for schedule(static)
   for (Index v = 0; v < nv; ++v) {
-    const Trial& t = trials[v];
+    const Trial& t = found.trials[v];
     // phi_i = w_i p^(X_i)^T A^-1 p^(S) = w_i c . p^(X_i) with A^ c = e1 (A^ symmetric). The guard above
     // bounds cond(A^) <= cond_limit, so this SPD solve loses at most ~3 digits in double.
     const Vec4 c = t.A.llt().solve(Vec4::UnitX());
@@ -172,11 +192,16 @@ MlsMap::MlsMap(const Vec3Array& rest_nodes_m, const Vec3Array& rest_surface_m, c
     cond_[v] = t.cond;
   }
   build_transpose();
+  fill_report(r0, found.growths);
+}
 
+// The support statistics of report() and the log lines that show them.
+void MlsMap::fill_report(double r0, const std::vector<int>& growths) {
+  const Index nv = num_vertices();
   report_.base_radius_m = r0;
   report_.max_radius_m = nv > 0 ? *std::max_element(radius_.begin(), radius_.end()) : r0;
   report_.max_cond = nv > 0 ? *std::max_element(cond_.begin(), cond_.end()) : 0.0;
-  report_.mean_support = nv > 0 ? static_cast<double>(nnz) / nv : 0.0;
+  report_.mean_support = nv > 0 ? static_cast<double>(col_.size()) / nv : 0.0;
   report_.min_support = nv > 0 ? std::numeric_limits<Index>::max() : 0;
   for (Index v = 0; v < nv; ++v) {
     const Index n = row_start_[v + 1] - row_start_[v];

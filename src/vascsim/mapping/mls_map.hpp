@@ -69,6 +69,7 @@ class MlsMap {
 
  private:
   void build_transpose();
+  void fill_report(double r0, const std::vector<int>& growths);
   void check_node_count(std::size_t given, const char* what) const;
   template <class Term, class Store>
   void for_each_row(Term&& term, Store&& store) const;

@@ -135,8 +135,9 @@ nlohmann::json check_report(const Scene& scene, Built& b, double setup_s) {
 }
 
 void print_report(const Scene& scene, const nlohmann::json& r, std::ostream& out) {
-  out << fmt::format("{} ({}): model {}, {} threads; built in {:.2f} s, nothing solved\n", scene.name, scene.file,
-                     scene.model, r["threads"].get<int>(), r["setup_s"].get<double>());
+  const int threads = r["threads"].get<int>();
+  out << fmt::format("{} ({}): model {}, {} thread{}; built in {:.2f} s, nothing solved\n", scene.name, scene.file,
+                     scene.model, threads, threads == 1 ? "" : "s", r["setup_s"].get<double>());
   out << fmt::format("  body      {} nodes, {} neighbour pairs ({:.1f} per node), mean spacing {:.4g} m, {} nodes "
                      "with grown support\n",
                      r["nodes"].get<long long>(), r["neighbour_pairs"].get<long long>(), r["mean_neighbours"].get<double>(),

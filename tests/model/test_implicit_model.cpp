@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <omp.h>
 
 #include "vascsim/experiments/cantilever.hpp"
 #include "vascsim/model/implicit_model.hpp"
@@ -75,6 +76,20 @@ TEST(ImplicitModel, CatheterPressBalancesAndMatchesQuasiStatic) {
   EXPECT_GT(last.obstacles.at(0).contacts, 3);
   EXPECT_LT((tool + support).norm(), 1e-2 * tool.norm());
   EXPECT_LT((tool - f_static).norm(), 1e-4 * f_static.norm());
+}
+
+// An offline run refactors in line, on the caller's thread: that must leave the caller's OpenMP thread count as
+// it was (a background refactorisation sets its own thread to one; done in line, that once made the whole run
+// single-threaded after its first refactorisation). Exact: a thread count.
+TEST(ImplicitModel, AnOfflineRefactorisationKeepsTheCallersThreadCount) {
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(2);
+  Simulation imp(parse_scene(pressed_block("implicit"), "catheter-block"));
+  run_to_end(imp);
+  const int after = omp_get_max_threads();
+  omp_set_num_threads(before);
+  ASSERT_GT(imp.model().info()["factorisations"].get<int>(), 1) << "the press must trigger a refactorisation";
+  EXPECT_EQ(after, 2);
 }
 
 // The stiffness handed to the haptic thread is the derivative of the equilibrium force: posed at 0.5 mm and

@@ -237,8 +237,10 @@ void ImplicitModel::maybe_refactor(const NewtonResult& r) {
   }
   if (!drifted || pending_.valid()) return;
   // The job refills the spare factor (no frame uses it) at a copy of the state: the frames go on meanwhile.
-  auto job = [this, x = x_, points, reuse = std::move(spare_)]() mutable {
-    omp_set_num_threads(1);  // this thread only: the frames keep the other core
+  auto job = [this, x = x_, points, reuse = std::move(spare_), background = realtime_]() mutable {
+    // In the background this thread alone builds with one thread, so the frames keep the other core; run in
+    // line (offline), it must leave the caller's thread count alone (it once set the whole run to one thread).
+    if (background) omp_set_num_threads(1);
     auto f = build_factor(x, std::move(reuse));
     f->tool_points = points;
     return f;

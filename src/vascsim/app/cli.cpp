@@ -47,13 +47,13 @@ void apply_thread_count(int requested) {
   if (std::getenv("OMP_NUM_THREADS") != nullptr) return;
   const int cores = omp_get_num_procs();
   const double load = load_average_1min();
-  const int threads = default_thread_count(cores, load);
+  const int others = other_runnable_processes();
+  const int threads = default_thread_count(cores, load, others);
   omp_set_num_threads(threads);
   // Said with -v only: an error must stay one line, and the README states the rule.
-  if (threads < cores)
-    spdlog::debug("{} OpenMP thread{} of {} cores: the load average is {:.2f} (other work holds the rest; -j N or "
-                 "OMP_NUM_THREADS=N chooses)",
-                 threads, threads == 1 ? "" : "s", cores, load);
+  spdlog::debug("{} OpenMP thread{} of {} cores: the load average is {:.2f} and {} other process{} running now "
+                "(-j N or OMP_NUM_THREADS=N chooses)",
+                threads, threads == 1 ? "" : "s", cores, load, others, others == 1 ? " is" : "es are");
 }
 
 // An empty value is never meaningful (`--out ''` is no folder, `--record ''` no file): every option that takes a

@@ -7,7 +7,10 @@
 
 namespace vascsim {
 
-/// max(1, cores - round(load_average)), at most `cores`; `cores` when the load is unknown (negative).
-int default_thread_count(int cores, double load_average);
+/// max(1, cores - busy), at most `cores`, with busy = round(load_average) (0 when the load is unknown, i.e.
+/// negative). The 1-minute load average still counts work that ended seconds ago (a previous run of a script),
+/// so when `others_running` (the other processes runnable right now; negative: unknown) is known, busy is at
+/// most that: both must say the cores are taken.
+int default_thread_count(int cores, double load_average, int others_running = -1);
 
 }  // namespace vascsim

@@ -11,6 +11,10 @@ namespace vascsim {
 /// The 1-minute load average (-1 if unknown).
 double load_average_1min();
 
+/// The threads of other processes runnable right now (/proc/stat procs_running less this process's running
+/// threads, the fewest of three samples over 10 ms); -1 when unknown.
+int other_runnable_processes();
+
 /// Now, as 2026-01-31T12:00:00Z.
 std::string utc_now();
 

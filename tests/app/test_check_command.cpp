@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "support/cli_capture.hpp"
 #include "vascsim/app/cli.hpp"
 
 namespace vascsim {
@@ -22,38 +23,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CliResult {
-  int code = -1;
-  std::string out, err;
-  std::vector<std::string> messages;  ///< lines of err that are not log lines ("[level] ...")
-  bool err_has(const std::string& s) const { return err.find(s) != std::string::npos; }
-  bool out_has(const std::string& s) const { return out.find(s) != std::string::npos; }
-};
+using CliResult = test::CliCapture;
 
-CliResult cli(const std::vector<std::string>& args) {
-  const auto previous = spdlog::default_logger();  // run_cli's logger writes into `err`, which dies here
-  std::ostringstream out, err;
-  CliResult r;
-  r.code = run_cli(args, out, err);
-  spdlog::set_default_logger(previous);
-  r.out = out.str();
-  r.err = err.str();
-  std::istringstream lines(r.err);
-  for (std::string line; std::getline(lines, line);)
-    if (!line.empty() && line[0] != '[') r.messages.push_back(line);
-  return r;
-}
+CliResult cli(const std::vector<std::string>& args) { return test::run_cli_captured(args); }
 
 std::string source(const std::string& relative) { return std::string(VASCSIM_SOURCE_DIR) + "/" + relative; }
 
-fs::path test_dir() {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path d = fs::path(::testing::TempDir()) / ("vascsim_check_" + std::to_string(::getpid())) /
-                     (std::string(info->test_suite_name()) + "." + info->name());
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path test_dir() { return test::fresh_test_dir(); }
 
 std::vector<std::string> with_sets(std::vector<std::string> args, const std::vector<std::string>& sets) {
   for (const auto& s : sets) {

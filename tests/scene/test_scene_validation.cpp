@@ -22,6 +22,7 @@
 #include "vascsim/model/explicit_model.hpp"
 #include "vascsim/model/quasi_static_model.hpp"
 #include "vascsim/scene/scene.hpp"
+#include "support/cli_capture.hpp"
 #include "support/scenes.hpp"
 
 namespace {
@@ -34,27 +35,9 @@ using vascsim::test::tiny_box;
 // ---------------------------------------------------------------------------------------------
 // Helpers
 
-struct CliResult {
-  int code = -1;
-  std::string out, err;
-  std::vector<std::string> messages;  ///< lines of err that are not log lines ("[level] msg")
-};
+using CliResult = vascsim::test::CliCapture;
 
-CliResult cli(const std::vector<std::string>& args) {
-  // run_cli installs a default spdlog logger that writes into `err`; put the previous logger back so
-  // that no later log call (other tests) writes into this function's stream after it is gone.
-  const auto previous = spdlog::default_logger();
-  std::ostringstream out, err;
-  CliResult r;
-  r.code = run_cli(args, out, err);
-  spdlog::set_default_logger(previous);
-  r.out = out.str();
-  r.err = err.str();
-  std::istringstream lines(r.err);
-  for (std::string line; std::getline(lines, line);)
-    if (!line.empty() && line[0] != '[') r.messages.push_back(line);
-  return r;
-}
+CliResult cli(const std::vector<std::string>& args) { return vascsim::test::run_cli_captured(args); }
 
 /// This process's scratch folder under testing::TempDir().
 fs::path scratch_root() {

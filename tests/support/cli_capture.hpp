@@ -21,6 +21,8 @@ struct CliCapture {
   int code = -1;
   std::string out, err;
   std::vector<std::string> messages;  ///< lines of err that are neither log lines ("[level] msg") nor progress lines
+  bool err_has(const std::string& s) const { return err.find(s) != std::string::npos; }
+  bool out_has(const std::string& s) const { return out.find(s) != std::string::npos; }
 };
 
 inline CliCapture run_cli_captured(const std::vector<std::string>& args) {

@@ -11,6 +11,7 @@
 
 #include "vascsim/app/command.hpp"
 #include "vascsim/app/run_limits.hpp"
+#include "vascsim/core/atomic_file.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/memory_usage.hpp"
 #include "vascsim/core/stopwatch.hpp"
@@ -184,10 +185,7 @@ int check(const CheckFlags& flags, CliContext& ctx) {
   const nlohmann::json report = check_report(scene, built, setup.seconds());
   print_report(scene, report, ctx.out);
   if (!flags.json.empty()) {
-    std::ofstream f(flags.json);
-    f << report.dump(2) << "\n";
-    f.close();
-    if (!f) throw InputError(fmt::format("{}: cannot write", flags.json));
+    write_file_atomically(flags.json, report.dump(2) + "\n");  // whole or not at all, errors named
   }
   return 0;
 }

@@ -165,18 +165,16 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
   const auto first_failed = std::find(failed.begin(), failed.end(), 1);
   if (first_failed != failed.end()) {
     const Index i = static_cast<Index>(first_failed - failed.begin());
-    {
-      const Vec3& p = X_[i];
-      const std::string fit = quadratic ? fmt::format(", ratio {:.3g} of the quadratic fit's B_i/tr(B_i) (need >= {:.1g})",
-                                                      trials[i].fit_ratio, opt.quadratic_min_eigen_ratio)
-                                        : std::string();
-      throw NumericalError(fmt::format(
-          "discretization: node {} at ({:.6g}, {:.6g}, {:.6g}) m has {} neighbours and eigenvalue ratio {:.3g} "
-          "of A_i/tr(A_i){} even at support radius {:.4g} m (need >= {} neighbours and ratio >= {:.1g}): its "
-          "neighbourhood is too sparse or coplanar ({} of {} nodes fail): {}",
-          i, p.x(), p.y(), p.z(), trials[i].nbr.size(), trials[i].eigen_ratio, fit, h_[i], min_neighbours,
-          opt.min_eigen_ratio, std::count(failed.begin(), failed.end(), 1), n, growth_advice(failed, h0, opt)));
-    }
+    const Vec3& p = X_[i];
+    const std::string fit = quadratic ? fmt::format(", ratio {:.3g} of the quadratic fit's B_i/tr(B_i) (need >= {:.1g})",
+                                                    trials[i].fit_ratio, opt.quadratic_min_eigen_ratio)
+                                      : std::string();
+    throw NumericalError(fmt::format(
+        "discretization: node {} at ({:.6g}, {:.6g}, {:.6g}) m has {} neighbours and eigenvalue ratio {:.3g} "
+        "of A_i/tr(A_i){} even at support radius {:.4g} m (need >= {} neighbours and ratio >= {:.1g}): its "
+        "neighbourhood is too sparse or coplanar ({} of {} nodes fail): {}",
+        i, p.x(), p.y(), p.z(), trials[i].nbr.size(), trials[i].eigen_ratio, fit, h_[i], min_neighbours,
+        opt.min_eigen_ratio, std::count(failed.begin(), failed.end(), 1), n, growth_advice(failed, h0, opt)));
   }
   grown_nodes_ = static_cast<int>(std::count_if(h_.begin(), h_.end(), [h0](double h) { return h > h0; }));
   if (grown_nodes_ > 0)

@@ -17,6 +17,7 @@
 
 #include "support/cli_capture.hpp"
 #include "vascsim/app/cli.hpp"
+#include "support/run_helpers.hpp"
 
 namespace vascsim {
 namespace {
@@ -27,7 +28,6 @@ using CliResult = test::CliCapture;
 
 CliResult cli(const std::vector<std::string>& args) { return test::run_cli_captured(args); }
 
-std::string source(const std::string& relative) { return std::string(VASCSIM_SOURCE_DIR) + "/" + relative; }
 
 fs::path test_dir() { return test::fresh_test_dir(); }
 
@@ -53,7 +53,7 @@ class BundledSceneSlow : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(BundledSceneSlow, CheckBuildsAndReports) {
   const fs::path dir = test_dir();
-  const std::string scene = source(GetParam());
+  const std::string scene = test::source_path(GetParam());
   const CliResult r = cli({"-q", "check", scene, "--json", (dir / "check.json").string()});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(r.out_has("  body      ")) << r.out;
@@ -96,21 +96,21 @@ struct Broken {
 };
 
 TEST(CheckCommand, FailsWhereRunFailsWithTheSameMessage) {
-  const std::string tiny = source("tests/data/tiny-bent-vessel.json");
+  const std::string tiny = test::source_path("tests/data/tiny-bent-vessel.json");
   const std::vector<Broken> cases = {
       {"unknown key", tiny, {"geometry.bogus=1"}, 2, "bogus"},
       {"a region that selects nothing", tiny, {"regions.2.select={\"type\":\"box\",\"min_m\":[1,1,1],\"max_m\":[2,2,2]}",
         "regions.2.bc={\"type\":\"fixed\"}"}, 2,
        "selects no nodes"},
-      {"a vessel selector on a beam", source("scenes/cantilever.json"),
+      {"a vessel selector on a beam", test::source_path("scenes/cantilever.json"),
        {"regions.1.select={\"type\":\"cylinder_end\",\"end\":\"start\"}"}, 2, "needs a vessel geometry"},
       {"the discretisation guard", tiny, {"discretization.max_growths=0", "discretization.support_radius_factor=1.01"}, 3,
        "discretization.max_growths = "},
       {"the surface map's guard", tiny, {"mapping.max_growths=0", "mapping.support_radius_factor=1.5"}, 3,
        "mapping.max_growths = "},
-      {"a body above the node limit without --yes", source("scenes/vein-indent.json"),
+      {"a body above the node limit without --yes", test::source_path("scenes/vein-indent.json"),
        {"geometry.outer_radius_m=0.015"}, 2, "--yes"},
-      {"a missing trajectory", source("scenes/realtime/hand-dorsal-vein-catheter.json"),
+      {"a missing trajectory", test::source_path("scenes/realtime/hand-dorsal-vein-catheter.json"),
        {"haptics.device.trajectory=no-such-trajectory.csv"}, 2, "no-such-trajectory.csv"},
   };
   const fs::path dir = test_dir();
@@ -129,7 +129,7 @@ TEST(CheckCommand, FailsWhereRunFailsWithTheSameMessage) {
 
 // A failed guard names the smallest value of its max_growths key that works: that value passes, one less fails.
 void expect_guard_names_a_growth_that_works(const std::string& section, const std::string& factor) {
-  const std::string tiny = source("tests/data/tiny-bent-vessel.json");
+  const std::string tiny = test::source_path("tests/data/tiny-bent-vessel.json");
   auto check_with = [&](int growths) {
     return cli({"-q", "check", tiny, "--set", section + ".max_growths=" + std::to_string(growths), "--set",
                 section + ".support_radius_factor=" + factor});
@@ -158,7 +158,7 @@ TEST(CheckCommand, TheSupportGuardNamesAGrowthThatWorks) {
 TEST(RunExitCode, UnconvergedStepsEndOnASummaryLineAndExitCode4) {
   const fs::path dir = test_dir();
   // One Newton iteration per load step cannot reach 1e-6 on a 0.2 mm push.
-  const CliResult r = cli({"-q", "run", source("tests/data/tiny-bent-vessel.json"), "--out", (dir / "out").string(),
+  const CliResult r = cli({"-q", "run", test::source_path("tests/data/tiny-bent-vessel.json"), "--out", (dir / "out").string(),
                            "--set", "quasi_static.max_newton_iterations=1", "--set", "output.vtk=false", "--set",
                            "output.surface=false"});
   EXPECT_EQ(r.code, 4) << r.out << r.err;
@@ -166,7 +166,7 @@ TEST(RunExitCode, UnconvergedStepsEndOnASummaryLineAndExitCode4) {
   const nlohmann::json summary = read_json(dir / "out" / "summary.json");
   EXPECT_EQ(summary["unconverged_steps"].get<int>(), 2);
   // The same scene with its own settings converges and exits 0.
-  const CliResult ok = cli({"-q", "run", source("tests/data/tiny-bent-vessel.json"), "--out", (dir / "ok").string(),
+  const CliResult ok = cli({"-q", "run", test::source_path("tests/data/tiny-bent-vessel.json"), "--out", (dir / "ok").string(),
                             "--set", "output.vtk=false", "--set", "output.surface=false"});
   EXPECT_EQ(ok.code, 0) << ok.out << ok.err;
   EXPECT_FALSE(ok.out_has("NOT CONVERGED")) << ok.out;
@@ -174,7 +174,7 @@ TEST(RunExitCode, UnconvergedStepsEndOnASummaryLineAndExitCode4) {
 
 TEST(RunWarnings, AToolThatNeverTouchesIsNamedUpFrontAndAtTheEnd) {
   const fs::path dir = test_dir();
-  const std::string tiny = source("tests/data/tiny-catheter.json");
+  const std::string tiny = test::source_path("tests/data/tiny-catheter.json");
   // The tip typed in millimetres: 1.6 m above the vessel.
   const std::vector<std::string> sets = {"obstacles.0.tip_m=[0,1.6,3]", "output.surface=false"};
   const CliResult check = cli(with_sets({"check", tiny}, sets));
@@ -193,7 +193,7 @@ TEST(RunWarnings, AToolThatNeverTouchesIsNamedUpFrontAndAtTheEnd) {
 TEST(RunWarnings, ContactLoadStepsThatDoNotConvergeNameTheKey) {
   const fs::path dir = test_dir();
   // One load step for the whole 0.6 mm press with few Newton iterations: the contact set changes too much.
-  const CliResult r = cli({"-q", "run", source("tests/data/tiny-catheter.json"), "--out", (dir / "out").string(),
+  const CliResult r = cli({"-q", "run", test::source_path("tests/data/tiny-catheter.json"), "--out", (dir / "out").string(),
                            "--set", "quasi_static.load_steps=1", "--set", "quasi_static.max_newton_iterations=3",
                            "--set", "output.surface=false"});
   EXPECT_EQ(r.code, 4) << r.out << r.err;
@@ -204,12 +204,12 @@ TEST(RunWarnings, ContactLoadStepsThatDoNotConvergeNameTheKey) {
 TEST(RunWarnings, XpbdOnAThinStiffWallIsNamedWithTheMeasuredDeficit) {
   // The vein wall at 0.3 mm spacing with xpbd's 8 substeps of 1/8 ms: q = (h c_p / spacing)^2 is about 310.
   const CliResult check =
-      cli({"check", source("tests/data/tiny-catheter.json"), "--set", "model=xpbd", "--set", "output.surface=false"});
+      cli({"check", test::source_path("tests/data/tiny-catheter.json"), "--set", "model=xpbd", "--set", "output.surface=false"});
   EXPECT_EQ(check.code, 0) << check.err;
   EXPECT_TRUE(check.out_has("xpbd is far off at these settings")) << check.out;
   EXPECT_TRUE(check.out_has("96.6 % too low")) << check.out;
   // quasi_static on the same scene: no such warning.
-  const CliResult qs = cli({"check", source("tests/data/tiny-catheter.json"), "--set", "output.surface=false"});
+  const CliResult qs = cli({"check", test::source_path("tests/data/tiny-catheter.json"), "--set", "output.surface=false"});
   EXPECT_FALSE(qs.out_has("far off")) << qs.out;
 }
 

@@ -14,18 +14,18 @@
 namespace vascsim {
 namespace {
 
-struct Frame {
+struct SequencedFrame {
   std::uint64_t sequence = 0;
   std::vector<float> values;
 };
 
 TEST(FrameExchange, TheReaderSeesWholeFramesInOrderWhileTheWriterNeverWaits) {
-  FrameExchange<Frame> exchange;
+  FrameExchange<SequencedFrame> exchange;
   constexpr int kFrames = 20000;
   std::atomic<bool> done{false};
   std::thread producer([&] {
     for (int i = 1; i <= kFrames; ++i) {
-      Frame& f = exchange.back();
+      SequencedFrame& f = exchange.back();
       f.sequence = static_cast<std::uint64_t>(i);
       f.values.assign(64 + i % 7, static_cast<float>(i));
       exchange.publish();
@@ -40,7 +40,7 @@ TEST(FrameExchange, TheReaderSeesWholeFramesInOrderWhileTheWriterNeverWaits) {
       if (finished) break;
       continue;
     }
-    const Frame& f = exchange.front();
+    const SequencedFrame& f = exchange.front();
     ASSERT_GT(f.sequence, last);
     last = f.sequence;
     ++seen;
@@ -53,7 +53,7 @@ TEST(FrameExchange, TheReaderSeesWholeFramesInOrderWhileTheWriterNeverWaits) {
 }
 
 TEST(FrameExchange, FrontIsADefaultFrameUntilTheFirstPublish) {
-  FrameExchange<Frame> exchange;
+  FrameExchange<SequencedFrame> exchange;
   EXPECT_FALSE(exchange.update());
   EXPECT_FALSE(exchange.pending());
   EXPECT_EQ(exchange.front().sequence, 0u);

@@ -26,7 +26,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-const fs::path kData = fs::path(VASCSIM_SOURCE_DIR) / "data" / "ahp";
+const fs::path kAhpData = fs::path(VASCSIM_SOURCE_DIR) / "data" / "ahp";
 const fs::path kTestData = fs::path(VASCSIM_SOURCE_DIR) / "tests" / "data" / "ahp";
 
 Eigen::MatrixXd matrix(std::initializer_list<std::initializer_list<double>> rows) {
@@ -281,7 +281,7 @@ TEST(AhpHierarchy, BadFilesNameTheKey) {
 
 // ------------------------------------------------------------------------------- Table 2 bands, Eq. 40
 TEST(AhpBands, LinearBetweenTable2EdgesClampedOutside) {
-  const Standard s = load_standard(kData / "paper-bands.json");
+  const Standard s = load_standard(kAhpData / "paper-bands.json");
   const IndicatorStandard& i2 = s.indicators.at("I2");
   // Table 2's edges map to the score-band edges; linear in between; clamped outside.
   EXPECT_DOUBLE_EQ(score_measured(s, i2, 24).score, 60.0);
@@ -409,7 +409,7 @@ TEST(AhpFiles, BadRatingsMeasurementsAndBandsNameTheKey) {
 TEST(AhpTable1, ReproducedFromTheBundledMatrices) {
   // data/ahp/paper-hierarchy.json: Saaty-scale judgements (ours; the paper prints no matrices). Tolerances:
   // the best differences found by scripts/ahp_fit_judgements.py (0.0029 criteria, 0.0021 C1, 0.0020 C2).
-  const Hierarchy h = load_hierarchy(kData / "paper-hierarchy.json");
+  const Hierarchy h = load_hierarchy(kAhpData / "paper-hierarchy.json");
   ASSERT_EQ(h.criteria.size(), 3u);
   ASSERT_EQ(h.indicators.size(), 9u);
   for (const auto& c : h.criteria) {
@@ -426,7 +426,7 @@ TEST(AhpTable1, ReproducedFromTheBundledMatrices) {
   EXPECT_NEAR(h.indicators[8].local_weight, 0.875, 1e-12);
 
   // data/ahp/paper-hierarchy-exact.json: the consistent ratio matrices w_i/w_j: exact, CR = 0.
-  const Hierarchy x = load_hierarchy(kData / "paper-hierarchy-exact.json");
+  const Hierarchy x = load_hierarchy(kAhpData / "paper-hierarchy-exact.json");
   EXPECT_NEAR(x.analysis.cr, 0.0, 1e-12);
   for (const auto& c : x.criteria) {
     EXPECT_NEAR(c.weight, *c.paper_weight, 1e-12) << c.id;
@@ -445,8 +445,8 @@ TEST(AhpTable1, ReproducedFromTheBundledMatrices) {
 }
 
 TEST(AhpTable3, PaperScoresTranscribedAndNotRecomputable) {
-  const AhpReport rep = run_ahp({kData / "paper-hierarchy.json", kData / "paper-bands.json",
-                                 kData / "paper-ratings.json", std::nullopt, false});
+  const AhpReport rep = run_ahp({kAhpData / "paper-hierarchy.json", kAhpData / "paper-bands.json",
+                                 kAhpData / "paper-ratings.json", std::nullopt, false});
   EXPECT_EQ(rep.ratings_source, "paper");
   const std::vector<std::pair<std::string, double>> table3 = {
       {"proposed", 94.806},   {"mass_spring", 81.372}, {"fem_quasi_newton", 80.634},
@@ -462,7 +462,7 @@ TEST(AhpTable3, PaperScoresTranscribedAndNotRecomputable) {
 }
 
 TEST(AhpSchema, MeasurementsSchemaMatchesTheReader) {
-  std::ifstream in(kData / "measurements.schema.json");
+  std::ifstream in(kAhpData / "measurements.schema.json");
   const json schema = json::parse(in);
   std::set<std::string> keys;
   for (const auto& [k, v] : schema["properties"]["models"]["items"]["properties"].items()) keys.insert(k);
@@ -470,7 +470,7 @@ TEST(AhpSchema, MeasurementsSchemaMatchesTheReader) {
   for (const auto& m : measure_specs()) expected.insert(m.key);
   EXPECT_EQ(keys, expected);
   // The bundled bands score each measure from exactly one indicator.
-  const Standard s = load_standard(kData / "paper-bands.json");
+  const Standard s = load_standard(kAhpData / "paper-bands.json");
   std::set<std::string> used;
   for (const auto& [id, is] : s.indicators)
     if (is.measured()) {
@@ -521,7 +521,7 @@ TEST_F(AhpCli, WritesTheTables) {
 }
 
 TEST_F(AhpCli, BadInputExitsTwoWithOneLine) {
-  json h = json::parse(std::ifstream(kData / "paper-hierarchy.json"));
+  json h = json::parse(std::ifstream(kAhpData / "paper-hierarchy.json"));
   h["criteria"][1]["matrix"] = json::parse(R"([[1, 9, "1/9"], ["1/9", 1, 9], [9, "1/9", 1]])");
   const fs::path bad = write("cyclic-hierarchy.json", h);
   EXPECT_EQ(run({"ahp", "--hierarchy", bad.string(), "--out", (dir_ / "o").string(), "--no-plot"}), 2);

@@ -12,13 +12,13 @@
 #include "vascsim/core/error.hpp"
 #include "vascsim/experiments/cost_model.hpp"
 #include "vascsim/experiments/force_accuracy.hpp"
+#include "support/run_helpers.hpp"
 
 namespace vascsim {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string source(const std::string& relative) { return std::string(VASCSIM_SOURCE_DIR) + "/" + relative; }
 
 TEST(CostModel, ReadsAndEvaluatesTheCalibration) {
   const fs::path file = fs::path(::testing::TempDir()) / ("cost_model_" + std::to_string(::getpid()) + ".json");
@@ -56,7 +56,7 @@ TEST(CostModel, TheBundledCalibrationCoversTheRealTimeAndStaticModels) {
 
 TEST(ForceAccuracy, MatchesTheVesselAndInterpolatesInLogNodes) {
   const ForceAccuracyTable table = ForceAccuracyTable::read(ForceAccuracyTable::default_file());
-  const Scene vein = load_scene(source("scenes/hand-dorsal-vein.json"));
+  const Scene vein = load_scene(test::source_path("scenes/hand-dorsal-vein.json"));
   // At a row's node count: that row's error exactly.
   AccuracyEstimate e = estimate_accuracy(table, vein, 12726);
   ASSERT_NE(e.match, nullptr);
@@ -72,9 +72,9 @@ TEST(ForceAccuracy, MatchesTheVesselAndInterpolatesInLogNodes) {
   EXPECT_NEAR(e.error, -0.344, 1e-12);
   EXPECT_NE(describe_accuracy(table, e).find("coarser than the coarsest row"), std::string::npos);
   // The same vessel with a catheter: the catheter case; an imported mesh: not covered.
-  EXPECT_EQ(estimate_accuracy(table, load_scene(source("scenes/hand-dorsal-vein-catheter.json")), 22914).match->name,
+  EXPECT_EQ(estimate_accuracy(table, load_scene(test::source_path("scenes/hand-dorsal-vein-catheter.json")), 22914).match->name,
             "hand dorsal vein, 6 Fr catheter (Fig. 10)");
-  EXPECT_EQ(estimate_accuracy(table, load_scene(source("scenes/cantilever.json")), 1000).match, nullptr);
+  EXPECT_EQ(estimate_accuracy(table, load_scene(test::source_path("scenes/cantilever.json")), 1000).match, nullptr);
 }
 
 TEST(ForceAccuracy, SubstepStiffnessRatioOfTheVeinAndTheCantilever) {

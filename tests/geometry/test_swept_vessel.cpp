@@ -13,23 +13,12 @@
 #include "vascsim/geometry/centerline.hpp"
 #include "vascsim/geometry/generators.hpp"
 #include "vascsim/geometry/swept_vessel.hpp"
+#include "support/run_helpers.hpp"
 
 namespace {
 
 using namespace vascsim;
 constexpr double kPi = std::numbers::pi;
-
-double total_tet_volume(const NodeCloud& c, double* min_volume = nullptr) {
-  double v = 0.0, vmin = std::numeric_limits<double>::infinity();
-  for (const Tet& t : c.tets) {
-    const double vt =
-        signed_volume(c.positions[t[0]], c.positions[t[1]], c.positions[t[2]], c.positions[t[3]]);
-    v += vt;
-    vmin = std::min(vmin, vt);
-  }
-  if (min_volume) *min_volume = vmin;
-  return v;
-}
 
 // Distance from p to the analytic bent centre-line of bent_centerline(rc, 180 deg, leg): leg along +z
 // at x = 0, half circle centred at (rc, 0, leg) in the x-z plane, leg along -z at x = 2 rc.
@@ -138,7 +127,7 @@ TEST(SweptVessel, StraightCentrelineReproducesMakeTube) {
     err = std::max(err, (v.cloud.positions[i] - tube.positions[i]).norm());
   EXPECT_LT(err, 1e-12 * ts.length_m);
   EXPECT_EQ(v.cloud.tets, tube.tets);  // same lattice, same Kuhn split, same orientation
-  EXPECT_NEAR(total_tet_volume(v.cloud), total_tet_volume(tube), 1e-12 * total_tet_volume(tube));
+  EXPECT_NEAR(vascsim::test::total_tet_volume(v.cloud), vascsim::test::total_tet_volume(tube), 1e-12 * vascsim::test::total_tet_volume(tube));
 }
 
 // The lattice angle turns the angular lattice by less than half a column so that a column of nodes runs at
@@ -182,7 +171,7 @@ TEST(SweptVessel, AorticArchIsPositivePappusAndInsideTheWall) {
   const SweptVessel v = make_swept_vessel(cl, spec);
   EXPECT_EQ(v.radial_layers, 3);
   double vmin = 0.0;
-  const double vol = total_tet_volume(v.cloud, &vmin);
+  const double vol = vascsim::test::total_tet_volume(v.cloud, &vmin);
   EXPECT_GT(vmin, 0.0);
   // Pappus for the polygonal section (nt-gon rings): the swept volume of a section is its area times
   // the path length of its centroid, which is the centre-line. The remaining error is the chordal
@@ -228,7 +217,7 @@ TEST(SweptVessel, SurfaceIsWatertightOutwardWithUnitNormalsAndUv) {
     }
     // The wall triangles use the Kuhn face diagonals and the end rings are planar, so the surface
     // bounds exactly the union of the virtual tets.
-    const double vol = total_tet_volume(v.cloud);
+    const double vol = vascsim::test::total_tet_volume(v.cloud);
     EXPECT_GT(enclosed, 0.0);
     EXPECT_NEAR(enclosed, vol, 1e-10 * vol);
     const std::size_t wall_tris = 4 * static_cast<std::size_t>(v.angular_nodes) * (v.axial_nodes - 1);

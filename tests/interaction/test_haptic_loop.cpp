@@ -39,9 +39,9 @@ using namespace vascsim;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+bool bitwise_equal(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 
-DevicePose sample(double t, const Vec3& p) {
+DevicePose pose_at(double t, const Vec3& p) {
   DevicePose s;
   s.time_s = t;
   s.position_m = p;
@@ -68,9 +68,9 @@ ContactState plane_contact(const ToolPose& tool, std::uint64_t sequence, double 
 
 /// Device path: from 5 mm above the plane down to 6 mm into it and back, with a sideways drift.
 Trajectory press_trajectory(double duration_s) {
-  return Trajectory({sample(0.0, Vec3(0.0, 0.0, 0.005)), sample(0.4 * duration_s, Vec3(0.002, 0.0, -0.006)),
-                     sample(0.6 * duration_s, Vec3(0.003, 0.001, -0.006)),
-                     sample(duration_s, Vec3(0.0, 0.0, 0.005))});
+  return Trajectory({pose_at(0.0, Vec3(0.0, 0.0, 0.005)), pose_at(0.4 * duration_s, Vec3(0.002, 0.0, -0.006)),
+                     pose_at(0.6 * duration_s, Vec3(0.003, 0.001, -0.006)),
+                     pose_at(duration_s, Vec3(0.0, 0.0, 0.005))});
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -457,7 +457,7 @@ TEST(HapticLoop, RecordedSessionReplaysBitIdenticallyThroughTick) {
   for (std::size_t i = 0; i < kTicks; ++i)
     for (int a = 0; a < 3; ++a) {
       const double again = replay.sent_forces()[i].force_n[a];
-      if (!same_bits(again, recorded.forces[i].force_n[a]) || !same_bits(again, live.sent_forces()[i].force_n[a]))
+      if (!bitwise_equal(again, recorded.forces[i].force_n[a]) || !bitwise_equal(again, live.sent_forces()[i].force_n[a]))
         ++differing;
     }
   EXPECT_EQ(differing, 0u);

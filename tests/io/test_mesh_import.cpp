@@ -19,6 +19,7 @@
 #include "vascsim/geometry/mesh_wall.hpp"
 #include "vascsim/geometry/triangle_mesh.hpp"
 #include "vascsim/io/mesh_import.hpp"
+#include "support/run_helpers.hpp"
 
 namespace vascsim {
 namespace {
@@ -137,13 +138,6 @@ double polygon_perimeter(double R, int n) {
 }
 double polygon_area(double R, int n) {
   return 0.5 * n * R * R * std::sin(2 * kPi / n);
-}
-
-double total_tet_volume(const NodeCloud& c) {
-  double v = 0.0;
-  for (const Tet& t : c.tets)
-    v += signed_volume(c.positions[t[0]], c.positions[t[1]], c.positions[t[2]], c.positions[t[3]]);
-  return v;
 }
 
 // 6 sqrt(2) V / l_rms^3 (1 for the regular tet, 0.657 for a Kuhn tet), the measure make_mesh_wall
@@ -501,7 +495,7 @@ TEST(MeshWall, OpenTubeLumenInvariants) {
   // cells dropped by the quality and edge filters. Before snapping this ratio was 0.675 (the node band
   // stopped ~Delta / 2 short of each surface).
   const double ring = polygon_perimeter(c.R, c.n) * c.t + kPi * c.t * c.t;
-  const double volume = total_tet_volume(cl);
+  const double volume = vascsim::test::total_tet_volume(cl);
   EXPECT_GT(z_lo, 0.0);
   EXPECT_LT(z_lo, delta);
   EXPECT_GT(z_hi, c.L - delta);
@@ -551,7 +545,7 @@ TEST(MeshWall, ClosedTubeVolumeSpacingQualityLayers) {
     for (Vec3& v : m.vertices) v = rot * v;
     const MeshWall w = make_mesh_wall(m, lumen_spec(c));
     const double delta = w.cloud.spacing_m;
-    const double ratio = total_tet_volume(w.cloud) / exact;
+    const double ratio = vascsim::test::total_tet_volume(w.cloud) / exact;
     const double min_spacing = min_nearest_spacing(w.cloud.positions) / delta;
     const double min_quality = min_tet_quality(w.cloud);
     const WallLayers layers = measure_wall_layers(w, 100000);
@@ -584,9 +578,9 @@ TEST(MeshWall, TetVolumeConvergesWithSpacing) {
   for (Vec3& v : lumen.vertices) v = rot * v;
   const double exact = capped_tube_wall_volume(c.R, c.n, c.L, c.t);
   c.spacing = c.t / 3;
-  const double deficit1 = 1 - total_tet_volume(make_mesh_wall(lumen, lumen_spec(c)).cloud) / exact;
+  const double deficit1 = 1 - vascsim::test::total_tet_volume(make_mesh_wall(lumen, lumen_spec(c)).cloud) / exact;
   c.spacing = c.t / 6;
-  const double deficit2 = 1 - total_tet_volume(make_mesh_wall(lumen, lumen_spec(c)).cloud) / exact;
+  const double deficit2 = 1 - vascsim::test::total_tet_volume(make_mesh_wall(lumen, lumen_spec(c)).cloud) / exact;
   std::printf("capped tube volume deficit: %.4f at Delta = t/3, %.4f at t/6\n", deficit1, deficit2);
   EXPECT_LT(std::abs(deficit1), 0.025);
   EXPECT_LT(std::abs(deficit2), 0.01);
@@ -660,7 +654,7 @@ TEST(MeshWall, ClosedWallFromNestedSurfaces) {
               1e-9 * shell);
   // The snapped wall fills the solid: measured 0.99; the loss is at the 90-degree ridges of both caps
   // (inner and outer), as for the capped lumen.
-  const double ratio = total_tet_volume(cl) / shell;
+  const double ratio = vascsim::test::total_tet_volume(cl) / shell;
   std::printf("closed wall: %zu nodes, %zu tets, volume ratio %.4f\n", cl.positions.size(), cl.tets.size(), ratio);
   EXPECT_GT(ratio, 0.975);
   EXPECT_LT(ratio, 1.005);
@@ -730,7 +724,7 @@ TEST(MeshWallSlow, AortaLumenStl) {
   // The tets fill the wall: the rendering surface's enclosed volume (outer vertices offset by t along
   // the vertex normals; it folds over slightly in concave places) is the closest reference; area x t
   // underestimates a convex wall by the Steiner term (~ t / (2 R)).
-  const double volume = total_tet_volume(cl);
+  const double volume = vascsim::test::total_tet_volume(cl);
   EXPECT_NEAR(volume / shell, 1.0, 0.02);
   const double min_spacing = min_nearest_spacing(cl.positions) / cl.spacing_m;
   const double min_quality = min_tet_quality(cl);

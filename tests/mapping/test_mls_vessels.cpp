@@ -8,12 +8,11 @@
 #include <string>
 
 #include "vascsim/experiments/mls_validation.hpp"
+#include "support/run_helpers.hpp"
 
 namespace {
 
 using namespace vascsim;
-
-std::string scene(const char* name) { return std::string(VASCSIM_SOURCE_DIR) + "/scenes/" + name; }
 
 void expect_t11_and_t15(const nlohmann::json& rows) {
   for (const auto& r : rows) {
@@ -46,8 +45,9 @@ void expect_t11_and_t15(const nlohmann::json& rows) {
 }
 
 TEST(MlsVessels, EveryVesselSurfacePassesT11AndTheGuardsHold) {
-  const auto rows = validate_mls({scene("hand-dorsal-vein.json"), scene("aorta-bent.json"),
-                                  scene("retinal-artery-twice-bent.json")},
+  const auto rows = validate_mls({test::source_path("scenes/hand-dorsal-vein.json"),
+                                  test::source_path("scenes/aorta-bent.json"),
+                                  test::source_path("scenes/retinal-artery-twice-bent.json")},
                                  {}, 1.0);
   ASSERT_EQ(rows.size(), 3u);
   expect_t11_and_t15(rows);
@@ -55,7 +55,7 @@ TEST(MlsVessels, EveryVesselSurfacePassesT11AndTheGuardsHold) {
 
 // The imported aorta (88k nodes): Release only, about 4 s.
 TEST(MlsVesselsSlow, ImportedAortaSurfacePassesT11AndTheGuardsHold) {
-  const auto rows = validate_mls({scene("aorta-vmtk.json")}, {}, 1.0);
+  const auto rows = validate_mls({test::source_path("scenes/aorta-vmtk.json")}, {}, 1.0);
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_GT(rows[0]["nodes"].get<int>(), 10000);
   expect_t11_and_t15(rows);

@@ -17,17 +17,12 @@
 #include "vascsim/model/tet_stiffness.hpp"
 #include "vascsim/run/simulation.hpp"
 #include "vascsim/scene/scene.hpp"
+#include "support/run_helpers.hpp"
 
 namespace vascsim {
 namespace {
 
 using nlohmann::json;
-
-StepRecord run_to_end(Simulation& sim) {
-  StepRecord rec;
-  for (int k = 1; k <= sim.model().num_steps(); ++k) rec = sim.advance(k);
-  return rec;
-}
 
 // The T9 cantilever, 2 cells across (3 x 3 x 23 nodes), tip deflection 1e-4 L, loaded in 0.2 s. Its first bending
 // mode is about 5 Hz (omega ~ 31/s). The implicit baselines hold it to 1.5 s in frames of 0.1 s (backward Euler
@@ -54,7 +49,7 @@ json cantilever(const std::string& model) {
 
 double tip_deflection(const std::string& model) {
   Simulation sim(parse_scene(cantilever(model), "cantilever"));
-  return run_to_end(sim).regions.at(1).displacement_m;
+  return test::run_to_end(sim).regions.at(1).displacement_m;
 }
 
 // The static P1 solution of the same tets (K u = f on the free dofs), the exact steady state of tensor_mass and
@@ -141,7 +136,7 @@ INSTANTIATE_TEST_SUITE_P(Baselines, BaselineCantileverSlow,
 // held, the ball's force on the tissue balances the base's (the tissue is at rest: Newton's second law with no
 // acceleration). 2 %: the residual motion after the hold (damping 200/s over 40 ms: e^{-4}) and, for the
 // projection-based contacts, the mean over a frame's substeps.
-json pressed_block(const std::string& model) {
+json baseline_press_scene(const std::string& model) {
   json doc = json::parse(R"({
     "name": "pressed-block",
     "geometry": { "type": "box", "min_m": [0, 0, 0], "max_m": [0.004, 0.004, 0.002], "node_spacing_m": 0.0005 },
@@ -163,8 +158,8 @@ json pressed_block(const std::string& model) {
 class BaselinePress : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(BaselinePress, ToolForceBalancesTheSupport) {
-  Simulation sim(parse_scene(pressed_block(GetParam()), "pressed-block"));
-  const StepRecord last = run_to_end(sim);
+  Simulation sim(parse_scene(baseline_press_scene(GetParam()), "pressed-block"));
+  const StepRecord last = test::run_to_end(sim);
   const Vec3 tool = last.obstacles.at(0).force_n, support = last.regions.at(0).force_n;
   std::printf("[ baselines ] %s press: tool z %.6g N (%d contacts), support z %.6g N\n", GetParam(), tool.z(),
               last.obstacles.at(0).contacts, support.z());
@@ -180,7 +175,7 @@ INSTANTIATE_TEST_SUITE_P(Baselines, BaselinePress,
 // Every baseline is device-driven: a pose puts the tool where the device is (here 0.3 mm into the block, from the
 // first frame on, the load factor's motion ignored), and the tool feels the tissue push back.
 TEST_P(BaselinePress, DevicePoseDrivesTheTool) {
-  json doc = pressed_block(GetParam());
+  json doc = baseline_press_scene(GetParam());
   doc["obstacles"][0]["motion_m"] = {0.0, 0.0, 0.0};
   Simulation sim(parse_scene(doc, "pressed-block"));
   DeviceDrivenModel* dd = sim.model().device_driven();
@@ -222,7 +217,7 @@ TEST(Baselines, SemiImplicitEulerStepIsTheStabilityLimit) {
 // The surface model keeps the body's mass (t_s = V / A) and maps every inner node from the surface. Sums of a few
 // hundred lumped areas and tet volumes of a box: round-off ~1e-14 relative, so 1e-9 (mass) and 1e-12 m (t_s).
 TEST(Baselines, MassSpringShellCarriesTheBodyMass) {
-  Simulation sim(parse_scene(pressed_block("mass_spring"), "pressed-block"));
+  Simulation sim(parse_scene(baseline_press_scene("mass_spring"), "pressed-block"));
   const auto& model = dynamic_cast<const MassSpringModel&>(sim.model());
   EXPECT_NEAR(model.total_mass() / (1060.0 * 0.004 * 0.004 * 0.002), 1.0, 1e-9);
   EXPECT_NEAR(model.shell_thickness(), 0.004 * 0.004 * 0.002 / (2 * 0.004 * 0.004 + 4 * 0.004 * 0.002), 1e-12);

@@ -76,7 +76,7 @@ TEST(Catheter, SceneTakesFrenchOrMetresAndRejectsBoth) {
 }
 
 // The shared catheter block (tests/support/scenes.hpp), pressed 1 mm.
-json pressed_block(const std::string& model) {
+json catheter_press_scene(const std::string& model) {
   json doc = test::catheter_pressed_block();
   doc["quasi_static"] = {{"load_steps", 3}, {"rel_tolerance", 1e-9}};
   doc["xpbd"] = {{"duration_s", 0.4}, {"ramp_time_s", 0.05}, {"output_interval_s", 0.05}, {"damping_per_s", 60}};
@@ -92,7 +92,7 @@ struct Balance {
 
 // Runs the scene to its end; the support's force and moment (about the tool point) from the nodal
 // reactions the model reports.
-Balance run_to_end(Simulation& sim) {
+Balance run_to_balance(Simulation& sim) {
   StepRecord rec;
   for (int k = 1; k <= sim.model().num_steps(); ++k) rec = sim.advance(k);
   EXPECT_TRUE(rec.report.converged);
@@ -130,8 +130,8 @@ Balance run_to_end(Simulation& sim) {
 // reactions puts the actual balance far below it. The moment is compared against |F| x the block size,
 // the moment a 1 % force error would make.
 TEST(Catheter, QuasiStaticPressBalancesForceAndMoment) {
-  Simulation sim(parse_scene(pressed_block("quasi_static"), "catheter-block"));
-  const Balance b = run_to_end(sim);
+  Simulation sim(parse_scene(catheter_press_scene("quasi_static"), "catheter-block"));
+  const Balance b = run_to_balance(sim);
   EXPECT_GT(b.contacts, 3);
   EXPECT_LT(b.tool_force.z(), 0.0);  // pushes down into the block
   EXPECT_LT((b.tool_force + b.support_force).norm(), 1e-2 * b.tool_force.norm());
@@ -145,8 +145,8 @@ TEST(Catheter, QuasiStaticPressBalancesForceAndMoment) {
 // The same press in xpbd, run to its steady state: force balance to 1 % (the remaining velocity is
 // ~0.1 % at 0.4 s with c = 60/s), and the moment to the same relative bound.
 TEST(Catheter, XpbdPressBalancesForceAndMomentSlow) {
-  Simulation sim(parse_scene(pressed_block("xpbd"), "catheter-block"));
-  const Balance b = run_to_end(sim);
+  Simulation sim(parse_scene(catheter_press_scene("xpbd"), "catheter-block"));
+  const Balance b = run_to_balance(sim);
   EXPECT_GT(b.contacts, 3);
   EXPECT_LT(b.tool_force.z(), 0.0);
   EXPECT_LT((b.tool_force + b.support_force).norm(), 1e-2 * b.tool_force.norm());
@@ -158,7 +158,7 @@ TEST(Catheter, XpbdPressBalancesForceAndMomentSlow) {
 // above the block; the tissue sees the posed tool, not the load-factor motion, and the substeps sweep it
 // so the force rises without a jump.
 TEST(Catheter, XpbdFollowsTheDevicePose) {
-  json doc = pressed_block("xpbd");
+  json doc = catheter_press_scene("xpbd");
   doc["obstacles"][0]["motion_m"] = {0.0, 0.0, 0.0};
   Simulation sim(parse_scene(doc, "catheter-block"));
   auto& model = dynamic_cast<XpbdModel&>(sim.model());
@@ -186,12 +186,12 @@ TEST(Catheter, XpbdFollowsTheDevicePose) {
 // equilibrium force; the tolerance 1e-5 relative is far above the Newton residual of 1e-9 of the reactions
 // (the two runs take different predictors, so they agree to the solver tolerance, not bit for bit).
 TEST(Catheter, QuasiStaticDrivenByTheDevicePoseMatchesTheLoadSteps) {
-  Simulation stepped(parse_scene(pressed_block("quasi_static"), "catheter-block"));
+  Simulation stepped(parse_scene(catheter_press_scene("quasi_static"), "catheter-block"));
   StepRecord last;
   for (int k = 1; k <= stepped.model().num_steps(); ++k) last = stepped.advance(k);
   const Vec3 f_stepped = last.obstacles.at(0).force_n;
 
-  json doc = pressed_block("quasi_static");
+  json doc = catheter_press_scene("quasi_static");
   doc["obstacles"][0]["motion_m"] = {0.0, 0.0, 0.0};
   doc["quasi_static"]["frame_s"] = 0.002;
   Simulation posed(parse_scene(doc, "catheter-block"));

@@ -43,14 +43,14 @@ Eigen::VectorXd flatten(const Vec3Array& v, const std::vector<Index>& slot) {
   return out;
 }
 
-struct TermCase {
+struct HessianTermCase {
   std::string name;
   EnergyOptions options;
 };
 
 // Every term on its own and the library defaults, as in the energy-consistency tests; the neo-Hookean law
 // goes through HyperelasticLaw::first_piola_derivative, the others through the built-in SVK.
-std::vector<TermCase> term_cases(const Material& m) {
+std::vector<HessianTermCase> term_cases(const Material& m) {
   const auto neo = std::shared_ptr<const materials::HyperelasticLaw>(materials::make_hyperelastic_law(
       "neo_hookean", nlohmann::json{{"youngs_modulus_pa", m.youngs_modulus_pa}, {"poisson_ratio", m.poisson_ratio}}));
   return {{"SVK", {StrainMeasure::GreenHalf, 0.0, 0.0, {}, {}}},

@@ -13,16 +13,11 @@
 #include "vascsim/model/discretization.hpp"
 #include "vascsim/scene/scene.hpp"
 #include "vascsim/run/simulation.hpp"
+#include "support/run_helpers.hpp"
 
 namespace {
 
 using namespace vascsim;
-
-double total_tet_volume(const NodeCloud& c) {
-  double v = 0.0;
-  for (const Tet& t : c.tets) v += signed_volume(c.positions[t[0]], c.positions[t[1]], c.positions[t[2]], c.positions[t[3]]);
-  return v;
-}
 
 TEST(Geometry, TubeHasLayersOnBothSurfacesAndExactPolygonalVolume) {
   TubeSpec s;
@@ -46,7 +41,7 @@ TEST(Geometry, TubeHasLayersOnBothSurfacesAndExactPolygonalVolume) {
   const int per_ring = static_cast<int>(c.positions.size()) / c.tube->radial_layers /
                        (static_cast<int>(std::lround(s.length_m / s.node_spacing_m)) + 1);
   const double area = 0.5 * per_ring * std::sin(2.0 * std::numbers::pi / per_ring) * (1.5e-3 * 1.5e-3 - 1.2e-3 * 1.2e-3);
-  EXPECT_NEAR(total_tet_volume(c), area * s.length_m, 1e-12 * area * s.length_m);
+  EXPECT_NEAR(vascsim::test::total_tet_volume(c), area * s.length_m, 1e-12 * area * s.length_m);
 }
 
 TEST(Geometry, TubeRejectsImpossibleWalls) {
@@ -62,7 +57,7 @@ TEST(Geometry, BoxBoundaryIsClosedWithTheBoxArea) {
   b.cells = Eigen::Vector3i(3, 2, 2);
   const NodeCloud c = make_box(b);
   EXPECT_EQ(c.tets.size(), 6u * 12u);
-  EXPECT_NEAR(total_tet_volume(c), 6.0, 1e-12);
+  EXPECT_NEAR(vascsim::test::total_tet_volume(c), 6.0, 1e-12);
   const auto faces = boundary_faces(c.tets);
   double area = 0.0;
   Vec3 vector_area = Vec3::Zero();

@@ -15,17 +15,12 @@
 #include "vascsim/model/implicit_model.hpp"
 #include "vascsim/run/simulation.hpp"
 #include "vascsim/scene/scene.hpp"
+#include "support/run_helpers.hpp"
 
 namespace vascsim {
 namespace {
 
 using nlohmann::json;
-
-StepRecord run_to_end(Simulation& sim) {
-  StepRecord rec;
-  for (int k = 1; k <= sim.model().num_steps(); ++k) rec = sim.advance(k);
-  return rec;
-}
 
 // The cantilever of the T9 check (2 cells across: 3 x 3 x 23 nodes), loaded in 0.2 s and held to 1.5 s. Unlike a
 // vessel wall this beam is not quasi-static: its first bending mode is about 5 Hz, so frames of h = 0.1 s
@@ -38,12 +33,12 @@ TEST(ImplicitModel, CantileverSteadyStateIsTheStaticEquilibrium) {
   c.cells_across = 2;
   json doc = cantilever_scene(c);
   Simulation stat(parse_scene(doc, "cantilever"));
-  const double u_static = run_to_end(stat).regions.at(1).displacement_m;
+  const double u_static = test::run_to_end(stat).regions.at(1).displacement_m;
   doc["model"] = "implicit";
   doc["implicit"] = {{"duration_s", 1.5}, {"ramp_time_s", 0.2}, {"output_interval_s", 0.5}, {"frame_s", 0.1},
                      {"rel_tolerance", 1e-9}, {"max_newton_iterations", 30}, {"max_cg_iterations", 500}};
   Simulation imp(parse_scene(doc, "cantilever"));
-  const StepRecord last = run_to_end(imp);
+  const StepRecord last = test::run_to_end(imp);
   const double u_implicit = last.regions.at(1).displacement_m;
   std::printf("[ implicit ] cantilever tip: implicit %.10g m, quasi_static %.10g m\n", u_implicit, u_static);
   ASSERT_GT(std::abs(u_static), 0.0);
@@ -52,7 +47,7 @@ TEST(ImplicitModel, CantileverSteadyStateIsTheStaticEquilibrium) {
 }
 
 // The shared catheter block (tests/support/scenes.hpp) pressed 1 mm by the tilted 6 Fr catheter.
-json pressed_block(const std::string& model) {
+json implicit_press_scene(const std::string& model) {
   json doc = test::catheter_pressed_block();
   doc["quasi_static"] = {{"load_steps", 5}, {"rel_tolerance", 1e-9}};
   doc["implicit"] = {{"duration_s", 0.15}, {"ramp_time_s", 0.1}, {"output_interval_s", 0.05}, {"frame_s", 0.01},
@@ -65,10 +60,10 @@ json pressed_block(const std::string& model) {
 // reactions (1 %, T14's bound; the residual of 1e-9 of the reactions puts the balance far below it) and equals
 // quasi_static's equilibrium force (1e-4 relative: the held frames converge to round-off, see the cantilever).
 TEST(ImplicitModel, CatheterPressBalancesAndMatchesQuasiStatic) {
-  Simulation stat(parse_scene(pressed_block("quasi_static"), "catheter-block"));
-  const Vec3 f_static = run_to_end(stat).obstacles.at(0).force_n;
-  Simulation imp(parse_scene(pressed_block("implicit"), "catheter-block"));
-  const StepRecord last = run_to_end(imp);
+  Simulation stat(parse_scene(implicit_press_scene("quasi_static"), "catheter-block"));
+  const Vec3 f_static = test::run_to_end(stat).obstacles.at(0).force_n;
+  Simulation imp(parse_scene(implicit_press_scene("implicit"), "catheter-block"));
+  const StepRecord last = test::run_to_end(imp);
   const Vec3 tool = last.obstacles.at(0).force_n;
   const Vec3 support = last.regions.at(0).force_n;  // the force the base exerts on the tissue
   std::printf("[ implicit ] press: tool (%.6g, %.6g, %.6g) N, support (%.6g, %.6g, %.6g) N, quasi_static z %.6g N\n",
@@ -84,8 +79,8 @@ TEST(ImplicitModel, CatheterPressBalancesAndMatchesQuasiStatic) {
 TEST(ImplicitModel, AnOfflineRefactorisationKeepsTheCallersThreadCount) {
   const int before = omp_get_max_threads();
   omp_set_num_threads(2);
-  Simulation imp(parse_scene(pressed_block("implicit"), "catheter-block"));
-  run_to_end(imp);
+  Simulation imp(parse_scene(implicit_press_scene("implicit"), "catheter-block"));
+  test::run_to_end(imp);
   const int after = omp_get_max_threads();
   omp_set_num_threads(before);
   ASSERT_GT(imp.model().info()["factorisations"].get<int>(), 1) << "the press must trigger a refactorisation";
@@ -97,7 +92,7 @@ TEST(ImplicitModel, AnOfflineRefactorisationKeepsTheCallersThreadCount) {
 // 2 % (the bound; K is exact for the linearised contact problem with the factor refreshed at the
 // state, so what is left is the change of the active set and of the contact normals over the step).
 TEST(ImplicitModel, ToolStiffnessMatchesAFiniteDifference) {
-  json doc = pressed_block("implicit");
+  json doc = implicit_press_scene("implicit");
   doc["obstacles"][0]["motion_m"] = {0.0, 0.0, 0.0};
   Simulation sim(parse_scene(doc, "catheter-block"));
   auto& model = dynamic_cast<ImplicitModel&>(sim.model());
@@ -137,7 +132,7 @@ TEST(ImplicitModel, ToolStiffnessMatchesAFiniteDifference) {
 // for a frame tolerance of 1e-3 (measured: force within about 2.5x the tolerance) and quasi_static's 1e-6.
 // With max_tool_step = 0 the tool is where the device is from the first frame.
 TEST(ImplicitModel, ADeviceJumpIsFollowedInBoundedSteps) {
-  json doc = pressed_block("implicit");
+  json doc = implicit_press_scene("implicit");
   doc["obstacles"][0]["motion_m"] = {0.0, 0.0, 0.0};
   doc["implicit"].erase("rel_tolerance");
   doc["implicit"].erase("max_newton_iterations");
@@ -169,10 +164,10 @@ TEST(ImplicitModel, ADeviceJumpIsFollowedInBoundedSteps) {
   }
   const Vec3 f_followed = model.tool_loads().at(0).force_n;
 
-  json stat_doc = pressed_block("quasi_static");  // the same press to 1 mm by load steps
+  json stat_doc = implicit_press_scene("quasi_static");  // the same press to 1 mm by load steps
   stat_doc["quasi_static"]["rel_tolerance"] = 1e-6;
   Simulation stat(parse_scene(stat_doc, "catheter-block"));
-  const Vec3 f_static = run_to_end(stat).obstacles.at(0).force_n;
+  const Vec3 f_static = test::run_to_end(stat).obstacles.at(0).force_n;
   std::printf("[ implicit ] device jump of 1 mm: followed in %d frames, force z %.6g N; quasi_static %.6g N\n", frames,
               f_followed.z(), f_static.z());
   EXPECT_LT((f_followed - f_static).norm(), 1e-2 * f_static.norm());
@@ -193,7 +188,7 @@ TEST(ImplicitModel, ADeviceJumpIsFollowedInBoundedSteps) {
 // above to 1 mm deep is followed in one frame to within one path sample (half a tool radius, 0.5 mm) then at
 // most one bounded step past the first touch.
 TEST(ImplicitModel, AToolInFreeSpaceGoesAtOnceUpToTheTissue) {
-  json doc = pressed_block("implicit");
+  json doc = implicit_press_scene("implicit");
   doc["obstacles"][0]["motion_m"] = {0.0, 0.0, 0.0};
   Simulation sim(parse_scene(doc, "catheter-block"));
   auto& model = dynamic_cast<ImplicitModel&>(sim.model());

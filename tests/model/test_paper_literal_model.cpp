@@ -14,15 +14,12 @@
 #include "vascsim/model/paper_literal_model.hpp"
 #include "vascsim/scene/scene.hpp"
 #include "vascsim/run/simulation.hpp"
+#include "support/run_helpers.hpp"
 
 namespace {
 
 using namespace vascsim;
 using json = nlohmann::json;
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // ---------------------------------------------------------------------------------------------
 // A corner tetrahedron: free node O at the origin joined to three fixed nodes at L e_x, L e_y, L e_z by
@@ -175,7 +172,7 @@ TEST(PaperLiteralModel, SelectableByNameAndRunsASmallBeamBounded) {
   const json ref = sim.reference(rec);
   const double tip = ref["tip_deflection_m"], sound = ref["reference_deflection_m"];
   std::printf("tip %.4e m, Timoshenko (sound E) %.4e m, max |u| %.4e m, %.2f s\n", tip, sound, max_u,
-              seconds_since(t0));
+              vascsim::test::seconds_since(t0));
   // Bounded: the literal solid is 4x stiffer than E (docs/validation.md T9: 1/4 of the sound deflection, which is
   // within 1 % of Timoshenko at 2 cells) and the PBD constraints only stiffen it further, so the tip moves
   // the right way and by less than 0.3 of the sound deflection (measured 0.018 at dt = 0.1 ms, n = 10);

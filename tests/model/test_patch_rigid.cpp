@@ -24,9 +24,9 @@ using test::kDelta;
 using test::record;
 
 // The docs/validation.md (tests T1-T15) default: jittered (+-0.2 Delta) 7^3 cloud; h = 2 Delta-bar by default.
-NodeCloud jittered_cloud() { return test::lattice(6, 0.2, 7); }
+NodeCloud patch_cloud() { return test::lattice(6, 0.2, 7); }
 
-Material tissue() { return test::tissue(3e5); }
+Material patch_tissue() { return test::tissue(3e5); }
 
 Vec3Array affine(const Vec3Array& X, const Mat3& A, const Vec3& t) {
   Vec3Array x(X.size());
@@ -44,7 +44,7 @@ std::pair<Mat3, Vec3> random_affine(std::mt19937_64& rng) {
 }
 
 TEST(PatchT2, AffineFieldGivesExactGradientAtEveryNode) {
-  const Discretization disc(jittered_cloud(), tissue());
+  const Discretization disc(patch_cloud(), patch_tissue());
   std::mt19937_64 rng(42);
   double worst = 0.0;
   for (int trial = 0; trial < 5; ++trial) {
@@ -61,7 +61,7 @@ TEST(PatchT2, AffineFieldGivesExactGradientAtEveryNode) {
 
 TEST(PatchT2, AffineFieldInFloat32) {
   // Emulates a float32 runtime: d_ij and positions stored as float, F accumulated in float.
-  const Discretization disc(jittered_cloud(), tissue());
+  const Discretization disc(patch_cloud(), patch_tissue());
   const PairTable& P = disc.pairs();
   std::mt19937_64 rng(43);
   const auto [A, t] = random_affine(rng);
@@ -82,7 +82,7 @@ TEST(PatchT2, AffineFieldInFloat32) {
 
 TEST(PatchT2, Eq3LiteralSignReturnsMinusTheGradient) {
   // Negative test E1: with the paper's printed x_ij = x_i - x_j, G = -(A - I).
-  const Discretization disc(jittered_cloud(), tissue());
+  const Discretization disc(patch_cloud(), patch_tissue());
   std::mt19937_64 rng(44);
   const auto [A, t] = random_affine(rng);
   const Vec3Array& X = disc.rest_positions();
@@ -104,12 +104,12 @@ TEST(PatchT2, Eq3LiteralSignReturnsMinusTheGradient) {
 }
 
 // The four energy terms of docs/model.md sections 7-9 in the configurations used by T3.
-struct TermCase {
+struct PatchTermCase {
   const char* name;
   EnergyOptions options;
 };
 
-std::vector<TermCase> term_cases(const Material& m) {
+std::vector<PatchTermCase> term_cases(const Material& m) {
   EnergyOptions svk{StrainMeasure::GreenHalf, 0.0, 0.0, {}, {}};
   EnergyOptions literal{StrainMeasure::MuellerNoHalf, 0.0, 0.0, {}, {}};
   EnergyOptions volume{StrainMeasure::GreenHalf, 0.5 * m.lame_lambda(), 0.0, {}, {}};
@@ -122,8 +122,8 @@ Mat3 rotation(double angle, const Vec3& axis) {
 }
 
 TEST(RigidT3, RigidMotionGivesNoForceAndNoEnergy) {
-  const Material mat = tissue();
-  const Discretization disc(jittered_cloud(), mat);
+  const Material mat = patch_tissue();
+  const Discretization disc(patch_cloud(), mat);
   std::mt19937_64 rng(45);
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
   const double pi = std::numbers::pi;
@@ -136,7 +136,7 @@ TEST(RigidT3, RigidMotionGivesNoForceAndNoEnergy) {
   const double E = mat.youngs_modulus_pa;
   const double f_tol = 1e-10 * E * kDelta * kDelta;           // 3e-11 N
   const double u_tol = 1e-20 * E * kDelta * kDelta * kDelta;  // 3e-26 J
-  for (const TermCase& c : term_cases(mat)) {
+  for (const PatchTermCase& c : term_cases(mat)) {
     const PointPrimitiveEnergy energy(disc, c.options);
     double f_max = 0.0, u_max = 0.0;
     for (const Mat3& R : rotations) {
@@ -160,10 +160,10 @@ TEST(RigidT3, RigidMotionGivesNoForceAndNoEnergy) {
 
 TEST(RigidT3, SmallStrainIsNotMistakenForRigid) {
   // Guards the test above: the same checks flag a 1e-4 stretch superposed on a rotation.
-  const Material mat = tissue();
-  const Discretization disc(jittered_cloud(), mat);
+  const Material mat = patch_tissue();
+  const Discretization disc(patch_cloud(), mat);
   const double E = mat.youngs_modulus_pa;
-  for (const TermCase& c : term_cases(mat)) {
+  for (const PatchTermCase& c : term_cases(mat)) {
     const PointPrimitiveEnergy energy(disc, c.options);
     const Mat3 R = rotation(std::numbers::pi / 2, Vec3::UnitZ());
     const Vec3Array x =

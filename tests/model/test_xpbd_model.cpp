@@ -16,15 +16,12 @@
 #include "vascsim/model/xpbd_model.hpp"
 #include "vascsim/scene/scene.hpp"
 #include "vascsim/run/simulation.hpp"
+#include "support/run_helpers.hpp"
 
 namespace {
 
 using namespace vascsim;
 using json = nlohmann::json;
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // Cantilever of experiments/cantilever.hpp, coarse (2 cells across, 207 nodes), tip deflection ~1e-3 L.
 CantileverCase small_cantilever() {
@@ -66,7 +63,7 @@ XpbdRun run_xpbd_cantilever(int substeps) {
     out.tip_change = std::abs(out.tip - previous);
     previous = out.tip;
   }
-  out.seconds = seconds_since(t0);
+  out.seconds = vascsim::test::seconds_since(t0);
   return out;
 }
 
@@ -210,7 +207,7 @@ TEST(XpbdModel, FastLargePrescribedMotionStaysBounded) {
   for (const auto& v : xpbd.velocities()) v_max = std::max(v_max, v.norm());
   std::printf("[ xpbd     ] pushed box (%d nodes, %d colours): max displacement %.4g m (%.2f x size), final max "
               "speed %.3g m/s, %.3f s wall for 0.5 s simulated\n",
-              static_cast<int>(X.size()), xpbd.num_colours(), max_u, max_u / size, v_max, seconds_since(t0));
+              static_cast<int>(X.size()), xpbd.num_colours(), max_u, max_u / size, v_max, vascsim::test::seconds_since(t0));
   EXPECT_GE(max_u, 0.005 * (1.0 - 1e-9));
   EXPECT_LT(v_max, 0.05);
 }

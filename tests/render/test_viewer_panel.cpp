@@ -17,7 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kBlock = std::string(VASCSIM_SOURCE_DIR) + "/tests/data/haptic-block.json";
+const std::string kPanelBlock = std::string(VASCSIM_SOURCE_DIR) + "/tests/data/haptic-block.json";
 
 struct ViewerPanel : ::testing::Test {
   FrameExchange<ViewerFrame> exchange;
@@ -29,11 +29,11 @@ struct ViewerPanel : ::testing::Test {
   std::unique_ptr<SessionPanel> panel;
 
   void SetUp() override {
-    const Scene scene = load_scene(kBlock);
+    const Scene scene = load_scene(kPanelBlock);
     LiveOptions options;
     options.lockstep = true;
     session = std::make_unique<LiveSession>(scene, mouse, builder, options);
-    panel = std::make_unique<SessionPanel>(*session, scene, kBlock, std::vector<std::string>{}, controls);
+    panel = std::make_unique<SessionPanel>(*session, scene, kPanelBlock, std::vector<std::string>{}, controls);
   }
   // One frame after the panel's requests: what the render thread would draw.
   const ViewerFrame& frame_after(const render::HudRequests& r) {

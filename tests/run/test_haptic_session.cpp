@@ -19,13 +19,12 @@
 #include "vascsim/interaction/scripted_device.hpp"
 #include "vascsim/interaction/session_recording.hpp"
 #include "vascsim/run/haptic_session.hpp"
+#include "support/run_helpers.hpp"
 
 namespace vascsim {
 namespace {
 
 namespace fs = std::filesystem;
-
-const fs::path kData = fs::path(VASCSIM_SOURCE_DIR) / "tests" / "data";
 
 fs::path fresh_dir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("vascsim-haptic-" + name + "-" + std::to_string(::getpid()));
@@ -42,10 +41,6 @@ std::string history_without_wall_time(const fs::path& f) {
   return text;
 }
 
-Scene block_scene(const std::vector<std::string>& sets = {}) {
-  return load_scene((kData / "haptic-block.json").string(), sets);
-}
-
 // The block at a 1 mm lattice (196 nodes instead of 1,183): what is checked is the session's bookkeeping and a
 // bit-identical replay, which do not depend on the resolution; about 6x faster (7.5 min under ASan at 0.5 mm).
 const std::vector<std::string> kCoarseBlock = {"geometry.node_spacing_m=1e-3"};
@@ -54,7 +49,7 @@ TEST(HapticSession, LockstepPressReplaysBitIdentically) {
   const fs::path a = fresh_dir("record"), b = fresh_dir("replay");
   HapticRunOptions first;
   first.out_dir = a;
-  const auto s1 = run_haptic_session(block_scene(kCoarseBlock), first);
+  const auto s1 = run_haptic_session(test::haptic_block_scene(kCoarseBlock), first);
   const auto& h = s1["haptics"];
   EXPECT_EQ(h["ticks"].get<std::size_t>(), 251u);  // 0.25 s at 1 kHz, both ends
   EXPECT_EQ(h["simulation_steps"].get<std::size_t>(), 251u);
@@ -75,7 +70,7 @@ TEST(HapticSession, LockstepPressReplaysBitIdentically) {
   HapticRunOptions again;
   again.out_dir = b;
   again.replay = a / "session.csv";
-  const auto s2 = run_haptic_session(block_scene(kCoarseBlock), again);
+  const auto s2 = run_haptic_session(test::haptic_block_scene(kCoarseBlock), again);
   EXPECT_TRUE(s2["haptics"]["replay"]["bit_identical"].get<bool>());
   EXPECT_EQ(s2["haptics"]["replay"]["max_force_difference_n"].get<double>(), 0.0);
   // The same deformation: the force history (17 digits) is the same text.
@@ -93,7 +88,7 @@ TEST(HapticSession, RealtimePressStaysWithinTheClamp) {
   HapticRunOptions opt;
   opt.out_dir = d;
   opt.mode = "realtime";
-  const auto s = run_haptic_session(block_scene({"haptics.force_limit_n=0.05"}), opt);
+  const auto s = run_haptic_session(test::haptic_block_scene({"haptics.force_limit_n=0.05"}), opt);
   const auto& loop = s["haptics"]["loop"];
   std::printf("[ session  ] realtime: %.1f Hz, jitter p50/p99/max %.3f/%.3f/%.3f ms, %zu simulation steps at %.1f Hz, "
               "force latency mean %.2f ms\n",
@@ -112,12 +107,12 @@ TEST(HapticSession, RealtimePressStaysWithinTheClamp) {
 // Any Device can drive a session (the path a hardware device takes); it then needs haptics.duration_s.
 TEST(HapticSession, TakesAnExternalDevice) {
   const fs::path d = fresh_dir("external");
-  ScriptedDevice device(read_trajectory(kData / "haptic-press.csv"));
+  ScriptedDevice device(read_trajectory(test::source_path("tests/data/haptic-press.csv")));
   HapticRunOptions opt;
   opt.out_dir = d;
   opt.device = &device;
-  EXPECT_THROW(run_haptic_session(block_scene(), opt), InputError);
-  const auto s = run_haptic_session(block_scene({"haptics.duration_s=0.02"}), opt);
+  EXPECT_THROW(run_haptic_session(test::haptic_block_scene(), opt), InputError);
+  const auto s = run_haptic_session(test::haptic_block_scene({"haptics.duration_s=0.02"}), opt);
   EXPECT_EQ(s["haptics"]["ticks"].get<std::size_t>(), 21u);
   EXPECT_EQ(device.sent_forces().size(), 21u);  // the loop sent every tick's force to this device
   fs::remove_all(d);
@@ -139,7 +134,7 @@ TEST(HapticSession, QuasiStaticModelDrivesALockstepSession) {
                                          "haptics.ticks_per_step=50"};
   HapticRunOptions first;
   first.out_dir = a;
-  const auto s1 = run_haptic_session(block_scene(sets), first);
+  const auto s1 = run_haptic_session(test::haptic_block_scene(sets), first);
   EXPECT_EQ(s1["model"], "quasi_static");
   EXPECT_EQ(s1["haptics"]["simulation_steps"].get<std::size_t>(), 6u);  // 251 ticks, one frame per 50
   std::ifstream in(a / "force_history.csv");
@@ -159,7 +154,7 @@ TEST(HapticSession, QuasiStaticModelDrivesALockstepSession) {
   HapticRunOptions again;
   again.out_dir = b;
   again.replay = a / "session.csv";
-  const auto s2 = run_haptic_session(block_scene(sets), again);
+  const auto s2 = run_haptic_session(test::haptic_block_scene(sets), again);
   EXPECT_TRUE(s2["haptics"]["replay"]["bit_identical"].get<bool>());
 }
 
@@ -177,7 +172,7 @@ nlohmann::json implicit_session(const fs::path& trajectory, int ticks_per_frame,
   HapticRunOptions o;
   o.out_dir = out;
   o.mode = mode;
-  return run_haptic_session(block_scene({"model=implicit", "implicit.frame_s=" + frame,
+  return run_haptic_session(test::haptic_block_scene({"model=implicit", "implicit.frame_s=" + frame,
                                          "implicit.output_interval_s=" + frame, "implicit.duration_s=0.8",
                                          "haptics.ticks_per_step=" + std::to_string(ticks_per_frame),
                                          "haptics.device.trajectory=" + trajectory.string()}),
@@ -297,7 +292,7 @@ TEST(HapticSession, ImplicitRealtimeTicksFollowTheEquilibrium) {
 // A model a device cannot drive is refused by the scene, naming the models that can.
 TEST(HapticSession, ModelsNoDeviceCanDriveAreRefused) {
   try {
-    block_scene({"model=explicit"});
+    test::haptic_block_scene({"model=explicit"});
     ADD_FAILURE() << "explicit accepted for a haptic session";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("xpbd"), std::string::npos) << e.what();
@@ -317,7 +312,7 @@ TEST(HapticSession, BadDeviceFilesExitWithCode2) {
   for (const auto& [name, text] : cases) {
     std::ofstream(d / name) << text;
     std::string err;
-    const int rc = run({"-q", "run", (kData / "haptic-block.json").string(), "--out", (d / "out").string(),
+    const int rc = run({"-q", "run", test::source_path("tests/data/haptic-block.json"), "--out", (d / "out").string(),
                         "--set", "haptics.device.trajectory=" + (d / name).string()},
                        err);
     EXPECT_EQ(rc, 2) << name << ": " << err;
@@ -325,12 +320,12 @@ TEST(HapticSession, BadDeviceFilesExitWithCode2) {
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
   }
   std::string err;
-  EXPECT_EQ(run({"-q", "run", (kData / "haptic-block.json").string(), "--out", (d / "out").string(), "--set",
+  EXPECT_EQ(run({"-q", "run", test::source_path("tests/data/haptic-block.json"), "--out", (d / "out").string(), "--set",
                  "haptics.device.trajectory=" + (d / "missing.csv").string()},
                 err),
             2);
   EXPECT_NE(err.find("missing.csv"), std::string::npos) << err;
-  EXPECT_EQ(run({"-q", "run", (kData / "haptic-block.json").string(), "--out", (d / "out").string(), "--replay",
+  EXPECT_EQ(run({"-q", "run", test::source_path("tests/data/haptic-block.json"), "--out", (d / "out").string(), "--replay",
                  (d / "nan.csv").string()},
                 err),
             2);

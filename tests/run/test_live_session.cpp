@@ -18,18 +18,13 @@
 #include "vascsim/interaction/mouse_keyboard_device.hpp"
 #include "vascsim/run/haptic_session.hpp"
 #include "vascsim/run/live_session.hpp"
+#include "support/run_helpers.hpp"
 
 namespace vascsim {
 namespace {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
-
-const fs::path kData = fs::path(VASCSIM_SOURCE_DIR) / "tests" / "data";
-
-Scene block_scene(const std::vector<std::string>& sets = {}) {
-  return load_scene((kData / "haptic-block.json").string(), sets);
-}
 
 // What a render thread would get: the session's report and the first node's position.
 struct TestFrame {
@@ -78,7 +73,7 @@ TEST(LiveSession, LockstepMouseAdvancesTheCatheterUntilItPressesTheBlock) {
   ExchangeObserver observer;
   LiveOptions options;
   options.lockstep = true;
-  LiveSession session(block_scene(), mouse, observer, options);
+  LiveSession session(test::haptic_block_scene(), mouse, observer, options);
   EXPECT_TRUE(observer.tool_seen);
   double force_above = 0.0;
   Vec3 last_force = Vec3::Zero();
@@ -118,7 +113,7 @@ TEST(LiveSession, RecordingReplaysBitIdenticallyThroughTheHeadlessSession) {
   options.lockstep = true;
   // The block at a 1 mm lattice (196 nodes): a replay's bit-identity does not depend on the resolution.
   const std::vector<std::string> coarse = {"geometry.node_spacing_m=1e-3"};
-  LiveSession session(block_scene(coarse), mouse, observer, options);
+  LiveSession session(test::haptic_block_scene(coarse), mouse, observer, options);
   session.post({LiveCommand::Kind::start_recording, std::nullopt, {}});
   for (int k = 0; k < 60; ++k) {
     if (k < 20) mouse.scroll(1.0);
@@ -133,7 +128,7 @@ TEST(LiveSession, RecordingReplaysBitIdenticallyThroughTheHeadlessSession) {
   HapticRunOptions replay;
   replay.out_dir = dir / "replay";
   replay.replay = dir / "live.csv";
-  const auto summary = run_haptic_session(block_scene(coarse), replay);
+  const auto summary = run_haptic_session(test::haptic_block_scene(coarse), replay);
   const auto& r = summary["haptics"]["replay"];
   EXPECT_EQ(r["ticks_compared"].get<std::size_t>(), 60u);
   EXPECT_TRUE(r["bit_identical"].get<bool>()) << r.dump();
@@ -144,7 +139,7 @@ TEST(LiveSession, RecordingReplaysBitIdenticallyThroughTheHeadlessSession) {
 TEST(LiveSession, ModelsNoDeviceCanDriveAreRefusedBeforeTheBuild) {
   MouseKeyboardDevice mouse;
   ExchangeObserver observer;
-  Scene scene = load_scene((kData / "tiny-bent-vessel.json").string(), {"model=explicit"});
+  Scene scene = load_scene(test::source_path("tests/data/tiny-bent-vessel.json"), {"model=explicit"});
   try {
     LiveSession session(scene, mouse, observer);
     ADD_FAILURE() << "explicit accepted";
@@ -159,7 +154,7 @@ TEST(LiveSession, ModelsNoDeviceCanDriveAreRefusedBeforeTheBuild) {
 TEST(LiveSession, RealtimeCommandsAndFramesCrossThreads) {
   MouseKeyboardDevice mouse(block_mouse());
   ExchangeObserver observer;
-  LiveSession session(block_scene(), mouse, observer);
+  LiveSession session(test::haptic_block_scene(), mouse, observer);
   std::atomic<bool> done{false};
   std::atomic<std::uint64_t> latest_frame{0}, latest_build{0}, frames_seen{0};
   std::atomic<bool> ordered{true};
@@ -199,7 +194,7 @@ TEST(LiveSession, RealtimeCommandsAndFramesCrossThreads) {
   session.set_paused(false);
   session.post({LiveCommand::Kind::reset, std::nullopt, {}});
   EXPECT_TRUE(wait_for([&] { return latest_build.load() == 2; }));
-  session.post({LiveCommand::Kind::load, block_scene({"material.youngs_modulus_pa=6e5"}), {}});
+  session.post({LiveCommand::Kind::load, test::haptic_block_scene({"material.youngs_modulus_pa=6e5"}), {}});
   EXPECT_TRUE(wait_for([&] { return latest_build.load() == 3 && latest_frame.load() >= 2; }));
   session.stop();
   done = true;

@@ -16,8 +16,9 @@ packages=(
   # rasteriser, the HUD, PNG writing; xvfb/xauth for a virtual X display (xvfb-run -a) as a fallback.
   libglfw3-dev libimgui-dev libepoxy-dev libegl-dev libgl-dev libgl1-mesa-dri libegl-mesa0 libstb-dev
   xvfb xauth
-  # `make fuzz`: libFuzzer, ASan and UBSan with clang (docs/reliability.md).
-  clang-14 libclang-rt-14-dev
+  # The sanitizer stages of `make test` and `make fuzz` (libFuzzer, ASan, UBSan, TSan) build with clang, its
+  # sanitizer runtimes and its OpenMP runtime (docs/reliability.md).
+  clang-14 libclang-rt-14-dev libomp-14-dev
   # `make experiments` fans its independent runs out with GNU parallel (a plain loop without it).
   parallel
 )

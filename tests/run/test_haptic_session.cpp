@@ -41,15 +41,11 @@ std::string history_without_wall_time(const fs::path& f) {
   return text;
 }
 
-// The block at a 1 mm lattice (196 nodes instead of 1,183): what is checked is the session's bookkeeping and a
-// bit-identical replay, which do not depend on the resolution; about 6x faster (7.5 min under ASan at 0.5 mm).
-const std::vector<std::string> kCoarseBlock = {"geometry.node_spacing_m=1e-3"};
-
 TEST(HapticSession, LockstepPressReplaysBitIdentically) {
   const fs::path a = fresh_dir("record"), b = fresh_dir("replay");
   HapticRunOptions first;
   first.out_dir = a;
-  const auto s1 = run_haptic_session(test::haptic_block_scene(kCoarseBlock), first);
+  const auto s1 = run_haptic_session(test::haptic_block_scene(test::kCoarseHapticBlock), first);
   const auto& h = s1["haptics"];
   EXPECT_EQ(h["ticks"].get<std::size_t>(), 251u);  // 0.25 s at 1 kHz, both ends
   EXPECT_EQ(h["simulation_steps"].get<std::size_t>(), 251u);
@@ -70,7 +66,7 @@ TEST(HapticSession, LockstepPressReplaysBitIdentically) {
   HapticRunOptions again;
   again.out_dir = b;
   again.replay = a / "session.csv";
-  const auto s2 = run_haptic_session(test::haptic_block_scene(kCoarseBlock), again);
+  const auto s2 = run_haptic_session(test::haptic_block_scene(test::kCoarseHapticBlock), again);
   EXPECT_TRUE(s2["haptics"]["replay"]["bit_identical"].get<bool>());
   EXPECT_EQ(s2["haptics"]["replay"]["max_force_difference_n"].get<double>(), 0.0);
   // The same deformation: the force history (17 digits) is the same text.

@@ -112,8 +112,7 @@ TEST(LiveSession, RecordingReplaysBitIdenticallyThroughTheHeadlessSession) {
   LiveOptions options;
   options.lockstep = true;
   // The block at a 1 mm lattice (196 nodes): a replay's bit-identity does not depend on the resolution.
-  const std::vector<std::string> coarse = {"geometry.node_spacing_m=1e-3"};
-  LiveSession session(test::haptic_block_scene(coarse), mouse, observer, options);
+  LiveSession session(test::haptic_block_scene(test::kCoarseHapticBlock), mouse, observer, options);
   session.post({LiveCommand::Kind::start_recording, std::nullopt, {}});
   for (int k = 0; k < 60; ++k) {
     if (k < 20) mouse.scroll(1.0);
@@ -128,7 +127,7 @@ TEST(LiveSession, RecordingReplaysBitIdenticallyThroughTheHeadlessSession) {
   HapticRunOptions replay;
   replay.out_dir = dir / "replay";
   replay.replay = dir / "live.csv";
-  const auto summary = run_haptic_session(test::haptic_block_scene(coarse), replay);
+  const auto summary = run_haptic_session(test::haptic_block_scene(test::kCoarseHapticBlock), replay);
   const auto& r = summary["haptics"]["replay"];
   EXPECT_EQ(r["ticks_compared"].get<std::size_t>(), 60u);
   EXPECT_TRUE(r["bit_identical"].get<bool>()) << r.dump();

@@ -159,7 +159,6 @@ class XpbdModel final : public Model, public DeviceDrivenModel {
   std::vector<constraints::Capsule> obstacle_now_, pose_from_, pose_to_;  // per obstacle
   std::vector<Vec3> tool_now_, tool_from_, tool_to_;                      // tool points, m
   std::vector<char> posed_;  // placed by set_obstacle_pose
-  double substep_load_ = 0.0;
 
   // Per-spring barycentre constraints (4 per tet).
   std::vector<std::array<double, 4>> bary_rest_;

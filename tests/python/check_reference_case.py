@@ -22,7 +22,7 @@ ROOT = os.path.join(HERE, "..", "..")
 GROWTHS = "discretization.max_growths=10"
 # case: scene, compared region or tool, overrides, reference steps compared, and the bound on |error| per step.
 # The bounds are |measured error| + 2 points. Measured when set: vein-indent at 0.3 mm (5,712 nodes) -12.9, -13.7
-# and -14.7 % at 0.1, 0.2 and 0.3 mm; the cantilever at 5 mm (207 nodes) +8.1 %. The references' extrapolation
+# and -14.7 % at 0.1, 0.2 and 0.3 mm; the cantilever at 5 mm (207 nodes) +8.1 %; the aorta below. The references' extrapolation
 # uncertainty at these loads is below 2 % and the solver's tolerance 1e-6 relative; 2 points leave room for
 # compilers and BLAS without hiding a loss of accuracy of the kind docs/validation.md tracks (5-30 points).
 CASES = {
@@ -31,6 +31,12 @@ CASES = {
                      "regions.2.bc.magnitude_m=0.3e-3"], 3, [0.15, 0.16, 0.17]),
     "cantilever": ("scenes/cantilever.json", "tip", ["geometry.node_spacing_m=5e-3", "output.vtk=false"], 1,
                    [0.10]),
+    # The bent aorta at 1.5 mm (11,319 nodes), its first two steps (0.5 and 1.0 mm of 5 mm): measured -10.6 and
+    # -11.0 % when set (the default 1.0 mm gives -13.4 and -14.0 %, docs/validation.md; the lattice at 1.5 mm
+    # happens to select a larger patch). The reference's uncertainty there is 2.0 and 2.4 %.
+    "aorta-bent": ("scenes/aorta-bent.json", "indenter",
+                   ["geometry.node_spacing_m=1.5e-3", GROWTHS, "quasi_static.load_steps=2",
+                    "regions.2.bc.magnitude_m=1e-3", "output.surface=false", "output.vtk=false"], 2, [0.126, 0.13]),
 }
 
 

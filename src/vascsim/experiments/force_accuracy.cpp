@@ -24,6 +24,11 @@ AccuracyCase read_case(const nlohmann::json& j) {
     c.rows.push_back({r.at("spacing_m").get<double>(), r.at("nodes").get<double>(), r.at("force_n").get<double>(),
                       r.at("error").get<double>()});
   std::sort(c.rows.begin(), c.rows.end(), [](const AccuracyRow& a, const AccuracyRow& b) { return a.nodes < b.nodes; });
+  if (j.contains("finest_row_against")) {
+    const auto& i = j.at("finest_row_against");
+    c.independent = IndependentCheck{i.at("reference").get<std::string>(), i.at("error").get<double>(),
+                                     i.at("where").get<std::string>()};
+  }
   return c;
 }
 
@@ -102,8 +107,11 @@ std::string describe_accuracy(const ForceAccuracyTable& table, const AccuracyEst
     from = fmt::format("coarser than the coarsest row [{}]: expect at least this error", row(*e.above));
   else
     from = fmt::format("as fine as or finer than the finest row [{}], the reference", row(*e.below));
-  return fmt::format("{:+.1f} % against the {} of case '{}' ({}; {})", 100.0 * e.error, table.reference,
-                     e.match->name, e.match->scene, from);
+  std::string line = fmt::format("{:+.1f} % against the {} of case '{}' ({}; {})", 100.0 * e.error, table.reference,
+                                 e.match->name, e.match->scene, from);
+  if (const auto& i = e.match->independent)
+    line += fmt::format("; that finest row is itself {:+.1f} % against {} ({})", 100.0 * i->error, i->reference, i->where);
+  return line;
 }
 
 double substep_stiffness_ratio(double substep_s, const Material& material, double spacing_m) {

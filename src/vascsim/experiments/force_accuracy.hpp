@@ -23,11 +23,20 @@ struct AccuracyRow {
   double error = 0.0;  ///< force / reference force - 1
 };
 
+/// The error of a case's finest row against an independent solution (a mesh-converged FEM reference): the table's
+/// errors are against that row, so a user needs both to know how far the force is from the continuum.
+struct IndependentCheck {
+  std::string reference;  ///< what it is and where its curve is, e.g. "CalculiX, validation/references/aorta-bent.csv"
+  double error = 0.0;     ///< finest row's force / reference force - 1
+  std::string where;      ///< the depths it was measured at, e.g. "0.5-2 mm of the 5 mm push"
+};
+
 struct AccuracyCase {
   std::string name, scene;
   bool tool = false;  ///< loaded by a tool (obstacle) rather than a bonded region
   double outer_radius_m = 0.0, wall_thickness_m = 0.0;
   std::vector<AccuracyRow> rows;  ///< by node count, ascending
+  std::optional<IndependentCheck> independent;  ///< the key "finest_row_against" of the case, when measured
 };
 
 /// A model whose force is known to fall short when its per-substep stiffness ratio is large.
@@ -60,7 +69,8 @@ struct AccuracyEstimate {
 
 AccuracyEstimate estimate_accuracy(const ForceAccuracyTable& table, const Scene& scene, double nodes);
 
-/// One line: the error, the rows it comes from and what the error is measured against.
+/// One line: the error, the rows it comes from and what the error is measured against (and, when the case has
+/// one, how far that is from the independent reference).
 std::string describe_accuracy(const ForceAccuracyTable& table, const AccuracyEstimate& e);
 
 /// q = (h c_p / spacing)^2 with c_p = sqrt((lambda + 2 mu) / rho), the per-substep stiffness ratio.

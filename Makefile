@@ -45,7 +45,7 @@ test-release: build
 # (line tables: the sanitizers' reports name file and line) instead of -g compiles about a quarter faster.
 # Both sanitizer stages build with clang (Debian's clang-14, the sanitizers' home; OpenMP through its libomp):
 # measured against g++ 12 with the same checks, the ASan+UBSan library and tests compiled in 0.8x the time and the
-# tests ran in 0.4x, and g++ reports false warnings inside libstdc++ at -O1 with instrumentation. So a second
+# tests ran in half the time, and g++ reports false warnings inside libstdc++ at -O1 with instrumentation. So a second
 # compiler checks the code too; warnings are not errors here, the Release build (g++, -Wall -Wextra -Wpedantic
 # -Werror) is the warning gate.
 SANITIZER_CXX ?= clang++-14

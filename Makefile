@@ -44,10 +44,10 @@ test-release: build
 # preload the sanitizer runtime) and the install test (label "install"), which run in the Release stage. -g1
 # (line tables: the sanitizers' reports name file and line) instead of -g compiles about a quarter faster.
 # Both sanitizer stages build with clang (Debian's clang-14, the sanitizers' home; OpenMP through its libomp):
-# measured against g++ 12 with the same checks, the ASan+UBSan library and tests compiled in 0.8x the time and the
-# tests ran in half the time, and g++ reports false warnings inside libstdc++ at -O1 with instrumentation. So a second
-# compiler checks the code too; warnings are not errors here, the Release build (g++, -Wall -Wextra -Wpedantic
-# -Werror) is the warning gate.
+# measured against g++ 12 with the same checks, the ASan+UBSan library and tests compiled in 0.8x the time and
+# the tests ran in half the time, and g++ reports false warnings inside libstdc++ at -O1 with instrumentation. So
+# a second compiler checks the code too; warnings are not errors here, the Release build (g++, -Wall -Wextra
+# -Wpedantic -Werror) is the warning gate.
 SANITIZER_CXX ?= clang++-14
 SANITIZER_FLAGS = -O1 -g1
 test-sanitize: deps
@@ -62,9 +62,9 @@ test-sanitize: deps
 # The tests that run threads (haptic loop, hand-offs, mouse input, the realtime haptic session, the viewer's
 # live session: UI commands, simulation thread, haptic thread and a frame reader) under ThreadSanitizer. Only
 # these, and with OMP_NUM_THREADS=1: the OpenMP runtime (libomp) is not instrumented, so TSan would report its
-# internals; the threads under test are the haptic thread and the simulation thread, which are std::threads. -O1 -g1 compiles about a third faster than -O2 -g. The executable
-# vascsim_threaded_tests holds only the test files of these suites (tests/CMakeLists.txt lists them: a suite
-# added here needs its file there).
+# internals; the threads under test are the haptic thread and the simulation thread, which are std::threads.
+# -O1 -g1 compiles about a third faster than -O2 -g. The executable vascsim_threaded_tests holds only the test
+# files of these suites (tests/CMakeLists.txt lists them: a suite added here needs its file there).
 THREADED_TESTS ?= LatestValue*:FrameExchange*:HapticLoop*:VirtualCoupling*:ForceOutput*:MouseMapping*:HapticSession.Realtime*:LiveSession.Realtime*
 test-threads: deps
 	cmake -S . -B $(TSAN_DIR) -G Ninja -DCMAKE_CXX_COMPILER=$(SANITIZER_CXX) -DCMAKE_BUILD_TYPE=RelWithDebInfo \

@@ -35,6 +35,7 @@ NodeCloud make_box(const BoxSpec& spec) {
   cloud.kind = "box";
   cloud.spacing_m = step.minCoeff();
   cloud.box = Eigen::AlignedBox3d(spec.min_m, spec.max_m);
+  cloud.box_cells = spec.cells;
   std::mt19937_64 rng(spec.seed);
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
   auto id = [&](int i, int j, int k) { return static_cast<Index>(i + n[0] * (j + n[1] * k)); };

@@ -30,6 +30,7 @@ struct NodeCloud {
   std::string kind;          ///< "box", "tube", ...
   std::optional<TubeShape> tube;  ///< set for tubes (region selectors use it)
   Eigen::AlignedBox3d box;   ///< set for boxes: the rest bounding box, m
+  Eigen::Vector3i box_cells = Eigen::Vector3i::Zero();  ///< set for boxes: lattice cells per axis
 };
 
 /// Signed volume of tetrahedron (a, b, c, d), m^3.

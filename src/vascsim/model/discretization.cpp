@@ -268,10 +268,16 @@ void Discretization::compute_volumes(const DiscretizationOptions& opt) {
     const double v = signed_volume(X_[T[0]], X_[T[1]], X_[T[2]], X_[T[3]]);
     if (!(v > 0.0)) throw InputError(fmt::format("discretization: virtual tetrahedron {} is inverted or flat", t));
     tet_volume_ += v;
-    if (opt.volume == VolumeRule::TetPartition)
+    if (opt.volume != VolumeRule::MuellerKernel)
       for (Index a : T) V_[a] += 0.25 * v;
   }
-  if (opt.volume == VolumeRule::TetPartition) {
+  if (opt.volume == VolumeRule::Simpson) {
+    if (opt.volume_factors.size() != static_cast<std::size_t>(n))
+      throw InputError(fmt::format("discretization: the Simpson volume rule has {} factors for {} nodes",
+                                   opt.volume_factors.size(), n));
+    for (Index i = 0; i < n; ++i) V_[i] *= opt.volume_factors[static_cast<std::size_t>(i)];
+  }
+  if (opt.volume != VolumeRule::MuellerKernel) {
     for (Index i = 0; i < n; ++i)
       if (!(V_[i] > 0.0))
         throw InputError(fmt::format(

@@ -14,7 +14,10 @@ namespace vascsim {
 
 enum class VolumeRule {
   TetPartition,  ///< V_i = 1/4 sum_{T containing i} |T| (sound default, docs/model.md design decision 3)
-  MuellerKernel  ///< Mueller 2004 kernel density estimate V_i = m_i / rho_i (paper-literal option)
+  MuellerKernel,  ///< Mueller 2004 kernel density estimate V_i = m_i / rho_i (paper-literal option)
+  /// The tet partition times volume_factors: Simpson weights across a lattice's layers, so that the nodal sum
+  /// integrates a bending field's energy exactly (geometry/lattice_quadrature.hpp; the quadratic basis's partner)
+  Simpson
 };
 
 struct DiscretizationOptions {
@@ -31,6 +34,9 @@ struct DiscretizationOptions {
   /// w_ij = W(|M_i X_ij|, h_i), M_i = n n^T + (I - n n^T) / wall_stretch. Empty normals: isotropic supports.
   std::vector<Vec3> wall_normals;
   double wall_stretch = 1.0;
+  /// VolumeRule::Simpson: per node, the factor on its tet-partition volume (simpson_volume_factors, filled by
+  /// the simulation from the body's lattice).
+  std::vector<double> volume_factors;
   /// The scene's choice (discretization.support): Wall asks the simulation to fill wall_normals and wall_stretch
   /// from the body's wall coordinates.
   enum class Support { Isotropic, Wall } support = Support::Isotropic;

@@ -278,14 +278,22 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
   sc.discretization.min_neighbours = disc.integer("min_neighbours", 12, 4, 200);
   sc.discretization.min_eigen_ratio = disc.number("min_eigen_ratio", 1e-3, 1e-12, 1.0);
   sc.discretization.max_growths = disc.integer("max_growths", 3, 0, 10);
-  sc.discretization.volume =
-      disc.string("volume", literal ? "mueller_kernel" : "tet_partition", {"tet_partition", "mueller_kernel"}) ==
-              "tet_partition"
-          ? VolumeRule::TetPartition
-          : VolumeRule::MuellerKernel;
   sc.discretization.basis = disc.string("basis", "linear", {"linear", "quadratic"}) == "quadratic"
                                 ? GradientBasis::Quadratic
                                 : GradientBasis::Linear;
+  // The quadratic basis's partner is the Simpson rule wherever the lattice has layers (docs/model.md section 4):
+  // with the tet partition's trapezoid weights it overestimates a bending field's energy by half.
+  const bool layered = sc.geometry.type != "mesh";
+  const char* volume_default = literal                                                          ? "mueller_kernel"
+                               : sc.discretization.basis == GradientBasis::Quadratic && layered ? "simpson"
+                                                                                                : "tet_partition";
+  const std::string volume = disc.string("volume", volume_default, {"tet_partition", "mueller_kernel", "simpson"});
+  if (volume == "simpson" && !layered)
+    disc.fail("volume", "'simpson' needs a lattice with node layers (geometry type 'tube', 'vessel', 'box' or "
+                        "'beam'); use 'tet_partition'");
+  sc.discretization.volume = volume == "tet_partition"    ? VolumeRule::TetPartition
+                             : volume == "mueller_kernel" ? VolumeRule::MuellerKernel
+                                                          : VolumeRule::Simpson;
   sc.discretization.support = disc.string("support", "isotropic", {"isotropic", "wall"}) == "wall"
                                   ? DiscretizationOptions::Support::Wall
                                   : DiscretizationOptions::Support::Isotropic;

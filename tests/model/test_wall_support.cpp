@@ -86,5 +86,29 @@ TEST(WallSupport, NeedsAWall) {
   }
 }
 
+// The default follows the model and the geometry: wall supports for the equilibrium models on a walled lattice
+// (quasi_static, implicit), isotropic for the other models, for bodies without wall layers and for the paper's
+// formulation; an explicit key wins.
+TEST(WallSupport, IsTheEquilibriumModelsDefaultOnAWall) {
+  using Support = DiscretizationOptions::Support;
+  auto support_of = [](nlohmann::json doc) { return parse_scene(doc, "tube.json").discretization.support; };
+  nlohmann::json doc = tube("wall");
+  doc["discretization"].erase("support");
+  EXPECT_EQ(support_of(doc), Support::Wall);
+  doc["model"] = "implicit";
+  EXPECT_EQ(support_of(doc), Support::Wall);
+  doc["model"] = "xpbd";
+  EXPECT_EQ(support_of(doc), Support::Isotropic);
+  doc["model"] = "quasi_static";
+  doc["formulation"] = "paper_literal";
+  EXPECT_EQ(support_of(doc), Support::Isotropic);
+  doc.erase("formulation");
+  doc["discretization"]["support"] = "isotropic";
+  EXPECT_EQ(support_of(doc), Support::Isotropic);
+  doc["discretization"].erase("support");
+  doc["geometry"] = {{"type", "box"}, {"min_m", {0, 0, 0}}, {"max_m", {0.004, 0.004, 0.004}}, {"node_spacing_m", 0.001}};
+  EXPECT_EQ(support_of(doc), Support::Isotropic);
+}
+
 }  // namespace
 }  // namespace vascsim

@@ -12,6 +12,7 @@
 #include <memory>
 
 #include "vascsim/run/body_builder.hpp"
+#include "vascsim/run/discretization_setup.hpp"
 #include "vascsim/run/region_builder.hpp"
 #include "vascsim/run/region_report.hpp"
 #include "vascsim/run/simulation.hpp"
@@ -52,7 +53,7 @@ struct Selected {
   std::unique_ptr<Discretization> disc;
   std::vector<RegionSelection> reports;
   explicit Selected(const json& doc) : scene(parse_scene(doc, "patch-phase")), body(build_body(scene.geometry)) {
-    disc = std::make_unique<Discretization>(body.cloud, scene.material, scene.discretization);
+    disc = std::make_unique<Discretization>(body.cloud, scene.material, discretization_options(scene, body));
     reports = describe_selections(scene, *disc, body, build_regions(scene, *disc, body));
   }
   const RegionSelection& indenter() const { return reports.at(2); }

@@ -11,6 +11,7 @@
 #include <numbers>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/run/discretization_setup.hpp"
 #include "vascsim/run/runner.hpp"
 #include "vascsim/scene/scene.hpp"
 #include "vascsim/run/simulation.hpp"
@@ -52,7 +53,7 @@ struct Built {
 Built build(const json& doc) {
   const Scene sc = parse_scene(doc, "in-memory.json");
   Built b{build_body(sc.geometry), nullptr, {}};
-  b.disc = std::make_unique<Discretization>(b.body.cloud, sc.material, sc.discretization);
+  b.disc = std::make_unique<Discretization>(b.body.cloud, sc.material, discretization_options(sc, b.body));
   b.regions = build_regions(sc, *b.disc, b.body);
   return b;
 }

@@ -26,6 +26,10 @@ struct ModelCapabilities {
   bool device_driven = false;     ///< implements DeviceDrivenModel: haptic sessions and the viewer can drive it
   bool releases_regions = false;  ///< supports regions' bc.release_time_s
   bool quadratic_basis = true;    ///< takes discretization.basis "quadratic" (false: its constraints assume the linear fit)
+  /// On a wall with node layers (tube, vessel) its default discretization.support is "wall": the equilibrium
+  /// models, whose forces docs/validation.md measures against the FEM references with either support. The others
+  /// keep the isotropic support they were tuned and tested with (xpbd inverts a coarse tube with the wall's).
+  bool wall_support_default = false;
 };
 
 struct ModelEntry {

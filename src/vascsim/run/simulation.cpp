@@ -8,11 +8,11 @@
 #include "vascsim/core/beam_theory.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/stopwatch.hpp"
-#include "vascsim/geometry/lattice_quadrature.hpp"
 #include "vascsim/geometry/vertex_normals.hpp"
 #include "vascsim/model/inversion_check.hpp"
 #include "vascsim/model/registry.hpp"
 #include "vascsim/run/body_builder.hpp"
+#include "vascsim/run/discretization_setup.hpp"
 #include "vascsim/run/region_builder.hpp"
 
 namespace vascsim {
@@ -27,21 +27,6 @@ Simulation::Simulation(const Scene& scene, const BuildChecks& checks) : scene_(s
     throw InputError(scene.file + ": " + msg);
   }
 }
-
-namespace {
-// The scene's discretisation options, with the wall's frame filled in for supports that follow the wall.
-DiscretizationOptions discretization_options(const Scene& scene, const Body& body) {
-  DiscretizationOptions o = scene.discretization;
-  if (o.volume == VolumeRule::Simpson) o.volume_factors = simpson_volume_factors(body);
-  if (o.support != DiscretizationOptions::Support::Wall) return o;
-  if (!body.wall || !(body.wall->layer_spacing_m > 0.0) || !(body.cloud.spacing_m > 0.0))
-    throw InputError("key 'discretization.support': 'wall' needs a body with node layers through a wall (geometry "
-                     "type 'vessel' or 'tube'); use 'isotropic'");
-  o.wall_normals = body.wall->outward;
-  o.wall_stretch = std::max(1.0, body.cloud.spacing_m / body.wall->layer_spacing_m);
-  return o;
-}
-}  // namespace
 
 void Simulation::build(const BuildChecks& checks) {
   const Scene& scene = scene_;

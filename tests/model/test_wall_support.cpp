@@ -6,7 +6,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
+
 #include "vascsim/core/error.hpp"
+#include "vascsim/run/discretization_setup.hpp"
 #include "vascsim/run/simulation.hpp"
 #include "vascsim/scene/scene.hpp"
 
@@ -46,11 +50,11 @@ TEST(WallSupport, FollowsTheWallWithoutGrowing) {
     const double h = d.support_radius()[static_cast<std::size_t>(i)];
     const bool at_an_end = X[i].z() < 0.6e-3 || X[i].z() > 5.4e-3;
     if (h > 0.3e-3 * (1 + 1e-12) && !at_an_end) ++grown_inside;
-    const Vec3 n = Vec3(X[i].x(), X[i].y(), 0.0).normalized();  // the tube's outward normal
     for (Index e = d.pairs().row_start[i]; e < d.pairs().row_start[i + 1]; ++e) {
-      const Vec3 Xij = X[d.pairs().col[e]] - X[i];
-      const double xn = Xij.dot(n);
-      worst = std::max(worst, std::sqrt(xn * xn + (Xij - xn * n).squaredNorm() / 4.0) / h);
+      const Vec3& Xj = X[d.pairs().col[e]];
+      const Vec3 Xij = Xj - X[i];
+      const double across = std::hypot(Xj.x(), Xj.y()) - std::hypot(X[i].x(), X[i].y());  // depth difference
+      worst = std::max(worst, std::sqrt(across * across + (Xij.squaredNorm() - across * across) / 4.0) / h);
     }
   }
   std::printf("[ wall support ] %.1f neighbours (isotropic %.1f); %d of %d nodes grown (isotropic: all); "
@@ -72,6 +76,43 @@ TEST(WallSupport, AffineFieldsGiveTheExactGradient) {
   double err = 0.0;
   for (Index i = 0; i < d.num_nodes(); ++i) err = std::max(err, (d.displacement_gradient(i, u) - A).norm());
   EXPECT_LT(err, 1e-10 * A.norm());
+}
+
+// On a curved wall the ellipsoid follows the layers, not the node's tangent plane: at 0.4 mm along the vein's wall
+// (stretch 2.67, an ellipsoid 0.8 mm long on a wall of mid-radius 1.35 mm) a node's own layer curves away from its
+// tangent plane by up to 0.24 mm, more than the 0.15 mm between layers. With the wall depths every node of the
+// node's own layer within 0.9 of the in-plane reach is a neighbour (the depth difference is zero); measured with
+// the tangent plane instead (no depths given), some are not, which shows the check can fail.
+TEST(WallSupport, FollowsTheLayersOfACurvedWall) {
+  nlohmann::json doc = tube("wall");
+  doc["geometry"]["node_spacing_m"] = 0.4e-3;
+  Simulation sim(parse_scene(doc, "tube.json"));
+  const Body& body = sim.body();
+  DiscretizationOptions flat = discretization_options(sim.scene(), body);
+  flat.wall_depths.clear();
+  const Discretization layered_disc(body.cloud, sim.scene().material, discretization_options(sim.scene(), body));
+  const Discretization flat_disc(body.cloud, sim.scene().material, flat);
+  auto missing_same_layer = [&](const Discretization& d) {
+    const Vec3Array& X = d.rest_positions();
+    const std::vector<double>& depth = body.wall->depth_m;
+    const double stretch = flat.wall_stretch;
+    int missing = 0;
+    for (Index i = 0; i < d.num_nodes(); ++i) {
+      const double reach = 0.9 * stretch * d.support_radius()[static_cast<std::size_t>(i)];
+      std::vector<Index> row(d.pairs().col.begin() + d.pairs().row_start[i],
+                             d.pairs().col.begin() + d.pairs().row_start[i + 1]);
+      for (Index j = 0; j < d.num_nodes(); ++j)
+        if (j != i && std::abs(depth[j] - depth[i]) < 1e-12 && (X[j] - X[i]).norm() < reach &&
+            !std::binary_search(row.begin(), row.end(), j))
+          ++missing;
+    }
+    return missing;
+  };
+  const int layered = missing_same_layer(layered_disc), tangent = missing_same_layer(flat_disc);
+  std::printf("[ wall support ] stretch %.2f: same-layer nodes inside 0.9 of the reach left out: %d with the layers, "
+              "%d with the tangent plane\n", flat.wall_stretch, layered, tangent);
+  EXPECT_EQ(layered, 0);
+  EXPECT_GT(tangent, 0);
 }
 
 // A body without node layers through a wall refuses it at the key.

@@ -41,18 +41,30 @@ double eigen_ratio_of(const Mat9& B) {
   return es.eigenvalues().maxCoeff() > 0.0 ? es.eigenvalues().minCoeff() / es.eigenvalues().maxCoeff() : 0.0;
 }
 
-// The distance that measures a node's support: |X| (isotropic), or |M X| with M = n n^T + (I - n n^T) / stretch
-// (a support that follows the wall: radius h along the normal n, stretch h in the tangent plane).
+// The distance that measures a node's support: |X| (isotropic), or, for a support that follows the wall, radius h
+// through the wall and stretch h along it: with the nodes' wall depths d, the through-wall part of X_ij is
+// d_j - d_i and the rest lies along the wall (so a layer of a curved wall stays one layer at any distance);
+// without depths, the part along the node's normal n (the tangent plane of a flat wall).
 struct SupportMetric {
   const Vec3* normal = nullptr;
   double stretch = 1.0;
-  double operator()(const Vec3& X) const {
+  const std::vector<double>* depth = nullptr;  ///< per node, m (empty: use the normal)
+  Index i = 0;
+  double operator()(const Vec3& X, Index j) const {
     if (!normal) return X.norm();
-    const double xn = X.dot(*normal);
-    return std::sqrt(xn * xn + (X - xn * *normal).squaredNorm() / (stretch * stretch));
+    const double across = depth ? (*depth)[static_cast<std::size_t>(j)] - (*depth)[static_cast<std::size_t>(i)]
+                                : X.dot(*normal);
+    const double along2 = std::max(0.0, X.squaredNorm() - across * across);
+    return std::sqrt(across * across + along2 / (stretch * stretch));
   }
   double reach(double h) const { return normal ? stretch * h : h; }  // the largest distance inside the support
 };
+
+SupportMetric support_metric(const DiscretizationOptions& opt, Index i) {
+  if (opt.support != DiscretizationOptions::Support::Wall) return {};
+  return {&opt.wall_normals[static_cast<std::size_t>(i)], opt.wall_stretch,
+          opt.wall_depths.empty() ? nullptr : &opt.wall_depths, i};
+}
 
 NeighbourhoodTrial evaluate(const Vec3Array& X, Index i, double h, const SpatialGrid& grid, GradientBasis basis,
                             const SupportMetric& metric) {
@@ -60,12 +72,12 @@ NeighbourhoodTrial evaluate(const Vec3Array& X, Index i, double h, const Spatial
   grid.for_each_within(X[i], metric.reach(h), [&](Index j, double) {
     // A wall lattice puts whole layers and rows exactly on the ellipsoid's edge, where the weight is zero: they are
     // left out (within rounding), not kept as neighbours of weight ~1e-30 that would only widen the stencils.
-    if (j != i && (!metric.normal || metric(X[j] - X[i]) < h * (1.0 - 1e-9))) t.nbr.push_back(j);
+    if (j != i && (!metric.normal || metric(X[j] - X[i], j) < h * (1.0 - 1e-9))) t.nbr.push_back(j);
   });
   std::sort(t.nbr.begin(), t.nbr.end());
   for (Index j : t.nbr) {
     const Vec3 Xij = X[j] - X[i];
-    const double w = kernels::poly6(metric(Xij), h);
+    const double w = kernels::poly6(metric(Xij, j), h);
     t.w.push_back(w);
     t.A += w * Xij * Xij.transpose();
   }
@@ -140,6 +152,8 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
     throw InputError(fmt::format("discretization: wall-aligned supports need one wall normal per node ({} for {} nodes) "
                                  "and a stretch >= 1 ({})",
                                  opt.wall_normals.size(), n, opt.wall_stretch));
+  if (wall && !opt.wall_depths.empty() && opt.wall_depths.size() != static_cast<std::size_t>(n))
+    throw InputError(fmt::format("discretization: {} wall depths for {} nodes", opt.wall_depths.size(), n));
   const double hmax = h0 * std::pow(opt.growth_factor, opt.max_growths) * (wall ? opt.wall_stretch : 1.0);
   SpatialGrid grid(X_, hmax);
   h_.assign(n, h0);
@@ -151,7 +165,7 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
   for (Index i = 0; i < n; ++i) {
     double h = h0;
     for (int g = 0;; ++g) {
-      const SupportMetric metric{wall ? &opt.wall_normals[static_cast<std::size_t>(i)] : nullptr, opt.wall_stretch};
+      const SupportMetric metric = support_metric(opt, i);
       trials[i] = evaluate(X_, i, h, grid, opt.basis, metric);
       if (accepted(trials[i], opt)) break;
       if (g == opt.max_growths) {
@@ -196,7 +210,7 @@ std::string Discretization::growth_advice(const std::vector<int>& failed, double
   int needed = opt.max_growths;
   for (std::size_t i = 0; i < failed.size() && needed <= kMaxGrowthsAllowed; ++i) {
     if (!failed[i]) continue;
-    const SupportMetric metric{wall ? &opt.wall_normals[i] : nullptr, opt.wall_stretch};
+    const SupportMetric metric = support_metric(opt, static_cast<Index>(i));
     for (int g = opt.max_growths + 1;; ++g) {
       if (g > kMaxGrowthsAllowed) {
         needed = g;

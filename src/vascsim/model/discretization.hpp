@@ -34,6 +34,9 @@ struct DiscretizationOptions {
   /// w_ij = W(|M_i X_ij|, h_i), M_i = n n^T + (I - n n^T) / wall_stretch. Empty normals: isotropic supports.
   std::vector<Vec3> wall_normals;
   double wall_stretch = 1.0;
+  /// Optional, per node: its depth in the wall, m. Given, the through-wall part of X_ij is the depth difference,
+  /// so the ellipsoid follows a curved wall's layers instead of the node's tangent plane.
+  std::vector<double> wall_depths;
   /// VolumeRule::Simpson: per node, the factor on its tet-partition volume (simpson_volume_factors, filled by
   /// the simulation from the body's lattice).
   std::vector<double> volume_factors;

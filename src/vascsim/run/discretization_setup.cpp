@@ -15,6 +15,7 @@ DiscretizationOptions discretization_options(const Scene& scene, const Body& bod
     throw InputError("key 'discretization.support': 'wall' needs a body with node layers through a wall (geometry "
                      "type 'vessel' or 'tube'); use 'isotropic'");
   o.wall_normals = body.wall->outward;
+  o.wall_depths = body.wall->depth_m;
   o.wall_stretch = std::max(1.0, body.cloud.spacing_m / body.wall->layer_spacing_m);
   return o;
 }

@@ -84,8 +84,11 @@ NodeCloud make_tube(const TubeSpec& s) {
   const double r_in = s.outer_radius_m - s.wall_thickness_m;
   const double r_mid = 0.5 * (r_in + s.outer_radius_m);
   const int nr = std::max(s.min_layers, static_cast<int>(std::ceil(s.wall_thickness_m / s.node_spacing_m - 1e-9)) + 1);
-  const int nt = std::max(8, static_cast<int>(std::lround(2.0 * std::numbers::pi * r_mid / s.node_spacing_m)));
-  const int nz = std::max(2, static_cast<int>(std::lround(s.length_m / s.node_spacing_m)) + 1);
+  const int nt = s.angular_nodes > 0
+                     ? std::max(8, s.angular_nodes)
+                     : std::max(8, static_cast<int>(std::lround(2.0 * std::numbers::pi * r_mid / s.node_spacing_m)));
+  const int nz = s.axial_nodes > 0 ? std::max(2, s.axial_nodes)
+                                   : std::max(2, static_cast<int>(std::lround(s.length_m / s.node_spacing_m)) + 1);
   const double total = static_cast<double>(nr) * nt * nz;
   require(total <= 5e7, fmt::format("{:.0f} nodes requested; the limit is 5e7 (increase node_spacing_m)", total));
 

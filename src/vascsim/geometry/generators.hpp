@@ -28,6 +28,9 @@ struct TubeSpec {
   /// A lattice line (a column of nodes along the axis) runs at this angle, deg (theta from +x towards +y):
   /// the lattice is turned by less than half a column so that a patch centred here is symmetric.
   double lattice_angle_deg = 0.0;
+  /// Lattice counts around and along the tube when > 0 (a lattice fitted to a patch, run/lattice_fit); 0: from
+  /// node_spacing_m.
+  int angular_nodes = 0, axial_nodes = 0;
 };
 
 /// Angle (rad) of the first of `columns` equally spaced lattice angles so that one of them is

@@ -18,6 +18,8 @@ struct SweptVesselSpec {
   int min_layers = 3;               ///< minimum node layers through the wall (docs/model.md design decision 2), >= 3
   /// A lattice line runs at this angle around the centre-line, deg (from N towards B); see TubeSpec.
   double lattice_angle_deg = 0.0;
+  /// Lattice counts around and along the centre-line when > 0 (see TubeSpec); 0: from node_spacing_m.
+  int angular_nodes = 0, axial_nodes = 0;
 };
 
 struct SweptVessel {

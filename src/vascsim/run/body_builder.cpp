@@ -26,19 +26,17 @@ Body body_from_mesh(const MeshGeometrySpec& spec) {
 
 Body build_body(const GeometrySpec& spec) {
   if (spec.type == "tube") {
-    SweptVesselSpec ss{spec.tube.outer_radius_m, spec.tube.wall_thickness_m, spec.tube.node_spacing_m,
-                       std::max(3, spec.tube.min_layers), spec.tube.lattice_angle_deg};
+    SweptVesselSpec ss{spec.tube.outer_radius_m,    spec.tube.wall_thickness_m, spec.tube.node_spacing_m,
+                       std::max(3, spec.tube.min_layers), spec.tube.lattice_angle_deg, spec.tube.angular_nodes,
+                       spec.tube.axial_nodes};
     return body_from_tube(make_tube(spec.tube), make_swept_vessel(straight_centerline(spec.tube.length_m), ss));
   }
   if (spec.type == "vessel") {
     const CenterlineSpec& c = spec.centerline;
-    auto line = std::make_shared<const Centerline>(
-        c.type == "straight" ? straight_centerline(c.length_m)
-        : c.type == "bent"   ? bent_centerline(c.radius_of_curvature_m, c.angle_deg, c.leg_length_m)
-        : c.type == "s"      ? s_centerline(c.radius_of_curvature_m, c.angle_deg, c.leg_length_m)
-                             : Centerline(c.points_m));
+    auto line = std::make_shared<const Centerline>(build_centerline(c));
     SweptVesselSpec ss{spec.tube.outer_radius_m, spec.tube.wall_thickness_m, spec.tube.node_spacing_m,
-                       spec.tube.min_layers, spec.tube.lattice_angle_deg};
+                       spec.tube.min_layers,     spec.tube.lattice_angle_deg, spec.tube.angular_nodes,
+                       spec.tube.axial_nodes};
     return body_from_swept_vessel(make_swept_vessel(*line, ss), line);
   }
   if (spec.type == "mesh") return body_from_mesh(spec.mesh);

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <spdlog/spdlog.h>
 #include <fstream>
 #include <algorithm>
 #include <cctype>
@@ -12,6 +13,7 @@
 #include "vascsim/core/json_file.hpp"
 #include "vascsim/core/json_reader.hpp"
 #include "vascsim/core/text.hpp"
+#include "vascsim/geometry/lattice_fit.hpp"
 #include "vascsim/model/materials/law_factory.hpp"
 #include "vascsim/model/registry.hpp"
 
@@ -86,6 +88,7 @@ GeometrySpec read_geometry(JsonReader g) {
   if (s.type == "tube" || s.type == "vessel") {
     s.lattice_angle_given = g.has("lattice_angle_deg");
     s.tube.lattice_angle_deg = g.number("lattice_angle_deg", 0.0, -360.0, 360.0);
+    s.fit_lattice_to_patch = g.boolean("fit_lattice_to_patch", false);
   }
   if (s.type == "tube") {
     read_wall_section(g, s.tube);
@@ -325,14 +328,30 @@ void read_energy(JsonReader& root, bool literal, Scene& sc) {
 
 // A patch of +-w deg is symmetric and w wide only if its centre lies on a lattice line. Unless the scene
 // sets geometry.lattice_angle_deg, the tube/vessel lattice is turned (by less than half a column) so that a
-// line runs through the first wall patch's centre.
-void align_lattice_to_first_patch(Scene& sc) {
-  if (sc.geometry.lattice_angle_given || (sc.geometry.type != "tube" && sc.geometry.type != "vessel")) return;
-  for (const auto& r : sc.regions)
-    if (r.select.type == "wall_patch") {
-      sc.geometry.tube.lattice_angle_deg = r.select.angle_center_deg;
-      return;
-    }
+// line runs through the first wall patch's centre. With geometry.fit_lattice_to_patch the counts around and along
+// the vessel are chosen too, so that the patch is a whole number of columns and cross-sections.
+void align_lattice_to_first_patch(JsonReader& root, Scene& sc) {
+  GeometrySpec& g = sc.geometry;
+  if (g.type != "tube" && g.type != "vessel") return;
+  const auto patch = std::find_if(sc.regions.begin(), sc.regions.end(),
+                                  [](const RegionSpec& r) { return r.select.type == "wall_patch"; });
+  if (!g.fit_lattice_to_patch) {
+    if (!g.lattice_angle_given && patch != sc.regions.end()) g.tube.lattice_angle_deg = patch->select.angle_center_deg;
+    return;
+  }
+  if (patch == sc.regions.end())
+    root.fail("geometry.fit_lattice_to_patch", "there is no wall_patch region to fit the lattice to");
+  if (g.lattice_angle_given)
+    root.fail("geometry.lattice_angle_deg", "fit_lattice_to_patch sets the lattice's phase; leave lattice_angle_deg out");
+  const double length = g.type == "tube" ? g.tube.length_m : build_centerline(g.centerline).length();
+  const SelectorSpec& p = patch->select;
+  const PatchExtent extent{p.angle_center_deg, p.angle_half_width_deg,
+                           p.s_center_fraction >= 0.0 ? p.s_center_fraction * length : p.s_center_m, p.s_half_length_m};
+  const LatticeFit fit = fit_lattice_to_patch(g.tube, extent, length);
+  g.tube.angular_nodes = fit.angular_nodes;
+  g.tube.axial_nodes = fit.axial_nodes;
+  g.tube.lattice_angle_deg = fit.lattice_angle_deg;
+  spdlog::info("region '{}': {}", patch->name, fit.summary);
 }
 
 void read_regions(JsonReader& root, Scene& sc) {
@@ -568,6 +587,13 @@ void apply_override(nlohmann::json& doc, const std::string& assignment) {
   }
 }
 
+Centerline build_centerline(const CenterlineSpec& c) {
+  return c.type == "straight" ? straight_centerline(c.length_m)
+         : c.type == "bent"   ? bent_centerline(c.radius_of_curvature_m, c.angle_deg, c.leg_length_m)
+         : c.type == "s"      ? s_centerline(c.radius_of_curvature_m, c.angle_deg, c.leg_length_m)
+                              : Centerline(c.points_m);
+}
+
 Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   Scene sc;
   sc.file = file;
@@ -587,7 +613,7 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   read_discretization(root, literal, sc);
   read_energy(root, literal, sc);
   read_regions(root, sc);
-  align_lattice_to_first_patch(sc);
+  align_lattice_to_first_patch(root, sc);
   read_probes(root, sc);
   sc.gravity_m_s2 = root.vec3("gravity_m_s2", Vec3::Zero());
   read_tools(root, sc);

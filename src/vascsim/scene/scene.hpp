@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "vascsim/geometry/centerline.hpp"
 #include "vascsim/geometry/generators.hpp"
 #include "vascsim/mapping/mls_map.hpp"
 #include "vascsim/model/discretization.hpp"
@@ -45,6 +46,9 @@ struct GeometrySpec {
   std::string type;  ///< "tube", "vessel", "mesh", "box" or "beam"
   TubeSpec tube;     ///< tube; for "vessel" the radius, thickness, spacing and layers (length unused)
   bool lattice_angle_given = false;  ///< tube, vessel: the scene set lattice_angle_deg (else: the first wall patch's)
+  /// tube, vessel: choose the lattice's counts around and along the vessel so that the first wall patch is a whole
+  /// number of columns and cross-sections (geometry/lattice_fit; they go into tube.angular_nodes / axial_nodes)
+  bool fit_lattice_to_patch = false;
   CenterlineSpec centerline;
   MeshGeometrySpec mesh;
   BoxSpec box;
@@ -52,6 +56,9 @@ struct GeometrySpec {
   double beam_length_m = 0.0, beam_width_m = 0.0, beam_height_m = 0.0;
   int beam_clamp_layers = 3;
 };
+
+/// The centre-line a vessel geometry describes.
+Centerline build_centerline(const CenterlineSpec& spec);
 
 struct SelectorSpec {
   std::string type;  ///< "box", "cylinder_end", "wall_patch", "surface_patch", "all"

@@ -1,0 +1,71 @@
+#include "vascsim/geometry/lattice_fit.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+namespace vascsim {
+
+namespace {
+
+// Columns selected by a patch of half width w (deg) whose centre sits on a column (odd count) or half way
+// between two (even count), with `step` deg between columns: the selector keeps |dtheta| <= w.
+int columns_selected(double w, double step, bool centred_on_column) {
+  const double tol = 1e-9;
+  return centred_on_column ? 2 * static_cast<int>(std::floor(w / step + tol)) + 1
+                           : 2 * static_cast<int>(std::floor(w / step + 0.5 + tol));
+}
+
+// Cross-sections at s_k = k L / (nz - 1) within half_length of centre.
+int cross_sections_selected(double centre, double half_length, double length, int nz) {
+  const double step = length / (nz - 1), tol = 1e-6 * step;
+  int n = 0;
+  for (int k = 0; k < nz; ++k)
+    if (std::abs(k * step - centre) <= half_length + tol) ++n;
+  return n;
+}
+
+}  // namespace
+
+LatticeFit fit_lattice_to_patch(const TubeSpec& tube, const PatchExtent& patch, double length_m) {
+  LatticeFit fit;
+  const double r_mid = tube.outer_radius_m - 0.5 * tube.wall_thickness_m;
+  const int nt0 = std::max(8, static_cast<int>(std::lround(2.0 * std::numbers::pi * r_mid / tube.node_spacing_m)));
+  const int nz0 = std::max(2, static_cast<int>(std::lround(length_m / tube.node_spacing_m)) + 1);
+  const double width = 2.0 * patch.angle_half_width_deg;
+  double best = 1e300;
+  for (int nt = std::max(8, static_cast<int>(std::ceil(0.75 * nt0))); nt <= static_cast<int>(1.5 * nt0); ++nt) {
+    const double step = 360.0 / nt;
+    for (bool on_column : {true, false}) {
+      const double err = columns_selected(patch.angle_half_width_deg, step, on_column) * step / width - 1.0;
+      const double score = std::abs(err) + 1e-6 * std::abs(nt - nt0);
+      if (score < best) {
+        best = score;
+        fit.angular_nodes = nt;
+        fit.angle_error = err;
+        fit.lattice_angle_deg = patch.angle_center_deg + (on_column ? 0.0 : 0.5 * step);
+      }
+    }
+  }
+  const double centre = patch.s_center_m;
+  best = 1e300;
+  for (int nz = std::max(2, static_cast<int>(std::ceil(0.75 * nz0))); nz <= static_cast<int>(1.5 * nz0); ++nz) {
+    const double step = length_m / (nz - 1);
+    const double err =
+        cross_sections_selected(centre, patch.s_half_length_m, length_m, nz) * step / (2.0 * patch.s_half_length_m) - 1.0;
+    const double score = std::abs(err) + 1e-6 * std::abs(nz - nz0);
+    if (score < best) {
+      best = score;
+      fit.axial_nodes = nz;
+      fit.length_error = err;
+    }
+  }
+  fit.summary = fmt::format(
+      "lattice fitted to the first wall patch: {} columns ({} from the spacing) and {} cross-sections ({}); the patch "
+      "selects {:+.1f} % of its angle and {:+.1f} % of its length",
+      fit.angular_nodes, nt0, fit.axial_nodes, nz0, 100.0 * fit.angle_error, 100.0 * fit.length_error);
+  return fit;
+}
+
+}  // namespace vascsim

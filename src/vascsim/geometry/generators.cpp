@@ -70,6 +70,14 @@ double lattice_phase_rad(double lattice_angle_deg, int columns) {
   return std::abs(phase) < 1e-9 * step ? 0.0 : phase * std::numbers::pi / 180.0;
 }
 
+int lattice_columns(double r_mid_m, double spacing_m, int asked) {
+  return std::max(8, asked > 0 ? asked : static_cast<int>(std::lround(2.0 * std::numbers::pi * r_mid_m / spacing_m)));
+}
+
+int lattice_cross_sections(double length_m, double spacing_m, int asked) {
+  return std::max(2, asked > 0 ? asked : static_cast<int>(std::lround(length_m / spacing_m)) + 1);
+}
+
 NodeCloud make_tube(const TubeSpec& s) {
   auto require = [](bool ok, const std::string& what) {
     if (!ok) throw InputError("tube: " + what);
@@ -84,11 +92,8 @@ NodeCloud make_tube(const TubeSpec& s) {
   const double r_in = s.outer_radius_m - s.wall_thickness_m;
   const double r_mid = 0.5 * (r_in + s.outer_radius_m);
   const int nr = std::max(s.min_layers, static_cast<int>(std::ceil(s.wall_thickness_m / s.node_spacing_m - 1e-9)) + 1);
-  const int nt = s.angular_nodes > 0
-                     ? std::max(8, s.angular_nodes)
-                     : std::max(8, static_cast<int>(std::lround(2.0 * std::numbers::pi * r_mid / s.node_spacing_m)));
-  const int nz = s.axial_nodes > 0 ? std::max(2, s.axial_nodes)
-                                   : std::max(2, static_cast<int>(std::lround(s.length_m / s.node_spacing_m)) + 1);
+  const int nt = lattice_columns(r_mid, s.node_spacing_m, s.angular_nodes);
+  const int nz = lattice_cross_sections(s.length_m, s.node_spacing_m, s.axial_nodes);
   const double total = static_cast<double>(nr) * nt * nz;
   require(total <= 5e7, fmt::format("{:.0f} nodes requested; the limit is 5e7 (increase node_spacing_m)", total));
 

@@ -28,8 +28,8 @@ struct TubeSpec {
   /// A lattice line (a column of nodes along the axis) runs at this angle, deg (theta from +x towards +y):
   /// the lattice is turned by less than half a column so that a patch centred here is symmetric.
   double lattice_angle_deg = 0.0;
-  /// Lattice counts around and along the tube when > 0 (a lattice fitted to a patch, run/lattice_fit); 0: from
-  /// node_spacing_m.
+  /// Lattice counts around and along the tube when > 0 (a lattice fitted to a patch, geometry/lattice_fit); 0:
+  /// from node_spacing_m (lattice_columns, lattice_cross_sections).
   int angular_nodes = 0, axial_nodes = 0;
 };
 
@@ -37,6 +37,13 @@ struct TubeSpec {
 /// `lattice_angle_deg`: the smallest turn of the plain lattice (whose column 0 is at angle 0), and exactly 0
 /// when the plain lattice already has a column there.
 double lattice_phase_rad(double lattice_angle_deg, int columns);
+
+/// Columns of nodes around a wall of mid-wall radius r_mid_m: `asked` when > 0, else round(2 pi r_mid / spacing);
+/// at least 8. Shared by the tube, the swept vessel and the lattice fit.
+int lattice_columns(double r_mid_m, double spacing_m, int asked = 0);
+/// Cross-sections along a length_m long axis or centre-line: `asked` when > 0, else round(L / spacing) + 1; at
+/// least 2.
+int lattice_cross_sections(double length_m, double spacing_m, int asked = 0);
 
 /// Hollow cylinder wall along +z from z = 0 to z = length, centred on the z axis. Node layers at the
 /// inner and outer surface (so boundary conditions can act on surface nodes), max(min_layers,

@@ -1,7 +1,6 @@
 #include "vascsim/geometry/lattice_fit.hpp"
 
 #include <cmath>
-#include <numbers>
 
 #include <fmt/format.h>
 
@@ -31,8 +30,8 @@ int cross_sections_selected(double centre, double half_length, double length, in
 LatticeFit fit_lattice_to_patch(const TubeSpec& tube, const PatchExtent& patch, double length_m) {
   LatticeFit fit;
   const double r_mid = tube.outer_radius_m - 0.5 * tube.wall_thickness_m;
-  const int nt0 = std::max(8, static_cast<int>(std::lround(2.0 * std::numbers::pi * r_mid / tube.node_spacing_m)));
-  const int nz0 = std::max(2, static_cast<int>(std::lround(length_m / tube.node_spacing_m)) + 1);
+  const int nt0 = lattice_columns(r_mid, tube.node_spacing_m);
+  const int nz0 = lattice_cross_sections(length_m, tube.node_spacing_m);
   const double width = 2.0 * patch.angle_half_width_deg;
   double best = 1e300;
   for (int nt = std::max(8, static_cast<int>(std::ceil(0.75 * nt0))); nt <= static_cast<int>(1.5 * nt0); ++nt) {

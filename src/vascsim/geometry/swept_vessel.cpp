@@ -49,13 +49,11 @@ SweepLattice sweep_lattice(const Centerline& cl, const SweptVesselSpec& s) {
   const double r_mid = 0.5 * (g.r_in + s.outer_radius_m);
   g.length = cl.length();
   g.nr = std::max(s.min_layers, static_cast<int>(std::ceil(s.wall_thickness_m / s.node_spacing_m - 1e-9)) + 1);
-  g.nt = s.angular_nodes > 0
-             ? std::max(8, s.angular_nodes)
-             : std::max(8, static_cast<int>(std::lround(2.0 * std::numbers::pi * r_mid / s.node_spacing_m)));
+  g.nt = lattice_columns(r_mid, s.node_spacing_m, s.angular_nodes);
   const double nz_real = g.length / s.node_spacing_m;
   if (!(static_cast<double>(g.nr) * g.nt * (nz_real + 1.0) <= 5e7))
     fail("more than 5e7 nodes requested (increase node_spacing_m)");
-  g.nz = s.axial_nodes > 0 ? std::max(2, s.axial_nodes) : std::max(2, static_cast<int>(std::lround(nz_real)) + 1);
+  g.nz = lattice_cross_sections(g.length, s.node_spacing_m, s.axial_nodes);
   g.cos_t.resize(static_cast<std::size_t>(g.nt));
   g.sin_t.resize(static_cast<std::size_t>(g.nt));
   g.phase = lattice_phase_rad(s.lattice_angle_deg, g.nt);

@@ -1,5 +1,5 @@
 // geometry.fit_lattice_to_patch (geometry/lattice_fit): the lattice's counts around and along the vessel chosen so
-// that the first wall patch is a whole number of columns and cross-sections, i.e. the area asked.
+// that the first wall patch's strips ("strips"), or its nodes' span ("edges"), are the extent asked.
 
 #include <gtest/gtest.h>
 
@@ -31,7 +31,7 @@ TEST(LatticeFit, APatchSelectsTheAreaAsked) {
   const Simulation plain(parse_scene(doc, "vein.json"));
   const nlohmann::json& before = patch_report(plain);
   EXPECT_GT(before["selected"]["angle_deg"].get<double>(), 38.0);
-  doc["geometry"]["fit_lattice_to_patch"] = true;
+  doc["geometry"]["fit_lattice_to_patch"] = "strips";
   const Simulation fitted(parse_scene(doc, "vein.json"));
   const nlohmann::json& after = patch_report(fitted);
   std::printf("[ lattice fit ] plain: %.3f deg x %.4f mm, %d nodes; fitted: %.3f deg x %.4f mm, %d nodes\n",
@@ -47,10 +47,32 @@ TEST(LatticeFit, APatchSelectsTheAreaAsked) {
   EXPECT_LT(ratio, 1.5 * 1.5);
 }
 
-// Without a wall patch, or with the phase set by hand, the key is an input error naming it.
+// Fitted to the edges, the outermost selected nodes lie on the patch's edges: the nodes span the asked 30 deg and
+// 2 mm (1e-9 again), reported as measured by span, without warnings; the strips reach half a step beyond them.
+TEST(LatticeFit, APatchsNodesReachItsEdges) {
+  nlohmann::json doc = read_json_file(test::source_path("scenes/vein-indent.json"), "scene", "a scene");
+  doc["geometry"]["node_spacing_m"] = 0.3e-3;
+  doc["discretization"]["max_growths"] = 10;
+  doc["geometry"]["fit_lattice_to_patch"] = "edges";
+  const Simulation fitted(parse_scene(doc, "vein.json"));
+  const nlohmann::json& r = patch_report(fitted);
+  const auto& sel = r["selected"];
+  std::printf("[ lattice fit ] edges: %.3f deg x %.4f mm, %d columns x %d cross-sections, %d nodes\n",
+              sel["angle_deg"].get<double>(), 1e3 * sel["length_m"].get<double>(), sel["columns"].get<int>(),
+              sel["cross_sections"].get<int>(), static_cast<int>(fitted.discretization().num_nodes()));
+  EXPECT_EQ(sel["measured_as"], "edges");
+  EXPECT_NEAR(sel["angle_deg"].get<double>(), 30.0, 1e-9);
+  EXPECT_NEAR(sel["length_m"].get<double>(), 2e-3, 1e-9 * 2e-3);
+  EXPECT_NEAR(sel["angle_center_deg"].get<double>(), 90.0, 1e-9);
+  EXPECT_NEAR((sel["columns"].get<int>() - 1) * sel["lattice_angle_step_deg"].get<double>(), 30.0, 1e-9);
+  EXPECT_TRUE(r["warnings"].empty()) << r["warnings"].dump();
+}
+
+// Without a wall patch, with the phase set by hand, or with a value that is not a fit, the key is an input error
+// naming it.
 TEST(LatticeFit, NeedsAPatchAndItsOwnPhase) {
   nlohmann::json doc = read_json_file(test::source_path("scenes/vein-indent.json"), "scene", "a scene");
-  doc["geometry"]["fit_lattice_to_patch"] = true;
+  doc["geometry"]["fit_lattice_to_patch"] = "edges";
   doc["geometry"]["lattice_angle_deg"] = 10.0;
   EXPECT_THROW(parse_scene(doc, "vein.json"), InputError);
   doc["geometry"].erase("lattice_angle_deg");
@@ -61,6 +83,9 @@ TEST(LatticeFit, NeedsAPatchAndItsOwnPhase) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("fit_lattice_to_patch"), std::string::npos) << e.what();
   }
+  nlohmann::json boolean = read_json_file(test::source_path("scenes/vein-indent.json"), "scene", "a scene");
+  boolean["geometry"]["fit_lattice_to_patch"] = true;
+  EXPECT_THROW(parse_scene(boolean, "vein.json"), InputError);
 }
 
 }  // namespace

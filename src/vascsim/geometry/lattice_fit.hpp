@@ -2,8 +2,9 @@
 // A vessel lattice fitted to a wall patch (geometry.fit_lattice_to_patch, docs/scene-format.md): a patch selects
 // whole lattice columns and cross-sections, so at a coarse spacing its area can be far from the one asked (and a
 // bonded patch's force follows its area). The fit chooses the counts around and along the vessel, and the lattice's
-// phase, so that the patch is a whole number of columns and cross-sections, within a band around the counts the
-// node spacing gives.
+// phase, within a band around the counts the node spacing gives, so that either the strips the selected nodes stand
+// for cover the patch (the area a spread force acts on), or the selected nodes reach exactly to the patch's edges
+// (the surface a prescribed displacement holds, as nodes on the edge of a finite element's bonded patch do).
 
 #include <string>
 
@@ -25,9 +26,15 @@ struct PatchExtent {
   double s_center_m = 0.0, s_half_length_m = 0.0;
 };
 
+/// What the fit makes equal to the asked patch.
+enum class PatchFit {
+  Strips,  ///< the strips of half a lattice step on either side of the selected nodes
+  Edges    ///< the span of the selected nodes: columns and cross-sections on the patch's edges
+};
+
 /// The counts and phase for `patch` on a tube or swept vessel with the wall and spacing of `tube` and a
 /// centre-line length_m long (the spacing gives the nominal counts). Counts are searched within 0.75-1.5 times
 /// the nominal ones; among those with the smallest error the closest to nominal wins.
-LatticeFit fit_lattice_to_patch(const TubeSpec& tube, const PatchExtent& patch, double length_m);
+LatticeFit fit_lattice_to_patch(const TubeSpec& tube, const PatchExtent& patch, double length_m, PatchFit mode);
 
 }  // namespace vascsim

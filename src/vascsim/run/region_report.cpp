@@ -60,8 +60,9 @@ void warn_if(RegionSelection& out, const std::string& key, const Mismatch& m, co
                                      100.0 * m.limit, hint));
 }
 
+// edges: the patch is measured by its nodes' span (geometry.fit_lattice_to_patch "edges"), else by their strips.
 void describe_wall_patch(const SelectorSpec& s, const WallCoordinates& wall, const Discretization& disc,
-                         const Region& region, RegionSelection& out) {
+                         const Region& region, bool edges, RegionSelection& out) {
   const double width = 2.0 * s.angle_half_width_deg, length = 2.0 * s.s_half_length_m;
   const double s_c = wall_patch_center_s(s, wall);
   double lo = 1e9, hi = -1e9, s_lo = 1e30, s_hi = -1e30, r = 0.0;
@@ -74,19 +75,22 @@ void describe_wall_patch(const SelectorSpec& s, const WallCoordinates& wall, con
   }
   // The strips the nodes stand for: half a lattice step beyond the outermost columns and cross-sections
   // (not beyond the vessel's ends).
-  const double step = wall.angle_step_deg, half_s = 0.5 * wall.s_step_m;
-  const double a0 = lo - 0.5 * step, a1 = hi + 0.5 * step;
+  // Measured by span instead, the outermost nodes themselves: the surface a prescribed displacement holds.
+  const double step = wall.angle_step_deg, half_a = edges ? 0.0 : 0.5 * step, half_s = edges ? 0.0 : 0.5 * wall.s_step_m;
+  const double a0 = lo - half_a, a1 = hi + half_a;
   const double z0 = std::max(0.0, s_lo - half_s), z1 = std::min(wall.length_m, s_hi + half_s);
   const double asked_z0 = std::max(0.0, s_c - s.s_half_length_m), asked_z1 = std::min(wall.length_m, s_c + s.s_half_length_m);
   const double asked_area = swept_area(wall, r, s.angle_center_deg, s.angle_half_width_deg, asked_z0, asked_z1);
-  const double area = selected_area(surface_shares(disc, wall, s.surface == "outer"), region.nodes);
+  const double area = edges ? swept_area(wall, r, s.angle_center_deg + 0.5 * (lo + hi), 0.5 * (hi - lo), z0, z1)
+                            : selected_area(surface_shares(disc, wall, s.surface == "outer"), region.nodes);
   out.report["asked"] = {{"angle_deg", width}, {"angle_center_deg", s.angle_center_deg}, {"length_m", asked_z1 - asked_z0},
                          {"s_center_m", s_c}, {"area_m2", asked_area}};
   out.report["selected"] = {{"angle_deg", a1 - a0}, {"angle_center_deg", s.angle_center_deg + 0.5 * (lo + hi)},
                             {"length_m", z1 - z0}, {"s_center_m", 0.5 * (z0 + z1)}, {"area_m2", area},
                             {"columns", std::lround((hi - lo) / step) + 1},
                             {"cross_sections", std::lround((s_hi - s_lo) / wall.s_step_m) + 1},
-                            {"lattice_angle_step_deg", step}, {"lattice_s_step_m", wall.s_step_m}};
+                            {"lattice_angle_step_deg", step}, {"lattice_s_step_m", wall.s_step_m},
+                            {"measured_as", edges ? "edges" : "strips"}};
   const double f = kSelectionTolerance, f_area = (1.0 + f) * (1.0 + f) - 1.0;
   const std::string lattice = fmt::format("the lattice steps are {:.4g} deg and {:.4g} m (geometry.node_spacing_m, "
                                           "geometry.lattice_angle_deg)", step, wall.s_step_m);
@@ -130,7 +134,7 @@ std::vector<RegionSelection> describe_selections(const Scene& scene, const Discr
     r.report = {{"name", r.name}, {"selector", s.type}, {"nodes", regions[k].nodes.size()},
                 {"selected_bounds", bounds(disc, regions[k].nodes)}};
     if (s.type == "wall_patch" && body.wall && body.wall->angle_step_deg > 0.0)
-      describe_wall_patch(s, *body.wall, disc, regions[k], r);
+      describe_wall_patch(s, *body.wall, disc, regions[k], scene.geometry.fit_lattice_to_patch == "edges", r);
     else if (s.type == "surface_patch" && body.wall)
       describe_surface_patch(s, *body.wall, disc, regions[k], r);
     else if (s.type == "cylinder_end")

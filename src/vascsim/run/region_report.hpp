@@ -2,8 +2,9 @@
 // What each region's selector actually picked, beside what the scene asked (summary.json "regions"). A node
 // stands for the strip of half a lattice step on either side of it, so a wall patch of n columns spans
 // n angle steps: the report gives the node count, the angular and axial extent and centre of those strips
-// and their surface area; a surface patch its area; a one-line warning names the region and the key when
-// what was selected differs from what was asked by more than the tolerance below.
+// and their surface area (or, on a lattice fitted to the patch's edges, of the nodes' own span, the surface
+// a prescribed displacement holds); a surface patch its area; a one-line warning names the region and the key
+// when what was selected differs from what was asked by more than the tolerance below.
 
 #include <nlohmann/json.hpp>
 #include <string>

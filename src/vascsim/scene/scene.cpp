@@ -88,7 +88,7 @@ GeometrySpec read_geometry(JsonReader g) {
   if (s.type == "tube" || s.type == "vessel") {
     s.lattice_angle_given = g.has("lattice_angle_deg");
     s.tube.lattice_angle_deg = g.number("lattice_angle_deg", 0.0, -360.0, 360.0);
-    s.fit_lattice_to_patch = g.boolean("fit_lattice_to_patch", false);
+    s.fit_lattice_to_patch = g.string("fit_lattice_to_patch", "none", {"none", "strips", "edges"});
   }
   if (s.type == "tube") {
     read_wall_section(g, s.tube);
@@ -329,13 +329,13 @@ void read_energy(JsonReader& root, bool literal, Scene& sc) {
 // A patch of +-w deg is symmetric and w wide only if its centre lies on a lattice line. Unless the scene
 // sets geometry.lattice_angle_deg, the tube/vessel lattice is turned (by less than half a column) so that a
 // line runs through the first wall patch's centre. With geometry.fit_lattice_to_patch the counts around and along
-// the vessel are chosen too, so that the patch is a whole number of columns and cross-sections.
+// the vessel are chosen too, so that the patch's strips or its nodes' span are the extent asked.
 void align_lattice_to_first_patch(JsonReader& root, Scene& sc) {
   GeometrySpec& g = sc.geometry;
   if (g.type != "tube" && g.type != "vessel") return;
   const auto patch = std::find_if(sc.regions.begin(), sc.regions.end(),
                                   [](const RegionSpec& r) { return r.select.type == "wall_patch"; });
-  if (!g.fit_lattice_to_patch) {
+  if (g.fit_lattice_to_patch == "none") {
     if (!g.lattice_angle_given && patch != sc.regions.end()) g.tube.lattice_angle_deg = patch->select.angle_center_deg;
     return;
   }
@@ -347,7 +347,8 @@ void align_lattice_to_first_patch(JsonReader& root, Scene& sc) {
   const SelectorSpec& p = patch->select;
   const PatchExtent extent{p.angle_center_deg, p.angle_half_width_deg,
                            p.s_center_fraction >= 0.0 ? p.s_center_fraction * length : p.s_center_m, p.s_half_length_m};
-  const LatticeFit fit = fit_lattice_to_patch(g.tube, extent, length);
+  const LatticeFit fit = fit_lattice_to_patch(g.tube, extent, length,
+                                              g.fit_lattice_to_patch == "edges" ? PatchFit::Edges : PatchFit::Strips);
   g.tube.angular_nodes = fit.angular_nodes;
   g.tube.axial_nodes = fit.axial_nodes;
   g.tube.lattice_angle_deg = fit.lattice_angle_deg;

@@ -46,9 +46,10 @@ struct GeometrySpec {
   std::string type;  ///< "tube", "vessel", "mesh", "box" or "beam"
   TubeSpec tube;     ///< tube; for "vessel" the radius, thickness, spacing and layers (length unused)
   bool lattice_angle_given = false;  ///< tube, vessel: the scene set lattice_angle_deg (else: the first wall patch's)
-  /// tube, vessel: choose the lattice's counts around and along the vessel so that the first wall patch is a whole
-  /// number of columns and cross-sections (geometry/lattice_fit; they go into tube.angular_nodes / axial_nodes)
-  bool fit_lattice_to_patch = false;
+  /// tube, vessel: "strips" or "edges" chooses the lattice's counts around and along the vessel so that the first
+  /// wall patch's strips, or its nodes' span, are the extent asked (geometry/lattice_fit; they go into
+  /// tube.angular_nodes / axial_nodes); "none" keeps the counts of the spacing
+  std::string fit_lattice_to_patch = "none";
   CenterlineSpec centerline;
   MeshGeometrySpec mesh;
   BoxSpec box;

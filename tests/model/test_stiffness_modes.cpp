@@ -129,4 +129,64 @@ TEST(ZeroModesT10, StabiliserPenalisesCheckerboardButNotAffineFields) {
   record("stabiliser_energy_affine_J", U_affine);
 }
 
+// Bending about y: u_x = -kappa x z, u_z = kappa x^2 / 2 (a quadratic field), curvature kappa (1/m).
+Vec3Array bent(const Discretization& disc, double kappa) {
+  Vec3Array x = disc.rest_positions();
+  for (Vec3& p : x) {
+    const Vec3 X = p;
+    p.x() += -kappa * X.x() * X.z();
+    p.z() += 0.5 * kappa * X.x() * X.x();
+  }
+  return x;
+}
+
+// energy.stabilizer_fit = quadratic (docs/model.md section 9.2): the stabiliser on the residuals of a quadratic fit
+// over the same neighbourhood. It must still penalise the checkerboard (which no quadratic reproduces), and it must
+// leave a quadratic field, such as bending, to the strain energy, where the linear fit's residuals penalise it.
+TEST(ZeroModesT10, QuadraticResidualStabiliserLeavesBendingToTheStrain) {
+  const Checkerboard cb;
+  const double mu = cb.mat.shear_modulus(), E = cb.mat.youngs_modulus_pa, alpha = 0.1;
+  EnergyOptions options{StrainMeasure::GreenHalf, 0.0, alpha, {}, {}};
+  options.stabilizer_fit = StabilizerFit::Quadratic;
+  const PointPrimitiveEnergy quadratic_fit(cb.disc, options);
+  const double scale = alpha * mu * (cb.a / kDelta) * (cb.a / kDelta) * cb.disc.total_volume();
+  const double U_checker = quadratic_fit.energy(cb.positions()).stabilizer;
+  // The same bound as the linear fit's (0.1 of the natural scale): the mode stays penalised. Measured 0.61x (the linear fit: 0.90x).
+  EXPECT_GT(U_checker, 0.1 * scale);
+  record("quadratic_stabiliser_checkerboard_over_scale", U_checker / scale);
+
+  EXPECT_LE(std::abs(quadratic_fit.energy(bent(cb.disc, 1e-3 / kDelta)).stabilizer), 1e-12 * E * std::pow(kDelta, 3));
+
+  // A plate of three node layers (0.3 mm thick) whose nodes are twice as far apart along it (8 x 8 x 2 cells of
+  // 0.3 x 0.3 x 0.15 mm), with supports that follow the wall (stretch 2), bent about y: the vein's wall at 0.3 mm.
+  BoxSpec plate;
+  plate.max_m = Vec3(2.4e-3, 2.4e-3, 0.3e-3);
+  plate.cells = Eigen::Vector3i(8, 8, 2);
+  const NodeCloud cloud = make_box(plate);
+  DiscretizationOptions wall_support;
+  wall_support.wall_normals.assign(cloud.positions.size(), Vec3::UnitZ());
+  for (const Vec3& p : cloud.positions) wall_support.wall_depths.push_back(p.z());
+  wall_support.wall_stretch = 2.0;
+  wall_support.max_growths = 10;  // the corner nodes, as in a scene (discretization.max_growths)
+  const Discretization wall(cloud, cb.mat, wall_support);
+  EnergyOptions wall_options{StrainMeasure::GreenHalf, 0.0, alpha, {}, {}};
+  const PointPrimitiveEnergy wall_linear(wall, wall_options);
+  wall_options.stabilizer_fit = StabilizerFit::Quadratic;
+  const PointPrimitiveEnergy wall_quadratic(wall, wall_options);
+  const Vec3Array x = bent(wall, 1.0);  // 1/m: 1e-4 strain at the surfaces
+  const double U_linear = wall_linear.energy(x).stabilizer, U_quadratic = wall_quadratic.energy(x).stabilizer;
+  const double U_strain = wall_quadratic.energy(x).strain;
+  // The linear fit's residuals of a bending field are the quadratic part of kappa X X / 2 that no affine map
+  // absorbs, so its stabiliser takes a share of the bending energy (bound 1e-4, so that it cannot be rounding;
+  // measured 2.1e-3 on this plate, more where the field varies faster than a support, as under a tool). The
+  // quadratic fit reproduces the field, so only rounding remains (bound 1e-12 of the strain energy: r_ij is
+  // rounding, ~1e-16 |X_ij|; measured 8e-18).
+  EXPECT_GT(U_linear, 1e-4 * U_strain);
+  EXPECT_LE(std::abs(U_quadratic), 1e-12 * U_strain);
+  record("bent_wall_stabiliser_over_strain_linear_fit", U_linear / U_strain);
+  record("bent_wall_stabiliser_over_strain_quadratic_fit", U_quadratic / U_strain);
+  std::printf("[ stabiliser ] bent 3-layer wall: stabiliser / strain energy %.3g (linear fit), %.3g (quadratic fit)\n",
+              U_linear / U_strain, U_quadratic / U_strain);
+}
+
 }  // namespace

@@ -37,11 +37,14 @@ nlohmann::json tube(const std::string& support) {
 // away, on the edge of the support, so every node's support must grow (by 1.2 per step) until it holds enough of
 // them, and it then reaches across the whole wall. The wall-aligned support holds them at once: only nodes at the
 // tube's two ends (half neighbourhoods) grow, and every neighbour lies inside the node's ellipsoid, radius h_i
-// through the wall and 2 h_i along it (rounding: 1e-9 relative).
+// through the wall and s h_i along it, s = the lattice's spacing along the wall over the layer step (about 2; the
+// columns and cross-sections round it).
 TEST(WallSupport, FollowsTheWallWithoutGrowing) {
   Simulation iso(parse_scene(tube("isotropic"), "tube.json"));
   Simulation wall(parse_scene(tube("wall"), "tube.json"));
   const Discretization& d = wall.discretization();
+  const double stretch = discretization_options(wall.scene(), wall.body()).wall_stretch;
+  EXPECT_NEAR(stretch, 2.0, 0.05);
   EXPECT_EQ(iso.discretization().grown_nodes(), iso.discretization().num_nodes());
   const Vec3Array& X = d.rest_positions();
   int grown_inside = 0;
@@ -54,7 +57,7 @@ TEST(WallSupport, FollowsTheWallWithoutGrowing) {
       const Vec3& Xj = X[d.pairs().col[e]];
       const Vec3 Xij = Xj - X[i];
       const double across = std::hypot(Xj.x(), Xj.y()) - std::hypot(X[i].x(), X[i].y());  // depth difference
-      worst = std::max(worst, std::sqrt(across * across + (Xij.squaredNorm() - across * across) / 4.0) / h);
+      worst = std::max(worst, std::sqrt(across * across + (Xij.squaredNorm() - across * across) / (stretch * stretch)) / h);
     }
   }
   std::printf("[ wall support ] %.1f neighbours (isotropic %.1f); %d of %d nodes grown (isotropic: all); "

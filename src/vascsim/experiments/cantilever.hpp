@@ -15,6 +15,7 @@ struct CantileverCase {
   double support_radius_factor = 2.0;
   int min_neighbours = 12;         ///< K_min of the support-radius guard (docs/model.md design decision 7)
   double stabilizer_alpha = 0.1;
+  std::string stabilizer_fit = "basis";  ///< or "quadratic" (energy.stabilizer_fit)
   std::string volume = "tet_partition";  ///< or "mueller_kernel"
   std::string strain = "green";          ///< or "mueller_no_half"
   double deflection_fraction = 1e-4;     ///< target delta_T / L (small: the linear regime)

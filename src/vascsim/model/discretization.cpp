@@ -331,11 +331,12 @@ double Discretization::mean_neighbours() const {
   return static_cast<double>(pairs_.col.size()) / static_cast<double>(num_nodes());
 }
 
-Eigen::MatrixXd Discretization::fit_residual_operator(Index i) const {
+Eigen::MatrixXd Discretization::fit_residual_operator(Index i, bool quadratic) const {
   // r_ij = y_ij - sum_l y_il q_jl with q_jl = d_il . X_ij (linear: the affine fit's prediction at X_ij) or
   // fit_il . p(X_ij / h_i) (quadratic), y_ij = y_j - y_i: R = (I - Q) [-1 | I].
   const Index K = pairs_.row_size(i);
   const Index e0 = pairs_.row_start[i];
+  if (quadratic && basis_ != GradientBasis::Quadratic) return quadratic_residual_operator(i);
   Eigen::MatrixXd R(K, K + 1);
   for (Index j = 0; j < K; ++j) {
     const Vec3 Xij = X_[static_cast<std::size_t>(pairs_.col[e0 + j])] - X_[static_cast<std::size_t>(i)];
@@ -350,6 +351,33 @@ Eigen::MatrixXd Discretization::fit_residual_operator(Index i) const {
     }
     R(j, 0) = -row_sum;
   }
+  return R;
+}
+
+Eigen::MatrixXd Discretization::quadratic_residual_operator(Index i) const {
+  // The weighted least-squares projection onto the quadratic monomials: with M (K x 9) the monomials p(X_ij / h_i)
+  // and W = diag(w_ij), Q = M B^+ M^T W, B = M^T W M. B^+ is a pseudo-inverse (eigenvalues below 1e-10 of the
+  // largest dropped): on a wall with two layers in the support z^2 is not independent of z, and the projection
+  // is then onto what the neighbourhood can represent, still exact for every quadratic field.
+  const Index K = pairs_.row_size(i);
+  const Index e0 = pairs_.row_start[i];
+  Eigen::MatrixXd M(K, 9);
+  Eigen::VectorXd w(K);
+  for (Index j = 0; j < K; ++j) {
+    M.row(j) = quadratic_monomials(X_[static_cast<std::size_t>(pairs_.col[e0 + j])] - X_[static_cast<std::size_t>(i)], h_[i]);
+    w(j) = pairs_.w[static_cast<std::size_t>(e0 + j)];
+  }
+  const Mat9 B = M.transpose() * w.asDiagonal() * M;
+  Eigen::SelfAdjointEigenSolver<Mat9> es(B);
+  const double cut = 1e-10 * es.eigenvalues().cwiseAbs().maxCoeff();
+  Vec9 inv = Vec9::Zero();
+  for (int k = 0; k < 9; ++k)
+    if (es.eigenvalues()(k) > cut) inv(k) = 1.0 / es.eigenvalues()(k);
+  const Mat9 Bplus = es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
+  const Eigen::MatrixXd IQ = Eigen::MatrixXd::Identity(K, K) - M * Bplus * M.transpose() * w.asDiagonal();
+  Eigen::MatrixXd R(K, K + 1);
+  R.col(0) = -IQ.rowwise().sum();
+  R.rightCols(K) = IQ;
   return R;
 }
 

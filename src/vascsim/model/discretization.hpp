@@ -84,7 +84,9 @@ class Discretization {
   /// The residuals of node i's fit over its neighbours as a linear map of its stencil (i, N_i in the order of
   /// row i of pairs()): r_ij = (y_j - y_i) - fit_i(X_ij) = sum_a R(j, a) y_a, a K x (K + 1) matrix (K = |N_i|),
   /// column 0 for node i. Zero on every field the basis reproduces (affine or quadratic).
-  Eigen::MatrixXd fit_residual_operator(Index i) const;
+  /// quadratic: the residuals of a quadratic fit over the same neighbourhood and weights instead, whatever the
+  /// basis (a least-squares projection; monomials the neighbourhood cannot tell apart are dropped).
+  Eigen::MatrixXd fit_residual_operator(Index i, bool quadratic = false) const;
 
   const std::vector<double>& volumes() const { return V_; }  ///< V_i, m^3
   const std::vector<double>& masses() const { return m_; }   ///< m_i = rho V_i, kg
@@ -117,6 +119,7 @@ class Discretization {
   std::vector<Tet> tets_;
   PairTable pairs_, transposed_;
   Vec3Array self_d_;
+  Eigen::MatrixXd quadratic_residual_operator(Index i) const;
   std::vector<double> moment_trace_, V_, m_, h_;
   std::vector<Mat3> moment_;
   GradientBasis basis_ = GradientBasis::Linear;

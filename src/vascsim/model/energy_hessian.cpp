@@ -235,6 +235,7 @@ void EnergyHessian::add_stabilizer_blocks() {
   const PairTable& P = disc.pairs();
   const Index n = disc.num_nodes();
   const auto& c = energy_.stabilizer_coefficients();
+  const bool quadratic_residual = energy_.options().stabilizer_fit == StabilizerFit::Quadratic;
   // Where term (row of stencil node a, energy i) sits: scan the rows once, indexed by (i, a).
   std::vector<std::int64_t> stencil_start(static_cast<std::size_t>(n) + 1, 0);
   for (Index i = 0; i < n; ++i) stencil_start[static_cast<std::size_t>(i) + 1] = stencil_start[static_cast<std::size_t>(i)] + 1 + P.row_size(i);
@@ -253,7 +254,7 @@ void EnergyHessian::add_stabilizer_blocks() {
   for (Index i = 0; i < n; ++i) {
     const Index K = P.row_size(i);
     const Index e0 = P.row_start[i];
-    const Eigen::MatrixXd R = disc.fit_residual_operator(i);
+    const Eigen::MatrixXd R = disc.fit_residual_operator(i, quadratic_residual);
     const Eigen::Map<const Eigen::VectorXd> w(P.w.data() + e0, K);
     S.noalias() = c[static_cast<std::size_t>(i)] * R.transpose() * w.asDiagonal() * R;
     for (Index a = 0; a <= K; ++a) {

@@ -54,10 +54,10 @@ PointPrimitiveEnergy::PointPrimitiveEnergy(const Discretization& disc, const Ene
   for (Index k = 0; k < n; ++k)
     for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e) stab_cw_[e] = stab_c_[T.col[e]] * T.w[e];
   if (opt_.stabilizer_alpha > 0.0) {
-    if (disc.basis() == GradientBasis::Linear)
+    if (disc.basis() == GradientBasis::Linear && opt_.stabilizer_fit == StabilizerFit::Basis)
       folded_stab_ = true;
     else
-      stab_matrix_ = std::make_shared<const StabilizerMatrix>(disc, stab_c_);
+      stab_matrix_ = std::make_shared<const StabilizerMatrix>(disc, stab_c_, opt_.stabilizer_fit == StabilizerFit::Quadratic);
   }
 }
 

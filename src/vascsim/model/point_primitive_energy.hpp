@@ -19,6 +19,12 @@ enum class StrainMeasure {
   MuellerNoHalf  ///< eps = F^T F - I (Eq. 5 as printed): 4x stiffer than the E entered (paper literal)
 };
 
+/// The fit whose residuals the zero-energy-mode stabiliser penalises.
+enum class StabilizerFit {
+  Basis,     ///< the gradient's fit (discretization.basis)
+  Quadratic  ///< a quadratic fit over the same neighbourhood, whatever the basis
+};
+
 struct EnergyOptions {
   StrainMeasure strain = StrainMeasure::GreenHalf;
   double volume_stiffness_pa = 0.0;  ///< k_v of docs/model.md section 9.1 (0 <= k_v; lambda is reduced by k_v to keep E, nu)
@@ -29,6 +35,10 @@ struct EnergyOptions {
   std::shared_ptr<const materials::HyperelasticLaw> law;
   /// Per node, for laws that need one (hgo): the wall's axial/circumferential/radial frame at rest.
   std::vector<materials::MaterialFrame> frames;
+  /// Whose residuals the stabiliser penalises (docs/model.md section 9.2): the gradient's own fit (Basis), or a
+  /// quadratic fit over the same neighbourhood (Quadratic), which leaves every quadratic field, bending among
+  /// them, to the strain energy.
+  StabilizerFit stabilizer_fit = StabilizerFit::Basis;
 };
 
 /// Energy terms, J.

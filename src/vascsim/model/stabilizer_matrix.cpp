@@ -6,7 +6,7 @@
 
 namespace vascsim {
 
-StabilizerMatrix::StabilizerMatrix(const Discretization& disc, const std::vector<double>& c) {
+StabilizerMatrix::StabilizerMatrix(const Discretization& disc, const std::vector<double>& c, bool quadratic) {
   const Index n = disc.num_nodes();
   const PairTable& P = disc.pairs();
   K_.resize(n, n);
@@ -20,7 +20,7 @@ StabilizerMatrix::StabilizerMatrix(const Discretization& disc, const std::vector
     for (Index i = first; i < std::min(n, first + kChunk); ++i) {
       const Index K = P.row_size(i);
       const Index e0 = P.row_start[i];
-      const Eigen::MatrixXd R = disc.fit_residual_operator(i);
+      const Eigen::MatrixXd R = disc.fit_residual_operator(i, quadratic);
       const Eigen::Map<const Eigen::VectorXd> w(P.w.data() + e0, K);
       S.noalias() = c[static_cast<std::size_t>(i)] * R.transpose() * w.asDiagonal() * R;
       auto node = [&](Index a) { return a == 0 ? i : P.col[e0 + a - 1]; };

@@ -17,7 +17,8 @@ namespace vascsim {
 class StabilizerMatrix {
  public:
   /// c: the stabiliser coefficient of every node, N m^2 (PointPrimitiveEnergy::stabilizer_coefficients).
-  StabilizerMatrix(const Discretization& disc, const std::vector<double>& c);
+  /// quadratic: the residuals of a quadratic fit, whatever the basis (Discretization::fit_residual_operator).
+  StabilizerMatrix(const Discretization& disc, const std::vector<double>& c, bool quadratic);
 
   /// out += sign * K v, coordinate by coordinate (v in m gives N). Returns v . K v / 2 (J for v = u).
   double add_product(const Vec3Array& v, Vec3Array& out, double sign) const;

@@ -10,6 +10,7 @@
 #include "vascsim/core/interrupt.hpp"
 #include "vascsim/core/stopwatch.hpp"
 #include "vascsim/model/registry.hpp"
+#include "vascsim/run/discretization_setup.hpp"
 #include "vascsim/run/output_writer.hpp"
 #include "vascsim/run/tool_reach.hpp"
 #include "vascsim/run/tool_series.hpp"
@@ -86,6 +87,10 @@ std::vector<std::string> probe_columns(const Scene& scene) {
 
 nlohmann::json describe_run(const Scene& scene, Simulation& sim) {
   const auto& disc = sim.discretization();
+  // Supports that follow the wall: their length along the wall over their depth through it (docs/model.md 3.1).
+  const nlohmann::json wall_stretch = scene.discretization.support == DiscretizationOptions::Support::Wall
+                                          ? nlohmann::json(discretization_options(scene, sim.body()).wall_stretch)
+                                          : nlohmann::json();
   return {{"scene", scene.name},
           {"scene_file", scene.file},
           {"model", sim.model().name()},
@@ -98,6 +103,7 @@ nlohmann::json describe_run(const Scene& scene, Simulation& sim) {
           {"support_radius_min_m", *std::min_element(disc.support_radius().begin(), disc.support_radius().end())},
           {"support_radius_max_m", *std::max_element(disc.support_radius().begin(), disc.support_radius().end())},
           {"nodes_with_grown_support", disc.grown_nodes()},
+          {"support_wall_stretch", wall_stretch},
           {"volume_m3", disc.total_volume()},
           {"mass_kg", std::accumulate(disc.masses().begin(), disc.masses().end(), 0.0)},
           {"solver", sim.model().info()},

@@ -318,6 +318,9 @@ void read_energy(JsonReader& root, bool literal, Scene& sc) {
                          ? StrainMeasure::GreenHalf
                          : StrainMeasure::MuellerNoHalf;
   sc.energy.stabilizer_alpha = en.number("stabilizer_alpha", literal ? 0.0 : 0.1, 0.0, 10.0);
+  sc.energy.stabilizer_fit = en.string("stabilizer_fit", "basis", {"basis", "quadratic"}) == "quadratic"
+                                 ? StabilizerFit::Quadratic
+                                 : StabilizerFit::Basis;
   const double lambda = sc.material.lame_lambda();
   sc.energy.volume_stiffness_pa = en.number("volume_stiffness_pa", 0.0, 0.0, std::max(lambda, 0.0));
   en.finish();

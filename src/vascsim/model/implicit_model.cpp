@@ -66,7 +66,8 @@ ModelEntry implicit_model_entry() {
   e.summary = "real-time equilibrium: backward Euler solved by Newton-CG with a sparse Cholesky factor of the "
               "meshless Hessian (the real-time default)";
   e.capabilities = {.dynamic = true, .takes_tools = true, .device_driven = true, .releases_regions = false,
-                    .quadratic_basis = true, .wall_support_default = true};
+                    .quadratic_basis = true, .wall_support_default = true,
+                    .quadratic_stabilizer_default = true};
   e.read_settings = [](JsonReader& block) { return std::any(read_implicit_settings(block)); };
   e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
     return std::make_unique<ImplicitModel>(problem, settings_as<ImplicitSettings>(settings));

@@ -25,11 +25,16 @@ struct ModelCapabilities {
   bool takes_tools = false;       ///< frictionless rigid tools (the catheter) in the problem
   bool device_driven = false;     ///< implements DeviceDrivenModel: haptic sessions and the viewer can drive it
   bool releases_regions = false;  ///< supports regions' bc.release_time_s
-  bool quadratic_basis = true;    ///< takes discretization.basis "quadratic" (false: its constraints assume the linear fit)
+  /// takes discretization.basis "quadratic" and energy.stabilizer_fit "quadratic" (false: its constraints assume
+  /// the linear fit)
+  bool quadratic_basis = true;
   /// On a wall with node layers (tube, vessel) its default discretization.support is "wall": the equilibrium
   /// models, whose forces docs/validation.md measures against the FEM references with either support. The others
   /// keep the isotropic support they were tuned and tested with (xpbd inverts a coarse tube with the wall's).
   bool wall_support_default = false;
+  /// On such a wall its default energy.stabilizer_fit is "quadratic" (docs/model.md section 9.2): the same models,
+  /// for the same reason; the others keep the stabiliser they were tuned with.
+  bool quadratic_stabilizer_default = false;
 };
 
 struct ModelEntry {

@@ -57,7 +57,8 @@ std::vector<HessianTermCase> term_cases(const Material& m) {
           {"literal", {StrainMeasure::MuellerNoHalf, 0.0, 0.0, {}, {}}},
           {"k_v", {StrainMeasure::GreenHalf, 0.5 * m.lame_lambda(), 0.0, {}, {}}},
           {"stabiliser", {StrainMeasure::GreenHalf, 0.0, 0.5, {}, {}}},
-          {"neo_hookean_kv_stab", {StrainMeasure::GreenHalf, 0.3 * m.lame_lambda(), 0.1, neo, {}}}};
+          {"neo_hookean_kv_stab", {StrainMeasure::GreenHalf, 0.3 * m.lame_lambda(), 0.1, neo, {}}},
+          {"stabiliser_quadratic_fit", {StrainMeasure::GreenHalf, 0.0, 0.5, {}, {}, StabilizerFit::Quadratic}}};
 }
 
 // |H v - hessian_product(x, v)|_max / |hessian_product|_max over the kept nodes.

@@ -57,4 +57,48 @@ inline double fd_force_error(const std::function<double(const Vec3Array&)>& U, c
   return err / f_max;
 }
 
+// max_i |H v + (f(x + eps v) - f(x - eps v)) / (2 eps)| / max_i |H v| for a random v of size Delta (seed): the
+// Hessian product against a central difference of the forces (T5). `hessian_product(x, v, Hv)` and
+// `forces(x, f)` are the energy's. Truncation ~eps^2, rounding ~1e-15 / eps: about 1e-9 relative at eps = 1e-6.
+template <class Energy>
+double fd_hessian_error(const Energy& energy, const Vec3Array& x, std::uint64_t seed, double eps = 1e-6) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  Vec3Array v(x.size());
+  for (Vec3& p : v) p = kDelta * Vec3(uni(rng), uni(rng), uni(rng));
+  Vec3Array Hv, fp, fm, xp(x), xm(x);
+  energy.hessian_product(x, v, Hv);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    xp[i] += eps * v[i];
+    xm[i] -= eps * v[i];
+  }
+  energy.forces(xp, fp);
+  energy.forces(xm, fm);
+  double err = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) err = std::max(err, (Hv[i] + (fp[i] - fm[i]) / (2 * eps)).norm());
+  return err / max_norm(Hv);
+}
+
+// T5 for an energy with a stabiliser: on a jittered lattice at the large deformation, the forces of `with` (the
+// energy's options, a stabiliser among them) against central differences of its energy, the stabiliser's forces
+// alone (`with`'s minus those of the same discretisation without a stabiliser) against the derivative of its
+// stabiliser energy, and its Hessian product against differences of its forces, each to 1e-6 relative (the
+// differences' own error at eps = 1e-6); the stabiliser's force must not be zero, or the check is vacuous.
+template <class Energy, class Discretization, class Options>
+void expect_stabiliser_derivatives(const Discretization& disc, const Options& with_options) {
+  const Vec3Array x = large_deformation(disc.rest_positions(), 2);
+  const Energy with(disc, with_options);
+  Options no_stabiliser = with_options;
+  no_stabiliser.stabilizer_alpha = 0.0;
+  const Energy without(disc, no_stabiliser);
+  Vec3Array f, f0;
+  with.forces(x, f);
+  without.forces(x, f0);
+  EXPECT_LE(fd_force_error([&](const Vec3Array& y) { return with.energy(y).total(); }, f, x), 1e-6);
+  for (std::size_t i = 0; i < f.size(); ++i) f0[i] = f[i] - f0[i];
+  EXPECT_LE(fd_force_error([&](const Vec3Array& y) { return with.energy(y).stabilizer; }, f0, x), 1e-6);
+  EXPECT_GT(max_norm(f0), 0.0);
+  EXPECT_LE(fd_hessian_error(with, x, 6), 1e-6);
+}
+
 }  // namespace vascsim::test

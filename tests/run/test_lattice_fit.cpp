@@ -68,6 +68,22 @@ TEST(LatticeFit, APatchsNodesReachItsEdges) {
   EXPECT_TRUE(r["warnings"].empty()) << r["warnings"].dump();
 }
 
+// A patch of zero width and length (one column, one cross-section) fitted to its edges selects the single outer
+// node on its centre: the counts put a column and a cross-section there.
+TEST(LatticeFit, AZeroWidthPatchSelectsTheNodeAtItsCentre) {
+  nlohmann::json doc = read_json_file(test::source_path("scenes/vein-indent.json"), "scene", "a scene");
+  doc["geometry"]["node_spacing_m"] = 0.3e-3;
+  doc["discretization"]["max_growths"] = 10;
+  doc["geometry"]["fit_lattice_to_patch"] = "edges";
+  doc["regions"][2]["select"]["angle_half_width_deg"] = 0.0;
+  doc["regions"][2]["select"]["z_half_length_m"] = 0.0;
+  const Simulation fitted(parse_scene(doc, "vein.json"));
+  const nlohmann::json& r = patch_report(fitted);
+  EXPECT_EQ(r["nodes"].get<int>(), 1) << r.dump();
+  EXPECT_NEAR(r["selected"]["angle_center_deg"].get<double>(), 90.0, 1e-9);
+  EXPECT_NEAR(r["selected"]["s_center_m"].get<double>(), 10e-3, 1e-12);
+}
+
 // Without a wall patch, with the phase set by hand, or with a value that is not a fit, the key is an input error
 // naming it.
 TEST(LatticeFit, NeedsAPatchAndItsOwnPhase) {

@@ -18,9 +18,11 @@ int columns_selected(double w, double step, bool centred_on_column) {
 }
 
 // The extent a patch selects, as PatchFit says, over its asked extent, minus 1: n selected lines `step` apart
-// cover n steps as strips and span n - 1 steps edge to edge.
+// cover n steps as strips and span n - 1 steps edge to edge. A patch of zero width (one line) is met exactly
+// only by a single line edge to edge; otherwise the error is one step, the same for every count.
 double extent_error(int selected, double step, double asked, PatchFit mode) {
   const int steps = mode == PatchFit::Strips ? selected : selected - 1;
+  if (!(asked > 0.0)) return selected == 1 && mode == PatchFit::Edges ? 0.0 : 1.0;
   return steps * step / asked - 1.0;
 }
 
@@ -35,7 +37,7 @@ double cross_section_error(double centre, double half_length, double length, int
       ++n;
       lo = std::min(lo, k * step), hi = std::max(hi, k * step);
     }
-  if (mode == PatchFit::Strips) return extent_error(n, step, 2.0 * half_length, mode);
+  if (mode == PatchFit::Strips || !(half_length > 0.0)) return extent_error(n, step, 2.0 * half_length, mode);
   if (n < 2) return -1.0;
   const double miss = std::max(std::abs(lo - std::max(0.0, centre - half_length)),
                                std::abs(hi - std::min(length, centre + half_length)));

@@ -100,6 +100,18 @@ TEST(ForceAccuracy, AFinestRowOffTheIndependentReferenceSaysSo) {
             std::string::npos)
       << line;
   EXPECT_NE(line.find("validation/references/aorta-bent.csv"), std::string::npos) << line;
+  // At the finest row the compound error is that row's own (1e-12: the table's error there is 0; rounding to 0.1 %).
+  EXPECT_NE(line.find(fmt::format("so about {:+.1f} % against that reference", 100 * e.match->independent->error)),
+            std::string::npos)
+      << line;
+  // The catheter at its coarsest row compounds both: (1 + e)(1 + e_finest) - 1, printed to 0.1 %.
+  const AccuracyEstimate coarse = estimate_accuracy(
+      table, load_scene(test::source_path("scenes/hand-dorsal-vein-catheter.json")), e.match->rows.front().nodes);
+  ASSERT_NE(coarse.match, nullptr);
+  ASSERT_TRUE(coarse.match->independent.has_value());
+  const std::string coarse_line = describe_accuracy(table, coarse);
+  const double compound = (1 + coarse.error) * (1 + coarse.match->independent->error) - 1;
+  EXPECT_NE(coarse_line.find(fmt::format("so about {:+.1f} %", 100 * compound)), std::string::npos) << coarse_line;
   // The vein has no such comparison of its finest row in the table: its line ends at the table's own reference.
   const AccuracyEstimate vein =
       estimate_accuracy(table, load_scene(test::source_path("scenes/hand-dorsal-vein.json")), 22914);

@@ -65,6 +65,7 @@ std::filesystem::path ForceAccuracyTable::default_file() { return bundled_file("
 
 AccuracyEstimate estimate_accuracy(const ForceAccuracyTable& table, const Scene& scene, double nodes) {
   AccuracyEstimate e;
+  e.nodes = nodes;
   const std::string& type = scene.geometry.type;
   if (type != "tube" && type != "vessel") return e;
   const bool tool = !scene.obstacles.empty();
@@ -103,14 +104,18 @@ std::string describe_accuracy(const ForceAccuracyTable& table, const AccuracyEst
   std::string from;
   if (e.below && e.above)
     from = fmt::format("interpolated in log(nodes) between the rows [{}] and [{}]", row(*e.below), row(*e.above));
+  else if (e.above && std::abs(e.nodes / e.above->nodes - 1.0) < 0.005)
+    from = fmt::format("the coarsest row [{}]", row(*e.above));
   else if (e.above)
     from = fmt::format("coarser than the coarsest row [{}]: expect at least this error", row(*e.above));
   else
     from = fmt::format("as fine as or finer than the finest row [{}], the reference", row(*e.below));
   std::string line = fmt::format("{:+.1f} % against the {} of case '{}' ({}; {})", 100.0 * e.error, table.reference,
                                  e.match->name, e.match->scene, from);
+  // The two errors compound: force / reference = (1 + e) (1 + e_finest).
   if (const auto& i = e.match->independent)
-    line += fmt::format("; that finest row is itself {:+.1f} % against {} ({})", 100.0 * i->error, i->reference, i->where);
+    line += fmt::format("; that finest row is itself {:+.1f} % against {} ({}), so about {:+.1f} % against that reference",
+                        100.0 * i->error, i->reference, i->where, 100.0 * ((1.0 + e.error) * (1.0 + i->error) - 1.0));
   return line;
 }
 

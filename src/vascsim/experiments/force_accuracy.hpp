@@ -65,6 +65,7 @@ struct AccuracyEstimate {
   double error = 0.0;                   ///< interpolated (or the nearest row's outside the table)
   const AccuracyRow* below = nullptr;   ///< the rows it lies between (one of them null outside the table)
   const AccuracyRow* above = nullptr;
+  double nodes = 0.0;                   ///< the node count asked about
 };
 
 AccuracyEstimate estimate_accuracy(const ForceAccuracyTable& table, const Scene& scene, double nodes);

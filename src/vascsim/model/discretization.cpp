@@ -128,7 +128,8 @@ bool accepted(const NeighbourhoodTrial& t, const DiscretizationOptions& opt) {
 
 Discretization::Discretization(const NodeCloud& cloud, const Material& material,
                                const DiscretizationOptions& options)
-    : cloud_(cloud), material_(material), X_(cloud.positions), tets_(cloud.tets) {
+    : cloud_(cloud), material_(material), X_(cloud.positions), tets_(cloud.tets),
+      wall_stretch_(options.wall_normals.empty() ? 0.0 : options.wall_stretch) {
   if (X_.size() < 5) throw InputError(fmt::format("discretization: {} nodes; at least 5 are needed", X_.size()));
   if (!(options.support_radius_factor > 0.0)) throw InputError("discretization: support radius factor must be > 0");
   for (std::size_t i = 0; i < X_.size(); ++i)

@@ -98,6 +98,9 @@ class Discretization {
   double tet_volume() const { return tet_volume_; }     ///< sum |T|, m^3
   double mean_neighbours() const;
   int grown_nodes() const { return grown_nodes_; }      ///< nodes whose h_i had to grow
+  /// Supports that follow the wall: their reach along the wall over their reach through it (docs/model.md section
+  /// 3.1); 0 with isotropic supports.
+  double wall_stretch() const { return wall_stretch_; }
   const Material& material() const { return material_; }
   const NodeCloud& cloud() const { return cloud_; }
 
@@ -112,6 +115,7 @@ class Discretization {
   void store_gradient_vectors(const std::vector<NeighbourhoodTrial>& trials, GradientBasis basis);
   std::string growth_advice(const std::vector<int>& failed, double h0, const DiscretizationOptions& opt) const;
   void compute_volumes(const DiscretizationOptions& opt);
+  Eigen::MatrixXd quadratic_residual_operator(Index i) const;
 
   NodeCloud cloud_;
   Material material_;
@@ -119,13 +123,13 @@ class Discretization {
   std::vector<Tet> tets_;
   PairTable pairs_, transposed_;
   Vec3Array self_d_;
-  Eigen::MatrixXd quadratic_residual_operator(Index i) const;
   std::vector<double> moment_trace_, V_, m_, h_;
   std::vector<Mat3> moment_;
   GradientBasis basis_ = GradientBasis::Linear;
   std::vector<Vec9> fit_;  // quadratic basis: w_ij B_i^{-1} p(X_ij / h_i) per pair (dimensionless)
   double mean_spacing_ = 0.0, min_spacing_ = 0.0, tet_volume_ = 0.0;
   int grown_nodes_ = 0;
+  double wall_stretch_ = 0.0;
 };
 
 }  // namespace vascsim

@@ -35,7 +35,7 @@ struct EnergyOptions {
   std::shared_ptr<const materials::HyperelasticLaw> law;
   /// Per node, for laws that need one (hgo): the wall's axial/circumferential/radial frame at rest.
   std::vector<materials::MaterialFrame> frames;
-  /// Whose residuals the stabiliser penalises (docs/model.md section 9.2): the gradient's own fit (Basis), or a
+  /// Whose residuals the stabiliser penalises (docs/model.md section 9.3): the gradient's own fit (Basis), or a
   /// quadratic fit over the same neighbourhood (Quadratic), which leaves every quadratic field, bending among
   /// them, to the strain energy.
   StabilizerFit stabilizer_fit = StabilizerFit::Basis;

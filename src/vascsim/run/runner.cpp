@@ -10,7 +10,6 @@
 #include "vascsim/core/interrupt.hpp"
 #include "vascsim/core/stopwatch.hpp"
 #include "vascsim/model/registry.hpp"
-#include "vascsim/run/discretization_setup.hpp"
 #include "vascsim/run/output_writer.hpp"
 #include "vascsim/run/tool_reach.hpp"
 #include "vascsim/run/tool_series.hpp"
@@ -87,10 +86,7 @@ std::vector<std::string> probe_columns(const Scene& scene) {
 
 nlohmann::json describe_run(const Scene& scene, Simulation& sim) {
   const auto& disc = sim.discretization();
-  // Supports that follow the wall: their length along the wall over their depth through it (docs/model.md 3.1).
-  const nlohmann::json wall_stretch = scene.discretization.support == DiscretizationOptions::Support::Wall
-                                          ? nlohmann::json(discretization_options(scene, sim.body()).wall_stretch)
-                                          : nlohmann::json();
+  const nlohmann::json wall_stretch = disc.wall_stretch() > 0.0 ? nlohmann::json(disc.wall_stretch()) : nlohmann::json();
   return {{"scene", scene.name},
           {"scene_file", scene.file},
           {"model", sim.model().name()},

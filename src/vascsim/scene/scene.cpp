@@ -82,10 +82,19 @@ MeshGeometrySpec read_mesh(JsonReader& g) {
   return m;
 }
 
+// A wall swept along a centre-line, with node layers through it (tube, vessel).
+bool swept_wall(const std::string& geometry_type) { return geometry_type == "tube" || geometry_type == "vessel"; }
+
+// The equilibrium models' discretisation defaults (wall supports, the stabiliser on a quadratic fit) apply on a
+// swept wall, in the sound formulation, for the models whose capability `default_on_walls` says so.
+bool wall_default(const Scene& sc, bool literal, bool ModelCapabilities::*default_on_walls) {
+  return swept_wall(sc.geometry.type) && !literal && find_model(sc.model).capabilities.*default_on_walls;
+}
+
 GeometrySpec read_geometry(JsonReader g) {
   GeometrySpec s;
   s.type = g.required_string("type", {"tube", "vessel", "mesh", "box", "beam"});
-  if (s.type == "tube" || s.type == "vessel") {
+  if (swept_wall(s.type)) {
     s.lattice_angle_given = g.has("lattice_angle_deg");
     s.tube.lattice_angle_deg = g.number("lattice_angle_deg", 0.0, -360.0, 360.0);
     s.fit_lattice_to_patch = g.string("fit_lattice_to_patch", "none", {"none", "strips", "edges"});
@@ -300,9 +309,8 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
   // Supports that follow the wall wherever a lattice has node layers through one (docs/model.md section 3.1), for
   // the models that ask for it: against the FEM references they converge to the same answer as isotropic ones
   // and halve the error at coarse resolutions. The paper's kernel is isotropic.
-  const bool walled = sc.geometry.type == "tube" || sc.geometry.type == "vessel";
-  const bool wall_default = walled && !literal && find_model(sc.model).capabilities.wall_support_default;
-  const char* support_default = wall_default ? "wall" : "isotropic";
+  const bool wall_support = wall_default(sc, literal, &ModelCapabilities::wall_support_default);
+  const char* support_default = wall_support ? "wall" : "isotropic";
   sc.discretization.support = disc.string("support", support_default, {"isotropic", "wall"}) == "wall"
                                   ? DiscretizationOptions::Support::Wall
                                   : DiscretizationOptions::Support::Isotropic;
@@ -319,10 +327,9 @@ void read_energy(JsonReader& root, bool literal, Scene& sc) {
                          : StrainMeasure::MuellerNoHalf;
   sc.energy.stabilizer_alpha = en.number("stabilizer_alpha", literal ? 0.0 : 0.1, 0.0, 10.0);
   // On a wall with node layers the equilibrium models' stabiliser leaves bending to the strain energy (docs/model.md
-  // section 9.2): the linear fit's residuals of a bending field are not zero-energy modes, and penalising them
-  // stiffened the vein at its real-time resolution by 3-5 % against the FEM references.
-  const bool walled = sc.geometry.type == "tube" || sc.geometry.type == "vessel";
-  const bool quadratic_default = walled && !literal && find_model(sc.model).capabilities.quadratic_stabilizer_default;
+  // section 9.3): the linear fit's residuals of a bending field are not zero-energy modes, and penalising them
+  // stiffened the vein at its real-time resolution by 2.4-5 % against the FEM references.
+  const bool quadratic_default = wall_default(sc, literal, &ModelCapabilities::quadratic_stabilizer_default);
   sc.energy.stabilizer_fit =
       en.string("stabilizer_fit", quadratic_default ? "quadratic" : "basis", {"basis", "quadratic"}) == "quadratic"
           ? StabilizerFit::Quadratic
@@ -341,7 +348,7 @@ void read_energy(JsonReader& root, bool literal, Scene& sc) {
 // the vessel are chosen too, so that the patch's strips or its nodes' span are the extent asked.
 void align_lattice_to_first_patch(JsonReader& root, Scene& sc) {
   GeometrySpec& g = sc.geometry;
-  if (g.type != "tube" && g.type != "vessel") return;
+  if (!swept_wall(g.type)) return;
   const auto patch = std::find_if(sc.regions.begin(), sc.regions.end(),
                                   [](const RegionSpec& r) { return r.select.type == "wall_patch"; });
   if (g.fit_lattice_to_patch == "none") {

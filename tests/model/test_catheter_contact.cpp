@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "support/scene_errors.hpp"
 #include "support/scenes.hpp"
 
 #include <cstdio>
@@ -140,6 +141,59 @@ TEST(Catheter, QuasiStaticPressBalancesForceAndMoment) {
   EXPECT_LT(b.deepest_m, 1e-12);  // frictionless contact holds nodes on the surface
   // Frictionless: every contact force is normal to the tool, so the force is not along x (the axis) much.
   EXPECT_LT(std::abs(b.tool_force.x()), 0.2 * b.tool_force.norm());
+}
+
+// T14 with the catheter against the wall's surface (contact.surface "embedded"), pressed 0.5 mm: the samples'
+// forces reach the nodes through their shape functions, so the tool's force and moment balance the supports' as
+// the active set's do (same tolerances), and no node enters the tool by more than the penalty's penetration (bound
+// 2 um, 4e-3 of the 0.5 mm spacing).
+TEST(Catheter, EmbeddedPressBalancesForceAndMoment) {
+  json doc = catheter_press_scene("quasi_static");
+  doc["contact"] = {{"surface", "embedded"}};
+  doc["obstacles"][0]["motion_m"] = {0, 0, -0.0005};
+  Simulation sim(parse_scene(doc, "catheter-block"));
+  ASSERT_NE(sim.problem().contact_surface(), nullptr);
+  const Balance b = run_to_balance(sim);
+  EXPECT_GT(b.contacts, 3);
+  EXPECT_LT(b.tool_force.z(), 0.0);
+  EXPECT_LT((b.tool_force + b.support_force).norm(), 1e-2 * b.tool_force.norm());
+  EXPECT_LT((b.tool_moment + b.support_moment).norm(), 1e-2 * b.tool_force.norm() * 0.006);
+  EXPECT_GT(b.tool_moment.norm(), 1e-2 * b.tool_force.norm() * 0.006);
+  EXPECT_LT(b.deepest_m, 2e-6);
+  EXPECT_EQ(sim.model().info().at("contact"), "embedded");
+}
+
+// Pressed the full 1 mm, the block folds under the capsule's edge (the node contact's run inverts 30 virtual
+// tetrahedra there too). The nodes below the surface are samples of their own, so none sits inside the tool by
+// more than the penalty's penetration: measured 3.1 um; bound 10 um, 2 % of the spacing (without them the folded
+// second layer sat 0.33 mm inside the tool). Release only (5 s).
+TEST(Catheter, EmbeddedPressKeepsTheNodesBelowTheSurfaceOutOfTheToolSlow) {
+  json doc = catheter_press_scene("quasi_static");
+  doc["contact"] = {{"surface", "embedded"}};
+  Simulation sim(parse_scene(doc, "catheter-block"));
+  const Balance b = run_to_balance(sim);
+  EXPECT_LT((b.tool_force + b.support_force).norm(), 1e-2 * b.tool_force.norm());
+  EXPECT_LT(b.deepest_m, 1e-5);
+}
+
+// The contact block is refused where it cannot apply, at the key that asks for it.
+TEST(Catheter, EmbeddedContactIsCheckedAtItsKeys) {
+  json doc = catheter_press_scene("xpbd");
+  doc["contact"] = {{"surface", "embedded"}};
+  std::string m = test::scene_error(doc, "e.json");
+  EXPECT_NE(m.find("contact.surface"), std::string::npos) << m;
+  EXPECT_NE(m.find("quasi_static"), std::string::npos) << m;  // names the models that take it
+  doc = catheter_press_scene("quasi_static");
+  doc["contact"] = {{"surface", "nodes"}, {"stiffness_pa_per_m", 1e10}};
+  m = test::scene_error(doc, "e.json");
+  EXPECT_NE(m.find("stiffness_pa_per_m"), std::string::npos) << m;
+  doc["contact"] = {{"surface", "embedded"}, {"sample_spacing_m", -1}};
+  m = test::scene_error(doc, "e.json");
+  EXPECT_NE(m.find("sample_spacing_m"), std::string::npos) << m;
+  doc["contact"] = {{"surface", "embedded"}};
+  doc["obstacles"][0]["node_radius_m"] = 1e-4;
+  m = test::scene_error(doc, "e.json");
+  EXPECT_NE(m.find("obstacles.0.node_radius_m"), std::string::npos) << m;
 }
 
 // The same press in xpbd, run to its steady state: force balance to 1 % (the remaining velocity is

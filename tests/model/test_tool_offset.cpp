@@ -15,7 +15,7 @@ namespace {
 // A 10 mm piece of the hand dorsal vein (outer radius 1.5 mm, wall 0.3 mm, E 0.5 MPa, ends clamped) at 0.3 mm
 // (28 columns 12.86 deg apart, 34 cross-sections 0.303 mm apart: 2,856 nodes); a 6 Fr catheter across it at
 // mid-length pressed 0.6 mm in 3 steps.
-nlohmann::json offset_press(double axial_offset_m, double lattice_angle_deg) {
+nlohmann::json offset_press(double axial_offset_m, double lattice_angle_deg, bool embedded = false) {
   nlohmann::json doc = nlohmann::json::parse(R"({
     "name": "tool-offset", "model": "quasi_static",
     "geometry": { "type": "tube", "outer_radius_m": 1.5e-3, "wall_thickness_m": 0.3e-3, "length_m": 10e-3,
@@ -31,6 +31,7 @@ nlohmann::json offset_press(double axial_offset_m, double lattice_angle_deg) {
   })");
   doc["obstacles"][0]["tip_m"][2] = 5e-3 + axial_offset_m;
   doc["geometry"]["lattice_angle_deg"] = lattice_angle_deg;
+  if (embedded) doc["contact"] = {{"surface", "embedded"}};
   return doc;
 }
 
@@ -68,6 +69,28 @@ TEST(ToolOffset, TheCatheterForceDoesNotDependOnWhereTheNodesFallSlow) {
   for (std::size_t k = 1; k < base.size(); ++k) {
     EXPECT_NEAR(moved[k] / base[k], 1.0, 0.025) << "step " << k + 1;
     EXPECT_NEAR(turned[k] / base[k], 1.0, 0.025) << "step " << k + 1;
+  }
+}
+
+// The same presses with the catheter against the wall's surface (contact.surface "embedded", docs/model.md
+// section 22.5): the surface between the nodes is part of the contact, so the force no longer depends on which
+// nodes the tool meets. Measured when written: -1.70 / +2.54 % at 0.2 mm, +0.61 / +0.90 % at 0.4 mm and +1.01 /
+// -0.32 % at 0.6 mm (the same at half the samples' spacing, +2.66 % at 0.2 mm: what remains at the onset is the
+// lattice's own elastic response to a load on a column or between two). Bounds: the issue's 2 % from 0.4 mm on,
+// 3 % at 0.2 mm (the measured 2.54 % plus half a point; contact at the nodes moves it by 4.5 % there).
+TEST(ToolOffset, TheEmbeddedCatheterForceDoesNotDependOnWhereTheNodesFallSlow) {
+  const double axial_step = 10e-3 / 33.0, column_deg = 360.0 / 28.0;
+  const std::vector<double> base = press_forces(offset_press(0.0, 0.0, true));
+  const std::vector<double> moved = press_forces(offset_press(0.5 * axial_step, 0.0, true));
+  const std::vector<double> turned = press_forces(offset_press(0.0, 0.5 * column_deg, true));
+  ASSERT_EQ(base.size(), 3u);
+  for (std::size_t k = 0; k < base.size(); ++k) {
+    std::printf("[ offset ] embedded, step %zu: %.4f mN; tool moved half a step %+.2f %%, lattice turned half a "
+                "column %+.2f %%\n",
+                k + 1, 1e3 * base[k], 100 * (moved[k] / base[k] - 1), 100 * (turned[k] / base[k] - 1));
+    const double bound = k == 0 ? 0.03 : 0.02;
+    EXPECT_NEAR(moved[k] / base[k], 1.0, bound) << "step " << k + 1;
+    EXPECT_NEAR(turned[k] / base[k], 1.0, bound) << "step " << k + 1;
   }
 }
 

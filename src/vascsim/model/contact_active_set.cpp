@@ -6,9 +6,10 @@
 
 namespace vascsim {
 
-ContactActiveSet::ContactActiveSet(const Problem& problem, const FreeDofs& free) : free_(free) {
+ContactActiveSet::ContactActiveSet(const Problem& problem, const FreeDofs& free, bool tools_meet_nodes)
+    : free_(free) {
   const auto n = static_cast<std::size_t>(problem.discretization().num_nodes());
-  geometry_.resize(problem.tools().size());
+  geometry_.resize(tools_meet_nodes ? problem.tools().size() : 0);
   contact_of_.assign(n, -1);
   normal_.assign(n, Vec3::Zero());
   lambda_.assign(n, 0.0);

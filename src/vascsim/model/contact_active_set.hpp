@@ -15,7 +15,9 @@ namespace vascsim {
 
 class ContactActiveSet {
  public:
-  ContactActiveSet(const Problem& problem, const FreeDofs& free);
+  /// With `tools_meet_nodes` false the set holds no tools (they meet the wall's surface instead,
+  /// embedded_contact.hpp) and every call is a no-op.
+  ContactActiveSet(const Problem& problem, const FreeDofs& free, bool tools_meet_nodes = true);
 
   /// No tools: every other call is a no-op.
   bool empty() const { return geometry_.empty(); }

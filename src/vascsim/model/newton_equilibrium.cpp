@@ -42,7 +42,8 @@ double NewtonEquilibrium::potential(const Vec3Array& x, const Vec3Array& f_ext, 
     for (Index i : free_.nodes) kinetic += m[i] * (x[i] - a[i]).squaredNorm();
     kinetic *= 0.5 * inertia.inv_h2;
   }
-  return problem_.energy().energy(x).total() - work + kinetic;
+  const double contact = embedded_ ? embedded_->energy(x) : 0.0;
+  return problem_.energy().energy(x).total() + contact - work + kinetic;
 }
 
 void NewtonEquilibrium::precondition(const Vec3Array& r, Vec3Array& z) const {
@@ -58,6 +59,7 @@ void NewtonEquilibrium::precondition(const Vec3Array& r, Vec3Array& z) const {
 void NewtonEquilibrium::hessian_product(const PointPrimitiveEnergy::Linearization& lin, const Vec3Array& x,
                                         const Vec3Array& p, const InertiaTerm& inertia, Vec3Array& Hp) const {
   problem_.energy().hessian_product(lin, p, Hp);
+  if (embedded_) embedded_->add_hessian_product(p, Hp);
   for (std::size_t i = 0; i < Hp.size(); ++i)
     if (problem_.constrained()[i]) Hp[i].setZero();
   if (inertia.active()) {
@@ -75,6 +77,7 @@ int NewtonEquilibrium::conjugate_gradients(const Vec3Array& x, const Vec3Array& 
   dx.assign(n, Vec3::Zero());
   Vec3Array r(n, Vec3::Zero()), z, p, Hp;
   const auto lin = problem_.energy().linearize(x);
+  if (embedded_) embedded_->linearize(x);
   use_correction_ = preconditioner_ != nullptr && !contacts_.empty() && correction_.update(*preconditioner_, compliance_);
   for (Index i : free_.nodes) r[i] = rhs[i];
   contacts_.filter(r);
@@ -121,6 +124,11 @@ double NewtonEquilibrium::residual(Vec3Array& x, double s, const Vec3Array& f_ex
   Vec3Array f_int;
   problem_.energy().forces(x, f_int);
   double reaction2 = 0.0, ext2 = 0.0, inertial2 = 0.0;
+  if (embedded_) {
+    embedded_->linearize(x);
+    embedded_->add_forces(f_int);
+    reaction2 = embedded_->squared_force();
+  }
   const auto& m = problem_.discretization().masses();
   for (Index i = 0; i < n; ++i) {
     r[i] = f_int[i] + f_ext[i];
@@ -171,6 +179,10 @@ bool NewtonEquilibrium::line_search(const Vec3Array& x, const Vec3Array& r, cons
       // the force residual instead.
       Vec3Array f_trial;
       problem_.energy().forces(trial, f_trial);
+      if (embedded_) {
+        embedded_->linearize(trial);
+        embedded_->add_forces(f_trial);
+      }
       const auto& m = problem_.discretization().masses();
       for (Index i : free_.nodes) {
         f_trial[i] += f_ext[i];

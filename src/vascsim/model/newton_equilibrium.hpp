@@ -17,6 +17,7 @@
 #include "vascsim/core/stopwatch.hpp"
 #include "vascsim/model/contact_active_set.hpp"
 #include "vascsim/model/contact_correction.hpp"
+#include "vascsim/model/embedded_contact.hpp"
 #include "vascsim/model/equilibrium_preconditioner.hpp"
 
 namespace vascsim {
@@ -69,6 +70,9 @@ class NewtonEquilibrium {
   /// from equilibrium. Default: 1e-8 of E Delta^2, the force that strains one neighbourhood by 100 %.
   void set_force_floor(double newton) { force_floor_ = newton; }
   void set_preconditioner(const EquilibriumPreconditioner* preconditioner) { preconditioner_ = preconditioner; }
+  /// Contact on the wall's surface (embedded_contact.hpp), one more energy term; null: none (the tools, if any,
+  /// meet the nodes through the active set).
+  void set_embedded_contact(EmbeddedContact* contact) { embedded_ = contact; }
   /// The contact compliance W over the contacts of the last solve, with the nodes and normals it belongs to
   /// (empty when the preconditioner has no multi-column solves).
   const ContactCorrection& contact_correction() const { return correction_; }
@@ -112,6 +116,7 @@ class NewtonEquilibrium {
   ContactActiveSet& contacts_;
   NewtonSettings settings_;
   const EquilibriumPreconditioner* preconditioner_ = nullptr;
+  EmbeddedContact* embedded_ = nullptr;
   Vec3Array r_unfiltered_;
   double force_floor_ = 0.0;
   mutable NodeCompliance compliance_;     // P^{-1} E_i per node, per factor (node_compliance.hpp)

@@ -6,9 +6,11 @@
 // (load steps for quasi_static, a time ramp for explicit).
 
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "vascsim/model/contact_surface.hpp"
 #include "vascsim/model/point_primitive_energy.hpp"
 #include "vascsim/model/rigid_obstacle.hpp"
 
@@ -56,6 +58,10 @@ class Problem {
   /// Rigid tools in frictionless one-sided contact with the nodes, in scene order (moved by the load factor,
   /// or posed by a device through DeviceDrivenModel).
   const std::vector<RigidObstacle>& tools() const { return tools_; }
+  /// The wall's surface the tools meet when contact is embedded (docs/model.md section 22.5); null: the tools
+  /// meet the nodes.
+  const ContactSurface* contact_surface() const { return contact_surface_.get(); }
+  void set_contact_surface(std::shared_ptr<const ContactSurface> surface) { contact_surface_ = std::move(surface); }
 
   /// Per node: true when its position is prescribed (fixed or displacement region).
   const std::vector<char>& constrained() const { return constrained_; }
@@ -77,6 +83,7 @@ class Problem {
   std::vector<Region> regions_;
   Vec3 gravity_;
   std::vector<RigidObstacle> tools_;
+  std::shared_ptr<const ContactSurface> contact_surface_;
   std::vector<char> constrained_;
   std::vector<int> constraint_region_;  // region index per constrained node, -1 otherwise
   Index num_constrained_ = 0;

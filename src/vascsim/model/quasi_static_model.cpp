@@ -30,7 +30,7 @@ ModelEntry quasi_static_model_entry() {
   e.summary = "static equilibrium by Newton-CG at every load step: force-displacement experiments, validation";
   e.capabilities = {.dynamic = false, .takes_tools = true, .device_driven = true, .releases_regions = false,
                     .quadratic_basis = true, .wall_support_default = true,
-                    .quadratic_stabilizer_default = true};
+                    .quadratic_stabilizer_default = true, .embedded_contact = true};
   e.read_settings = [](JsonReader& block) { return std::any(read_quasi_static_settings(block)); };
   e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
     return std::make_unique<QuasiStaticModel>(problem, settings_as<QuasiStaticSettings>(settings));
@@ -43,7 +43,7 @@ QuasiStaticModel::QuasiStaticModel(const Problem& problem, const QuasiStaticSett
       settings_(settings),
       x_(problem.discretization().rest_positions()),
       free_(problem),
-      contacts_(problem, free_),
+      contacts_(problem, free_, problem.contact_surface() == nullptr),
       tools_(problem.tools()),
       newton_(problem, free_, contacts_,
               NewtonSettings{settings.rel_tolerance, settings.max_newton_iterations, settings.max_cg_iterations,
@@ -53,6 +53,10 @@ QuasiStaticModel::QuasiStaticModel(const Problem& problem, const QuasiStaticSett
   if (!(settings.frame_s > 0.0)) throw InputError("quasi_static: frame_s must be > 0");
   if (problem.num_constrained() == 0)
     throw InputError("key 'regions': quasi_static needs a fixed or displacement region; a static solution needs supports");
+  if (const ContactSurface* surface = problem.contact_surface()) {
+    embedded_.emplace(*surface, problem.discretization().rest_positions(), problem.tools().size());
+    newton_.set_embedded_contact(&*embedded_);
+  }
   place_tools(0.0);
   obstacle_load_.assign(problem.tools().size(), ObstacleLoad{});
   if (settings_.preconditioner == "auto")
@@ -69,7 +73,12 @@ QuasiStaticModel::QuasiStaticModel(const Problem& problem, const QuasiStaticSett
 }
 
 void QuasiStaticModel::place_tools(double s) {
-  for (std::size_t o = 0; o < tools_.size(); ++o) contacts_.place(o, tools_.geometry(o, s));
+  for (std::size_t o = 0; o < tools_.size(); ++o) {
+    if (embedded_)
+      embedded_->place(o, tools_.geometry(o, s));
+    else
+      contacts_.place(o, tools_.geometry(o, s));
+  }
 }
 
 void QuasiStaticModel::set_tool_pose(std::size_t tool, const Vec3& position_m, const Eigen::Quaterniond& orientation) {
@@ -143,7 +152,12 @@ StepReport QuasiStaticModel::solve(double s) {
   problem_.external_forces(s, f_ext);
   predict(s, f_ext, rep);
   const NewtonResult r = newton_.solve(x_, s, f_ext, InertiaTerm{});
-  if (r.loads_measured && !contacts_.empty()) obstacle_load_ = contacts_.loads(newton_.last_residual(), x_, tools_.points(s));
+  if (r.loads_measured && embedded_) {
+    embedded_->linearize(x_);
+    obstacle_load_ = embedded_->loads(tools_.points(s));
+  } else if (r.loads_measured && !contacts_.empty()) {
+    obstacle_load_ = contacts_.loads(newton_.last_residual(), x_, tools_.points(s));
+  }
   rep.iterations = r.iterations;
   rep.inner_iterations += r.cg_iterations;
   rep.converged = r.converged;
@@ -211,6 +225,7 @@ nlohmann::json QuasiStaticModel::info() const {
           {"cg_iterations", total_cg_},
           {"unconverged_steps", unconverged_steps_},
           {"contact_passes", contact_passes_},
+          {"contact", embedded_ ? "embedded" : "nodes"},
           {"frame_s", settings_.frame_s}};
 }
 

@@ -19,6 +19,7 @@
 // other loads at full value (load factor 1); frame_s is the simulated time a frame stands for.
 
 #include <memory>
+#include <optional>
 
 #include "vascsim/model/contact_active_set.hpp"
 #include "vascsim/model/device_driven_model.hpp"
@@ -93,6 +94,7 @@ class QuasiStaticModel final : public Model, public DeviceDrivenModel {
   double s_ = 0.0, s_prev_ = 0.0, t_ = 0.0;
   FreeDofs free_;
   ContactActiveSet contacts_;
+  std::optional<EmbeddedContact> embedded_;  // the tools meet the wall's surface (problem.contact_surface())
   ToolPlacement tools_;
   NewtonEquilibrium newton_;
   std::unique_ptr<EquilibriumPreconditioner> preconditioner_;

@@ -35,6 +35,9 @@ struct ModelCapabilities {
   /// On such a wall its default energy.stabilizer_fit is "quadratic" (docs/model.md section 9.3): the same models,
   /// for the same reason; the others keep the stabiliser they were tuned with.
   bool quadratic_stabilizer_default = false;
+  /// takes contact.surface "embedded": its tools meet the wall's surface through a penalty term of its
+  /// equilibrium solve (embedded_contact.hpp)
+  bool embedded_contact = false;
 };
 
 struct ModelEntry {

@@ -84,6 +84,19 @@ std::vector<std::string> probe_columns(const Scene& scene) {
   return c;
 }
 
+// Where the tools meet the tissue: "nodes", or the embedded contact's surface (contact.surface).
+static nlohmann::json contact_info(const Simulation& sim) {
+  const auto& r = sim.contact_surface_report();
+  if (!r) return {{"surface", "nodes"}};
+  return {{"surface", "embedded"},
+          {"shape_functions", sim.scene().contact.interpolated ? "interpolated" : "mls"},
+          {"samples", r->samples},
+          {"interpolated_samples", r->interpolated},
+          {"node_samples", r->node_samples},
+          {"sample_spacing_m", r->spacing_m},
+          {"stiffness_pa_per_m", r->stiffness_pa_per_m}};
+}
+
 nlohmann::json describe_run(const Scene& scene, Simulation& sim) {
   const auto& disc = sim.discretization();
   const nlohmann::json wall_stretch = disc.wall_stretch() > 0.0 ? nlohmann::json(disc.wall_stretch()) : nlohmann::json();
@@ -104,6 +117,7 @@ nlohmann::json describe_run(const Scene& scene, Simulation& sim) {
           {"mass_kg", std::accumulate(disc.masses().begin(), disc.masses().end(), 0.0)},
           {"solver", sim.model().info()},
           {"threads", omp_get_max_threads()},
+          {"contact", contact_info(sim)},
           {"regions", region_reports(sim)}};
 }
 

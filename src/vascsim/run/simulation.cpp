@@ -12,6 +12,7 @@
 #include "vascsim/model/inversion_check.hpp"
 #include "vascsim/model/registry.hpp"
 #include "vascsim/run/body_builder.hpp"
+#include "vascsim/run/contact_surface_builder.hpp"
 #include "vascsim/run/discretization_setup.hpp"
 #include "vascsim/run/region_builder.hpp"
 
@@ -44,6 +45,13 @@ void Simulation::build(const BuildChecks& checks) {
   energy_ = std::make_unique<PointPrimitiveEnergy>(*disc_, energy);
   problem_ = std::make_unique<Problem>(*energy_, build_regions(scene, *disc_, *body_), scene.gravity_m_s2,
                                        scene.obstacles);
+  if (scene.contact.embedded) {
+    ContactSurfaceReport& r = contact_report_.emplace();
+    problem_->set_contact_surface(build_contact_surface(scene, *body_, *disc_, r));
+    spdlog::info("contact: the tools meet the wall's surface at {} samples {:.3g} m apart ({} interpolating their "
+                 "triangle's nodes, the others on the MLS map) and {} nodes below it, stiffness {:.3g} Pa/m",
+                 r.samples, r.spacing_m, r.interpolated, r.node_samples, r.stiffness_pa_per_m);
+  }
   selections_ = describe_selections(scene, *disc_, *body_, problem_->regions());
   for (const RegionSelection& r : selections_)
     for (const std::string& w : r.warnings) spdlog::warn("{}", w);
@@ -57,7 +65,7 @@ void Simulation::build(const BuildChecks& checks) {
     probe_nodes_.push_back(best);
   }
   for (const auto& o : scene.obstacles)
-    if (o.radius_m + o.node_radius_m < 2.0 * disc_->mean_spacing())
+    if (!scene.contact.embedded && o.radius_m + o.node_radius_m < 2.0 * disc_->mean_spacing())
       spdlog::warn("obstacle '{}': radius {:.3g} m + node_radius_m {:.3g} m is below 2 node spacings ({:.3g} m): the "
                    "tool may slip between nodes; set node_radius_m to about half the spacing (docs/haptics.md)",
                    o.name, o.radius_m, o.node_radius_m, 2.0 * disc_->mean_spacing());

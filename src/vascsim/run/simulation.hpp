@@ -6,11 +6,13 @@
 #include <chrono>
 #include <functional>
 #include <memory>
+#include <optional>
 
 #include "vascsim/geometry/vessel_body.hpp"
 #include "vascsim/mapping/mls_map.hpp"
 #include "vascsim/model/model.hpp"
 #include "vascsim/run/body_builder.hpp"
+#include "vascsim/run/contact_surface_builder.hpp"
 #include "vascsim/run/region_builder.hpp"
 #include "vascsim/run/region_report.hpp"
 #include "vascsim/scene/scene.hpp"
@@ -59,6 +61,8 @@ class Simulation {
   double setup_seconds() const { return setup_s_; }
   /// What every region selected beside what the scene asked (region_report.hpp), in scene order.
   const std::vector<RegionSelection>& region_selections() const { return selections_; }
+  /// What the embedded contact's surface holds (contact.surface "embedded"; empty otherwise).
+  const std::optional<ContactSurfaceReport>& contact_surface_report() const { return contact_report_; }
 
   /// The rest state (step 0).
   StepRecord initial_record() const;
@@ -85,6 +89,7 @@ class Simulation {
   Scene scene_;
   std::unique_ptr<Body> body_;
   std::unique_ptr<MlsMap> surface_map_;
+  std::optional<ContactSurfaceReport> contact_report_;
   std::unique_ptr<Discretization> disc_;
   std::unique_ptr<PointPrimitiveEnergy> energy_;
   std::unique_ptr<Problem> problem_;

@@ -445,6 +445,30 @@ void read_tools(JsonReader& root, Scene& sc) {
   }
 }
 
+void read_contact(JsonReader& root, Scene& sc) {
+  JsonReader c = root.object("contact");
+  sc.contact.embedded = c.string("surface", "nodes", {"nodes", "embedded"}) == "embedded";
+  if (c.has("shape_functions")) {
+    if (!sc.contact.embedded) c.fail("shape_functions", "applies to contact.surface \"embedded\" only");
+    sc.contact.interpolated = c.string("shape_functions", "interpolated", {"interpolated", "mls"}) == "interpolated";
+  }
+  if (c.has("stiffness_pa_per_m")) {
+    if (!sc.contact.embedded) c.fail("stiffness_pa_per_m", "applies to contact.surface \"embedded\" only");
+    sc.contact.stiffness_pa_per_m = c.number("stiffness_pa_per_m", 0.0, 1.0, 1e20);
+  }
+  if (c.has("sample_spacing_m")) {
+    if (!sc.contact.embedded) c.fail("sample_spacing_m", "applies to contact.surface \"embedded\" only");
+    sc.contact.sample_spacing_m = c.number("sample_spacing_m", 0.0, 1e-9, 1.0);
+  }
+  c.finish();
+  if (sc.contact.embedded)
+    for (std::size_t o = 0; o < sc.obstacles.size(); ++o)
+      if (sc.obstacles[o].node_radius_m > 0.0)
+        root.fail(fmt::format("obstacles.{}.node_radius_m", o),
+                  "keeps the nodes off the tool; with contact.surface \"embedded\" the tool meets the wall's "
+                  "surface: remove it (or set it to 0)");
+}
+
 // Every registered model's block, read by the model's own reader (so `--set other_model.key=...` is checked
 // too, and `--set model=...` finds its settings).
 void read_model_blocks(JsonReader& root, Scene& sc) {
@@ -546,6 +570,10 @@ void check_model_capabilities(JsonReader& root, Scene& sc) {
       root.fail(fmt::format("regions.{}.bc.release_time_s", r),
                 fmt::format("releasing a region is supported by the models {} (model is '{}')",
                             fmt::join(model_names_with(&ModelCapabilities::releases_regions), ", "), sc.model));
+  if (sc.contact.embedded && !model.capabilities.embedded_contact)
+    root.fail("contact.surface",
+              fmt::format("embedded contact is supported by the models {} (model is '{}')",
+                          fmt::join(model_names_with(&ModelCapabilities::embedded_contact), ", "), sc.model));
   if (sc.discretization.basis == GradientBasis::Quadratic && !model.capabilities.quadratic_basis)
     root.fail("discretization.basis",
               fmt::format("the quadratic basis is supported by the models {} (model is '{}', whose constraints "
@@ -639,6 +667,7 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   read_probes(root, sc);
   sc.gravity_m_s2 = root.vec3("gravity_m_s2", Vec3::Zero());
   read_tools(root, sc);
+  read_contact(root, sc);
   read_model_blocks(root, sc);
   read_haptics(root, file, sc);
   read_viewer(root, file, sc);

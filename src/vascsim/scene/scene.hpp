@@ -131,6 +131,18 @@ struct ViewerSpec {
   Vec3 anterior = Vec3::UnitY();
 };
 
+/// Where the tools meet the tissue (docs/model.md section 22; the top-level `contact` block).
+struct ContactSpec {
+  /// "nodes": the nodes are points the tools push (an active set); "embedded": the tools meet the wall's
+  /// MLS-mapped surface, sampled between the nodes, through a penalty (section 22.5).
+  bool embedded = false;
+  /// embedded: the samples' shape functions: true ("interpolated") the barycentric weights of their triangle's
+  /// nodes where its vertices are nodes, false ("mls") the MLS map of the rendered surface
+  bool interpolated = true;
+  double stiffness_pa_per_m = 0.0;  ///< embedded: pressure per metre of penetration, Pa/m; 0: 100 E / mean spacing
+  double sample_spacing_m = 0.0;    ///< embedded: spacing of the surface's samples, m; 0: a third of its mean edge
+};
+
 struct OutputSpec {
   bool vtk = false;    ///< node cloud series vtk/nodes.pvd
   bool surface = false;  ///< surface series vtk/surface.pvd (MLS-mapped; vessels and lattices)
@@ -151,6 +163,7 @@ struct Scene {
   std::vector<PointProbeSpec> probes;
   Vec3 gravity_m_s2 = Vec3::Zero();
   std::vector<RigidObstacle> obstacles;  ///< rigid tools, for models that take tools
+  ContactSpec contact;                   ///< how the tools meet the tissue
   /// Every registered model's settings, as its registry entry read them from its block (defaults when the
   /// block is absent), keyed by model name: the scene's model uses its own, `--set model=...` another's.
   std::map<std::string, std::any> model_settings;

@@ -1,0 +1,116 @@
+#include "vascsim/model/embedded_contact.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace vascsim {
+
+EmbeddedContact::EmbeddedContact(const ContactSurface& surface, const Vec3Array& rest_nodes_m, std::size_t tools)
+    : surface_(surface), rest_nodes_(rest_nodes_m), geometry_(tools) {}
+
+template <class F>
+void EmbeddedContact::for_each_penetration(const Vec3Array& x, F&& f) const {
+  if (geometry_.empty()) return;
+  // |x_v - S_v| <= phi_l1_v max_i |u_i| and the distance is 1-Lipschitz: a sample farther than that from every
+  // tool at rest cannot touch one now (most of the surface, at no cost beyond a distance per tool).
+  double u_max2 = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) u_max2 = std::max(u_max2, (x[i] - rest_nodes_[i]).squaredNorm());
+  const double u_max = std::sqrt(u_max2);
+  const Vec3Array& S = surface_.rest_points;
+  const auto& start = surface_.row_start;
+  const auto& col = surface_.col;
+  const auto& val = surface_.val;
+  for (Index v = 0; v < surface_.num_samples(); ++v) {
+    const double reach = surface_.phi_l1[static_cast<std::size_t>(v)] * u_max;
+    bool near = false;
+    for (const auto& g : geometry_) near = near || obstacle_contact(g, S[v]).value <= reach;
+    if (!near) continue;
+    Vec3 xv = S[v];
+    for (Index k = start[v]; k < start[v + 1]; ++k) {
+      const Index i = col[static_cast<std::size_t>(k)];
+      xv += val[static_cast<std::size_t>(k)] * (x[i] - rest_nodes_[i]);
+    }
+    int deepest = -1;
+    constraints::ContactConstraint c;
+    for (std::size_t o = 0; o < geometry_.size(); ++o) {
+      const auto co = obstacle_contact(geometry_[o], xv);
+      if (co.value < 0.0 && (deepest < 0 || co.value < c.value)) c = co, deepest = static_cast<int>(o);
+    }
+    if (deepest >= 0) f(v, deepest, xv, c);
+  }
+}
+
+double EmbeddedContact::energy(const Vec3Array& x) const {
+  double e = 0.0;
+  for_each_penetration(x, [&](Index v, int, const Vec3&, const constraints::ContactConstraint& c) {
+    e += 0.5 * surface_.stiffness_pa_per_m * surface_.area_m2[static_cast<std::size_t>(v)] * c.value * c.value;
+  });
+  return e;
+}
+
+void EmbeddedContact::linearize(const Vec3Array& x) {
+  active_.clear();
+  for_each_penetration(x, [&](Index v, int o, const Vec3& xv, const constraints::ContactConstraint& c) {
+    const double ka = surface_.stiffness_pa_per_m * surface_.area_m2[static_cast<std::size_t>(v)];
+    const double depth = -c.value;
+    const Vec3& n = c.normal;
+    // The distance's curvature: grad^2 d = (I - n n^T - e e^T) / d, e the capsule's axis on its cylinder
+    // (0 on the rounded ends), d the distance to the core; the penetrating depth softens the normal stiffness
+    // by depth / d along the surface.
+    const constraints::Capsule& g = geometry_[static_cast<std::size_t>(o)];
+    const Vec3 ab = g.b - g.a;
+    const double len2 = ab.squaredNorm();
+    const double t = len2 > 0.0 ? (xv - g.a).dot(ab) / len2 : 0.0;
+    const Vec3 e = t > 0.0 && t < 1.0 ? Vec3(ab / std::sqrt(len2)) : Vec3::Zero();
+    const double core = std::max(g.radius_m - depth, 1e-12);
+    const Mat3 nn = n * n.transpose();
+    const Mat3 K = ka * (nn - (depth / core) * (Mat3::Identity() - nn - e * e.transpose()));
+    active_.push_back({v, o, xv, n, depth, K});
+  });
+}
+
+void EmbeddedContact::add_forces(Vec3Array& f) const {
+  const auto& start = surface_.row_start;
+  const auto& col = surface_.col;
+  const auto& val = surface_.val;
+  for (const Contact& c : active_) {
+    const Vec3 fv = surface_.stiffness_pa_per_m * surface_.area_m2[static_cast<std::size_t>(c.sample)] * c.depth * c.normal;
+    for (Index k = start[c.sample]; k < start[c.sample + 1]; ++k)
+      f[col[static_cast<std::size_t>(k)]] += val[static_cast<std::size_t>(k)] * fv;
+  }
+}
+
+void EmbeddedContact::add_hessian_product(const Vec3Array& p, Vec3Array& Hp) const {
+  const auto& start = surface_.row_start;
+  const auto& col = surface_.col;
+  const auto& val = surface_.val;
+  for (const Contact& c : active_) {
+    Vec3 pv = Vec3::Zero();
+    for (Index k = start[c.sample]; k < start[c.sample + 1]; ++k)
+      pv += val[static_cast<std::size_t>(k)] * p[col[static_cast<std::size_t>(k)]];
+    const Vec3 hv = c.stiffness * pv;
+    for (Index k = start[c.sample]; k < start[c.sample + 1]; ++k)
+      Hp[col[static_cast<std::size_t>(k)]] += val[static_cast<std::size_t>(k)] * hv;
+  }
+}
+
+std::vector<ObstacleLoad> EmbeddedContact::loads(const std::vector<Vec3>& tool_points) const {
+  std::vector<ObstacleLoad> out(geometry_.size());
+  for (const Contact& c : active_) {
+    const Vec3 fv = surface_.stiffness_pa_per_m * surface_.area_m2[static_cast<std::size_t>(c.sample)] * c.depth * c.normal;
+    ObstacleLoad& l = out[static_cast<std::size_t>(c.tool)];
+    l.force_n += fv;
+    l.torque_n_m += (c.position - tool_points.at(static_cast<std::size_t>(c.tool))).cross(fv);
+    ++l.contacts;
+  }
+  return out;
+}
+
+double EmbeddedContact::squared_force() const {
+  std::vector<Vec3> points(geometry_.size(), Vec3::Zero());
+  double s = 0.0;
+  for (const ObstacleLoad& l : loads(points)) s += l.force_n.squaredNorm();
+  return s;
+}
+
+}  // namespace vascsim

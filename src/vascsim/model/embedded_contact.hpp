@@ -1,0 +1,63 @@
+#pragma once
+// Frictionless contact between the tools and the wall's surface, not its nodes (docs/model.md section 22.5):
+// a penalty on the penetration of the surface's quadrature points (contact_surface.hpp),
+//   U_c(x) = sum_v (k a_v / 2) max(0, -C(x_v))^2,   x_v = S_v + sum_i phi_vi (x_i - X_i),
+// C the tool's signed distance, k the contact stiffness (Pa/m) and a_v the sample's area. The tool's force is
+// the sum of the samples' pressures times their areas, and the nodes receive phi_vi times each sample's force,
+// so the reaction is consistent with the map (virtual work). The surface is smooth between the nodes, so the
+// force does not depend on where the nodes fall under the tool, as it does for contact at the nodes.
+//
+// Used by the equilibrium solve (newton_equilibrium.hpp) as one more energy term: value, forces at a
+// linearisation point, and Hessian-vector products there.
+
+#include <vector>
+
+#include "vascsim/model/contact_surface.hpp"
+#include "vascsim/model/rigid_obstacle.hpp"
+
+namespace vascsim {
+
+class EmbeddedContact {
+ public:
+  /// `surface` (with the rest node positions X it was built on) must outlive this; `tools` the number of tools.
+  EmbeddedContact(const ContactSurface& surface, const Vec3Array& rest_nodes_m, std::size_t tools);
+
+  void place(std::size_t o, const constraints::Capsule& geometry) { geometry_.at(o) = geometry; }
+  const constraints::Capsule& geometry(std::size_t o) const { return geometry_.at(o); }
+
+  /// U_c at x, J.
+  double energy(const Vec3Array& x) const;
+  /// Finds the penetrating samples at x; forces, Hessian products and loads then refer to x.
+  void linearize(const Vec3Array& x);
+  /// Adds the contact forces on the nodes (-dU_c/dx at the linearisation), N.
+  void add_forces(Vec3Array& f) const;
+  /// Adds (d^2 U_c/dx^2) p at the linearisation.
+  void add_hessian_product(const Vec3Array& p, Vec3Array& Hp) const;
+  /// Per tool at the linearisation: the force on the tissue, its moment about tool_points[o] and the number
+  /// of samples in contact.
+  std::vector<ObstacleLoad> loads(const std::vector<Vec3>& tool_points) const;
+  /// Sum over tools of |force on the tissue|^2 at the linearisation, N^2 (the equilibrium residual's scale).
+  double squared_force() const;
+  int active() const { return static_cast<int>(active_.size()); }
+
+ private:
+  struct Contact {
+    Index sample;
+    int tool;
+    Vec3 position;   // x_v, m
+    Vec3 normal;     // out of the tool
+    double depth;    // penetration, m (> 0)
+    Mat3 stiffness;       // d^2 U_c / dx_v^2, N/m
+  };
+  // Calls f(v, o, x_v, C) for every sample that may penetrate a tool at x (bounded by the largest node
+  // displacement) and does.
+  template <class F>
+  void for_each_penetration(const Vec3Array& x, F&& f) const;
+
+  const ContactSurface& surface_;
+  const Vec3Array& rest_nodes_;
+  std::vector<constraints::Capsule> geometry_;
+  std::vector<Contact> active_;
+};
+
+}  // namespace vascsim

@@ -1,0 +1,32 @@
+#pragma once
+// Builds the wall's contact surface for embedded contact (model/contact_surface.hpp, docs/model.md section
+// 22.5) from the body's render surface: samples between the vertices (geometry/surface_samples.hpp) and their
+// shape functions over the nodes, either
+//   "interpolated": the barycentric weights of the triangle's vertices, where each vertex is a node (the
+//                   swept vessels' surfaces are their outer and inner node layers), or
+//   "mls":          the MLS map of the rendered surface (mapping/mls_map.hpp), for any surface.
+// "interpolated" falls back to "mls" for a triangle whose vertices are not all nodes. Every node that no sample
+// interpolates is also a sample of its own (the nodes below the surface must not enter a tool; see the .cpp).
+
+#include <memory>
+
+#include "vascsim/geometry/vessel_body.hpp"
+#include "vascsim/model/contact_surface.hpp"
+#include "vascsim/model/discretization.hpp"
+#include "vascsim/scene/scene.hpp"
+
+namespace vascsim {
+
+struct ContactSurfaceReport {
+  Index samples = 0;
+  Index interpolated = 0;  ///< samples with barycentric shape functions
+  Index node_samples = 0;  ///< nodes that are samples of their own (not interpolated by the surface's samples)
+  double spacing_m = 0.0;
+  double stiffness_pa_per_m = 0.0;
+};
+
+/// Throws InputError when the body has no surface.
+std::shared_ptr<const ContactSurface> build_contact_surface(const Scene& scene, const Body& body,
+                                                            const Discretization& disc, ContactSurfaceReport& report);
+
+}  // namespace vascsim

@@ -1,0 +1,138 @@
+// Embedded contact (model/embedded_contact.hpp): the penalty's forces are minus the gradient of its energy, its
+// Hessian products the derivative of those forces, and the tool's force is what the nodes receive (the shape
+// functions are a partition of unity, so the reaction is consistent with the map).
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "vascsim/model/embedded_contact.hpp"
+
+namespace vascsim {
+namespace {
+
+struct Fixture {
+  Vec3Array X;  // rest nodes, m
+  ContactSurface surface;
+};
+
+// 30 nodes in a 1 mm box under a 2 x 2 mm patch of 400 samples at z = 0; each sample takes 4 random nodes with
+// random weights that sum to 1. A sphere of 1 mm radius presses 50 um into the patch from above.
+Fixture make_fixture(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<Index> pick(0, 29);
+  Fixture f;
+  for (int i = 0; i < 30; ++i) f.X.push_back(Vec3(1e-3 * u(rng), 1e-3 * u(rng), -0.5e-3 + 0.5e-3 * u(rng)));
+  ContactSurface& s = f.surface;
+  s.row_start.push_back(0);
+  for (int a = 0; a < 20; ++a)
+    for (int b = 0; b < 20; ++b) {
+      s.rest_points.push_back(Vec3(-1e-3 + 0.1e-3 * (a + 0.5), -1e-3 + 0.1e-3 * (b + 0.5), 0.0));
+      s.area_m2.push_back(1e-8);
+      double sum = 0.0;
+      std::vector<double> w(4);
+      for (double& x : w) sum += (x = 0.5 + 0.5 * u(rng));
+      for (double x : w) {
+        s.col.push_back(pick(rng));
+        s.val.push_back(x / sum);
+      }
+      s.row_start.push_back(static_cast<Index>(s.col.size()));
+    }
+  s.stiffness_pa_per_m = 1e11;
+  s.finish();
+  return f;
+}
+
+constraints::Capsule pressing_sphere() { return {Vec3(0.1e-3, -0.05e-3, 0.95e-3), Vec3(0.1e-3, -0.05e-3, 0.95e-3), 1e-3}; }
+
+// Central differences of the energy with a step of 1 nm (1e-6 of the box; the energy is piecewise quadratic,
+// so the truncation error is round-off, about 1e-7 of the largest force): within 1e-5 of the largest force.
+TEST(EmbeddedContact, ForcesAreMinusTheEnergyGradient) {
+  std::mt19937 rng(7);
+  Fixture f = make_fixture(rng);
+  EmbeddedContact contact(f.surface, f.X, 1);
+  contact.place(0, pressing_sphere());
+  Vec3Array x = f.X;
+  std::normal_distribution<double> n(0.0, 2e-6);
+  for (Vec3& p : x) p += Vec3(n(rng), n(rng), n(rng));
+  contact.linearize(x);
+  ASSERT_GT(contact.active(), 20);
+  Vec3Array force(x.size(), Vec3::Zero());
+  contact.add_forces(force);
+  double largest = 0.0;
+  for (const Vec3& g : force) largest = std::max(largest, g.cwiseAbs().maxCoeff());
+  ASSERT_GT(largest, 0.0);
+  const double h = 1e-9;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      Vec3Array xp = x, xm = x;
+      xp[i][k] += h;
+      xm[i][k] -= h;
+      const double fd = -(contact.energy(xp) - contact.energy(xm)) / (2 * h);
+      EXPECT_NEAR(force[i][k], fd, 1e-5 * largest) << "node " << i << " component " << k;
+    }
+}
+
+// (d^2 U / dx^2) p against the central difference of the forces along p (step 1 nm): within 1e-5 of the largest
+// entry (the active set does not change within the step).
+TEST(EmbeddedContact, HessianProductIsTheForcesDerivative) {
+  std::mt19937 rng(11);
+  Fixture f = make_fixture(rng);
+  EmbeddedContact contact(f.surface, f.X, 1);
+  contact.place(0, pressing_sphere());
+  Vec3Array x = f.X, p(f.X.size());
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    x[i] += 2e-6 * Vec3(n(rng), n(rng), n(rng));
+    p[i] = Vec3(n(rng), n(rng), n(rng));
+  }
+  const auto forces_at = [&](const Vec3Array& y) {
+    Vec3Array g(y.size(), Vec3::Zero());
+    contact.linearize(y);
+    contact.add_forces(g);
+    return g;
+  };
+  const double h = 1e-9;
+  Vec3Array xp = x, xm = x;
+  for (std::size_t i = 0; i < x.size(); ++i) xp[i] += h * p[i], xm[i] -= h * p[i];
+  const Vec3Array fp = forces_at(xp), fm = forces_at(xm);
+  contact.linearize(x);
+  Vec3Array Hp(x.size(), Vec3::Zero());
+  contact.add_hessian_product(p, Hp);
+  double largest = 0.0;
+  for (const Vec3& g : Hp) largest = std::max(largest, g.cwiseAbs().maxCoeff());
+  ASSERT_GT(largest, 0.0);
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(Hp[i][k], -(fp[i][k] - fm[i][k]) / (2 * h), 1e-5 * largest) << "node " << i << " component " << k;
+}
+
+// The tool's force is the sum of what the nodes receive (to round-off: the weights sum to 1), points away from
+// the tool (the sphere presses down), and its moment about the sphere's centre vanishes (every sample's force is
+// along the normal through the centre).
+TEST(EmbeddedContact, TheToolFeelsWhatTheNodesReceive) {
+  std::mt19937 rng(3);
+  Fixture f = make_fixture(rng);
+  EmbeddedContact contact(f.surface, f.X, 1);
+  const constraints::Capsule sphere = pressing_sphere();
+  contact.place(0, sphere);
+  contact.linearize(f.X);
+  Vec3Array force(f.X.size(), Vec3::Zero());
+  contact.add_forces(force);
+  Vec3 total = Vec3::Zero();
+  for (const Vec3& g : force) total += g;
+  const ObstacleLoad load = contact.loads({sphere.a}).at(0);
+  EXPECT_EQ(load.contacts, contact.active());
+  EXPECT_LT(load.force_n.z(), 0.0);
+  EXPECT_NEAR((load.force_n - total).norm(), 0.0, 1e-12 * load.force_n.norm());
+  EXPECT_NEAR(load.torque_n_m.norm(), 0.0, 1e-12 * load.force_n.norm() * sphere.radius_m);
+  EXPECT_NEAR(contact.squared_force(), load.force_n.squaredNorm(), 1e-12 * load.force_n.squaredNorm());
+  // Nothing penetrates once the sphere is lifted clear.
+  contact.place(0, {sphere.a + Vec3(0, 0, 0.1e-3), sphere.a + Vec3(0, 0, 0.1e-3), sphere.radius_m});
+  contact.linearize(f.X);
+  EXPECT_EQ(contact.active(), 0);
+  EXPECT_EQ(contact.energy(f.X), 0.0);
+}
+
+}  // namespace
+}  // namespace vascsim

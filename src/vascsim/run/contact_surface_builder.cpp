@@ -46,8 +46,7 @@ std::shared_ptr<const ContactSurface> build_contact_surface(const Scene& scene, 
   const auto nv = samples.positions.size();
 
   // Which samples interpolate their triangle's nodes; the others take the MLS map.
-  std::vector<Index> node;
-  if (spec.interpolated) node = node_at_vertex(surf, disc);
+  const std::vector<Index> node = node_at_vertex(surf, disc);
   std::vector<char> interp(nv, 0);
   Vec3Array mls_points;
   std::vector<std::size_t> mls_of;
@@ -85,12 +84,16 @@ std::shared_ptr<const ContactSurface> build_contact_surface(const Scene& scene, 
   }
   // Nodes below the surface must not enter a tool either: a hard press can fold the outer layer past the next
   // one (a 0.5 mm block pressed 1 mm by a capsule across its edge did), and then nothing held the inner nodes. Each
-  // node that no sample interpolates is a sample of its own (shape function 1 on itself, area mean spacing^2); it
-  // acts only if that node enters a tool, which the surface's own samples prevent in an ordinary press.
+  // node below the surface is a sample of its own (shape function 1 on itself, area mean spacing^2); it acts only
+  // if that node enters a tool, which the surface's own samples prevent in an ordinary press. The nodes on the
+  // surface (its vertices, a wall's outer and inner layers) are not: the surface's samples are their contact, and
+  // with the MLS map's smoothed surface they would otherwise touch the tool as nodes again.
   std::vector<char> on_surface(static_cast<std::size_t>(disc.num_nodes()), 0);
-  for (std::size_t v = 0; v < nv; ++v)
-    if (interp[v])
-      for (Index k = out->row_start[v]; k < out->row_start[v + 1]; ++k) on_surface[out->col[static_cast<std::size_t>(k)]] = 1;
+  for (Index i : node)
+    if (i >= 0) on_surface[static_cast<std::size_t>(i)] = 1;
+  if (body.wall)
+    for (Index i = 0; i < disc.num_nodes(); ++i)
+      if (body.wall->on_outer(i) || body.wall->on_inner(i)) on_surface[static_cast<std::size_t>(i)] = 1;
   const double node_area = disc.mean_spacing() * disc.mean_spacing();
   for (Index i = 0; i < disc.num_nodes(); ++i) {
     if (on_surface[static_cast<std::size_t>(i)]) continue;

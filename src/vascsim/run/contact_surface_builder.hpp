@@ -5,8 +5,8 @@
 //   "interpolated": the barycentric weights of the triangle's vertices, where each vertex is a node (the
 //                   swept vessels' surfaces are their outer and inner node layers), or
 //   "mls":          the MLS map of the rendered surface (mapping/mls_map.hpp), for any surface.
-// "interpolated" falls back to "mls" for a triangle whose vertices are not all nodes. Every node that no sample
-// interpolates is also a sample of its own (the nodes below the surface must not enter a tool; see the .cpp).
+// "interpolated" falls back to "mls" for a triangle whose vertices are not all nodes. Every node below the surface
+// is also a sample of its own (it must not enter a tool either; see the .cpp).
 
 #include <memory>
 
@@ -20,7 +20,7 @@ namespace vascsim {
 struct ContactSurfaceReport {
   Index samples = 0;
   Index interpolated = 0;  ///< samples with barycentric shape functions
-  Index node_samples = 0;  ///< nodes that are samples of their own (not interpolated by the surface's samples)
+  Index node_samples = 0;  ///< nodes below the surface, samples of their own
   double spacing_m = 0.0;
   double stiffness_pa_per_m = 0.0;
 };

@@ -6,7 +6,8 @@
 //
 // Contact is between the tool and the interior nodes, which are points (node-sphere radius 0): the vessel
 // scenes put node layers on the inner and outer wall surfaces, so the tool meets the wall where it is
-// rendered (docs/haptics.md, "Where contact is detected").
+// rendered (docs/haptics.md, "Where contact is detected"). quasi_static can instead let the tools meet the wall's
+// surface between the nodes (contact.surface "embedded", embedded_contact.hpp).
 
 #include <Eigen/Geometry>
 #include <string>

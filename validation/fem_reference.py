@@ -35,13 +35,17 @@ sys.path.insert(0, HERE)
 
 from fem import cases, ccx, richardson, svk_check  # noqa: E402
 
+def scene(a, bundled):
+    """The case's scene file: --scene, or the bundled one."""
+    return a.scene or os.path.join(ROOT, "scenes", bundled)
+
+
 CASES = {
-    "vein-indent": lambda a: cases.BondedPatch(os.path.join(ROOT, "scenes", "vein-indent.json"), family=a.family,
+    "vein-indent": lambda a: cases.BondedPatch(scene(a, "vein-indent.json"), family=a.family,
                                                whole_circumference=a.whole_circumference),
-    "vein-catheter": lambda a: cases.CatheterPress(os.path.join(ROOT, "scenes", "hand-dorsal-vein-catheter.json"),
-                                                   penalty=a.penalty),
-    "aorta-bent": lambda a: cases.BondedPatch(os.path.join(ROOT, "scenes", "aorta-bent.json"), family=a.family),
-    "cantilever": lambda a: cases.Cantilever(os.path.join(ROOT, "scenes", "cantilever.json")),
+    "vein-catheter": lambda a: cases.CatheterPress(scene(a, "hand-dorsal-vein-catheter.json"), penalty=a.penalty),
+    "aorta-bent": lambda a: cases.BondedPatch(scene(a, "aorta-bent.json"), family=a.family),
+    "cantilever": lambda a: cases.Cantilever(scene(a, "cantilever.json")),
 }
 
 
@@ -109,6 +113,8 @@ def main():
     ap.add_argument("--work", default=None, help="deck directory (default out/fem/<case>)")
     ap.add_argument("--out", default=os.path.join(HERE, "references"), help="where the CSV files go")
     ap.add_argument("--name", default=None, help="file name of the reference (default: the case)")
+    ap.add_argument("--scene", default=None, help="a scene file of the case's kind instead of the bundled one "
+                    "(e.g. the catheter scene with another material; give --name too)")
     ap.add_argument("--rerun", action="store_true", help="run ccx even where a level's results exist")
     a = ap.parse_args()
     if a.case == "svk-check":

@@ -65,7 +65,7 @@ void EmbeddedContact::linearize(const Vec3Array& x) {
     const double core = std::max(g.radius_m - depth, 1e-12);
     const Mat3 nn = n * n.transpose();
     const Mat3 K = ka * (nn - (depth / core) * (Mat3::Identity() - nn - e * e.transpose()));
-    active_.push_back({v, o, xv, n, depth, K});
+    active_.push_back({v, o, xv, n, depth, ka * depth * n, K});
   });
 }
 
@@ -73,11 +73,9 @@ void EmbeddedContact::add_forces(Vec3Array& f) const {
   const auto& start = surface_.row_start;
   const auto& col = surface_.col;
   const auto& val = surface_.val;
-  for (const Contact& c : active_) {
-    const Vec3 fv = surface_.stiffness_pa_per_m * surface_.area_m2[static_cast<std::size_t>(c.sample)] * c.depth * c.normal;
+  for (const Contact& c : active_)
     for (Index k = start[c.sample]; k < start[c.sample + 1]; ++k)
-      f[col[static_cast<std::size_t>(k)]] += val[static_cast<std::size_t>(k)] * fv;
-  }
+      f[col[static_cast<std::size_t>(k)]] += val[static_cast<std::size_t>(k)] * c.force;
 }
 
 void EmbeddedContact::add_hessian_product(const Vec3Array& p, Vec3Array& Hp) const {
@@ -97,19 +95,19 @@ void EmbeddedContact::add_hessian_product(const Vec3Array& p, Vec3Array& Hp) con
 std::vector<ObstacleLoad> EmbeddedContact::loads(const std::vector<Vec3>& tool_points) const {
   std::vector<ObstacleLoad> out(geometry_.size());
   for (const Contact& c : active_) {
-    const Vec3 fv = surface_.stiffness_pa_per_m * surface_.area_m2[static_cast<std::size_t>(c.sample)] * c.depth * c.normal;
     ObstacleLoad& l = out[static_cast<std::size_t>(c.tool)];
-    l.force_n += fv;
-    l.torque_n_m += (c.position - tool_points.at(static_cast<std::size_t>(c.tool))).cross(fv);
+    l.force_n += c.force;
+    l.torque_n_m += (c.position - tool_points.at(static_cast<std::size_t>(c.tool))).cross(c.force);
     ++l.contacts;
   }
   return out;
 }
 
 double EmbeddedContact::squared_force() const {
-  std::vector<Vec3> points(geometry_.size(), Vec3::Zero());
+  std::vector<Vec3> per_tool(geometry_.size(), Vec3::Zero());
+  for (const Contact& c : active_) per_tool[static_cast<std::size_t>(c.tool)] += c.force;
   double s = 0.0;
-  for (const ObstacleLoad& l : loads(points)) s += l.force_n.squaredNorm();
+  for (const Vec3& f : per_tool) s += f.squaredNorm();
   return s;
 }
 

@@ -47,6 +47,7 @@ class EmbeddedContact {
     Vec3 position;   // x_v, m
     Vec3 normal;     // out of the tool
     double depth;    // penetration, m (> 0)
+    Vec3 force;      // k a_v depth n: the sample's force on the tissue, N
     Mat3 stiffness;       // d^2 U_c / dx_v^2, N/m
   };
   // Calls f(v, o, x_v, C) for every sample that may penetrate a tool at x (bounded by the largest node

@@ -116,6 +116,10 @@ class Discretization {
   std::string growth_advice(const std::vector<int>& failed, double h0, const DiscretizationOptions& opt) const;
   void compute_volumes(const DiscretizationOptions& opt);
   Eigen::MatrixXd quadratic_residual_operator(Index i) const;
+  /// The wall normal the wall-quadratic basis fits node i in (nullptr for the other bases).
+  const Vec3* fit_normal(Index i) const {
+    return fit_normals_.empty() ? nullptr : &fit_normals_[static_cast<std::size_t>(i)];
+  }
 
   NodeCloud cloud_;
   Material material_;
@@ -126,7 +130,8 @@ class Discretization {
   std::vector<double> moment_trace_, V_, m_, h_;
   std::vector<Mat3> moment_;
   GradientBasis basis_ = GradientBasis::Linear;
-  std::vector<Vec9> fit_;  // quadratic basis: w_ij B_i^{-1} p(X_ij / h_i) per pair (dimensionless)
+  std::vector<Vec9> fit_;  // quadratic bases: w_ij B_i^{-1} p(X_ij / h_i) per pair (dimensionless)
+  Vec3Array fit_normals_;  // wall-quadratic basis: the wall's unit normal per node
   double mean_spacing_ = 0.0, min_spacing_ = 0.0, tet_volume_ = 0.0;
   int grown_nodes_ = 0;
   double wall_stretch_ = 0.0;

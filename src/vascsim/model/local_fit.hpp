@@ -17,24 +17,45 @@
 // Either way F_i = sum_j (x_j - x_i) d_ij^T, so the energy, its forces and its Hessian are the same code for both.
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "vascsim/core/types.hpp"
 
 namespace vascsim {
 
 enum class GradientBasis {
-  Linear,    ///< Eq. 4 as in the paper (default)
-  Quadratic  ///< second-order consistent fit (docs/model.md section 5.1)
+  Linear,        ///< Eq. 4 as in the paper (default)
+  Quadratic,     ///< second-order consistent fit (docs/model.md section 5.1)
+  WallQuadratic  ///< the quadratic fit without the through-wall square (docs/model.md section 5.2)
 };
 
-/// Number of monomials of a basis: 3 or 9.
-inline int fit_terms(GradientBasis basis) { return basis == GradientBasis::Linear ? 3 : 9; }
+/// Whether a basis fits second derivatives (and so keeps the fit's coefficients per pair).
+inline bool fits_curvature(GradientBasis basis) { return basis != GradientBasis::Linear; }
+
+/// Number of monomials of a basis: 3, 9 or 8.
+inline int fit_terms(GradientBasis basis) {
+  return basis == GradientBasis::Linear ? 3 : basis == GradientBasis::Quadratic ? 9 : 8;
+}
 
 /// Quadratic monomials of X / s: (x, y, z, x^2, xy, xz, y^2, yz, z^2) of the scaled vector.
 inline Vec9 quadratic_monomials(const Vec3& X, double s) {
   const Vec3 y = X / s;
   Vec9 p;
   p << y.x(), y.y(), y.z(), y.x() * y.x(), y.x() * y.y(), y.x() * y.z(), y.y() * y.y(), y.y() * y.z(), y.z() * y.z();
+  return p;
+}
+
+/// The wall-quadratic basis's monomials of X / s (docs/model.md section 5.2): the linear ones in the global frame,
+/// then, in the frame (t1, t2, n) of the wall's unit normal n, t1^2, t1 t2, t2^2, t1 n, t2 n; the last entry is 0
+/// (the through-wall square n^2 is left out). The choice of t1, t2 in the tangent plane does not change the fit:
+/// either set of monomials spans the same functions.
+inline Vec9 wall_quadratic_monomials(const Vec3& X, double s, const Vec3& normal) {
+  const Vec3 y = X / s;
+  const Vec3 t1 = normal.unitOrthogonal();
+  const Vec3 t2 = normal.cross(t1);
+  const double a = y.dot(t1), b = y.dot(t2), c = y.dot(normal);
+  Vec9 p;
+  p << y.x(), y.y(), y.z(), a * a, a * b, b * b, a * c, b * c, 0.0;
   return p;
 }
 

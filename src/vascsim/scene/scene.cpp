@@ -290,15 +290,16 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
   sc.discretization.min_neighbours = disc.integer("min_neighbours", 12, 4, 200);
   sc.discretization.min_eigen_ratio = disc.number("min_eigen_ratio", 1e-3, 1e-12, 1.0);
   sc.discretization.max_growths = disc.integer("max_growths", 3, 0, 10);
-  sc.discretization.basis = disc.string("basis", "linear", {"linear", "quadratic"}) == "quadratic"
-                                ? GradientBasis::Quadratic
-                                : GradientBasis::Linear;
+  const std::string basis = disc.string("basis", "linear", {"linear", "quadratic", "wall_quadratic"});
+  sc.discretization.basis = basis == "quadratic"        ? GradientBasis::Quadratic
+                            : basis == "wall_quadratic" ? GradientBasis::WallQuadratic
+                                                        : GradientBasis::Linear;
   // The quadratic basis's partner is the Simpson rule wherever the lattice has layers (docs/model.md section 4):
   // with the tet partition's trapezoid weights it overestimates a bending field's energy by half.
   const bool layered = sc.geometry.type != "mesh";
   const char* volume_default = literal                                                          ? "mueller_kernel"
-                               : sc.discretization.basis == GradientBasis::Quadratic && layered ? "simpson"
-                                                                                                : "tet_partition";
+                               : fits_curvature(sc.discretization.basis) && layered ? "simpson"
+                                                                                    : "tet_partition";
   const std::string volume = disc.string("volume", volume_default, {"tet_partition", "mueller_kernel", "simpson"});
   if (volume == "simpson" && !layered)
     disc.fail("volume", "'simpson' needs a lattice with node layers (geometry type 'tube', 'vessel', 'box' or "
@@ -314,6 +315,10 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
   sc.discretization.support = disc.string("support", support_default, {"isotropic", "wall"}) == "wall"
                                   ? DiscretizationOptions::Support::Wall
                                   : DiscretizationOptions::Support::Isotropic;
+  if (sc.discretization.basis == GradientBasis::WallQuadratic &&
+      sc.discretization.support != DiscretizationOptions::Support::Wall)
+    disc.fail("basis", "'wall_quadratic' fits in the frame of the wall and needs discretization.support 'wall' (a "
+                       "geometry of type 'tube' or 'vessel'); use 'linear' or 'quadratic'");
   sc.discretization.quadratic_min_neighbours = disc.integer("quadratic_min_neighbours", 18, 9, 200);
   sc.discretization.quadratic_min_eigen_ratio = disc.number("quadratic_min_eigen_ratio", 1e-6, 1e-14, 1.0);
   disc.finish();
@@ -574,7 +579,7 @@ void check_model_capabilities(JsonReader& root, Scene& sc) {
     root.fail("contact.surface",
               fmt::format("embedded contact is supported by the models {} (model is '{}')",
                           fmt::join(model_names_with(&ModelCapabilities::embedded_contact), ", "), sc.model));
-  if (sc.discretization.basis == GradientBasis::Quadratic && !model.capabilities.quadratic_basis)
+  if (fits_curvature(sc.discretization.basis) && !model.capabilities.quadratic_basis)
     root.fail("discretization.basis",
               fmt::format("the quadratic basis is supported by the models {} (model is '{}', whose constraints "
                           "assume the linear fit)",

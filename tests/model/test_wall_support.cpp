@@ -118,6 +118,80 @@ TEST(WallSupport, FollowsTheLayersOfACurvedWall) {
   EXPECT_GT(tangent, 0);
 }
 
+// discretization.wall_reach = thickness (docs/model.md section 3.2): every node's support holds every layer of the
+// wall, so the quadratic basis fits the through-wall square at the surfaces without growing any support inside the
+// tube (the default reach puts the far layer on the support's edge, where the weight is zero: a surface node sees two
+// layers, and its quadratic guard grows the support); the gradient stays exact for affine fields (1e-10, as
+// AffineFieldsGiveTheExactGradient) and, with the quadratic basis, for quadratic fields (1e-9, as
+// QuadraticBasis.QuadraticFieldsGiveTheExactGradientAtEveryNode) at every node away from the tube's ends.
+TEST(WallSupport, AThicknessReachHoldsEveryLayer) {
+  auto layers_seen = [](const Discretization& d, Index i) {
+    std::vector<long> layers;
+    for (Index e = d.pairs().row_start[i]; e < d.pairs().row_start[i + 1]; ++e) {
+      const Vec3& Xj = d.rest_positions()[static_cast<std::size_t>(d.pairs().col[e])];
+      layers.push_back(std::lround(std::hypot(Xj.x(), Xj.y()) / 0.15e-3));
+    }
+    layers.push_back(std::lround(std::hypot(d.rest_positions()[i].x(), d.rest_positions()[i].y()) / 0.15e-3));
+    std::sort(layers.begin(), layers.end());
+    return static_cast<int>(std::unique(layers.begin(), layers.end()) - layers.begin());
+  };
+  auto fewest_layers = [&](const Discretization& d) {
+    int fewest = 3;
+    for (Index i = 0; i < d.num_nodes(); ++i) fewest = std::min(fewest, layers_seen(d, i));
+    return fewest;
+  };
+  nlohmann::json doc = tube("wall");
+  doc["discretization"]["basis"] = "quadratic";
+  Simulation by_layers(parse_scene(doc, "tube.json"));
+  doc["discretization"]["wall_reach"] = "thickness";
+  Simulation by_thickness(parse_scene(doc, "tube.json"));
+  const Discretization& d = by_thickness.discretization();
+  const Vec3Array& X = d.rest_positions();
+  Vec3Array affine(X.size()), quadratic(X.size());
+  Mat3 A;
+  A << 0.1, -0.2, 0.05, 0.3, 0.02, -0.1, 0.07, 0.15, -0.04;
+  const auto quad_field = [&](const Vec3& p) {
+    Vec3 q;
+    q << p.x() * p.y(), p.z() * p.z(), p.x() * p.z();
+    return Vec3(A * p + q / 1e-3);
+  };
+  for (std::size_t i = 0; i < X.size(); ++i) {
+    affine[i] = A * X[i];
+    quadratic[i] = quad_field(X[i]);
+  }
+  double err_affine = 0.0, err_quadratic = 0.0, scale = 0.0;
+  int grown_inside = 0;
+  for (Index i = 0; i < d.num_nodes(); ++i) {
+    err_affine = std::max(err_affine, (d.displacement_gradient(i, affine) - A).norm());
+    const Vec3& p = X[static_cast<std::size_t>(i)];
+    if (p.z() < 0.6e-3 || p.z() > 5.4e-3) continue;
+    if (d.support_radius()[static_cast<std::size_t>(i)] > 0.3e-3 * (1 + 1e-12)) ++grown_inside;
+    Mat3 curvature;  // the gradient of the quadratic part, 1e3 / m
+    curvature << p.y(), p.x(), 0.0, 0.0, 0.0, 2.0 * p.z(), p.z(), 0.0, p.x();
+    const Mat3 exact = A + curvature / 1e-3;
+    scale = std::max(scale, exact.norm());
+    err_quadratic = std::max(err_quadratic, (d.displacement_gradient(i, quadratic) - exact).norm());
+  }
+  std::printf("[ wall support ] through-wall scale %.3f; fewest layers in a support: %d (reach by layers: %d); "
+              "%d supports grown inside the tube (by layers: %d of %d); gradient errors %.2g (affine), %.2g "
+              "(quadratic)\n",
+              d.wall_across_scale(), fewest_layers(d), fewest_layers(by_layers.discretization()), grown_inside,
+              by_layers.discretization().grown_nodes(), d.num_nodes(), err_affine / A.norm(), err_quadratic / scale);
+  EXPECT_NEAR(d.wall_across_scale(), 0.75, 0.01);  // h_0 = 2 x the 0.15 mm layer step = the 0.3 mm wall
+  EXPECT_EQ(fewest_layers(d), 3);
+  EXPECT_EQ(grown_inside, 0);
+  EXPECT_LT(err_affine, 1e-10 * A.norm());
+  EXPECT_LT(err_quadratic, 1e-9 * scale);
+
+  doc["discretization"]["support"] = "isotropic";
+  try {
+    parse_scene(doc, "tube.json");
+    FAIL() << "an isotropic support took wall_reach";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("discretization.wall_reach"), std::string::npos) << e.what();
+  }
+}
+
 // A body without node layers through a wall refuses it at the key.
 TEST(WallSupport, NeedsAWall) {
   nlohmann::json doc = tube("wall");

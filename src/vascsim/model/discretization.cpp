@@ -55,26 +55,34 @@ double eigen_ratio_of(const Mat9& B) {
 // through the wall and stretch h along it: with the nodes' wall depths d, the through-wall part of X_ij is
 // d_j - d_i and the rest lies along the wall (so a layer of a curved wall stays one layer at any distance);
 // without depths, the part along the node's normal n (the tangent plane of a flat wall).
+// The through-wall distance may be scaled by across_scale <= 1 (WallReach::Thickness), so that the support holds the
+// whole wall while its reach along the wall stays.
 struct SupportMetric {
   const Vec3* normal = nullptr;
   double stretch = 1.0;
   const std::vector<double>* depth = nullptr;  ///< per node, m (empty: use the normal)
   Index i = 0;
+  double across_scale = 1.0;
   double operator()(const Vec3& X, Index j) const {
     if (!normal) return X.norm();
     const double across = depth ? (*depth)[static_cast<std::size_t>(j)] - (*depth)[static_cast<std::size_t>(i)]
                                 : X.dot(*normal);
     const double along2 = std::max(0.0, X.squaredNorm() - across * across);
-    return std::sqrt(across * across + along2 / (stretch * stretch));
+    return std::sqrt(across_scale * across_scale * across * across + along2 / (stretch * stretch));
   }
-  double reach(double h) const { return normal ? stretch * h : h; }  // the largest distance inside the support
+  // The largest distance inside the support.
+  double reach(double h) const { return normal ? std::max(stretch, 1.0 / across_scale) * h : h; }
 };
 
-SupportMetric support_metric(const DiscretizationOptions& opt, Index i) {
+SupportMetric support_metric(const DiscretizationOptions& opt, Index i, double across_scale) {
   if (opt.support != DiscretizationOptions::Support::Wall) return {};
   return {&opt.wall_normals[static_cast<std::size_t>(i)], opt.wall_stretch,
-          opt.wall_depths.empty() ? nullptr : &opt.wall_depths, i};
+          opt.wall_depths.empty() ? nullptr : &opt.wall_depths, i, across_scale};
 }
+
+// WallReach::Thickness: the wall's far surface at this fraction of h_0 (poly6 weight 8 % of the centre's), inside the
+// support so that a fit across the wall is conditioned, the nearer layers still weighing most.
+constexpr double kThicknessReach = 0.75;
 
 NeighbourhoodTrial evaluate(const Vec3Array& X, Index i, double h, const SpatialGrid& grid, GradientBasis basis,
                             const SupportMetric& metric, const Vec3* fit_normal) {
@@ -167,7 +175,13 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
                                  opt.wall_normals.size(), n, opt.wall_stretch));
   if (wall && !opt.wall_depths.empty() && opt.wall_depths.size() != static_cast<std::size_t>(n))
     throw InputError(fmt::format("discretization: {} wall depths for {} nodes", opt.wall_depths.size(), n));
-  const double hmax = h0 * std::pow(opt.growth_factor, opt.max_growths) * (wall ? opt.wall_stretch : 1.0);
+  if (wall && opt.wall_reach == DiscretizationOptions::WallReach::Thickness) {
+    if (!(opt.wall_thickness_m > 0.0))
+      throw InputError("discretization: a support that reaches through the wall's thickness needs the wall's thickness");
+    wall_across_scale_ = std::min(1.0, kThicknessReach * h0 / opt.wall_thickness_m);
+  }
+  const double hmax = h0 * std::pow(opt.growth_factor, opt.max_growths) *
+                      (wall ? std::max(opt.wall_stretch, 1.0 / wall_across_scale_) : 1.0);
   SpatialGrid grid(X_, hmax);
   h_.assign(n, h0);
   std::vector<NeighbourhoodTrial> trials(n);
@@ -184,7 +198,7 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
   for (Index i = 0; i < n; ++i) {
     double h = h0;
     for (int g = 0;; ++g) {
-      const SupportMetric metric = support_metric(opt, i);
+      const SupportMetric metric = support_metric(opt, i, wall_across_scale_);
       trials[i] = evaluate(X_, i, h, grid, opt.basis, metric, fit_normal(i));
       if (accepted(trials[i], opt)) break;
       if (g == opt.max_growths) {
@@ -224,12 +238,13 @@ std::string Discretization::growth_advice(const std::vector<int>& failed, double
                                           const DiscretizationOptions& opt) const {
   constexpr int kMaxGrowthsAllowed = 10;
   const bool wall = opt.support == DiscretizationOptions::Support::Wall;
-  const double hmax = h0 * std::pow(opt.growth_factor, kMaxGrowthsAllowed) * (wall ? opt.wall_stretch : 1.0);
+  const double hmax = h0 * std::pow(opt.growth_factor, kMaxGrowthsAllowed) *
+                      (wall ? std::max(opt.wall_stretch, 1.0 / wall_across_scale_) : 1.0);
   const SpatialGrid grid(X_, hmax);
   int needed = opt.max_growths;
   for (std::size_t i = 0; i < failed.size() && needed <= kMaxGrowthsAllowed; ++i) {
     if (!failed[i]) continue;
-    const SupportMetric metric = support_metric(opt, static_cast<Index>(i));
+    const SupportMetric metric = support_metric(opt, static_cast<Index>(i), wall_across_scale_);
     for (int g = opt.max_growths + 1;; ++g) {
       if (g > kMaxGrowthsAllowed) {
         needed = g;

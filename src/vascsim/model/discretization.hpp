@@ -43,6 +43,12 @@ struct DiscretizationOptions {
   /// The scene's choice (discretization.support): Wall asks the simulation to fill wall_normals and wall_stretch
   /// from the body's wall coordinates.
   enum class Support { Isotropic, Wall } support = Support::Isotropic;
+  /// How far a wall support reaches through the wall (docs/model.md section 3.2): Layers, radius h_i as the
+  /// support's own rule gives it; Thickness, the through-wall distance scaled so that the wall's far surface lies at
+  /// kThicknessReach h_0 from the near one (never shortened below h_i), so that every node's fit sees every layer.
+  enum class WallReach { Layers, Thickness } wall_reach = WallReach::Layers;
+  /// The wall's thickness (outer to inner layer), m: WallReach::Thickness needs it.
+  double wall_thickness_m = 0.0;
   /// The quadratic fit's guard, on top of the linear one: at least this many neighbours (9 unknowns per
   /// component; twice that for a least-squares fit that averages), and lambda_min / lambda_max of B_i / tr(B_i)
   /// at least quadratic_min_eigen_ratio (docs/model.md section 5.1 for how these were chosen).
@@ -101,6 +107,8 @@ class Discretization {
   /// Supports that follow the wall: their reach along the wall over their reach through it (docs/model.md section
   /// 3.1); 0 with isotropic supports.
   double wall_stretch() const { return wall_stretch_; }
+  /// The factor on the through-wall distance of a wall support (1 with WallReach::Layers; docs/model.md section 3.2).
+  double wall_across_scale() const { return wall_across_scale_; }
   const Material& material() const { return material_; }
   const NodeCloud& cloud() const { return cloud_; }
 
@@ -135,6 +143,7 @@ class Discretization {
   double mean_spacing_ = 0.0, min_spacing_ = 0.0, tet_volume_ = 0.0;
   int grown_nodes_ = 0;
   double wall_stretch_ = 0.0;
+  double wall_across_scale_ = 1.0;
 };
 
 }  // namespace vascsim

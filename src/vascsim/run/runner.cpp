@@ -113,6 +113,8 @@ nlohmann::json describe_run(const Scene& scene, Simulation& sim) {
           {"support_radius_max_m", *std::max_element(disc.support_radius().begin(), disc.support_radius().end())},
           {"nodes_with_grown_support", disc.grown_nodes()},
           {"support_wall_stretch", wall_stretch},
+          {"support_wall_across_scale", disc.wall_stretch() > 0.0 ? nlohmann::json(disc.wall_across_scale())
+                                                                  : nlohmann::json()},
           {"volume_m3", disc.total_volume()},
           {"mass_kg", std::accumulate(disc.masses().begin(), disc.masses().end(), 0.0)},
           {"solver", sim.model().info()},

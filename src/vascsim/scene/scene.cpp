@@ -315,6 +315,13 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
   sc.discretization.support = disc.string("support", support_default, {"isotropic", "wall"}) == "wall"
                                   ? DiscretizationOptions::Support::Wall
                                   : DiscretizationOptions::Support::Isotropic;
+  sc.discretization.wall_reach = disc.string("wall_reach", "layers", {"layers", "thickness"}) == "thickness"
+                                     ? DiscretizationOptions::WallReach::Thickness
+                                     : DiscretizationOptions::WallReach::Layers;
+  if (sc.discretization.wall_reach == DiscretizationOptions::WallReach::Thickness &&
+      sc.discretization.support != DiscretizationOptions::Support::Wall)
+    disc.fail("wall_reach", "'thickness' shapes a support that follows the wall and needs discretization.support "
+                            "'wall' (a geometry of type 'tube' or 'vessel')");
   if (sc.discretization.basis == GradientBasis::WallQuadratic &&
       sc.discretization.support != DiscretizationOptions::Support::Wall)
     disc.fail("basis", "'wall_quadratic' fits in the frame of the wall and needs discretization.support 'wall' (a "

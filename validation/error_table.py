@@ -4,10 +4,13 @@ several node spacings: the error-versus-nodes table of docs/validation.md.
 
     /usr/bin/python3 validation/error_table.py [--vascsim build/vascsim] [--cases vein-indent,...]
         [--out out/error-table] [--figure docs/images/error-vs-nodes.png] [--reuse] [--threads 2]
+        [--set KEY=VALUE ...]
 
 Every run is `nice -n 19 vascsim -q run SCENE --set model=quasi_static --set geometry.node_spacing_m=D
 --set discretization.max_growths=10 ... --out OUT/<case>/<label>` (with --reuse a finished run is read
-back instead). Writes OUT/error_table.csv (one row per case, resolution and load step: SI units and the
+back instead; every --set is added to every run, so that the table of an option, e.g. `--set
+contact.surface=embedded --set discretization.basis=quadratic --set discretization.wall_reach=thickness`, comes
+from the same command). Writes OUT/error_table.csv (one row per case, resolution and load step: SI units and the
 relative error), OUT/error_table.md (per case and resolution: nodes, the error at a few depths, the largest
 |error| where the reference is converged, solve time) and the figure (force or deflection against depth with the
 FEM reference band per case where it is converged, and the error at the deepest converged point against the node
@@ -107,7 +110,13 @@ def main():
     ap.add_argument("--figure", default=None, help="figure path (default OUT/error-vs-nodes.png)")
     ap.add_argument("--reuse", action="store_true", help="read finished runs back instead of running them")
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="a scene override added to every run (repeatable), e.g. --set contact.surface=embedded: the "
+                         "table of an option instead of the defaults (use another --out)")
     a = ap.parse_args()
+    for kv in a.set:
+        if "=" not in kv:
+            ap.error(f"--set {kv}: expected KEY=VALUE")
     if not os.path.isfile(a.vascsim):
         sys.exit(f"error_table.py: {a.vascsim} not found; build first (make build)")
     results = {}
@@ -117,7 +126,7 @@ def main():
         results[case] = []
         for label, sets in spec["runs"]:
             out_dir = os.path.join(a.out, case, label.replace(" ", "").replace(",", "-").replace("=", ""))
-            summary = run_vascsim(a.vascsim, spec["scene"], sets, out_dir, a.reuse, a.threads)
+            summary = run_vascsim(a.vascsim, spec["scene"], sets + a.set, out_dir, a.reuse, a.threads)
             c = curve(summary, spec["column"], spec["x"])
             if len(c) != len(ref) or any(abs(p[0] - r[0]) > 1e-6 * max(abs(r[0]), 1e-30) for p, r in zip(c, ref)):
                 sys.exit(f"error_table.py: {case} {label}: the run's load steps do not match the reference's")

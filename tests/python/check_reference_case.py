@@ -77,11 +77,16 @@ CASES = {
                     "regions.2.bc.magnitude_m=1e-3", "output.surface=false", "output.vtk=false"], 2, [0.043, 0.038]),
 }
 
+# The suffixes of a case's variants (the same problem with other options).
+VARIANTS = ("-embedded", "-wall-quadratic", "-thickness-reach")
+
 
 def reference(case, steps):
     # A variant of a case ("<case>-embedded", "-wall-quadratic", "-thickness-reach") is measured against the case's
     # reference.
-    name = case.removesuffix("-embedded").removesuffix("-wall-quadratic").removesuffix("-thickness-reach")
+    name = case
+    for variant in VARIANTS:
+        name = name.removesuffix(variant)
     with open(os.path.join(ROOT, "validation", "references", f"{name}.csv")) as f:
         rows = list(csv.DictReader(f))[:steps]
     keys = [k for k in rows[0] if k != "step"]

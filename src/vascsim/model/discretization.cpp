@@ -373,10 +373,10 @@ Eigen::MatrixXd Discretization::fit_residual_operator(Index i, bool quadratic) c
   const Index e0 = pairs_.row_start[i];
   // The wall-quadratic fit leaves the through-wall square out; the stabiliser on a quadratic fit must still ignore it.
   if (quadratic && basis_ != GradientBasis::Quadratic) return quadratic_residual_operator(i);
+  const bool curved = fits_curvature(basis_);
   Eigen::MatrixXd R(K, K + 1);
   for (Index j = 0; j < K; ++j) {
     const Vec3 Xij = X_[static_cast<std::size_t>(pairs_.col[e0 + j])] - X_[static_cast<std::size_t>(i)];
-    const bool curved = fits_curvature(basis_);
     const Vec9 pj = curved ? fit_monomials(basis_, Xij, h_[i], fit_normal(i)) : Vec9::Zero();
     double row_sum = 0.0;
     for (Index l = 0; l < K; ++l) {

@@ -13,8 +13,10 @@
 //   by the support radius s so that every entry is O(1)), moment matrix B_i = sum_j w_ij p_ij p_ij^T (9 x 9), and
 //   d_ij = the first three entries of w_ij B_i^{-1} p_ij, divided by s. Exact for quadratic fields, so the
 //   gradient is the one at the node itself: bending is right on every layer of a thin wall.
+// - Wall-quadratic basis (docs/model.md section 5.2): the quadratic fit without the through-wall square, in the frame
+//   of the wall's normal (8 monomials), so that it needs only the two layers a surface node's support holds.
 //
-// Either way F_i = sum_j (x_j - x_i) d_ij^T, so the energy, its forces and its Hessian are the same code for both.
+// Every way F_i = sum_j (x_j - x_i) d_ij^T, so the energy, its forces and its Hessian are the same code for all.
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -31,11 +33,6 @@ enum class GradientBasis {
 
 /// Whether a basis fits second derivatives (and so keeps the fit's coefficients per pair).
 inline bool fits_curvature(GradientBasis basis) { return basis != GradientBasis::Linear; }
-
-/// Number of monomials of a basis: 3, 9 or 8.
-inline int fit_terms(GradientBasis basis) {
-  return basis == GradientBasis::Linear ? 3 : basis == GradientBasis::Quadratic ? 9 : 8;
-}
 
 /// Quadratic monomials of X / s: (x, y, z, x^2, xy, xz, y^2, yz, z^2) of the scaled vector.
 inline Vec9 quadratic_monomials(const Vec3& X, double s) {

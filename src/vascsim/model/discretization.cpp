@@ -118,6 +118,7 @@ PairTable transpose(const PairTable& p, Index n) {
   t.col.resize(p.col.size());
   t.d.resize(p.col.size());
   t.w.resize(p.col.size());
+  if (!p.e.empty()) t.e.resize(p.col.size());
   std::vector<Index> fill(t.row_start.begin(), t.row_start.end() - 1);
   for (Index i = 0; i < n; ++i)
     for (Index e = p.row_start[i]; e < p.row_start[i + 1]; ++e) {
@@ -126,6 +127,7 @@ PairTable transpose(const PairTable& p, Index n) {
       t.col[slot] = i;  // rows i are visited in order, so every transposed row is sorted
       t.d[slot] = p.d[e];
       t.w[slot] = p.w[e];
+      if (!p.e.empty()) t.e[slot] = p.e[e];
     }
   return t;
 }
@@ -194,6 +196,7 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
                                    "nodes)", opt.wall_normals.size(), n));
     fit_normals_ = opt.wall_normals;
   }
+  place_wall_points(opt);
 #pragma omp parallel for schedule(dynamic, 256)
   for (Index i = 0; i < n; ++i) {
     double h = h0;
@@ -228,7 +231,7 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
     spdlog::info("discretization: support radius grown for {} of {} nodes (K_min / conditioning guard)",
                  grown_nodes_, n);
 
-  store_gradient_vectors(trials, opt.basis);
+  store_gradient_vectors(trials, opt);
   transposed_ = transpose(pairs_, n);
 }
 
@@ -267,7 +270,9 @@ std::string Discretization::growth_advice(const std::vector<int>& failed, double
 }
 
 // The accepted neighbourhoods as the pair tables: d_ij (linear or quadratic fit), w_ij, d_ii and the moments.
-void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial>& trials, GradientBasis basis) {
+void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial>& trials,
+                                            const DiscretizationOptions& opt) {
+  const GradientBasis basis = opt.basis;
   const Index n = num_nodes();
   const bool quadratic = fits_curvature(basis);
   pairs_.row_start.assign(static_cast<std::size_t>(n) + 1, 0);
@@ -281,6 +286,11 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
   moment_.assign(n, Mat3::Zero());
   basis_ = basis;
   if (quadratic) fit_.resize(npairs);
+  const bool points = energy_points_ > 1;
+  if (points) {
+    pairs_.e.resize(npairs);
+    self_e_.assign(n, Vec3::Zero());
+  }
 #pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) {
     const NeighbourhoodTrial& t = trials[i];
@@ -289,7 +299,11 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
     moment_[i] = t.A;
     Mat9 Binv;
     if (quadratic) Binv = quadratic_moment(X_, i, t, h_[i], basis, fit_normal(i)).inverse();  // conditioned by the guard (double)
-    Vec3 dsum = Vec3::Zero();
+    Vec3 dsum = Vec3::Zero(), esum = Vec3::Zero();
+    // Through-wall points: the fit's gradient along the wall normal n changes by c_ij^T M / h^2 per metre.
+    const Eigen::Matrix<double, 9, 3> M =
+        points ? monomial_hessians_along(basis, opt.wall_normals[static_cast<std::size_t>(i)], *fit_normal_or(i, opt))
+               : Eigen::Matrix<double, 9, 3>::Zero();
     for (std::size_t a = 0; a < t.nbr.size(); ++a) {
       const Index e = pairs_.row_start[i] + static_cast<Index>(a);
       const Vec3 Xij = X_[t.nbr[a]] - X_[i];
@@ -298,12 +312,42 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
       if (quadratic) {
         fit_[e] = t.w[a] * (Binv * fit_monomials(basis, Xij, h_[i], fit_normal(i)));
         pairs_.d[e] = fit_[e].head<3>() / h_[i];  // the gradient rows of the fit, per metre
+        if (points) {
+          pairs_.e[e] = (fit_[e].transpose() * M).transpose() / (h_[i] * h_[i]);
+          esum += pairs_.e[e];
+        }
       } else {
         pairs_.d[e] = t.w[a] * (Ainv * Xij);
       }
       dsum += pairs_.d[e];
     }
     self_d_[i] = -dsum;
+    if (points) self_e_[i] = -esum;
+  }
+}
+
+// WallQuadrature::Gauss: node i stands for the depths within half a layer step of its own, clipped to the wall
+// ([d_i - D/2, d_i + D/2] and [0, t]), and its two Gauss points lie at the slab's centre -+ half its width / sqrt 3,
+// as offsets along the wall normal (the direction of growing depth).
+void Discretization::place_wall_points(const DiscretizationOptions& opt) {
+  if (opt.wall_quadrature != DiscretizationOptions::WallQuadrature::Gauss) return;
+  const Index n = num_nodes();
+  if (!fits_curvature(opt.basis))
+    throw InputError("discretization: through-wall Gauss points need a basis that fits curvature (quadratic or "
+                     "wall_quadratic): the linear fit's gradient does not change across a node's slab");
+  if (opt.support != DiscretizationOptions::Support::Wall || opt.wall_depths.size() != static_cast<std::size_t>(n) ||
+      !(opt.wall_thickness_m > 0.0) || !(opt.wall_layer_spacing_m > 0.0))
+    throw InputError("discretization: through-wall Gauss points need a wall support with a depth per node, the wall's "
+                     "thickness and its layer spacing (a geometry of type 'tube' or 'vessel')");
+  energy_points_ = 2;
+  point_offset_.resize(static_cast<std::size_t>(n) * 2);
+  const double t = opt.wall_thickness_m, half_step = 0.5 * opt.wall_layer_spacing_m;
+  for (Index i = 0; i < n; ++i) {
+    const double d = opt.wall_depths[static_cast<std::size_t>(i)];
+    const double lo = std::max(d - half_step, 0.0), hi = std::min(d + half_step, t);
+    const double centre = 0.5 * (lo + hi) - d, spread = hi > lo ? 0.5 * (hi - lo) / std::sqrt(3.0) : 0.0;
+    point_offset_[static_cast<std::size_t>(i) * 2] = centre - spread;
+    point_offset_[static_cast<std::size_t>(i) * 2 + 1] = centre + spread;
   }
 }
 
@@ -421,6 +465,14 @@ Eigen::MatrixXd Discretization::quadratic_residual_operator(Index i) const {
 Mat3 Discretization::displacement_gradient(Index i, const Vec3Array& u, bool eq3_literal_sign) const {
   const Mat3 G = deformation_gradient(i, u);  // the same sum: sum_j (u_j - u_i) d_ij^T
   return eq3_literal_sign ? Mat3(-G) : G;
+}
+
+Mat3 Discretization::deformation_gradient_derivative(Index i, const Vec3Array& x) const {
+  if (energy_points_ == 1) return Mat3::Zero();
+  Mat3 D = Mat3::Zero();
+  for (Index e = pairs_.row_start[i], end = pairs_.row_start[i + 1]; e < end; ++e)
+    D.noalias() += (x[pairs_.col[e]] - x[i]) * pairs_.e[e].transpose();
+  return D;
 }
 
 Mat3 Discretization::deformation_gradient(Index i, const Vec3Array& x) const {

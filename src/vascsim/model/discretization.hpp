@@ -47,8 +47,16 @@ struct DiscretizationOptions {
   /// support's own rule gives it; Thickness, the through-wall distance scaled so that the wall's far surface lies at
   /// kThicknessReach h_0 from the near one (never shortened below h_i), so that every node's fit sees every layer.
   enum class WallReach { Layers, Thickness } wall_reach = WallReach::Layers;
-  /// The wall's thickness (outer to inner layer), m: WallReach::Thickness needs it.
+  /// The wall's thickness (outer to inner layer), m: WallReach::Thickness and WallQuadrature::Gauss need it.
   double wall_thickness_m = 0.0;
+  /// Where a node's strain energy is evaluated (docs/model.md section 4.4): Nodes, at the node (V_i psi(F_i));
+  /// Gauss, at two Gauss points across the node's slab of the wall (the depths within half a layer step of its own,
+  /// clipped to the wall), each with the gradient the node's fit gives there, F_i + s_q dF_i/dn: a bending field's
+  /// energy is then integrated exactly whatever the nodal volumes. Needs a wall support with depths and a
+  /// curvature-fitting basis.
+  enum class WallQuadrature { Nodes, Gauss } wall_quadrature = WallQuadrature::Nodes;
+  /// The spacing of the wall's node layers, m: WallQuadrature::Gauss needs it.
+  double wall_layer_spacing_m = 0.0;
   /// The quadratic fit's guard, on top of the linear one: at least this many neighbours (9 unknowns per
   /// component; twice that for a least-squares fit that averages), and lambda_min / lambda_max of B_i / tr(B_i)
   /// at least quadratic_min_eigen_ratio (docs/model.md section 5.1 for how these were chosen).
@@ -64,6 +72,8 @@ struct PairTable {
   std::vector<Index> col;        ///< the other node
   Vec3Array d;                   ///< gradient vector, 1/m
   std::vector<double> w;         ///< kernel weight, 1/m^3
+  /// With through-wall Gauss points only (else empty): the derivative of d along the row node's wall normal, 1/m^2.
+  Vec3Array e;
   Index row_size(Index r) const { return row_start[r + 1] - row_start[r]; }
 };
 
@@ -118,15 +128,34 @@ class Discretization {
   /// F_i = sum_j (x_j - x_i) d_ij^T.
   Mat3 deformation_gradient(Index i, const Vec3Array& x) const;
 
+  /// The points at which each node's strain energy is evaluated (DiscretizationOptions::WallQuadrature): 1 (the
+  /// node) or 2 (Gauss points across its slab of the wall), each weighing V_i / points.
+  int energy_points() const { return energy_points_; }
+  /// Point q of node i: its offset from the node along the node's wall normal, m (0 with one point per node).
+  double point_offset(Index i, int q) const {
+    return energy_points_ == 1 ? 0.0 : point_offset_[static_cast<std::size_t>(i) * 2 + static_cast<std::size_t>(q)];
+  }
+  /// With two points per node: e_ii = -sum_j e_ij, 1/m^2 (empty otherwise).
+  const Vec3Array& self_e() const { return self_e_; }
+  /// dF_i/dn = sum_j (x_j - x_i) e_ij^T, 1/m (zero with one point per node): the deformation gradient at point q is
+  /// F_i + point_offset(i, q) dF_i/dn.
+  Mat3 deformation_gradient_derivative(Index i, const Vec3Array& x) const;
+
  private:
   void build_neighbourhoods(const DiscretizationOptions& opt);
-  void store_gradient_vectors(const std::vector<NeighbourhoodTrial>& trials, GradientBasis basis);
+  void store_gradient_vectors(const std::vector<NeighbourhoodTrial>& trials, const DiscretizationOptions& opt);
   std::string growth_advice(const std::vector<int>& failed, double h0, const DiscretizationOptions& opt) const;
   void compute_volumes(const DiscretizationOptions& opt);
+  void place_wall_points(const DiscretizationOptions& opt);
   Eigen::MatrixXd quadratic_residual_operator(Index i) const;
   /// The wall normal the wall-quadratic basis fits node i in (nullptr for the other bases).
   const Vec3* fit_normal(Index i) const {
     return fit_normals_.empty() ? nullptr : &fit_normals_[static_cast<std::size_t>(i)];
+  }
+  /// The wall-quadratic basis's normal, or the wall's normal from the options for the other bases.
+  const Vec3* fit_normal_or(Index i, const DiscretizationOptions& opt) const {
+    const Vec3* n = fit_normal(i);
+    return n ? n : &opt.wall_normals[static_cast<std::size_t>(i)];
   }
 
   NodeCloud cloud_;
@@ -144,6 +173,9 @@ class Discretization {
   int grown_nodes_ = 0;
   double wall_stretch_ = 0.0;
   double wall_across_scale_ = 1.0;
+  int energy_points_ = 1;
+  std::vector<double> point_offset_;  // two per node with through-wall Gauss points, m
+  Vec3Array self_e_;
 };
 
 }  // namespace vascsim

@@ -62,7 +62,7 @@ EnergyHessian::EnergyHessian(const PointPrimitiveEnergy& energy, const EnergyHes
   const std::int64_t nblocks = row_start_.back();
   stab_.assign(static_cast<std::size_t>(nblocks), 0.0);
   if (energy.options().stabilizer_alpha > 0.0) add_stabilizer_blocks();
-  tangent_.resize(static_cast<std::size_t>(energy.discretization().num_nodes()));
+  tangent_.resize(static_cast<std::size_t>(energy.discretization().num_nodes() * energy.discretization().energy_points()));
 }
 
 // The block row of every kept node (node_slot, or node order), and the node of every block row.
@@ -141,6 +141,8 @@ void EnergyHessian::build_scatter_map(const std::vector<std::vector<Index>>& col
   row_keep_.assign(static_cast<std::size_t>(nblocks), opt_.stencil == HessianStencil::Full ? 1 : 0);
   contrib_node_.resize(static_cast<std::size_t>(contrib_start_.back()));
   contrib_d_.resize(static_cast<std::size_t>(contrib_start_.back()));
+  const bool points = disc.energy_points() > 1;
+  if (points) contrib_e_.resize(static_cast<std::size_t>(contrib_start_.back()));
   contrib_map_.resize(static_cast<std::size_t>(contrib_start_.back()));
   map_.resize(static_cast<std::size_t>(map_count.back()));
 
@@ -169,9 +171,10 @@ void EnergyHessian::build_scatter_map(const std::vector<std::vector<Index>>& col
       }
       std::int64_t m = map_count[static_cast<std::size_t>(r)];
       std::int64_t t = contrib_start_[static_cast<std::size_t>(r)];
-      auto add_term = [&](Index i, const Vec3& d_ik) {
+      auto add_term = [&](Index i, const Vec3& d_ik, const Vec3& e_ik) {
         contrib_node_[static_cast<std::size_t>(t)] = i;
         contrib_d_[static_cast<std::size_t>(t)] = d_ik;
+        if (points) contrib_e_[static_cast<std::size_t>(t)] = e_ik;
         contrib_map_[static_cast<std::size_t>(t)] = m;
         ++t;
         for (Index a = 0; a < stencil_size(i); ++a) {
@@ -179,8 +182,9 @@ void EnergyHessian::build_scatter_map(const std::vector<std::vector<Index>>& col
           map_[static_cast<std::size_t>(m++)] = s >= 0 ? pos[static_cast<std::size_t>(s)] : kSkip;
         }
       };
-      add_term(k, disc.self_d()[static_cast<std::size_t>(k)]);
-      for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e) add_term(T.col[e], T.d[e]);
+      add_term(k, disc.self_d()[static_cast<std::size_t>(k)], points ? disc.self_e()[static_cast<std::size_t>(k)] : Vec3());
+      for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e)
+        add_term(T.col[e], T.d[e], points ? T.e[e] : Vec3());
       for (Index s : c) pos[static_cast<std::size_t>(s)] = kSkip;
     }
   }
@@ -272,13 +276,16 @@ void EnergyHessian::compute_tangents(const Vec3Array& x) {
   const Discretization& disc = energy_.discretization();
   const EnergyOptions& eo = energy_.options();
   const Index n = disc.num_nodes();
+  const int points = disc.energy_points();
   const double lambda = energy_.strain_lambda(), mu = energy_.shear_modulus(), kv = eo.volume_stiffness_pa;
   // Literal strain (docs/model.md section 7): eps = 2E and sigma = 2S, so U_lit = 4 U_SVK and its tangent is 4x.
   const double svk_scale = eo.strain == StrainMeasure::GreenHalf ? 1.0 : 4.0;
   const Mat3 I = Mat3::Identity();
-#pragma omp parallel for schedule(static) if (n >= kParallelMinRows)
-  for (Index i = 0; i < n; ++i) {
-    const Mat3 F = disc.deformation_gradient(i, x);
+#pragma omp parallel for schedule(static) if (n * points >= kParallelMinRows)
+  for (Index p = 0; p < n * points; ++p) {
+    const Index i = p / points;
+    const Mat3 F = disc.deformation_gradient(i, x) + disc.point_offset(i, static_cast<int>(p % points)) *
+                                                         disc.deformation_gradient_derivative(i, x);
     Mat9 C;
     if (eo.law) {
       const materials::MaterialFrame* frame = eo.frames.empty() ? nullptr : &eo.frames[static_cast<std::size_t>(i)];
@@ -301,14 +308,14 @@ void EnergyHessian::compute_tangents(const Vec3Array& x) {
       });
     }
     // Exact tangents are symmetric; symmetrise the rounding (into a new matrix: C^T must not alias C).
-    const Mat9 Csym = (0.5 * disc.volumes()[static_cast<std::size_t>(i)]) * (C + C.transpose());
+    const Mat9 Csym = (0.5 * disc.volumes()[static_cast<std::size_t>(i)] / points) * (C + C.transpose());
     C = Csym;
     if (opt_.project_psd) {
       Eigen::SelfAdjointEigenSolver<Mat9> es(C);
       if (es.eigenvalues()(0) < 0.0)
         C = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
     }
-    tangent_[static_cast<std::size_t>(i)] = C;
+    tangent_[static_cast<std::size_t>(p)] = C;
   }
 }
 
@@ -320,6 +327,7 @@ void EnergyHessian::assemble(const Vec3Array& x, const std::vector<double>& diag
   if (!diagonal_shift.empty() && diagonal_shift.size() != x.size())
     throw std::invalid_argument("EnergyHessian::assemble: diagonal_shift needs one value per node");
   compute_tangents(x);
+  const int points = disc.energy_points();
   const Index nrows = num_block_rows();
   const bool compact = opt_.stencil == HessianStencil::Compact;
   double* values = H_.valuePtr();
@@ -337,18 +345,30 @@ void EnergyHessian::assemble(const Vec3Array& x, const std::vector<double>& diag
       for (std::size_t p = 0; p < len; ++p) row[p] = stab_[static_cast<std::size_t>(b0) + p] * Mat3::Identity();
       // Gather: every energy i whose stencil holds this row's node k adds, for each l of its stencil,
       // H_kl^(i) = sum_d d_il[d] U_d with U = sum_c d_ik[c] C_i[(., c), (., .)] (3 x 9).
+      // With through-wall points each point q of energy i adds its own term, with the gradient vectors
+      // d + s_q e of that point.
       for (std::int64_t t = contrib_start_[static_cast<std::size_t>(r)]; t < contrib_start_[static_cast<std::size_t>(r) + 1]; ++t) {
         const Index i = contrib_node_[static_cast<std::size_t>(t)];
-        const Mat9& C = tangent_[static_cast<std::size_t>(i)];
-        const Vec3& dk = contrib_d_[static_cast<std::size_t>(t)];
-        const Eigen::Matrix<double, 3, 9> U = dk[0] * C.middleRows<3>(0) + dk[1] * C.middleRows<3>(3) + dk[2] * C.middleRows<3>(6);
         const std::uint16_t* m = map_.data() + contrib_map_[static_cast<std::size_t>(t)];
-        auto add = [&](std::uint16_t p, const Vec3& dl) {
-          if (p != kSkip) row[p] += dl[0] * U.middleCols<3>(0) + dl[1] * U.middleCols<3>(3) + dl[2] * U.middleCols<3>(6);
-        };
-        add(m[0], disc.self_d()[static_cast<std::size_t>(i)]);
         const Index e0 = P.row_start[i], K = P.row_size(i);
-        for (Index a = 0; a < K; ++a) add(m[1 + a], P.d[static_cast<std::size_t>(e0 + a)]);
+        for (int q = 0; q < points; ++q) {
+          const Mat9& C = tangent_[static_cast<std::size_t>(i * points + q)];
+          const double s = disc.point_offset(i, q);
+          const Vec3 dk = points == 1 ? contrib_d_[static_cast<std::size_t>(t)]
+                                      : Vec3(contrib_d_[static_cast<std::size_t>(t)] + s * contrib_e_[static_cast<std::size_t>(t)]);
+          const Eigen::Matrix<double, 3, 9> U = dk[0] * C.middleRows<3>(0) + dk[1] * C.middleRows<3>(3) + dk[2] * C.middleRows<3>(6);
+          auto add = [&](std::uint16_t p, const Vec3& dl) {
+            if (p != kSkip) row[p] += dl[0] * U.middleCols<3>(0) + dl[1] * U.middleCols<3>(3) + dl[2] * U.middleCols<3>(6);
+          };
+          if (points == 1) {
+            add(m[0], disc.self_d()[static_cast<std::size_t>(i)]);
+            for (Index a = 0; a < K; ++a) add(m[1 + a], P.d[static_cast<std::size_t>(e0 + a)]);
+          } else {
+            add(m[0], disc.self_d()[static_cast<std::size_t>(i)] + s * disc.self_e()[static_cast<std::size_t>(i)]);
+            for (Index a = 0; a < K; ++a)
+              add(m[1 + a], P.d[static_cast<std::size_t>(e0 + a)] + s * P.e[static_cast<std::size_t>(e0 + a)]);
+          }
+        }
       }
       const std::size_t diag = static_cast<std::size_t>(row_diag_[static_cast<std::size_t>(r)]);
       if (!diagonal_shift.empty())

@@ -112,11 +112,12 @@ class EnergyHessian {
   std::vector<std::int64_t> contrib_start_;
   std::vector<Index> contrib_node_;
   Vec3Array contrib_d_;
+  Vec3Array contrib_e_;  // through-wall points: e_ik beside d_ik (Discretization::energy_points)
   std::vector<std::int64_t> contrib_map_;  // offset into map_
   std::vector<std::uint16_t> map_;
   static constexpr std::uint16_t kSkip = 0xFFFF;
 
-  std::vector<Mat9, Eigen::aligned_allocator<Mat9>> tangent_;  // per node: V_i d^2 psi/dF^2 (+ k_v), N m
+  std::vector<Mat9, Eigen::aligned_allocator<Mat9>> tangent_;  // per node (and point): V d^2 psi/dF^2 (+ k_v), N m
   std::vector<std::vector<Mat3>> scratch_;                     // per thread: one block row
   Eigen::SparseMatrix<double> H_;
 };

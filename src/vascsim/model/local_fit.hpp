@@ -56,4 +56,32 @@ inline Vec9 wall_quadratic_monomials(const Vec3& X, double s, const Vec3& normal
   return p;
 }
 
+/// How the gradient a fit gives changes along a direction: for the fit y(X) ~ sum_m a_m p_m(X / s) of a curvature
+/// basis, the derivative of its gradient at X = r u along r (u a unit vector) is (1/s^2) sum_m a_m H_m u, with H_m
+/// the constant Hessian of monomial p_m (zero for the linear ones). Returns the 9 x 3 matrix whose row m is
+/// (H_m u)^T, so that a pair's fit coefficients c_ij give the pair's gradient-derivative vector c_ij^T M / s^2.
+inline Eigen::Matrix<double, 9, 3> monomial_hessians_along(GradientBasis basis, const Vec3& u, const Vec3& normal) {
+  Eigen::Matrix<double, 9, 3> M = Eigen::Matrix<double, 9, 3>::Zero();
+  if (basis == GradientBasis::WallQuadratic) {
+    // In the frame (t1, t2, n): the Hessians of a^2, ab, b^2, an, bn applied to u.
+    const Vec3 t1 = normal.unitOrthogonal();
+    const Vec3 t2 = normal.cross(t1);
+    const double a = u.dot(t1), b = u.dot(t2), c = u.dot(normal);
+    M.row(3) = 2.0 * a * t1.transpose();
+    M.row(4) = (b * t1 + a * t2).transpose();
+    M.row(5) = 2.0 * b * t2.transpose();
+    M.row(6) = (c * t1 + a * normal).transpose();
+    M.row(7) = (c * t2 + b * normal).transpose();
+  } else if (basis == GradientBasis::Quadratic) {
+    // x^2, xy, xz, y^2, yz, z^2 in the global frame.
+    M.row(3) << 2.0 * u.x(), 0.0, 0.0;
+    M.row(4) << u.y(), u.x(), 0.0;
+    M.row(5) << u.z(), 0.0, u.x();
+    M.row(6) << 0.0, 2.0 * u.y(), 0.0;
+    M.row(7) << 0.0, u.z(), u.y();
+    M.row(8) << 0.0, 0.0, 2.0 * u.z();
+  }
+  return M;
+}
+
 }  // namespace vascsim

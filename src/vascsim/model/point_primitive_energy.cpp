@@ -15,6 +15,7 @@ PointPrimitiveEnergy::Workspace& PointPrimitiveEnergy::workspace(Index n) {
   thread_local Workspace ws;
   if (static_cast<Index>(ws.Q.size()) < n) {
     ws.Q.resize(static_cast<std::size_t>(n));
+    ws.R.resize(static_cast<std::size_t>(n));
     ws.own.resize(static_cast<std::size_t>(n));
     ws.u.resize(static_cast<std::size_t>(n));
   }
@@ -62,8 +63,7 @@ PointPrimitiveEnergy::PointPrimitiveEnergy(const Discretization& disc, const Ene
 }
 
 
-Mat3 PointPrimitiveEnergy::weighted_stress(Index i, const Mat3& F, EnergyBreakdown* e) const {
-  const double V = disc_.volumes()[i];
+Mat3 PointPrimitiveEnergy::weighted_stress(Index i, const Mat3& F, double V, EnergyBreakdown* e) const {
   const Mat3 I = Mat3::Identity();
   Mat3 Pt;
   if (opt_.law) {
@@ -98,8 +98,8 @@ Mat3 PointPrimitiveEnergy::stress(const Mat3& F) const {
   return lambda_ * E.trace() * I + 2.0 * mu_ * E;
 }
 
-Mat3 PointPrimitiveEnergy::weighted_stress_derivative(Index i, const Mat3& F, const Mat3& S, const Mat3& dF) const {
-  const double V = disc_.volumes()[i];
+Mat3 PointPrimitiveEnergy::weighted_stress_derivative(Index i, const Mat3& F, const Mat3& S, const Mat3& dF,
+                                                      double V) const {
   const Mat3 I = Mat3::Identity();
   // SVK: P = F S, S = lambda tr(E) I + 2 mu E, E = 1/2 (F^T F - I).
   // Literal: Ptilde = 2 V F sigma with sigma of eps = F^T F - I, i.e. "half" = 1 and a factor 2.
@@ -127,8 +127,9 @@ Mat3 PointPrimitiveEnergy::weighted_stress_derivative(Index i, const Mat3& F, co
 //   f_k = -Q_k d_kk - sum_{i: k in N_i} Q_i d_ik + own_k - sum_{i: k in N_i} c_i w_ik (y_k - y_i),
 //   Q_i = Ptilde_i - c_i F_i A_i,   own_k = c_k sum_j w_kj (y_j - y_k).
 // One pass over the transposed pairs, one 3x3 product and one axpy per pair.
-void PointPrimitiveEnergy::folded_gather(const std::vector<Mat3>& Q, const Vec3Array& own, const Vec3Array& y,
-                                         Vec3Array& out) const {
+// With through-wall points (R non-null) the stress conjugate to dF_i/dn, R_i, is gathered with e_ik the same way.
+void PointPrimitiveEnergy::folded_gather(const std::vector<Mat3>& Q, const std::vector<Mat3>* R, const Vec3Array& own,
+                                         const Vec3Array& y, Vec3Array& out) const {
   const Index n = disc_.num_nodes();
   const PairTable& T = disc_.transposed();
   const bool stab = folded_stab_;
@@ -136,11 +137,13 @@ void PointPrimitiveEnergy::folded_gather(const std::vector<Mat3>& Q, const Vec3A
 #pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
   for (Index k = 0; k < n; ++k) {
     Vec3 f = -(Q[k] * disc_.self_d()[k]);
+    if (R) f.noalias() -= (*R)[k] * disc_.self_e()[k];
     Vec3 pull = Vec3::Zero();
     const Vec3 yk = y[k];
     for (Index e = T.row_start[k], end = T.row_start[k + 1]; e < end; ++e) {
       const Index i = T.col[e];
       f.noalias() -= Q[i] * T.d[e];
+      if (R) f.noalias() -= (*R)[i] * T.e[e];
       if (stab) pull += stab_cw_[e] * (yk - y[i]);
     }
     out[k] = stab ? Vec3(f + own[k] - pull) : f;
@@ -199,13 +202,16 @@ double PointPrimitiveEnergy::stabilizer_energy(const std::vector<Mat3>& F, const
 
 EnergyBreakdown PointPrimitiveEnergy::energy(const Vec3Array& x) const {
   const Index n = disc_.num_nodes();
+  const int points = disc_.energy_points();
   std::vector<Mat3> F(n);
   double strain = 0.0, volume = 0.0;
 #pragma omp parallel for schedule(static) reduction(+ : strain, volume) if (n >= kParallelMinNodes)
   for (Index i = 0; i < n; ++i) {
     F[i] = disc_.deformation_gradient(i, x);
+    const Mat3 D = disc_.deformation_gradient_derivative(i, x);
     EnergyBreakdown e;
-    weighted_stress(i, F[i], &e);
+    for (int q = 0; q < points; ++q)
+      weighted_stress(i, F[i] + disc_.point_offset(i, q) * D, disc_.volumes()[i] / points, &e);
     strain += e.strain;
     volume += e.volume;
   }
@@ -218,6 +224,7 @@ EnergyBreakdown PointPrimitiveEnergy::energy(const Vec3Array& x) const {
 
 double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f) const {
   const Index n = disc_.num_nodes();
+  const int points = disc_.energy_points();
   Workspace& ws = workspace(n);
   const bool stab = folded_stab_;
   double strain = 0.0, volume = 0.0, stabilizer = 0.0;
@@ -227,7 +234,20 @@ double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f) const {
     double sq;
     const Mat3 F = gradient_and_moments(i, x, sw, sq);
     EnergyBreakdown e;
-    ws.Q[i] = weighted_stress(i, F, &e);
+    if (points == 1) {
+      ws.Q[i] = weighted_stress(i, F, disc_.volumes()[i], &e);
+    } else {
+      // Each point's stress pulls on F_i and, times its offset, on dF_i/dn.
+      const Mat3 D = disc_.deformation_gradient_derivative(i, x);
+      ws.Q[i].setZero();
+      ws.R[i].setZero();
+      for (int q = 0; q < points; ++q) {
+        const double s = disc_.point_offset(i, q);
+        const Mat3 P = weighted_stress(i, F + s * D, disc_.volumes()[i] / points, &e);
+        ws.Q[i] += P;
+        ws.R[i] += s * P;
+      }
+    }
     strain += e.strain;
     volume += e.volume;
     if (stab) {
@@ -239,7 +259,7 @@ double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f) const {
       stabilizer += 0.5 * (stab_c_[i] * sq - F.cwiseProduct(FcA).sum());
     }
   }
-  folded_gather(ws.Q, ws.own, x, f);
+  folded_gather(ws.Q, points > 1 ? &ws.R : nullptr, ws.own, x, f);
   if (stab_matrix_) {
     const Vec3Array& X = disc_.rest_positions();
     for (Index i = 0; i < n; ++i) ws.u[static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(i)] - X[static_cast<std::size_t>(i)];
@@ -250,13 +270,19 @@ double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f) const {
 
 PointPrimitiveEnergy::Linearization PointPrimitiveEnergy::linearize(const Vec3Array& x) const {
   const Index n = disc_.num_nodes();
+  const int points = disc_.energy_points();
   Linearization lin;
-  lin.F.resize(n);
-  lin.S.resize(n);
+  lin.F.resize(static_cast<std::size_t>(n * points));
+  lin.S.resize(static_cast<std::size_t>(n * points));
 #pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
   for (Index i = 0; i < n; ++i) {
-    lin.F[i] = disc_.deformation_gradient(i, x);
-    if (!opt_.law) lin.S[i] = stress(lin.F[i]);
+    const Mat3 F = disc_.deformation_gradient(i, x);
+    const Mat3 D = disc_.deformation_gradient_derivative(i, x);
+    for (int q = 0; q < points; ++q) {
+      const std::size_t p = static_cast<std::size_t>(i * points + q);
+      lin.F[p] = F + disc_.point_offset(i, q) * D;
+      if (!opt_.law) lin.S[p] = stress(lin.F[p]);
+    }
   }
   return lin;
 }
@@ -267,6 +293,7 @@ void PointPrimitiveEnergy::hessian_product(const Vec3Array& x, const Vec3Array& 
 
 void PointPrimitiveEnergy::hessian_product(const Linearization& lin, const Vec3Array& v, Vec3Array& out) const {
   const Index n = disc_.num_nodes();
+  const int points = disc_.energy_points();
   Workspace& ws = workspace(n);
   const bool stab = folded_stab_;
   // The forces are -(folded gather of Q(F(x)), x); F is linear in x and the stabiliser terms are linear in x, so
@@ -276,13 +303,26 @@ void PointPrimitiveEnergy::hessian_product(const Linearization& lin, const Vec3A
     Vec3 sw;
     double sq;
     const Mat3 dF = gradient_and_moments(i, v, sw, sq);
-    ws.Q[i] = weighted_stress_derivative(i, lin.F[i], lin.S[i], dF);
+    if (points == 1) {
+      ws.Q[i] = weighted_stress_derivative(i, lin.F[i], lin.S[i], dF, disc_.volumes()[i]);
+    } else {
+      const Mat3 dD = disc_.deformation_gradient_derivative(i, v);
+      ws.Q[i].setZero();
+      ws.R[i].setZero();
+      for (int q = 0; q < points; ++q) {
+        const std::size_t p = static_cast<std::size_t>(i * points + q);
+        const double s = disc_.point_offset(i, q);
+        const Mat3 dP = weighted_stress_derivative(i, lin.F[p], lin.S[p], dF + s * dD, disc_.volumes()[i] / points);
+        ws.Q[i] += dP;
+        ws.R[i] += s * dP;
+      }
+    }
     if (stab) {
       ws.Q[i] -= dF * stab_cA_[i];
       ws.own[i] = stab_c_[i] * sw;
     }
   }
-  folded_gather(ws.Q, ws.own, v, out);
+  folded_gather(ws.Q, points > 1 ? &ws.R : nullptr, ws.own, v, out);
   for (auto& o : out) o = -o;
   if (stab_matrix_) stab_matrix_->add_product(v, out, 1.0);
 }

@@ -70,7 +70,8 @@ class PointPrimitiveEnergy {
   double forces(const Vec3Array& x, Vec3Array& forces) const;
 
   /// Per-node state a Hessian-vector product needs at a fixed configuration: F_i and the stress
-  /// S_i (SVK) or sigma_i (literal). Built once per Newton iteration, reused by every CG iteration.
+  /// S_i (SVK) or sigma_i (literal), per energy point (index i * points + q, Discretization::energy_points).
+  /// Built once per Newton iteration, reused by every CG iteration.
   struct Linearization {
     std::vector<Mat3> F, S;
   };
@@ -88,18 +89,21 @@ class PointPrimitiveEnergy {
   void hessian_product(const Linearization& lin, const Vec3Array& v, Vec3Array& out) const;
 
  private:
-  // Pass 1 of docs/model.md section 8 for one node: V_i P_i (+ volume term), and the energy.
-  Mat3 weighted_stress(Index i, const Mat3& F, EnergyBreakdown* e) const;
+  // Pass 1 of docs/model.md section 8 for one node (or one of its points, volume V): V P (+ volume term), and the
+  // energy.
+  Mat3 weighted_stress(Index i, const Mat3& F, double V, EnergyBreakdown* e) const;
   // Stress S (SVK) or sigma (literal) of F, Pa.
   Mat3 stress(const Mat3& F) const;
   // Directional derivative of weighted_stress at F (with stress S) along dF.
-  Mat3 weighted_stress_derivative(Index i, const Mat3& F, const Mat3& S, const Mat3& dF) const;
+  Mat3 weighted_stress_derivative(Index i, const Mat3& F, const Mat3& S, const Mat3& dF, double V) const;
   // Pass 1 for node i: sum_j (y_j - y_i) d_ij^T, with sum_j w_ij (y_j - y_i) and sum_j w_ij |y_j - y_i|^2.
   Mat3 gradient_and_moments(Index i, const Vec3Array& y, Vec3& weighted_sum, double& weighted_squares) const;
   // Pass 2: the stress gather with the stabiliser folded in (point_primitive_energy.cpp).
-  void folded_gather(const std::vector<Mat3>& Q, const Vec3Array& own, const Vec3Array& y, Vec3Array& out) const;
+  void folded_gather(const std::vector<Mat3>& Q, const std::vector<Mat3>* R, const Vec3Array& own, const Vec3Array& y,
+                     Vec3Array& out) const;
   struct Workspace {
     std::vector<Mat3> Q;  // Ptilde_i - c_i F_i A_i (or its derivative)
+    std::vector<Mat3> R;  // through-wall points: sum_q s_q Ptilde_q, conjugate to dF_i/dn
     Vec3Array own;        // c_i sum_j w_ij (y_j - y_i)
     Vec3Array u;          // x - X (the stabiliser matrix's argument)
   };

@@ -39,6 +39,7 @@ DiscretizationOptions discretization_options(const Scene& scene, const Body& bod
   o.wall_depths = body.wall->depth_m;
   o.wall_stretch = std::max(1.0, along_wall_spacing(body) / body.wall->layer_spacing_m);
   o.wall_thickness_m = body.wall->thickness_m;
+  o.wall_layer_spacing_m = body.wall->layer_spacing_m;
   return o;
 }
 

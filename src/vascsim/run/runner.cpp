@@ -115,6 +115,7 @@ nlohmann::json describe_run(const Scene& scene, Simulation& sim) {
           {"support_wall_stretch", wall_stretch},
           {"support_wall_across_scale", disc.wall_stretch() > 0.0 ? nlohmann::json(disc.wall_across_scale())
                                                                   : nlohmann::json()},
+          {"energy_points_per_node", disc.energy_points()},
           {"volume_m3", disc.total_volume()},
           {"mass_kg", std::accumulate(disc.masses().begin(), disc.masses().end(), 0.0)},
           {"solver", sim.model().info()},

@@ -294,16 +294,26 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
   sc.discretization.basis = basis == "quadratic"        ? GradientBasis::Quadratic
                             : basis == "wall_quadratic" ? GradientBasis::WallQuadratic
                                                         : GradientBasis::Linear;
+  const bool gauss = disc.string("wall_quadrature", "nodes", {"nodes", "gauss"}) == "gauss";
+  sc.discretization.wall_quadrature =
+      gauss ? DiscretizationOptions::WallQuadrature::Gauss : DiscretizationOptions::WallQuadrature::Nodes;
+  if (gauss && !fits_curvature(sc.discretization.basis))
+    disc.fail("wall_quadrature", "'gauss' evaluates each node's fit across its slab of the wall and needs "
+                                 "discretization.basis 'quadratic' or 'wall_quadratic'");
   // The quadratic basis's partner is the Simpson rule wherever the lattice has layers (docs/model.md section 4):
-  // with the tet partition's trapezoid weights it overestimates a bending field's energy by half.
+  // with the tet partition's trapezoid weights it overestimates a bending field's energy by half. Through-wall
+  // Gauss points integrate bending exactly themselves, over the tet partition's volumes.
   const bool layered = sc.geometry.type != "mesh";
   const char* volume_default = literal                                                          ? "mueller_kernel"
-                               : fits_curvature(sc.discretization.basis) && layered ? "simpson"
-                                                                                    : "tet_partition";
+                               : fits_curvature(sc.discretization.basis) && layered && !gauss ? "simpson"
+                                                                                               : "tet_partition";
   const std::string volume = disc.string("volume", volume_default, {"tet_partition", "mueller_kernel", "simpson"});
   if (volume == "simpson" && !layered)
     disc.fail("volume", "'simpson' needs a lattice with node layers (geometry type 'tube', 'vessel', 'box' or "
                         "'beam'); use 'tet_partition'");
+  if (gauss && volume != "tet_partition")
+    disc.fail("volume", "through-wall Gauss points (wall_quadrature 'gauss') integrate across the wall themselves and "
+                        "weigh the tet partition's volumes; use 'tet_partition'");
   sc.discretization.volume = volume == "tet_partition"    ? VolumeRule::TetPartition
                              : volume == "mueller_kernel" ? VolumeRule::MuellerKernel
                                                           : VolumeRule::Simpson;
@@ -322,6 +332,9 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
       sc.discretization.support != DiscretizationOptions::Support::Wall)
     disc.fail("wall_reach", "'thickness' shapes a support that follows the wall and needs discretization.support "
                             "'wall' (a geometry of type 'tube' or 'vessel')");
+  if (gauss && sc.discretization.support != DiscretizationOptions::Support::Wall)
+    disc.fail("wall_quadrature", "'gauss' places points across the wall and needs discretization.support 'wall' (a "
+                                 "geometry of type 'tube' or 'vessel')");
   if (sc.discretization.basis == GradientBasis::WallQuadratic &&
       sc.discretization.support != DiscretizationOptions::Support::Wall)
     disc.fail("basis", "'wall_quadratic' fits in the frame of the wall and needs discretization.support 'wall' (a "

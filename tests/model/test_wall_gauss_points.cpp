@@ -169,22 +169,38 @@ TEST(WallGaussPoints, ForcesAndHessianAreTheEnergysDerivatives) {
 
 // The key: a curvature basis and a wall support are needed, and the Simpson volumes (which would integrate across the
 // wall a second time) are refused with it; with a tube and the wall-quadratic basis it parses, its volume default
-// the tet partition.
+// the tet partition. quasi_static's default on a tube is the quadratic basis with Gauss points and the thickness
+// reach, implicit's the linear basis at the nodes.
 TEST(WallGaussPoints, AreCheckedAtTheirKey) {
   nlohmann::json doc = nlohmann::json::parse(R"({
     "name": "q", "model": "quasi_static",
     "geometry": { "type": "tube", "outer_radius_m": 0.0015, "wall_thickness_m": 0.0003, "length_m": 0.004,
                   "node_spacing_m": 0.0004 },
     "material": { "youngs_modulus_pa": 1e5, "poisson_ratio": 0.45, "density_kg_m3": 1060 },
-    "discretization": { "wall_quadrature": "gauss" },
+    "discretization": { "wall_quadrature": "gauss", "basis": "linear" },
     "regions": [ { "name": "base", "select": { "type": "box", "max_m": [1, 1, 0] }, "bc": { "type": "fixed" } } ]
   })");
   std::string m = test::scene_error(doc, "q.json");
   EXPECT_NE(m.find("discretization.wall_quadrature"), std::string::npos) << m;
   EXPECT_NE(m.find("basis"), std::string::npos) << m;
 
+  doc["discretization"].erase("wall_quadrature");
+  doc["discretization"].erase("basis");
+  Scene scene = parse_scene(doc, "q.json");
+  EXPECT_EQ(scene.discretization.basis, GradientBasis::Quadratic);
+  EXPECT_EQ(scene.discretization.wall_quadrature, DiscretizationOptions::WallQuadrature::Gauss);
+  EXPECT_EQ(scene.discretization.wall_reach, DiscretizationOptions::WallReach::Thickness);
+  EXPECT_EQ(scene.discretization.volume, VolumeRule::TetPartition);
+  doc["model"] = "implicit";
+  scene = parse_scene(doc, "q.json");
+  EXPECT_EQ(scene.discretization.basis, GradientBasis::Linear);
+  EXPECT_EQ(scene.discretization.wall_quadrature, DiscretizationOptions::WallQuadrature::Nodes);
+  EXPECT_EQ(scene.discretization.wall_reach, DiscretizationOptions::WallReach::Layers);
+  doc["model"] = "quasi_static";
+
+  doc["discretization"]["wall_quadrature"] = "gauss";
   doc["discretization"]["basis"] = "wall_quadratic";
-  const Scene scene = parse_scene(doc, "q.json");
+  scene = parse_scene(doc, "q.json");
   EXPECT_EQ(scene.discretization.volume, VolumeRule::TetPartition);
   EXPECT_EQ(scene.discretization.wall_quadrature, DiscretizationOptions::WallQuadrature::Gauss);
 

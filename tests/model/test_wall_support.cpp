@@ -25,7 +25,7 @@ nlohmann::json tube(const std::string& support) {
     "geometry": { "type": "tube", "outer_radius_m": 1.5e-3, "wall_thickness_m": 0.3e-3, "length_m": 6e-3,
                   "node_spacing_m": 0.3e-3 },
     "material": { "youngs_modulus_pa": 5e5, "poisson_ratio": 0.45, "density_kg_m3": 1060 },
-    "discretization": { "max_growths": 10 },
+    "discretization": { "max_growths": 10, "basis": "linear" },
     "regions": [ { "name": "ends", "select": { "type": "box", "min_m": [-1, -1, -1], "max_m": [1, 1, 0] },
                    "bc": { "type": "fixed" } } ]
   })");
@@ -142,6 +142,7 @@ TEST(WallSupport, AThicknessReachHoldsEveryLayer) {
   };
   nlohmann::json doc = tube("wall");
   doc["discretization"]["basis"] = "quadratic";
+  doc["discretization"]["wall_reach"] = "layers";
   Simulation by_layers(parse_scene(doc, "tube.json"));
   doc["discretization"]["wall_reach"] = "thickness";
   Simulation by_thickness(parse_scene(doc, "tube.json"));

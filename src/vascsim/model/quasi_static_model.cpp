@@ -30,7 +30,8 @@ ModelEntry quasi_static_model_entry() {
   e.summary = "static equilibrium by Newton-CG at every load step: force-displacement experiments, validation";
   e.capabilities = {.dynamic = false, .takes_tools = true, .device_driven = true, .releases_regions = false,
                     .quadratic_basis = true, .wall_support_default = true,
-                    .quadratic_stabilizer_default = true, .embedded_contact = true};
+                    .quadratic_stabilizer_default = true, .accurate_wall_default = true,
+                    .embedded_contact = true};
   e.read_settings = [](JsonReader& block) { return std::any(read_quasi_static_settings(block)); };
   e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
     return std::make_unique<QuasiStaticModel>(problem, settings_as<QuasiStaticSettings>(settings));

@@ -35,6 +35,11 @@ struct ModelCapabilities {
   /// On such a wall its default energy.stabilizer_fit is "quadratic" (docs/model.md section 9.3): the same models,
   /// for the same reason; the others keep the stabiliser they were tuned with.
   bool quadratic_stabilizer_default = false;
+  /// On such a wall its defaults are the configuration docs/validation.md finds within about 2 % of the FEM
+  /// references at the default resolutions ("Through-wall Gauss points"): discretization.basis "quadratic",
+  /// wall_reach "thickness", wall_quadrature "gauss" and, with tools, contact.surface "embedded". quasi_static only:
+  /// at the real-time resolutions the linear basis is nearer on the vein, and implicit's tools meet the nodes.
+  bool accurate_wall_default = false;
   /// takes contact.surface "embedded": its tools meet the wall's surface through a penalty term of its
   /// equilibrium solve (embedded_contact.hpp)
   bool embedded_contact = false;

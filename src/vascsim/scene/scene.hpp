@@ -164,6 +164,9 @@ struct Scene {
   Vec3 gravity_m_s2 = Vec3::Zero();
   std::vector<RigidObstacle> obstacles;  ///< rigid tools, for models that take tools
   ContactSpec contact;                   ///< how the tools meet the tissue
+  /// The discretisation is the accurate wall configuration (quadratic basis, thickness reach, through-wall Gauss
+  /// points) by the model's default: then contact.surface defaults to "embedded".
+  bool accurate_wall_defaults = false;
   /// Every registered model's settings, as its registry entry read them from its block (defaults when the
   /// block is absent), keyed by model name: the scene's model uses its own, `--set model=...` another's.
   std::map<std::string, std::any> model_settings;

@@ -6,13 +6,16 @@ scene's real-time variant (scenes/realtime/, the implicit model) at its resoluti
 node count, the final force of the pushed region or tool, its error against the fine quasi_static force (the
 discretisation error) and, for the real-time variant, the implicit model's final force against quasi_static at
 the same resolution (the solver error). Every run uses the real-time model's discretisation (the linear fit, the tools
-on the nodes), which quasi_static uses on walls only when asked.
+on the nodes), which quasi_static uses on walls only when asked; with --discretization default the quasi_static rows
+use quasi_static's own defaults instead (on walls the quadratic fit, docs/model.md design decision 8), without the
+real-time variants.
 
     /usr/bin/python3 scripts/realtime_resolution_table.py --vascsim build/vascsim --out out/realtime-resolution
+        [--discretization realtime|default] [--accuracy-table data/calibration/force_accuracy.json]
 
 Each run is an ordinary `vascsim run`; the raw outputs stay in the output folder. With --accuracy-table FILE it
 also writes the quasi_static rows as the data `vascsim check` reads its expected force accuracy from
-(data/calibration/force_accuracy.json; the file's other sections are kept).
+(data/calibration/force_accuracy.json; the file's other sections, and its cases of the other basis, are kept).
 """
 import argparse
 import json
@@ -50,21 +53,23 @@ def final_force(summary, name):
     return summary["steps"][-1]["regions"][name]["force_n"]
 
 
-def write_accuracy_table(path, rows):
-    """The quasi_static rows, per case, in the format of data/calibration/force_accuracy.json."""
+def write_accuracy_table(path, rows, basis, regenerate):
+    """The quasi_static rows, per case, in the format of data/calibration/force_accuracy.json, as the cases of the
+    local-fit basis `basis`; the cases of other bases are kept."""
     path = pathlib.Path(path)
     doc = json.loads(path.read_text()) if path.is_file() else {}
     # A case's comparison of its finest row with an independent reference is measured elsewhere
     # (docs/validation.md): kept as it is.
-    kept = {c["case"]: c["finest_row_against"] for c in doc.get("cases", []) if "finest_row_against" in c}
-    cases = []
+    kept = {c["case"]: c["finest_row_against"] for c in doc.get("cases", [])
+            if "finest_row_against" in c and c.get("basis", "linear") == basis}
+    cases = [c for c in doc.get("cases", []) if c.get("basis", "linear") != basis]
     for label, scene, region, _, _ in CASES:
         mine = [r for r in rows if r["case"] == label and r["model"] == "quasi_static"]
         if not mine:
             continue
         geometry = json.loads(pathlib.Path(scene).read_text())["geometry"]
         obstacles = json.loads(pathlib.Path(scene).read_text()).get("obstacles", [])
-        cases.append({"case": label, "scene": scene, "measured": region,
+        cases.append({"case": label, "scene": scene, "measured": region, "basis": basis,
                       "loaded_by": "tool" if any(o["name"] == region for o in obstacles) else "region",
                       "outer_radius_m": geometry["outer_radius_m"], "wall_thickness_m": geometry["wall_thickness_m"],
                       "rows": [{"spacing_m": r["spacing_m"], "nodes": r["nodes"], "force_n": r["force_n"],
@@ -72,9 +77,7 @@ def write_accuracy_table(path, rows):
         if label in kept:
             cases[-1]["finest_row_against"] = kept[label]
     doc.update({"reference": "fine quasi_static run", "measured": time.strftime("%Y-%m-%d"),
-                "regenerate": "/usr/bin/python3 scripts/realtime_resolution_table.py --vascsim build/vascsim "
-                              f"--out out/realtime-resolution --accuracy-table {path}",
-                "cases": cases})
+                "regenerate": regenerate, "cases": cases})
     doc.setdefault("substep_stiffness", [])
     path.write_text(json.dumps(doc, indent=2) + "\n")
     print(f"wrote {path}")
@@ -85,6 +88,9 @@ def main():
     ap.add_argument("--vascsim", default="build/vascsim")
     ap.add_argument("--out", default="out/realtime-resolution")
     ap.add_argument("--only", help="run only the cases whose name contains this text")
+    ap.add_argument("--discretization", choices=["realtime", "default"], default="realtime",
+                    help="realtime: every run with the real-time model's discretisation (the linear fit, the tools on "
+                    "the nodes; the default); default: quasi_static's own defaults, without the real-time variants")
     ap.add_argument("--accuracy-table", help="also write the quasi_static rows to this file (the data of "
                     "`vascsim check`'s expected force accuracy, data/calibration/force_accuracy.json)")
     args = ap.parse_args()
@@ -93,8 +99,10 @@ def main():
     rows = []
     # Every run with the real-time model's discretisation (the linear fit, tools on the nodes): quasi_static's own
     # default on walls fits curvature (docs/model.md design decision 8), and this table is the real-time scenes'.
-    common = ["discretization.max_growths=10", "mapping.max_growths=6", "output.surface=false", "output.vtk=false",
-              "discretization.basis=linear", "contact.surface=nodes"]
+    common = ["discretization.max_growths=10", "mapping.max_growths=6", "output.surface=false", "output.vtk=false"]
+    realtime_fit = args.discretization == "realtime"
+    if realtime_fit:
+        common += ["discretization.basis=linear", "contact.surface=nodes"]
     for label, scene, region, spacings, realtime in CASES:
         if args.only and args.only not in label:
             continue
@@ -111,7 +119,7 @@ def main():
             rows.append(row)
             print(f"{label}: {h * 1e3:.3g} mm, {row['nodes']} nodes: {force:.6g} N ({100 * row['error_vs_fine']:+.1f} %), "
                   f"{seconds:.0f} s", flush=True)
-        if realtime:
+        if realtime and realtime_fit:
             rt = json.loads(pathlib.Path(realtime).read_text())
             h = rt["geometry"]["node_spacing_m"]
             summary, seconds = run(args.vascsim, realtime, out / f"realtime-{pathlib.Path(realtime).stem}",
@@ -136,7 +144,12 @@ def main():
     (out / "table.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
     if args.accuracy_table:
-        write_accuracy_table(args.accuracy_table, rows)
+        # quasi_static's own default on the vessels' walls is the quadratic fit (docs/model.md design decision 8).
+        basis = "linear" if realtime_fit else "quadratic"
+        regenerate = ("/usr/bin/python3 scripts/realtime_resolution_table.py --vascsim build/vascsim --out "
+                      "out/realtime-resolution --accuracy-table data/calibration/force_accuracy.json; the same with "
+                      "--discretization default --out out/realtime-resolution-default")
+        write_accuracy_table(args.accuracy_table, rows, basis, regenerate)
 
 
 if __name__ == "__main__":

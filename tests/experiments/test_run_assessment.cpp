@@ -58,12 +58,19 @@ TEST(CostModel, TheBundledCalibrationCoversTheRealTimeAndStaticModels) {
 
 // The estimate takes the rows of the bundled table (their values change whenever the table is measured again, so
 // they are read from it, not repeated here): exact at a row, the mean of two rows half way between them in
-// log(nodes), the coarsest row below the table.
+// log(nodes), the coarsest row below the table; and only from the cases of the scene's own local-fit basis (the
+// scene's quasi_static fits curvature; the same scene with the linear fit, the real-time model's, reads the other
+// case, whose rows differ).
 TEST(ForceAccuracy, MatchesTheVesselAndInterpolatesInLogNodes) {
   const ForceAccuracyTable table = ForceAccuracyTable::read(ForceAccuracyTable::default_file());
-  const Scene vein = load_scene(test::source_path("scenes/hand-dorsal-vein.json"));
-  const auto vc = std::find_if(table.cases.begin(), table.cases.end(),
-                               [](const AccuracyCase& c) { return c.name == "hand dorsal vein, bonded indenter"; });
+  Scene vein = load_scene(test::source_path("scenes/hand-dorsal-vein.json"));
+  ASSERT_EQ(vein.discretization.basis, GradientBasis::Quadratic);
+  auto case_of = [&](const std::string& basis) {
+    return std::find_if(table.cases.begin(), table.cases.end(), [&](const AccuracyCase& c) {
+      return c.name == "hand dorsal vein, bonded indenter" && c.basis == basis;
+    });
+  };
+  const auto vc = case_of("quadratic");
   ASSERT_NE(vc, table.cases.end());
   ASSERT_GE(vc->rows.size(), 3u);
   const AccuracyRow &coarsest = vc->rows[0], &coarse = vc->rows[1], &finer = vc->rows[2];
@@ -84,6 +91,13 @@ TEST(ForceAccuracy, MatchesTheVesselAndInterpolatesInLogNodes) {
   // The same vessel with a catheter: the catheter case; an imported mesh: not covered.
   EXPECT_EQ(estimate_accuracy(table, load_scene(test::source_path("scenes/hand-dorsal-vein-catheter.json")), 22914).match->name,
             "hand dorsal vein, 6 Fr catheter (Fig. 10)");
+  // The linear fit reads the linear case.
+  const auto linear = case_of("linear");
+  ASSERT_NE(linear, table.cases.end());
+  vein.discretization.basis = GradientBasis::Linear;
+  e = estimate_accuracy(table, vein, finer.nodes);
+  ASSERT_NE(e.match, nullptr);
+  EXPECT_EQ(e.match, &*linear);
   EXPECT_EQ(estimate_accuracy(table, load_scene(test::source_path("scenes/cantilever.json")), 1000).match, nullptr);
 }
 

@@ -18,6 +18,7 @@ AccuracyCase read_case(const nlohmann::json& j) {
   c.name = j.at("case").get<std::string>();
   c.scene = j.at("scene").get<std::string>();
   c.tool = j.at("loaded_by").get<std::string>() == "tool";
+  c.basis = j.value("basis", std::string("linear"));
   c.outer_radius_m = j.at("outer_radius_m").get<double>();
   c.wall_thickness_m = j.at("wall_thickness_m").get<double>();
   for (const auto& r : j.at("rows"))
@@ -33,6 +34,11 @@ AccuracyCase read_case(const nlohmann::json& j) {
 }
 
 bool same(double a, double b) { return std::abs(a - b) <= 0.01 * std::max(std::abs(a), std::abs(b)); }
+
+// The scene's local-fit basis as the table names it.
+std::string basis_name(GradientBasis b) {
+  return b == GradientBasis::Quadratic ? "quadratic" : b == GradientBasis::WallQuadratic ? "wall_quadratic" : "linear";
+}
 
 }  // namespace
 
@@ -69,8 +75,9 @@ AccuracyEstimate estimate_accuracy(const ForceAccuracyTable& table, const Scene&
   const std::string& type = scene.geometry.type;
   if (type != "tube" && type != "vessel") return e;
   const bool tool = !scene.obstacles.empty();
+  const std::string basis = basis_name(scene.discretization.basis);
   for (const AccuracyCase& c : table.cases)
-    if (c.tool == tool && same(c.outer_radius_m, scene.geometry.tube.outer_radius_m) &&
+    if (c.tool == tool && c.basis == basis && same(c.outer_radius_m, scene.geometry.tube.outer_radius_m) &&
         same(c.wall_thickness_m, scene.geometry.tube.wall_thickness_m))
       e.match = &c;
   if (e.match == nullptr) return e;
@@ -97,8 +104,9 @@ AccuracyEstimate estimate_accuracy(const ForceAccuracyTable& table, const Scene&
 std::string describe_accuracy(const ForceAccuracyTable& table, const AccuracyEstimate& e) {
   if (e.match == nullptr) {
     std::string cases;
-    for (const AccuracyCase& c : table.cases) cases += (cases.empty() ? "" : "; ") + c.name;
-    return fmt::format("not covered: no case of the accuracy table has this vessel and loading (cases: {})", cases);
+    for (const AccuracyCase& c : table.cases) cases += (cases.empty() ? "" : "; ") + c.name + " (" + c.basis + " fit)";
+    return fmt::format("not covered: no case of the accuracy table has this vessel, loading and local-fit basis "
+                       "(cases: {})", cases);
   }
   auto row = [](const AccuracyRow& r) { return fmt::format("{:.3g} mm, {:.0f} nodes: {:+.1f} %", 1e3 * r.spacing_m, r.nodes, 100.0 * r.error); };
   std::string from;

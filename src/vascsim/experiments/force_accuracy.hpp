@@ -3,7 +3,8 @@
 // force_accuracy.json, the table of docs/validation.md "Real-time resolutions: force error against node
 // count", written by scripts/realtime_resolution_table.py --accuracy-table):
 //  - the discretisation error of a vessel at a node count: a case of the table (the same cross-section, loaded
-//    the same way: a bonded indenter region or a tool) interpolated in log(node count) between its two rows;
+//    the same way: a bonded indenter region or a tool, with the same local-fit basis) interpolated in log(node
+//    count) between its two rows;
 //  - models known to be far off at some settings: xpbd's force deficit when its per-substep stiffness ratio
 //    q = (h c_p / spacing)^2 is large (docs/validation.md, "xpbd steady state against quasi_static").
 
@@ -33,6 +34,10 @@ struct IndependentCheck {
 
 struct AccuracyCase {
   std::string name, scene;
+  /// The local fit's basis the rows were measured with ("linear", "quadratic"; the key "basis", "linear" when
+  /// absent): a scene is compared with the cases of its own basis only (quasi_static fits curvature on walls,
+  /// implicit does not; docs/model.md design decision 8).
+  std::string basis = "linear";
   bool tool = false;  ///< loaded by a tool (obstacle) rather than a bonded region
   double outer_radius_m = 0.0, wall_thickness_m = 0.0;
   std::vector<AccuracyRow> rows;  ///< by node count, ascending

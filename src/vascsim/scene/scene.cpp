@@ -483,9 +483,10 @@ void read_contact(JsonReader& root, Scene& sc) {
   JsonReader c = root.object("contact");
   // With the accurate wall configuration the tools meet the wall's surface (docs/validation.md: at the nodes its
   // catheter is 3-18 % soft), unless a tool keeps the nodes off itself (node_radius_m), which asks for the nodes.
+  // Without tools there is no contact to build.
   bool node_clearance = false;
   for (const RigidObstacle& ob : sc.obstacles) node_clearance = node_clearance || ob.node_radius_m > 0.0;
-  const char* surface_default = sc.accurate_wall_defaults && !node_clearance ? "embedded" : "nodes";
+  const char* surface_default = sc.accurate_wall_defaults && !sc.obstacles.empty() && !node_clearance ? "embedded" : "nodes";
   sc.contact.embedded = c.string("surface", surface_default, {"nodes", "embedded"}) == "embedded";
   if (c.has("shape_functions")) {
     if (!sc.contact.embedded) c.fail("shape_functions", "applies to contact.surface \"embedded\" only");

@@ -28,6 +28,7 @@ TEST(LatticeFit, APatchSelectsTheAreaAsked) {
   nlohmann::json doc = read_json_file(test::source_path("scenes/vein-indent.json"), "scene", "a scene");
   doc["geometry"]["node_spacing_m"] = 0.3e-3;
   doc["discretization"]["max_growths"] = 10;
+  doc["geometry"]["fit_lattice_to_patch"] = "none";  // the scene fits its lattice to the patch's edges
   const Simulation plain(parse_scene(doc, "vein.json"));
   const nlohmann::json& before = patch_report(plain);
   EXPECT_GT(before["selected"]["angle_deg"].get<double>(), 38.0);

@@ -148,6 +148,9 @@ std::vector<std::string> timed_scene_overrides(const std::string& model, const s
   std::vector<std::string> s = {kBenchDefaultOverride};
   s.insert(s.end(), user.begin(), user.end());
   s.push_back("model=" + model);
+  // The plain lattice whose spacing find_tube_resolution chose (a scene may fit its lattice to a patch, which sets
+  // the counts of columns and cross-sections itself).
+  s.push_back("geometry.fit_lattice_to_patch=none");
   s.push_back(fmt::format("geometry.node_spacing_m={:.17g}", spacing_m));
   s.push_back(fmt::format("{}.output_interval_s={:.17g}", model, kBenchStepS));
   s.push_back(fmt::format("{}.duration_s={:.17g}", model, duration_s));
@@ -164,6 +167,10 @@ TubeResolution find_tube_resolution(const GeometrySpec& geometry, int target_nod
                     geometry.type));
   if (target_nodes < 1) throw InputError(fmt::format("bench: node count {} must be >= 1", target_nodes));
   GeometrySpec g = geometry;
+  // The plain lattice of each spacing (timed_scene_overrides asks for it too): a lattice fitted to a patch fixes its
+  // counts of columns and cross-sections.
+  g.fit_lattice_to_patch = "none";
+  g.tube.angular_nodes = g.tube.axial_nodes = 0;
   auto count = [&](double spacing) {
     g.tube.node_spacing_m = spacing;
     return static_cast<int>(build_geometry(g).positions.size());

@@ -281,41 +281,44 @@ void EnergyHessian::compute_tangents(const Vec3Array& x) {
   // Literal strain (docs/model.md section 7): eps = 2E and sigma = 2S, so U_lit = 4 U_SVK and its tangent is 4x.
   const double svk_scale = eo.strain == StrainMeasure::GreenHalf ? 1.0 : 4.0;
   const Mat3 I = Mat3::Identity();
-#pragma omp parallel for schedule(static) if (n * points >= kParallelMinRows)
-  for (Index p = 0; p < n * points; ++p) {
-    const Index i = p / points;
-    const Mat3 F = disc.deformation_gradient(i, x) + disc.point_offset(i, static_cast<int>(p % points)) *
-                                                         disc.deformation_gradient_derivative(i, x);
-    Mat9 C;
-    if (eo.law) {
-      const materials::MaterialFrame* frame = eo.frames.empty() ? nullptr : &eo.frames[static_cast<std::size_t>(i)];
-      C = tangent_of([&](const Mat3& dF) { return eo.law->first_piola_derivative(F, dF, frame); });
-    } else {
-      // SVK: P = F S, S = lambda tr(E) I + 2 mu E, E = 1/2 (F^T F - I) (Eqs. 5-7 with the 1/2).
-      const Mat3 E = 0.5 * (F.transpose() * F - I);
-      const Mat3 S = lambda * E.trace() * I + 2.0 * mu * E;
-      C = svk_scale * tangent_of([&](const Mat3& dF) {
-            const Mat3 dE = 0.5 * (dF.transpose() * F + F.transpose() * dF);
-            return Mat3(dF * S + F * (lambda * dE.trace() * I + 2.0 * mu * dE));
-          });
+#pragma omp parallel for schedule(static) if (n >= kParallelMinRows)
+  for (Index i = 0; i < n; ++i) {
+    // F_i and dF_i/dn once per node; each energy point q has F_i + s_q dF_i/dn.
+    const Mat3 Fi = disc.deformation_gradient(i, x);
+    const Mat3 Di = disc.deformation_gradient_derivative(i, x);
+    for (int q = 0; q < points; ++q) {
+      const Mat3 F = Fi + disc.point_offset(i, q) * Di;
+      Mat9 C;
+      if (eo.law) {
+        const materials::MaterialFrame* frame = eo.frames.empty() ? nullptr : &eo.frames[static_cast<std::size_t>(i)];
+        C = tangent_of([&](const Mat3& dF) { return eo.law->first_piola_derivative(F, dF, frame); });
+      } else {
+        // SVK: P = F S, S = lambda tr(E) I + 2 mu E, E = 1/2 (F^T F - I) (Eqs. 5-7 with the 1/2).
+        const Mat3 E = 0.5 * (F.transpose() * F - I);
+        const Mat3 S = lambda * E.trace() * I + 2.0 * mu * E;
+        C = svk_scale * tangent_of([&](const Mat3& dF) {
+              const Mat3 dE = 0.5 * (dF.transpose() * F + F.transpose() * dF);
+              return Mat3(dF * S + F * (lambda * dE.trace() * I + 2.0 * mu * dE));
+            });
+      }
+      if (kv > 0.0) {
+        // docs/model.md section 9.1: P_v = k_v (J - 1) cof(F), dP_v = k_v [(cof : dF) cof + (J - 1) dcof[dF]].
+        const double J = F.determinant();
+        const Mat3 cof = cofactor(F);
+        C += tangent_of([&](const Mat3& dF) {
+          return Mat3(kv * (cof.cwiseProduct(dF).sum() * cof + (J - 1.0) * cofactor_derivative(F, dF)));
+        });
+      }
+      // Exact tangents are symmetric; symmetrise the rounding (into a new matrix: C^T must not alias C).
+      const Mat9 Csym = (0.5 * disc.volumes()[static_cast<std::size_t>(i)] / points) * (C + C.transpose());
+      C = Csym;
+      if (opt_.project_psd) {
+        Eigen::SelfAdjointEigenSolver<Mat9> es(C);
+        if (es.eigenvalues()(0) < 0.0)
+          C = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
+      }
+      tangent_[static_cast<std::size_t>(i * points + q)] = C;
     }
-    if (kv > 0.0) {
-      // docs/model.md section 9.1: P_v = k_v (J - 1) cof(F), dP_v = k_v [(cof : dF) cof + (J - 1) dcof[dF]].
-      const double J = F.determinant();
-      const Mat3 cof = cofactor(F);
-      C += tangent_of([&](const Mat3& dF) {
-        return Mat3(kv * (cof.cwiseProduct(dF).sum() * cof + (J - 1.0) * cofactor_derivative(F, dF)));
-      });
-    }
-    // Exact tangents are symmetric; symmetrise the rounding (into a new matrix: C^T must not alias C).
-    const Mat9 Csym = (0.5 * disc.volumes()[static_cast<std::size_t>(i)] / points) * (C + C.transpose());
-    C = Csym;
-    if (opt_.project_psd) {
-      Eigen::SelfAdjointEigenSolver<Mat9> es(C);
-      if (es.eigenvalues()(0) < 0.0)
-        C = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
-    }
-    tangent_[static_cast<std::size_t>(p)] = C;
   }
 }
 

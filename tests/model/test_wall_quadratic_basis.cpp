@@ -103,23 +103,7 @@ TEST(WallQuadraticBasis, RigidMotionIsFreeAndForcesConserveMomentum) {
   EnergyOptions eo{StrainMeasure::GreenHalf, 0.0, 0.5, {}, {}};
   eo.stabilizer_fit = StabilizerFit::Quadratic;
   const PointPrimitiveEnergy energy(disc, eo);
-  const Mat3 R = Eigen::AngleAxisd(1.1, Vec3(0.3, -1.0, 0.4).normalized()).toRotationMatrix();
-  Vec3Array x = disc.rest_positions();
-  for (Vec3& p : x) p = R * p + Vec3(0.3, -0.2, 0.1) * kDelta;
-  Vec3Array f;
-  const double U = energy.forces(x, f);
-  EXPECT_LT(std::abs(U), 1e-14 * 0.5 * mat.shear_modulus() * disc.total_volume());
-  EXPECT_LT(test::max_norm(f), 1e-10 * mat.youngs_modulus_pa * kDelta * kDelta);
-
-  x = test::large_deformation(disc.rest_positions(), 1);
-  energy.forces(x, f);
-  Vec3 sum = Vec3::Zero(), torque = Vec3::Zero();
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    sum += f[i];
-    torque += x[i].cross(f[i]);
-  }
-  EXPECT_LE(sum.norm(), 1e-12 * test::max_norm(f));
-  EXPECT_LE(torque.norm(), 1e-12 * test::max_norm(f) * test::max_norm(x));
+  test::expect_rigid_motion_free_and_momentum(energy, mat);
 }
 
 // T5 (tolerances of QuadraticBasis.ForcesAndHessianAreTheEnergysDerivatives), with the stabiliser on the basis's

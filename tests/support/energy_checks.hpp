@@ -7,7 +7,10 @@
 #include <functional>
 #include <random>
 
+#include <gtest/gtest.h>
+
 #include "vascsim/core/types.hpp"
+#include "vascsim/model/material.hpp"
 
 #include "support/test_support.hpp"
 
@@ -31,6 +34,32 @@ inline double max_norm(const Vec3Array& a) {
   double m = 0.0;
   for (const Vec3& v : a) m = std::max(m, v.norm());
   return m;
+}
+
+// T3 and T4 for an energy whose fit reproduces affine fields: a rigid motion (a rotation and a shift) stores no
+// energy (1e-14 of mu V / 2: rounding) and moves no node (1e-10 E Delta^2), and at a large deformation the forces sum
+// to zero and have no torque (1e-12 relative: rounding of sums of a few hundred terms). The bounds' reasons are
+// QuadraticBasis.RigidMotionIsFreeAndForcesConserveMomentum's.
+template <class Energy>
+void expect_rigid_motion_free_and_momentum(const Energy& energy, const Material& mat) {
+  const auto& disc = energy.discretization();
+  const Mat3 R = Eigen::AngleAxisd(1.1, Vec3(0.3, -1.0, 0.4).normalized()).toRotationMatrix();
+  Vec3Array x = disc.rest_positions();
+  for (Vec3& p : x) p = R * p + Vec3(0.3, -0.2, 0.1) * kDelta;
+  Vec3Array f;
+  const double U = energy.forces(x, f);
+  EXPECT_LT(std::abs(U), 1e-14 * 0.5 * mat.shear_modulus() * disc.total_volume());
+  EXPECT_LT(max_norm(f), 1e-10 * mat.youngs_modulus_pa * kDelta * kDelta);
+
+  x = large_deformation(disc.rest_positions(), 1);
+  energy.forces(x, f);
+  Vec3 sum = Vec3::Zero(), torque = Vec3::Zero();
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    sum += f[i];
+    torque += x[i].cross(f[i]);
+  }
+  EXPECT_LE(sum.norm(), 1e-12 * max_norm(f));
+  EXPECT_LE(torque.norm(), 1e-12 * max_norm(f) * max_norm(x));
 }
 
 // max over 30 random DOFs of |f + dU/dx| / max|f|, with dU/dx by central differences of step 1e-7 Delta.

@@ -118,7 +118,8 @@ PairTable transpose(const PairTable& p, Index n) {
   t.col.resize(p.col.size());
   t.d.resize(p.col.size());
   t.w.resize(p.col.size());
-  if (!p.e.empty()) t.e.resize(p.col.size());
+  const std::size_t G = p.col.empty() ? 0 : p.e.size() / p.col.size();
+  t.e.resize(p.e.size());
   std::vector<Index> fill(t.row_start.begin(), t.row_start.end() - 1);
   for (Index i = 0; i < n; ++i)
     for (Index e = p.row_start[i]; e < p.row_start[i + 1]; ++e) {
@@ -127,7 +128,7 @@ PairTable transpose(const PairTable& p, Index n) {
       t.col[slot] = i;  // rows i are visited in order, so every transposed row is sorted
       t.d[slot] = p.d[e];
       t.w[slot] = p.w[e];
-      if (!p.e.empty()) t.e[slot] = p.e[e];
+      for (std::size_t k = 0; k < G; ++k) t.e[static_cast<std::size_t>(slot) * G + k] = p.e[static_cast<std::size_t>(e) * G + k];
     }
   return t;
 }
@@ -287,9 +288,10 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
   basis_ = basis;
   if (quadratic) fit_.resize(npairs);
   const bool points = energy_points_ > 1;
+  const std::size_t G = static_cast<std::size_t>(point_directions_);
   if (points) {
-    pairs_.e.resize(npairs);
-    self_e_.assign(n, Vec3::Zero());
+    pairs_.e.resize(npairs * G);
+    self_e_.assign(static_cast<std::size_t>(n) * G, Vec3::Zero());
   }
 #pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) {
@@ -299,11 +301,12 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
     moment_[i] = t.A;
     Mat9 Binv;
     if (quadratic) Binv = quadratic_moment(X_, i, t, h_[i], basis, fit_normal(i)).inverse();  // conditioned by the guard (double)
-    Vec3 dsum = Vec3::Zero(), esum = Vec3::Zero();
-    // Through-wall points: the fit's gradient along the wall normal n changes by c_ij^T M / h^2 per metre.
-    const Eigen::Matrix<double, 9, 3> M =
-        points ? monomial_hessians_along(basis, opt.wall_normals[static_cast<std::size_t>(i)], *fit_normal_or(i, opt))
-               : Eigen::Matrix<double, 9, 3>::Zero();
+    Vec3 dsum = Vec3::Zero();
+    std::array<Vec3, kMaxPointDirections> esum{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+    // Gauss points: the fit's gradient along the point direction u_k changes by c_ij^T M_k / h^2 per metre.
+    std::array<Eigen::Matrix<double, 9, 3>, kMaxPointDirections> M;
+    for (std::size_t k = 0; k < G; ++k)
+      M[k] = monomial_hessians_along(basis, point_axes_[static_cast<std::size_t>(i) * G + k], *fit_normal_or(i, opt));
     for (std::size_t a = 0; a < t.nbr.size(); ++a) {
       const Index e = pairs_.row_start[i] + static_cast<Index>(a);
       const Vec3 Xij = X_[t.nbr[a]] - X_[i];
@@ -312,9 +315,10 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
       if (quadratic) {
         fit_[e] = t.w[a] * (Binv * fit_monomials(basis, Xij, h_[i], fit_normal(i)));
         pairs_.d[e] = fit_[e].head<3>() / h_[i];  // the gradient rows of the fit, per metre
-        if (points) {
-          pairs_.e[e] = (fit_[e].transpose() * M).transpose() / (h_[i] * h_[i]);
-          esum += pairs_.e[e];
+        for (std::size_t k = 0; k < G; ++k) {
+          Vec3& ek = pairs_.e[static_cast<std::size_t>(e) * G + k];
+          ek = (fit_[e].transpose() * M[k]).transpose() / (h_[i] * h_[i]);
+          esum[k] += ek;
         }
       } else {
         pairs_.d[e] = t.w[a] * (Ainv * Xij);
@@ -322,32 +326,60 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
       dsum += pairs_.d[e];
     }
     self_d_[i] = -dsum;
-    if (points) self_e_[i] = -esum;
+    for (std::size_t k = 0; k < G; ++k) self_e_[static_cast<std::size_t>(i) * G + k] = -esum[k];
   }
 }
 
-// WallQuadrature::Gauss: node i stands for the depths within half a layer step of its own, clipped to the wall
-// ([d_i - D/2, d_i + D/2] and [0, t]), and its two Gauss points lie at the slab's centre -+ half its width / sqrt 3,
-// as offsets along the wall normal (the direction of growing depth).
+// Gauss points (WallQuadrature::Gauss): node i stands for the depths within half a layer step of its own, clipped to
+// the wall ([d_i - D/2, d_i + D/2] and [0, t]), and its two Gauss points lie at the slab's centre -+ half its width /
+// sqrt 3, as offsets along the wall normal (the direction of growing depth). WallQuadrature::GaussCell crosses these
+// with the two-point rule along each of the cell's edges along the wall (offsets -+ half the edge / sqrt 3 about the
+// node): 2 x 2 x 2 points, the product rule that integrates a cubic exactly over the cell.
 void Discretization::place_wall_points(const DiscretizationOptions& opt) {
-  if (opt.wall_quadrature != DiscretizationOptions::WallQuadrature::Gauss) return;
+  using WQ = DiscretizationOptions::WallQuadrature;
+  if (opt.wall_quadrature == WQ::Nodes) return;
   const Index n = num_nodes();
   if (!fits_curvature(opt.basis))
-    throw InputError("discretization: through-wall Gauss points need a basis that fits curvature (quadratic or "
-                     "wall_quadratic): the linear fit's gradient does not change across a node's slab");
+    throw InputError("discretization: Gauss points need a basis that fits curvature (quadratic or wall_quadratic): "
+                     "the linear fit's gradient does not change across a node's cell");
   if (opt.support != DiscretizationOptions::Support::Wall || opt.wall_depths.size() != static_cast<std::size_t>(n) ||
       !(opt.wall_thickness_m > 0.0) || !(opt.wall_layer_spacing_m > 0.0))
-    throw InputError("discretization: through-wall Gauss points need a wall support with a depth per node, the wall's "
-                     "thickness and its layer spacing (a geometry of type 'tube' or 'vessel')");
-  energy_points_ = 2;
-  point_offset_.resize(static_cast<std::size_t>(n) * 2);
-  const double t = opt.wall_thickness_m, half_step = 0.5 * opt.wall_layer_spacing_m;
+    throw InputError("discretization: Gauss points need a wall support with a depth per node, the wall's thickness "
+                     "and its layer spacing (a geometry of type 'tube' or 'vessel')");
+  const bool cell = opt.wall_quadrature == WQ::GaussCell;
+  if (cell && opt.wall_cells.size() != static_cast<std::size_t>(n))
+    throw InputError(fmt::format("discretization: Gauss points over the cell need each node's cell along the wall ({} "
+                                 "for {} nodes)", opt.wall_cells.size(), n));
+  energy_points_ = cell ? 8 : 2;
+  point_directions_ = cell ? 3 : 1;
+  const std::size_t P = static_cast<std::size_t>(energy_points_), G = static_cast<std::size_t>(point_directions_);
+  point_offset_.assign(static_cast<std::size_t>(n) * P * G, 0.0);
+  point_axes_.resize(static_cast<std::size_t>(n) * G);
+  const double t = opt.wall_thickness_m, half_step = 0.5 * opt.wall_layer_spacing_m, gauss = 1.0 / std::sqrt(3.0);
   for (Index i = 0; i < n; ++i) {
-    const double d = opt.wall_depths[static_cast<std::size_t>(i)];
+    const std::size_t ii = static_cast<std::size_t>(i);
+    const double d = opt.wall_depths[ii];
     const double lo = std::max(d - half_step, 0.0), hi = std::min(d + half_step, t);
-    const double centre = 0.5 * (lo + hi) - d, spread = hi > lo ? 0.5 * (hi - lo) / std::sqrt(3.0) : 0.0;
-    point_offset_[static_cast<std::size_t>(i) * 2] = centre - spread;
-    point_offset_[static_cast<std::size_t>(i) * 2 + 1] = centre + spread;
+    const double centre = 0.5 * (lo + hi) - d, spread = hi > lo ? 0.5 * (hi - lo) * gauss : 0.0;
+    point_axes_[ii * G] = opt.wall_normals[ii];
+    std::array<double, 2> half_edge{0.0, 0.0}, along_centre{0.0, 0.0};
+    if (cell)
+      for (std::size_t k = 0; k < 2; ++k) {
+        const Vec3& edge = opt.wall_cells[ii].edges[k];
+        const double len = edge.norm();
+        if (!(len > 0.0)) throw InputError(fmt::format("discretization: node {}'s cell has an empty edge along the wall", i));
+        point_axes_[ii * G + 1 + k] = edge / len;
+        half_edge[k] = 0.5 * len * gauss;
+        along_centre[k] = opt.wall_cells[ii].centre[k];
+      }
+    for (std::size_t q = 0; q < P; ++q) {
+      double* o = &point_offset_[(ii * P + q) * G];
+      o[0] = (q & 1) ? centre + spread : centre - spread;
+      if (cell) {
+        o[1] = along_centre[0] + ((q & 2) ? half_edge[0] : -half_edge[0]);
+        o[2] = along_centre[1] + ((q & 4) ? half_edge[1] : -half_edge[1]);
+      }
+    }
   }
 }
 
@@ -467,12 +499,14 @@ Mat3 Discretization::displacement_gradient(Index i, const Vec3Array& u, bool eq3
   return eq3_literal_sign ? Mat3(-G) : G;
 }
 
-Mat3 Discretization::deformation_gradient_derivative(Index i, const Vec3Array& x) const {
-  if (energy_points_ == 1) return Mat3::Zero();
-  Mat3 D = Mat3::Zero();
-  for (Index e = pairs_.row_start[i], end = pairs_.row_start[i + 1]; e < end; ++e)
-    D.noalias() += (x[pairs_.col[e]] - x[i]) * pairs_.e[e].transpose();
-  return D;
+void Discretization::deformation_gradient_derivatives(Index i, const Vec3Array& x, Mat3* D) const {
+  const std::size_t G = static_cast<std::size_t>(point_directions_);
+  for (std::size_t k = 0; k < G; ++k) D[k].setZero();
+  const Vec3 xi = x[i];
+  for (Index e = pairs_.row_start[i], end = pairs_.row_start[i + 1]; e < end; ++e) {
+    const Vec3 dx = x[pairs_.col[e]] - xi;
+    for (std::size_t k = 0; k < G; ++k) D[k].noalias() += dx * pairs_.e[static_cast<std::size_t>(e) * G + k].transpose();
+  }
 }
 
 Mat3 Discretization::deformation_gradient(Index i, const Vec3Array& x) const {

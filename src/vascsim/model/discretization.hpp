@@ -3,6 +3,7 @@
 // neighbour lists, the precomputed gradient vectors d_ij in CSR form with a transposed copy for
 // gather-form assembly, nodal volumes and masses. Immutable during a run (total Lagrangian).
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -52,9 +53,17 @@ struct DiscretizationOptions {
   /// Where a node's strain energy is evaluated (docs/model.md section 4.4): Nodes, at the node (V_i psi(F_i));
   /// Gauss, at two Gauss points across the node's slab of the wall (the depths within half a layer step of its own,
   /// clipped to the wall), each with the gradient the node's fit gives there, F_i + s_q dF_i/dn: a bending field's
-  /// energy is then integrated exactly whatever the nodal volumes. Needs a wall support with depths and a
-  /// curvature-fitting basis.
-  enum class WallQuadrature { Nodes, Gauss } wall_quadrature = WallQuadrature::Nodes;
+  /// energy is then integrated exactly whatever the nodal volumes; GaussCell, at 2 x 2 x 2 Gauss points over the
+  /// node's whole cell of the wall (its slab across, its column and cross-section steps along, wall_cells),
+  /// F_i + sum_k o_qk dF_i/du_k: the strain's variation along the wall is integrated too, not only across it.
+  /// Both need a wall support with depths and a curvature-fitting basis.
+  enum class WallQuadrature { Nodes, Gauss, GaussCell } wall_quadrature = WallQuadrature::Nodes;
+  /// WallQuadrature::GaussCell: per node, its cell along the wall (filled by the simulation from the body's lattice).
+  struct WallCell {
+    std::array<Vec3, 2> edges;            ///< the cell's two edges along the wall (column and cross-section steps), m
+    std::array<double, 2> centre{0, 0};   ///< the cell's centre from the node along each edge, m (0 but at an end)
+  };
+  std::vector<WallCell> wall_cells;
   /// The spacing of the wall's node layers, m: WallQuadrature::Gauss needs it.
   double wall_layer_spacing_m = 0.0;
   /// The quadratic fit's guard, on top of the linear one: at least this many neighbours (9 unknowns per
@@ -72,7 +81,8 @@ struct PairTable {
   std::vector<Index> col;        ///< the other node
   Vec3Array d;                   ///< gradient vector, 1/m
   std::vector<double> w;         ///< kernel weight, 1/m^3
-  /// With through-wall Gauss points only (else empty): the derivative of d along the row node's wall normal, 1/m^2.
+  /// With Gauss points (else empty): the derivatives of d along the row node's point directions
+  /// (Discretization::point_directions, G per pair, pair-major: e[G p + k]), 1/m^2.
   Vec3Array e;
   Index row_size(Index r) const { return row_start[r + 1] - row_start[r]; }
 };
@@ -129,17 +139,32 @@ class Discretization {
   Mat3 deformation_gradient(Index i, const Vec3Array& x) const;
 
   /// The points at which each node's strain energy is evaluated (DiscretizationOptions::WallQuadrature): 1 (the
-  /// node) or 2 (Gauss points across its slab of the wall), each weighing V_i / points.
+  /// node), 2 (Gauss points across its slab of the wall) or 8 (2 x 2 x 2 over its cell), each weighing
+  /// V_i / points.
   int energy_points() const { return energy_points_; }
-  /// Point q of node i: its offset from the node along the node's wall normal, m (0 with one point per node).
-  double point_offset(Index i, int q) const {
-    return energy_points_ == 1 ? 0.0 : point_offset_[static_cast<std::size_t>(i) * 2 + static_cast<std::size_t>(q)];
+  /// The directions u_k a point's offset is measured along: 0 (one point per node), 1 (the wall normal) or 3 (the
+  /// normal and the cell's two edges along the wall).
+  int point_directions() const { return point_directions_; }
+  static constexpr int kMaxPointDirections = 3;
+  /// Point q of node i: its offset from the node along direction k, m.
+  double point_offset(Index i, int q, int k = 0) const {
+    return energy_points_ == 1
+               ? 0.0
+               : point_offset_[(static_cast<std::size_t>(i) * static_cast<std::size_t>(energy_points_) +
+                                static_cast<std::size_t>(q)) * static_cast<std::size_t>(point_directions_) +
+                               static_cast<std::size_t>(k)];
   }
-  /// With two points per node: e_ii = -sum_j e_ij, 1/m^2 (empty otherwise).
+  /// With Gauss points: e_ii,k = -sum_j e_ij,k, 1/m^2 (G per node; empty otherwise).
   const Vec3Array& self_e() const { return self_e_; }
-  /// dF_i/dn = sum_j (x_j - x_i) e_ij^T, 1/m (zero with one point per node): the deformation gradient at point q is
-  /// F_i + point_offset(i, q) dF_i/dn.
-  Mat3 deformation_gradient_derivative(Index i, const Vec3Array& x) const;
+  /// dF_i/du_k = sum_j (x_j - x_i) e_ij,k^T, 1/m, for k < point_directions(), written to D[k].
+  void deformation_gradient_derivatives(Index i, const Vec3Array& x, Mat3* D) const;
+  /// The deformation gradient at point q of node i from F_i and its derivatives D (deformation_gradient_derivatives):
+  /// F_i + sum_k point_offset(i, q, k) D[k].
+  Mat3 point_gradient(Index i, int q, const Mat3& F, const Mat3* D) const {
+    Mat3 Fq = F;
+    for (int k = 0; k < point_directions_; ++k) Fq += point_offset(i, q, k) * D[k];
+    return Fq;
+  }
 
  private:
   void build_neighbourhoods(const DiscretizationOptions& opt);
@@ -174,7 +199,9 @@ class Discretization {
   double wall_stretch_ = 0.0;
   double wall_across_scale_ = 1.0;
   int energy_points_ = 1;
-  std::vector<double> point_offset_;  // two per node with through-wall Gauss points, m
+  int point_directions_ = 0;
+  std::vector<double> point_offset_;  // energy_points x point_directions per node with Gauss points, m
+  Vec3Array point_axes_;              // the point directions u_k per node (unit), point_directions per node
   Vec3Array self_e_;
 };
 

@@ -141,8 +141,8 @@ void EnergyHessian::build_scatter_map(const std::vector<std::vector<Index>>& col
   row_keep_.assign(static_cast<std::size_t>(nblocks), opt_.stencil == HessianStencil::Full ? 1 : 0);
   contrib_node_.resize(static_cast<std::size_t>(contrib_start_.back()));
   contrib_d_.resize(static_cast<std::size_t>(contrib_start_.back()));
-  const bool points = disc.energy_points() > 1;
-  if (points) contrib_e_.resize(static_cast<std::size_t>(contrib_start_.back()));
+  const std::size_t G = static_cast<std::size_t>(disc.point_directions());
+  contrib_e_.resize(static_cast<std::size_t>(contrib_start_.back()) * G);
   contrib_map_.resize(static_cast<std::size_t>(contrib_start_.back()));
   map_.resize(static_cast<std::size_t>(map_count.back()));
 
@@ -171,10 +171,10 @@ void EnergyHessian::build_scatter_map(const std::vector<std::vector<Index>>& col
       }
       std::int64_t m = map_count[static_cast<std::size_t>(r)];
       std::int64_t t = contrib_start_[static_cast<std::size_t>(r)];
-      auto add_term = [&](Index i, const Vec3& d_ik, const Vec3& e_ik) {
+      auto add_term = [&](Index i, const Vec3& d_ik, const Vec3* e_ik) {
         contrib_node_[static_cast<std::size_t>(t)] = i;
         contrib_d_[static_cast<std::size_t>(t)] = d_ik;
-        if (points) contrib_e_[static_cast<std::size_t>(t)] = e_ik;
+        for (std::size_t c = 0; c < G; ++c) contrib_e_[static_cast<std::size_t>(t) * G + c] = e_ik[c];
         contrib_map_[static_cast<std::size_t>(t)] = m;
         ++t;
         for (Index a = 0; a < stencil_size(i); ++a) {
@@ -182,9 +182,9 @@ void EnergyHessian::build_scatter_map(const std::vector<std::vector<Index>>& col
           map_[static_cast<std::size_t>(m++)] = s >= 0 ? pos[static_cast<std::size_t>(s)] : kSkip;
         }
       };
-      add_term(k, disc.self_d()[static_cast<std::size_t>(k)], points ? disc.self_e()[static_cast<std::size_t>(k)] : Vec3());
+      add_term(k, disc.self_d()[static_cast<std::size_t>(k)], G ? &disc.self_e()[static_cast<std::size_t>(k) * G] : nullptr);
       for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e)
-        add_term(T.col[e], T.d[e], points ? T.e[e] : Vec3());
+        add_term(T.col[e], T.d[e], G ? &T.e[static_cast<std::size_t>(e) * G] : nullptr);
       for (Index s : c) pos[static_cast<std::size_t>(s)] = kSkip;
     }
   }
@@ -283,11 +283,12 @@ void EnergyHessian::compute_tangents(const Vec3Array& x) {
   const Mat3 I = Mat3::Identity();
 #pragma omp parallel for schedule(static) if (n >= kParallelMinRows)
   for (Index i = 0; i < n; ++i) {
-    // F_i and dF_i/dn once per node; each energy point q has F_i + s_q dF_i/dn.
+    // F_i and its derivatives dF_i/du_k once per node; each energy point q has F_i + sum_k o_qk dF_i/du_k.
     const Mat3 Fi = disc.deformation_gradient(i, x);
-    const Mat3 Di = disc.deformation_gradient_derivative(i, x);
+    Mat3 Di[Discretization::kMaxPointDirections];
+    disc.deformation_gradient_derivatives(i, x, Di);
     for (int q = 0; q < points; ++q) {
-      const Mat3 F = Fi + disc.point_offset(i, q) * Di;
+      const Mat3 F = disc.point_gradient(i, q, Fi, Di);
       Mat9 C;
       if (eo.law) {
         const materials::MaterialFrame* frame = eo.frames.empty() ? nullptr : &eo.frames[static_cast<std::size_t>(i)];
@@ -348,17 +349,21 @@ void EnergyHessian::assemble(const Vec3Array& x, const std::vector<double>& diag
       for (std::size_t p = 0; p < len; ++p) row[p] = stab_[static_cast<std::size_t>(b0) + p] * Mat3::Identity();
       // Gather: every energy i whose stencil holds this row's node k adds, for each l of its stencil,
       // H_kl^(i) = sum_d d_il[d] U_d with U = sum_c d_ik[c] C_i[(., c), (., .)] (3 x 9).
-      // With through-wall points each point q of energy i adds its own term, with the gradient vectors
-      // d + s_q e of that point.
+      // With Gauss points each point q of energy i adds its own term, with the gradient vectors
+      // d + sum_c o_qc e_c of that point.
       for (std::int64_t t = contrib_start_[static_cast<std::size_t>(r)]; t < contrib_start_[static_cast<std::size_t>(r) + 1]; ++t) {
         const Index i = contrib_node_[static_cast<std::size_t>(t)];
         const std::uint16_t* m = map_.data() + contrib_map_[static_cast<std::size_t>(t)];
         const Index e0 = P.row_start[i], K = P.row_size(i);
+        const std::size_t G = static_cast<std::size_t>(disc.point_directions());
         for (int q = 0; q < points; ++q) {
           const Mat9& C = tangent_[static_cast<std::size_t>(i * points + q)];
-          const double s = disc.point_offset(i, q);
-          const Vec3 dk = points == 1 ? contrib_d_[static_cast<std::size_t>(t)]
-                                      : Vec3(contrib_d_[static_cast<std::size_t>(t)] + s * contrib_e_[static_cast<std::size_t>(t)]);
+          // Point q's gradient vectors: d + sum_c o_qc e_c.
+          auto at_point = [&](Vec3 d, const Vec3* e) {
+            for (std::size_t c = 0; c < G; ++c) d += disc.point_offset(i, q, static_cast<int>(c)) * e[c];
+            return d;
+          };
+          const Vec3 dk = at_point(contrib_d_[static_cast<std::size_t>(t)], G ? &contrib_e_[static_cast<std::size_t>(t) * G] : nullptr);
           const Eigen::Matrix<double, 3, 9> U = dk[0] * C.middleRows<3>(0) + dk[1] * C.middleRows<3>(3) + dk[2] * C.middleRows<3>(6);
           auto add = [&](std::uint16_t p, const Vec3& dl) {
             if (p != kSkip) row[p] += dl[0] * U.middleCols<3>(0) + dl[1] * U.middleCols<3>(3) + dl[2] * U.middleCols<3>(6);
@@ -367,9 +372,9 @@ void EnergyHessian::assemble(const Vec3Array& x, const std::vector<double>& diag
             add(m[0], disc.self_d()[static_cast<std::size_t>(i)]);
             for (Index a = 0; a < K; ++a) add(m[1 + a], P.d[static_cast<std::size_t>(e0 + a)]);
           } else {
-            add(m[0], disc.self_d()[static_cast<std::size_t>(i)] + s * disc.self_e()[static_cast<std::size_t>(i)]);
+            add(m[0], at_point(disc.self_d()[static_cast<std::size_t>(i)], &disc.self_e()[static_cast<std::size_t>(i) * G]));
             for (Index a = 0; a < K; ++a)
-              add(m[1 + a], P.d[static_cast<std::size_t>(e0 + a)] + s * P.e[static_cast<std::size_t>(e0 + a)]);
+              add(m[1 + a], at_point(P.d[static_cast<std::size_t>(e0 + a)], &P.e[static_cast<std::size_t>(e0 + a) * G]));
           }
         }
       }

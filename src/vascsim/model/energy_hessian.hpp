@@ -112,7 +112,7 @@ class EnergyHessian {
   std::vector<std::int64_t> contrib_start_;
   std::vector<Index> contrib_node_;
   Vec3Array contrib_d_;
-  Vec3Array contrib_e_;  // through-wall points: e_ik beside d_ik (Discretization::energy_points)
+  Vec3Array contrib_e_;  // Gauss points: e_ik,c beside d_ik, point_directions per contribution
   std::vector<std::int64_t> contrib_map_;  // offset into map_
   std::vector<std::uint16_t> map_;
   static constexpr std::uint16_t kSkip = 0xFFFF;

@@ -15,7 +15,7 @@ PointPrimitiveEnergy::Workspace& PointPrimitiveEnergy::workspace(Index n) {
   thread_local Workspace ws;
   if (static_cast<Index>(ws.Q.size()) < n) {
     ws.Q.resize(static_cast<std::size_t>(n));
-    ws.R.resize(static_cast<std::size_t>(n));
+    ws.R.resize(static_cast<std::size_t>(n) * Discretization::kMaxPointDirections);
     ws.own.resize(static_cast<std::size_t>(n));
     ws.u.resize(static_cast<std::size_t>(n));
   }
@@ -127,7 +127,7 @@ Mat3 PointPrimitiveEnergy::weighted_stress_derivative(Index i, const Mat3& F, co
 //   f_k = -Q_k d_kk - sum_{i: k in N_i} Q_i d_ik + own_k - sum_{i: k in N_i} c_i w_ik (y_k - y_i),
 //   Q_i = Ptilde_i - c_i F_i A_i,   own_k = c_k sum_j w_kj (y_j - y_k).
 // One pass over the transposed pairs, one 3x3 product and one axpy per pair.
-// With through-wall points (R non-null) the stress conjugate to dF_i/dn, R_i, is gathered with e_ik the same way.
+// With Gauss points (R non-null) the stresses conjugate to dF_i/du_k, R_i,k, are gathered with e_ik,k the same way.
 void PointPrimitiveEnergy::folded_gather(const std::vector<Mat3>& Q, const std::vector<Mat3>* R, const Vec3Array& own,
                                          const Vec3Array& y, Vec3Array& out) const {
   const Index n = disc_.num_nodes();
@@ -137,13 +137,16 @@ void PointPrimitiveEnergy::folded_gather(const std::vector<Mat3>& Q, const std::
 #pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
   for (Index k = 0; k < n; ++k) {
     Vec3 f = -(Q[k] * disc_.self_d()[k]);
-    if (R) f.noalias() -= (*R)[k] * disc_.self_e()[k];
+    const std::size_t G = static_cast<std::size_t>(disc_.point_directions());
+    if (R)
+      for (std::size_t c = 0; c < G; ++c) f.noalias() -= (*R)[static_cast<std::size_t>(k) * G + c] * disc_.self_e()[static_cast<std::size_t>(k) * G + c];
     Vec3 pull = Vec3::Zero();
     const Vec3 yk = y[k];
     for (Index e = T.row_start[k], end = T.row_start[k + 1]; e < end; ++e) {
       const Index i = T.col[e];
       f.noalias() -= Q[i] * T.d[e];
-      if (R) f.noalias() -= (*R)[i] * T.e[e];
+      if (R)
+        for (std::size_t c = 0; c < G; ++c) f.noalias() -= (*R)[static_cast<std::size_t>(i) * G + c] * T.e[static_cast<std::size_t>(e) * G + c];
       if (stab) pull += stab_cw_[e] * (yk - y[i]);
     }
     out[k] = stab ? Vec3(f + own[k] - pull) : f;
@@ -208,10 +211,10 @@ EnergyBreakdown PointPrimitiveEnergy::energy(const Vec3Array& x) const {
 #pragma omp parallel for schedule(static) reduction(+ : strain, volume) if (n >= kParallelMinNodes)
   for (Index i = 0; i < n; ++i) {
     F[i] = disc_.deformation_gradient(i, x);
-    const Mat3 D = disc_.deformation_gradient_derivative(i, x);
+    Mat3 D[Discretization::kMaxPointDirections];
+    disc_.deformation_gradient_derivatives(i, x, D);
     EnergyBreakdown e;
-    for (int q = 0; q < points; ++q)
-      weighted_stress(i, F[i] + disc_.point_offset(i, q) * D, disc_.volumes()[i] / points, &e);
+    for (int q = 0; q < points; ++q) weighted_stress(i, disc_.point_gradient(i, q, F[i], D), disc_.volumes()[i] / points, &e);
     strain += e.strain;
     volume += e.volume;
   }
@@ -224,7 +227,7 @@ EnergyBreakdown PointPrimitiveEnergy::energy(const Vec3Array& x) const {
 
 double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f) const {
   const Index n = disc_.num_nodes();
-  const int points = disc_.energy_points();
+  const int points = disc_.energy_points(), G = disc_.point_directions();
   Workspace& ws = workspace(n);
   const bool stab = folded_stab_;
   double strain = 0.0, volume = 0.0, stabilizer = 0.0;
@@ -237,15 +240,16 @@ double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f) const {
     if (points == 1) {
       ws.Q[i] = weighted_stress(i, F, disc_.volumes()[i], &e);
     } else {
-      // Each point's stress pulls on F_i and, times its offset, on dF_i/dn.
-      const Mat3 D = disc_.deformation_gradient_derivative(i, x);
+      // Each point's stress pulls on F_i and, times its offsets, on the derivatives dF_i/du_k.
+      Mat3 D[Discretization::kMaxPointDirections];
+      disc_.deformation_gradient_derivatives(i, x, D);
       ws.Q[i].setZero();
-      ws.R[i].setZero();
+      Mat3* R = &ws.R[static_cast<std::size_t>(i) * G];
+      for (int c = 0; c < G; ++c) R[c].setZero();
       for (int q = 0; q < points; ++q) {
-        const double s = disc_.point_offset(i, q);
-        const Mat3 P = weighted_stress(i, F + s * D, disc_.volumes()[i] / points, &e);
+        const Mat3 P = weighted_stress(i, disc_.point_gradient(i, q, F, D), disc_.volumes()[i] / points, &e);
         ws.Q[i] += P;
-        ws.R[i] += s * P;
+        for (int c = 0; c < G; ++c) R[c] += disc_.point_offset(i, q, c) * P;
       }
     }
     strain += e.strain;
@@ -277,10 +281,11 @@ PointPrimitiveEnergy::Linearization PointPrimitiveEnergy::linearize(const Vec3Ar
 #pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
   for (Index i = 0; i < n; ++i) {
     const Mat3 F = disc_.deformation_gradient(i, x);
-    const Mat3 D = disc_.deformation_gradient_derivative(i, x);
+    Mat3 D[Discretization::kMaxPointDirections];
+    disc_.deformation_gradient_derivatives(i, x, D);
     for (int q = 0; q < points; ++q) {
       const std::size_t p = static_cast<std::size_t>(i * points + q);
-      lin.F[p] = F + disc_.point_offset(i, q) * D;
+      lin.F[p] = disc_.point_gradient(i, q, F, D);
       if (!opt_.law) lin.S[p] = stress(lin.F[p]);
     }
   }
@@ -293,7 +298,7 @@ void PointPrimitiveEnergy::hessian_product(const Vec3Array& x, const Vec3Array& 
 
 void PointPrimitiveEnergy::hessian_product(const Linearization& lin, const Vec3Array& v, Vec3Array& out) const {
   const Index n = disc_.num_nodes();
-  const int points = disc_.energy_points();
+  const int points = disc_.energy_points(), G = disc_.point_directions();
   Workspace& ws = workspace(n);
   const bool stab = folded_stab_;
   // The forces are -(folded gather of Q(F(x)), x); F is linear in x and the stabiliser terms are linear in x, so
@@ -306,15 +311,17 @@ void PointPrimitiveEnergy::hessian_product(const Linearization& lin, const Vec3A
     if (points == 1) {
       ws.Q[i] = weighted_stress_derivative(i, lin.F[i], lin.S[i], dF, disc_.volumes()[i]);
     } else {
-      const Mat3 dD = disc_.deformation_gradient_derivative(i, v);
+      Mat3 dD[Discretization::kMaxPointDirections];
+      disc_.deformation_gradient_derivatives(i, v, dD);
       ws.Q[i].setZero();
-      ws.R[i].setZero();
+      Mat3* R = &ws.R[static_cast<std::size_t>(i) * G];
+      for (int c = 0; c < G; ++c) R[c].setZero();
       for (int q = 0; q < points; ++q) {
         const std::size_t p = static_cast<std::size_t>(i * points + q);
-        const double s = disc_.point_offset(i, q);
-        const Mat3 dP = weighted_stress_derivative(i, lin.F[p], lin.S[p], dF + s * dD, disc_.volumes()[i] / points);
+        const Mat3 dP =
+            weighted_stress_derivative(i, lin.F[p], lin.S[p], disc_.point_gradient(i, q, dF, dD), disc_.volumes()[i] / points);
         ws.Q[i] += dP;
-        ws.R[i] += s * dP;
+        for (int c = 0; c < G; ++c) R[c] += disc_.point_offset(i, q, c) * dP;
       }
     }
     if (stab) {

@@ -103,7 +103,7 @@ class PointPrimitiveEnergy {
                      Vec3Array& out) const;
   struct Workspace {
     std::vector<Mat3> Q;  // Ptilde_i - c_i F_i A_i (or its derivative)
-    std::vector<Mat3> R;  // through-wall points: sum_q s_q Ptilde_q, conjugate to dF_i/dn
+    std::vector<Mat3> R;  // Gauss points: sum_q o_qk Ptilde_q per node and direction k, conjugate to dF_i/du_k
     Vec3Array own;        // c_i sum_j w_ij (y_j - y_i)
     Vec3Array u;          // x - X (the stabiliser matrix's argument)
   };

@@ -1,6 +1,7 @@
 #include "vascsim/run/discretization_setup.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -26,6 +27,36 @@ double along_wall_spacing(const Body& body) {
   return std::sqrt(radius * wall.angle_step_deg * std::numbers::pi / 180.0 * wall.s_step_m);
 }
 
+// Per node, its cell along the wall (WallQuadrature::GaussCell): on a wall swept along a centre-line, the column
+// step around it (r_i Delta_theta, perpendicular to the normal and the centre-line) by the cross-section step along
+// it (Delta_s along the centre-line's tangent, halved and shifted inwards at the wall's two ends); on an imported
+// wall, a square of the lattice spacing in the tangent plane (a square's product rule does not depend on its
+// orientation).
+std::vector<DiscretizationOptions::WallCell> wall_cells(const Body& body) {
+  const WallCoordinates& wall = *body.wall;
+  const Vec3Array& X = body.cloud.positions;
+  std::vector<DiscretizationOptions::WallCell> cells(X.size());
+  const bool swept = wall.has_centerline() && wall.angle_step_deg > 0.0 && wall.s_step_m > 0.0;
+  const double dtheta = wall.angle_step_deg * std::numbers::pi / 180.0, ds = wall.s_step_m;
+  for (std::size_t i = 0; i < X.size(); ++i) {
+    const Vec3& n = wall.outward[i];
+    DiscretizationOptions::WallCell& c = cells[i];
+    if (swept) {
+      const double s = wall.s_m[i];
+      const Vec3 axis = wall.centerline->tangent(s);
+      const Vec3 around = n.cross(axis).normalized();
+      const double r = (X[i] - wall.centerline->position(s)).norm();
+      const double lo = std::max(s - 0.5 * ds, 0.0), hi = std::min(s + 0.5 * ds, wall.length_m);
+      c.edges = {r * dtheta * around, (hi - lo) * axis};
+      c.centre = {0.0, 0.5 * (lo + hi) - s};
+    } else {
+      const Vec3 t1 = n.unitOrthogonal();
+      c.edges = {body.cloud.spacing_m * t1, body.cloud.spacing_m * n.cross(t1)};
+    }
+  }
+  return cells;
+}
+
 }  // namespace
 
 DiscretizationOptions discretization_options(const Scene& scene, const Body& body) {
@@ -40,6 +71,7 @@ DiscretizationOptions discretization_options(const Scene& scene, const Body& bod
   o.wall_stretch = std::max(1.0, along_wall_spacing(body) / body.wall->layer_spacing_m);
   o.wall_thickness_m = body.wall->thickness_m;
   o.wall_layer_spacing_m = body.wall->layer_spacing_m;
+  if (o.wall_quadrature == DiscretizationOptions::WallQuadrature::GaussCell) o.wall_cells = wall_cells(body);
   return o;
 }
 

@@ -316,16 +316,18 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
   if (sc.discretization.wall_reach == DiscretizationOptions::WallReach::Thickness && !on_wall)
     disc.fail("wall_reach", "'thickness' shapes a support that follows the wall and needs discretization.support "
                             "'wall' (a geometry of type 'tube' or 'vessel')");
-  const bool gauss =
-      disc.string("wall_quadrature", accurate_fit ? "gauss" : "nodes", {"nodes", "gauss"}) == "gauss";
-  sc.discretization.wall_quadrature =
-      gauss ? DiscretizationOptions::WallQuadrature::Gauss : DiscretizationOptions::WallQuadrature::Nodes;
+  const std::string quadrature =
+      disc.string("wall_quadrature", accurate_fit ? "gauss" : "nodes", {"nodes", "gauss", "gauss_cell"});
+  const bool gauss = quadrature != "nodes";
+  sc.discretization.wall_quadrature = quadrature == "gauss_cell" ? DiscretizationOptions::WallQuadrature::GaussCell
+                                      : gauss                    ? DiscretizationOptions::WallQuadrature::Gauss
+                                                                 : DiscretizationOptions::WallQuadrature::Nodes;
   if (gauss && !fits_curvature(sc.discretization.basis))
-    disc.fail("wall_quadrature", "'gauss' evaluates each node's fit across its slab of the wall and needs "
-                                 "discretization.basis 'quadratic' or 'wall_quadratic'");
+    disc.fail("wall_quadrature", fmt::format("'{}' evaluates each node's fit across its cell of the wall and needs "
+                                             "discretization.basis 'quadratic' or 'wall_quadratic'", quadrature));
   if (gauss && !on_wall)
-    disc.fail("wall_quadrature", "'gauss' places points across the wall and needs discretization.support 'wall' (a "
-                                 "geometry of type 'tube' or 'vessel')");
+    disc.fail("wall_quadrature", fmt::format("'{}' places points in the wall and needs discretization.support 'wall' "
+                                             "(a geometry of type 'tube' or 'vessel')", quadrature));
   // The quadratic basis's partner is the Simpson rule wherever the lattice has layers (docs/model.md section 4):
   // with the tet partition's trapezoid weights it overestimates a bending field's energy by half. Through-wall
   // Gauss points integrate bending exactly themselves, over the tet partition's volumes.
@@ -338,8 +340,8 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
     disc.fail("volume", "'simpson' needs a lattice with node layers (geometry type 'tube', 'vessel', 'box' or "
                         "'beam'); use 'tet_partition'");
   if (gauss && volume != "tet_partition")
-    disc.fail("volume", "through-wall Gauss points (wall_quadrature 'gauss') integrate across the wall themselves and "
-                        "weigh the tet partition's volumes; use 'tet_partition'");
+    disc.fail("volume", fmt::format("Gauss points (wall_quadrature '{}') integrate across the wall themselves and "
+                                    "weigh the tet partition's volumes; use 'tet_partition'", quadrature));
   sc.discretization.volume = volume == "tet_partition"    ? VolumeRule::TetPartition
                              : volume == "mueller_kernel" ? VolumeRule::MuellerKernel
                                                           : VolumeRule::Simpson;

@@ -259,7 +259,7 @@ TEST(WallGaussPoints, ForcesAndHessianAreTheEnergysDerivatives) {
 // The key: a curvature basis and a wall support are needed, and the Simpson volumes (which would integrate
 // across the wall a second time) are refused with it; with a tube and the wall-quadratic basis it parses, its
 // volume default the tet partition. quasi_static's default on a tube is the quadratic basis with Gauss points
-// and the thickness reach, implicit's the linear basis at the nodes.
+// over each node's cell and the thickness reach, implicit's the linear basis at the nodes.
 TEST(WallGaussPoints, AreCheckedAtTheirKey) {
   nlohmann::json doc = nlohmann::json::parse(R"({
     "name": "q", "model": "quasi_static",
@@ -277,7 +277,7 @@ TEST(WallGaussPoints, AreCheckedAtTheirKey) {
   doc["discretization"].erase("basis");
   Scene scene = parse_scene(doc, "q.json");
   EXPECT_EQ(scene.discretization.basis, GradientBasis::Quadratic);
-  EXPECT_EQ(scene.discretization.wall_quadrature, DiscretizationOptions::WallQuadrature::Gauss);
+  EXPECT_EQ(scene.discretization.wall_quadrature, DiscretizationOptions::WallQuadrature::GaussCell);
   EXPECT_EQ(scene.discretization.wall_reach, DiscretizationOptions::WallReach::Thickness);
   EXPECT_EQ(scene.discretization.volume, VolumeRule::TetPartition);
   doc["model"] = "implicit";

@@ -41,7 +41,7 @@ CASES = {
     },
     "vein-catheter": {
         "scene": "scenes/hand-dorsal-vein-catheter.json", "column": "catheter", "x": "depth", "unit": ("mm", "mN"),
-        "runs": [(f"{d} mm", [f"geometry.node_spacing_m={d}e-3", GROWTHS]) for d in ("0.15", "0.2", "0.3", "0.35")],
+        "runs": [(f"{d} mm", [f"geometry.node_spacing_m={d}e-3", GROWTHS]) for d in ("0.15", "0.2", "0.3", "0.35", "0.4")],
     },
     "aorta-bent": {
         "scene": "scenes/aorta-bent.json", "column": "indenter", "x": "depth", "unit": ("mm", "N"),

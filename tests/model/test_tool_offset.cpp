@@ -79,11 +79,11 @@ TEST(ToolOffset, TheCatheterForceDoesNotDependOnWhereTheNodesFallSlow) {
 
 // The same presses with quasi_static's defaults on walls: the catheter against the wall's surface (contact.surface
 // "embedded", docs/model.md section 22.5), whose force no longer depends on which nodes the tool meets, and the
-// quadratic basis with the thickness reach and Gauss points. Measured when written: +4.11 / +4.12 % at 0.2 mm, -0.59 /
-// -1.45 % at 0.4 mm and -0.16 / -1.60 % at 0.6 mm (with the linear basis -1.70 / +2.54 %, +0.61 / +0.90 %, +1.01 /
-// -0.32 %: what remains at the onset is the lattice's own elastic response to a load on a column or between two,
-// and at this coarse spacing the quadratic fit follows it more closely). Bounds: the 2 % from 0.4 mm on;
-// at 0.2 mm the measured 4.12 % plus half a point (docs/validation.md states the miss).
+// quadratic basis with the thickness reach and Gauss points over each node's cell. Measured: +1.38 / +3.48 % at 0.2
+// mm, +0.44 / -0.83 % at 0.4 mm and -0.59 / -1.03 % at 0.6 mm (with the slab's two points only +4.11 / +4.12 %,
+// -0.59 / -1.45 %, -0.16 / -1.60 %; with the linear basis -1.70 / +2.54 %, +0.61 / +0.90 %, +1.01 / -0.32 %: what
+// remains at the onset is the lattice's own elastic response to a load on a column or between two). Bounds: the
+// issue's 2 % from 0.4 mm on; at 0.2 mm the measured 3.48 % plus half a point (docs/validation.md states the miss).
 TEST(ToolOffset, TheEmbeddedCatheterForceDoesNotDependOnWhereTheNodesFallSlow) {
   const double axial_step = 10e-3 / 33.0, column_deg = 360.0 / 28.0;
   const std::vector<double> base = press_forces(offset_press(0.0, 0.0, true));
@@ -94,7 +94,7 @@ TEST(ToolOffset, TheEmbeddedCatheterForceDoesNotDependOnWhereTheNodesFallSlow) {
     std::printf("[ offset ] embedded, step %zu: %.4f mN; tool moved half a step %+.2f %%, lattice turned half a "
                 "column %+.2f %%\n",
                 k + 1, 1e3 * base[k], 100 * (moved[k] / base[k] - 1), 100 * (turned[k] / base[k] - 1));
-    const double bound = k == 0 ? 0.046 : 0.02;
+    const double bound = k == 0 ? 0.040 : 0.02;
     EXPECT_NEAR(moved[k] / base[k], 1.0, bound) << "step " << k + 1;
     EXPECT_NEAR(turned[k] / base[k], 1.0, bound) << "step " << k + 1;
   }

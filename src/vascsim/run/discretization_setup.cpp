@@ -29,7 +29,8 @@ double along_wall_spacing(const Body& body) {
 
 // Per node, its cell along the wall (WallQuadrature::GaussCell): on a wall swept along a centre-line, the column
 // step around it (r_i Delta_theta, perpendicular to the normal and the centre-line) by the cross-section step along
-// it (Delta_s along the centre-line's tangent, halved and shifted inwards at the wall's two ends); on an imported
+// it (Delta_s along the centre-line's tangent, longer on the outside of a bend, halved and shifted inwards at the
+// wall's two ends); on an imported
 // wall, a square of the lattice spacing in the tangent plane (a square's product rule does not depend on its
 // orientation).
 std::vector<DiscretizationOptions::WallCell> wall_cells(const Body& body) {
@@ -42,13 +43,19 @@ std::vector<DiscretizationOptions::WallCell> wall_cells(const Body& body) {
     const Vec3& n = wall.outward[i];
     DiscretizationOptions::WallCell& c = cells[i];
     if (swept) {
+      const Centerline& line = *wall.centerline;
       const double s = wall.s_m[i];
-      const Vec3 axis = wall.centerline->tangent(s);
+      const Vec3 axis = line.tangent(s);
       const Vec3 around = n.cross(axis).normalized();
-      const double r = (X[i] - wall.centerline->position(s)).norm();
-      const double lo = std::max(s - 0.5 * ds, 0.0), hi = std::min(s + 0.5 * ds, wall.length_m);
-      c.edges = {r * dtheta * around, (hi - lo) * axis};
-      c.centre = {0.0, 0.5 * (lo + hi) - s};
+      const Vec3 from_axis = X[i] - line.position(s);
+      const double r = from_axis.norm();
+      // A node at X - c(s) from a bending centre-line moves (1 - T'(s).(X - c)) metres per metre of arc length: the
+      // outside of a bend is longer than the centre-line, the inside shorter (the frame rotates without twist).
+      const double lo_s = std::max(s - 0.5 * ds, 0.0), hi_s = std::min(s + 0.5 * ds, wall.length_m);
+      const Vec3 bend = (line.tangent(hi_s) - line.tangent(lo_s)) / (hi_s - lo_s);
+      const double stretch = 1.0 - bend.dot(from_axis);
+      c.edges = {r * dtheta * around, (hi_s - lo_s) * stretch * axis};
+      c.centre = {0.0, (0.5 * (lo_s + hi_s) - s) * stretch};
     } else {
       const Vec3 t1 = n.unitOrthogonal();
       c.edges = {body.cloud.spacing_m * t1, body.cloud.spacing_m * n.cross(t1)};

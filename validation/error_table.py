@@ -34,10 +34,11 @@ CASES = {
         "scene": "scenes/vein-indent.json", "column": "indenter", "x": "depth", "unit": ("mm", "mN"),
         # The patch's nodes on its edges (geometry.fit_lattice_to_patch "edges"): the bonded surface a finite element
         # mesh with nodes on the patch's edges has (docs/validation.md, "The bonded patch: strips or edges"); and the
-        # scene's own lattice at its default spacing, whose patch nodes span less (drawn, not in the last panel).
+        # plain lattice at the default spacing (geometry.fit_lattice_to_patch "none"), whose patch nodes span less (drawn,
+        # not in the last panel).
         "runs": [(f"{d} mm, edges", [f"geometry.node_spacing_m={d}e-3", GROWTHS, "geometry.fit_lattice_to_patch=edges"])
                  for d in ("0.15", "0.2", "0.3")]
-        + [("0.15 mm, unfitted lattice", ["geometry.node_spacing_m=0.15e-3", GROWTHS])],
+        + [("0.15 mm, unfitted lattice", ["geometry.node_spacing_m=0.15e-3", GROWTHS, "geometry.fit_lattice_to_patch=none"])],
     },
     "vein-catheter": {
         "scene": "scenes/hand-dorsal-vein-catheter.json", "column": "catheter", "x": "depth", "unit": ("mm", "mN"),

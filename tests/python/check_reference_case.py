@@ -87,12 +87,13 @@ CASES = {
     "cantilever": ("scenes/cantilever.json", "tip", ["geometry.node_spacing_m=5e-3", "output.vtk=false"], 1,
                    [0.10]),
     # The bent aorta at 1.5 mm on the lattice fitted to the patch's edges (14,976 nodes), its first two steps (0.5 and
-    # 1.0 mm of 5 mm): measured +0.55 and +1.30 % when set (+0.6..+4.4 % to 2 mm at this spacing). The reference's uncertainty
-    # there is 2.0 and 2.4 %.
+    # 1.0 mm of 5 mm): measured +1.30 and +2.12 % when set (+1.3..+5.4 % to 2 mm at this spacing; CalculiX's own
+    # coarse meshes are stiff on this bonded patch too, levels 1-2 +6.7 / +2.7 % at 0.5 mm). The reference's
+    # uncertainty there is 2.0 and 2.4 %.
     "aorta-bent": ("scenes/aorta-bent.json", "indenter",
                    ["geometry.node_spacing_m=1.5e-3", GROWTHS, "quasi_static.load_steps=2",
                     "regions.2.bc.magnitude_m=1e-3", "geometry.fit_lattice_to_patch=edges", "output.surface=false",
-                    "output.vtk=false"], 2, [0.026, 0.033]),
+                    "output.vtk=false"], 2, [0.033, 0.042]),
     # The linear basis at 1.5 mm (11,319 nodes): -2.3 and -1.8 % when set (with the linear fit's stabiliser +0.2
     # and +1.1 %; isotropic supports -10.6 and -11.0 %; the lattice at 1.5 mm happens to select a patch 22 % too
     # wide, which offsets part of it).

@@ -80,7 +80,7 @@ double ExplicitIntegrator::kinetic_energy() const {
   return k;
 }
 
-ExplicitModel::ExplicitModel(const Problem& problem, const ExplicitSettings& s) : problem_(problem), settings_(s) {
+ExplicitModel::ExplicitModel(const Problem& problem, const ExplicitSettings& s) : settings_(s) {
   if (!(s.duration_s > 0.0)) throw InputError("explicit: duration_s must be > 0");
   if (!(s.output_interval_s > 0.0)) throw InputError("explicit: output_interval_s must be > 0");
   int iters = 0;

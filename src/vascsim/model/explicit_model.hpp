@@ -65,7 +65,6 @@ class ExplicitModel final : public Model {
 
  private:
   double load_factor_at(double t) const;
-  const Problem& problem_;
   ExplicitSettings settings_;
   double omega_max_ = 0.0, dt_stability_ = 0.0, dt_cfl_ = 0.0, dt_ = 0.0;
   int num_steps_ = 0;

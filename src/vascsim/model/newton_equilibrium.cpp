@@ -23,6 +23,14 @@ NewtonEquilibrium::NewtonEquilibrium(const Problem& problem, const FreeDofs& fre
       correction_(free, contacts) {
   const Discretization& disc = problem.discretization();
   force_floor_ = 1e-8 * disc.material().youngs_modulus_pa * disc.mean_spacing() * disc.mean_spacing();
+  // The rest state's own forces are rounding (each fit carries its conditioning into F - I, a quadratic fit's up to
+  // 1e4 times the unit roundoff): an unloaded step must be converged there, not iterate on that noise, so the floor
+  // is at least 10 / rel_tolerance times it (about 1e-7 N on the vein at 0.3 mm, where the loads are mN).
+  Vec3Array f_rest;
+  problem.energy().forces(disc.rest_positions(), f_rest);
+  double noise2 = 0.0;
+  for (Index i : free.nodes) noise2 += f_rest[static_cast<std::size_t>(i)].squaredNorm();
+  force_floor_ = std::max(force_floor_, 10.0 * std::sqrt(noise2) / settings.rel_tolerance);
 }
 
 double NewtonEquilibrium::residual_norm(const Vec3Array& r) const {

@@ -67,7 +67,8 @@ class NewtonEquilibrium {
   NewtonEquilibrium(const Problem& problem, const FreeDofs& free, ContactActiveSet& contacts,
                     const NewtonSettings& settings);
   /// Residuals below this force (N) count as zero load: an unloaded frame is converged, not "infinitely" far
-  /// from equilibrium. Default: 1e-8 of E Delta^2, the force that strains one neighbourhood by 100 %.
+  /// from equilibrium. Default: 1e-8 of E Delta^2 (the force that strains one neighbourhood by 100 % is E Delta^2),
+  /// or 10 / rel_tolerance times the rounding of the rest state's forces if that is larger.
   void set_force_floor(double newton) { force_floor_ = newton; }
   void set_preconditioner(const EquilibriumPreconditioner* preconditioner) { preconditioner_ = preconditioner; }
   /// Contact on the wall's surface (embedded_contact.hpp), one more energy term; null: none (the tools, if any,

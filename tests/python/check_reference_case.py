@@ -78,12 +78,12 @@ CASES = {
                                       "discretization.basis=wall_quadratic", "output.surface=false",
                                       "output.vtk=false"], 3, [0.077, 0.084, 0.076]),
     # The default's basis and reach with Simpson volumes at the nodes instead of Gauss points (docs/model.md section
-    # 4.3), at 0.2 mm: measured -1.37, -0.90 and -1.41 % when set.
+    # 4.3), at 0.3 mm: measured -6.87, -7.71 and -5.42 % when set (at 0.2 mm -1.37, -0.90 and -1.41 %).
     "vein-catheter-thickness-reach": ("scenes/hand-dorsal-vein-catheter.json", "catheter",
-                                      ["geometry.node_spacing_m=0.2e-3", GROWTHS, "quasi_static.load_steps=3",
+                                      ["geometry.node_spacing_m=0.3e-3", GROWTHS, "quasi_static.load_steps=3",
                                        "obstacles.0.push_m=0.3e-3", "discretization.wall_quadrature=nodes",
                                        "contact.surface=embedded",
-                                       "output.surface=false", "output.vtk=false"], 3, [0.034, 0.029, 0.034]),
+                                       "output.surface=false", "output.vtk=false"], 3, [0.089, 0.098, 0.075]),
     "cantilever": ("scenes/cantilever.json", "tip", ["geometry.node_spacing_m=5e-3", "output.vtk=false"], 1,
                    [0.10]),
     # The bent aorta at 1.5 mm on the lattice fitted to the patch's edges (14,976 nodes), its first two steps (0.5 and

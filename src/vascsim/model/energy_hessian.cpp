@@ -332,6 +332,7 @@ void EnergyHessian::assemble(const Vec3Array& x, const std::vector<double>& diag
     throw std::invalid_argument("EnergyHessian::assemble: diagonal_shift needs one value per node");
   compute_tangents(x);
   const int points = disc.energy_points();
+  const std::size_t G = static_cast<std::size_t>(disc.point_directions());
   const Index nrows = num_block_rows();
   const bool compact = opt_.stencil == HessianStencil::Compact;
   double* values = H_.valuePtr();
@@ -355,7 +356,6 @@ void EnergyHessian::assemble(const Vec3Array& x, const std::vector<double>& diag
         const Index i = contrib_node_[static_cast<std::size_t>(t)];
         const std::uint16_t* m = map_.data() + contrib_map_[static_cast<std::size_t>(t)];
         const Index e0 = P.row_start[i], K = P.row_size(i);
-        const std::size_t G = static_cast<std::size_t>(disc.point_directions());
         for (int q = 0; q < points; ++q) {
           const Mat9& C = tangent_[static_cast<std::size_t>(i * points + q)];
           // Point q's gradient vectors: d + sum_c o_qc e_c.

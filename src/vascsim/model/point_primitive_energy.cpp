@@ -133,11 +133,11 @@ void PointPrimitiveEnergy::folded_gather(const std::vector<Mat3>& Q, const std::
   const Index n = disc_.num_nodes();
   const PairTable& T = disc_.transposed();
   const bool stab = folded_stab_;
+  const std::size_t G = static_cast<std::size_t>(disc_.point_directions());
   out.resize(n);
 #pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
   for (Index k = 0; k < n; ++k) {
     Vec3 f = -(Q[k] * disc_.self_d()[k]);
-    const std::size_t G = static_cast<std::size_t>(disc_.point_directions());
     if (R)
       for (std::size_t c = 0; c < G; ++c) f.noalias() -= (*R)[static_cast<std::size_t>(k) * G + c] * disc_.self_e()[static_cast<std::size_t>(k) * G + c];
     Vec3 pull = Vec3::Zero();
@@ -225,6 +225,13 @@ EnergyBreakdown PointPrimitiveEnergy::energy(const Vec3Array& x) const {
   return out;
 }
 
+// Point q's stress (or its derivative) P pulls on F_i (into Q_i) and, times the point's offsets, on the gradient's
+// derivatives dF_i/du_k (into R_i,k).
+void PointPrimitiveEnergy::add_point_stress(Index i, int q, const Mat3& P, Mat3& Q, Mat3* R) const {
+  Q += P;
+  for (int c = 0; c < disc_.point_directions(); ++c) R[c] += disc_.point_offset(i, q, c) * P;
+}
+
 double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f) const {
   const Index n = disc_.num_nodes();
   const int points = disc_.energy_points(), G = disc_.point_directions();
@@ -248,8 +255,7 @@ double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f) const {
       for (int c = 0; c < G; ++c) R[c].setZero();
       for (int q = 0; q < points; ++q) {
         const Mat3 P = weighted_stress(i, disc_.point_gradient(i, q, F, D), disc_.volumes()[i] / points, &e);
-        ws.Q[i] += P;
-        for (int c = 0; c < G; ++c) R[c] += disc_.point_offset(i, q, c) * P;
+        add_point_stress(i, q, P, ws.Q[i], R);
       }
     }
     strain += e.strain;
@@ -320,8 +326,7 @@ void PointPrimitiveEnergy::hessian_product(const Linearization& lin, const Vec3A
         const std::size_t p = static_cast<std::size_t>(i * points + q);
         const Mat3 dP =
             weighted_stress_derivative(i, lin.F[p], lin.S[p], disc_.point_gradient(i, q, dF, dD), disc_.volumes()[i] / points);
-        ws.Q[i] += dP;
-        for (int c = 0; c < G; ++c) R[c] += disc_.point_offset(i, q, c) * dP;
+        add_point_stress(i, q, dP, ws.Q[i], R);
       }
     }
     if (stab) {

@@ -101,6 +101,7 @@ class PointPrimitiveEnergy {
   // Pass 2: the stress gather with the stabiliser folded in (point_primitive_energy.cpp).
   void folded_gather(const std::vector<Mat3>& Q, const std::vector<Mat3>* R, const Vec3Array& own, const Vec3Array& y,
                      Vec3Array& out) const;
+  void add_point_stress(Index i, int q, const Mat3& P, Mat3& Q, Mat3* R) const;
   struct Workspace {
     std::vector<Mat3> Q;  // Ptilde_i - c_i F_i A_i (or its derivative)
     std::vector<Mat3> R;  // Gauss points: sum_q o_qk Ptilde_q per node and direction k, conjugate to dF_i/du_k

@@ -145,7 +145,7 @@ nlohmann::json verdict(const std::vector<RealtimeBenchRow>& rows, int min_nodes,
 std::vector<std::string> timed_scene_overrides(const std::string& model, const std::vector<std::string>& user,
                                                int total_steps, double ramp_s, double spacing_m) {
   const double duration_s = total_steps * kBenchStepS;
-  std::vector<std::string> s = {kBenchDefaultOverride};
+  std::vector<std::string> s = {kBenchDefaultOverride, kBenchLayersOverride};
   s.insert(s.end(), user.begin(), user.end());
   s.push_back("model=" + model);
   // The plain lattice whose spacing find_tube_resolution chose (a scene may fit its lattice to a patch, which sets
@@ -204,7 +204,7 @@ RealtimeBenchReport run_realtime_bench(const RealtimeBenchOptions& o) {
     if (o.progress) o.progress(line);
   };
   const Scene base = load_scene(o.scene_path, [&] {
-    std::vector<std::string> s = {kBenchDefaultOverride};
+    std::vector<std::string> s = {kBenchDefaultOverride, kBenchLayersOverride};
     s.insert(s.end(), o.overrides.begin(), o.overrides.end());
     s.push_back("model=" + o.model);
     return s;
@@ -229,7 +229,7 @@ RealtimeBenchReport run_realtime_bench(const RealtimeBenchOptions& o) {
       {"scene_name", base.name},
       {"model", o.model},
       {"overrides", o.overrides},
-      {"default_overrides", {kBenchDefaultOverride}},
+      {"default_overrides", {kBenchDefaultOverride, kBenchLayersOverride}},
       {"step_ms", kBenchStepS * 1e3},
       {"warmup_steps", o.warmup_steps},
       {"steps", o.steps},

@@ -54,7 +54,9 @@ TimingPoint run_timing_point(const TimingSweepOptions& o, const std::string& mod
   p.load_average_start = load_average_1min();
   // Coarse vein clouds (about 1k nodes) have only the wall's three layers: the MLS map needs more growths there,
   // as the discretisation does (timed_scene_overrides); the user's overrides still win.
-  std::vector<std::string> user = {kTimingMapOverride};
+  // The node count is found on the lattice the timed run builds, so the base scene takes the benchmark's layer count
+  // too (timed_scene_overrides).
+  std::vector<std::string> user = {kTimingMapOverride, kBenchLayersOverride};
   user.insert(user.end(), o.overrides.begin(), o.overrides.end());
   std::vector<std::string> base_sets = user;
   base_sets.push_back("model=" + model);

@@ -1,6 +1,6 @@
 // Throughput of the point-primitive force kernels (docs/performance.md): PointPrimitiveEnergy::forces,
-// PointPrimitiveEnergy::hessian_product and one ExplicitIntegrator::substep, on jittered box lattices of
-// about 1k, 10k and 100k nodes (h = 2 Delta, SVK, stabiliser alpha 0.1: the library defaults).
+// PointPrimitiveEnergy::hessian_product, one ExplicitIntegrator::substep and one EnergyHessian refill, on jittered
+// box lattices of about 1k, 10k and 100k nodes (h = 2 Delta, SVK, stabiliser alpha 0.1: the library defaults).
 //
 // Arguments: {nodes per axis, OpenMP threads}. Counters:
 //   N            nodes
@@ -21,6 +21,7 @@
 
 #include "vascsim/geometry/generators.hpp"
 #include "vascsim/model/discretization.hpp"
+#include "vascsim/model/energy_hessian.hpp"
 #include "vascsim/model/explicit_model.hpp"
 #include "vascsim/model/point_primitive_energy.hpp"
 #include "vascsim/model/problem.hpp"
@@ -141,6 +142,24 @@ void BM_HessianProductLinearized(benchmark::State& state) {
   set_counters(state, c);
 }
 
+// One numeric refill of the assembled Hessian (model/energy_hessian.hpp), the preconditioner quasi_static refactors:
+// the full matrix, and the block lower triangle a Cholesky factorisation reads, which computes only its blocks. Third
+// argument: 1 lower triangle only, 0 full. The 46^3 size is left out (its full Hessian takes several GB).
+void BM_HessianRefill(benchmark::State& state) {
+  const Case& c = get_case(static_cast<int>(state.range(0)));
+  omp_set_num_threads(static_cast<int>(state.range(1)));
+  const bool lower = state.range(2) != 0;
+  EnergyHessian H(*c.energy, {HessianStencil::Full, false, lower, CompactLumping::Polar});
+  H.assemble(c.x);
+  for (auto _ : state) {
+    H.assemble(c.x);
+    benchmark::DoNotOptimize(H.matrix().valuePtr());
+    benchmark::ClobberMemory();
+  }
+  set_counters(state, c);
+  state.counters["lower_only"] = lower ? 1.0 : 0.0;
+}
+
 void BM_ExplicitSubstep(benchmark::State& state) {
   const Case& c = get_case(static_cast<int>(state.range(0)));
   omp_set_num_threads(static_cast<int>(state.range(1)));
@@ -172,5 +191,10 @@ BENCHMARK(BM_Forces)->Apply(sizes);
 BENCHMARK(BM_HessianProduct)->Apply(sizes);
 BENCHMARK(BM_HessianProductLinearized)->Apply(sizes);
 BENCHMARK(BM_ExplicitSubstep)->Apply(sizes);
+BENCHMARK(BM_HessianRefill)
+    ->ArgNames({"n_axis", "threads", "lower"})
+    ->ArgsProduct({{10, 22}, {1, 2}, {0, 1}})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace

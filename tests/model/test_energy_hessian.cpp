@@ -134,6 +134,29 @@ TEST(EnergyHessian, IsSymmetricAndTheLowerTriangleStorageMatches) {
   record("relative_asymmetry", asym);
 }
 
+// The lower storage's refill computes only the blocks it stores (energy_hessian.hpp): with the z = 0 layer eliminated
+// and the others numbered backwards, so that "lower" is in the slots' order and not the nodes', its numbers are still
+// the full matrix's lower triangle, bit for bit (each stored block sums the same terms in the same order).
+TEST(EnergyHessian, LowerStorageOfARestrictedHessianIsTheFullOnesLowerTriangle) {
+  const Material mat = test::tissue(1e5);
+  const Discretization disc(test::lattice(4, 0.2, 14), mat);
+  const Vec3Array x = large_deformation(disc.rest_positions(), 10);
+  const PointPrimitiveEnergy energy(disc, term_cases(mat).back().options);
+  std::vector<Index> slot(disc.rest_positions().size(), -1);
+  Index next = 0;
+  for (Index i = disc.num_nodes() - 1; i >= 0; --i)
+    if (disc.rest_positions()[static_cast<std::size_t>(i)].z() > 0.5 * kDelta) slot[static_cast<std::size_t>(i)] = next++;
+  EnergyHessian full(energy, {}, slot), lower(energy, {HessianStencil::Full, false, true, CompactLumping::Polar}, slot);
+  full.assemble(x);
+  lower.assemble(x);
+  const Eigen::MatrixXd F(full.matrix()), L(lower.matrix());
+  EXPECT_EQ((Eigen::MatrixXd(F.triangularView<Eigen::Lower>()) - Eigen::MatrixXd(L.triangularView<Eigen::Lower>()))
+                .cwiseAbs()
+                .maxCoeff(),
+            0.0);
+  EXPECT_GT(L.cwiseAbs().maxCoeff(), 0.0);
+}
+
 TEST(EnergyHessian, RefillAtAnotherStateEqualsAFreshAssembly) {
   const Material mat = test::tissue(1e5);
   const Discretization disc(test::lattice(4, 0.2, 14), mat);

@@ -302,6 +302,15 @@ TEST(WallGaussPoints, ForcesAndHessianAreTheEnergysDerivatives) {
       scale = std::max(scale, Hv[i].norm());
     }
     EXPECT_LE(err, 1e-10 * scale) << "basis " << static_cast<int>(basis);
+    // The lower storage (the preconditioner's) computes only its blocks, with the points' gradient vectors: the
+    // same numbers as the full matrix's lower triangle, bit for bit.
+    EnergyHessian lower(energy, {HessianStencil::Full, false, true, CompactLumping::Polar});
+    lower.assemble(x);
+    const Eigen::MatrixXd F(H.matrix()), L(lower.matrix());
+    EXPECT_EQ((Eigen::MatrixXd(F.triangularView<Eigen::Lower>()) - Eigen::MatrixXd(L.triangularView<Eigen::Lower>()))
+                  .cwiseAbs()
+                  .maxCoeff(),
+              0.0);
   }
 }
 

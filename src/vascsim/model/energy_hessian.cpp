@@ -62,6 +62,7 @@ EnergyHessian::EnergyHessian(const PointPrimitiveEnergy& energy, const EnergyHes
   const std::int64_t nblocks = row_start_.back();
   stab_.assign(static_cast<std::size_t>(nblocks), 0.0);
   if (energy.options().stabilizer_alpha > 0.0) add_stabilizer_blocks();
+  skip_unstored_blocks();
   tangent_.resize(static_cast<std::size_t>(energy.discretization().num_nodes() * energy.discretization().energy_points()));
 }
 
@@ -272,6 +273,24 @@ void EnergyHessian::add_stabilizer_blocks() {
   }
 }
 
+// With the lower triangle only and the full stencil, a block that is not stored is never read (the compact stencil
+// lumps its dropped blocks, so it needs them all): its scatter-map entries become kSkip, and the refill computes
+// about half the blocks. Runs after add_stabilizer_blocks, which fills every coupled block through the map.
+void EnergyHessian::skip_unstored_blocks() {
+  if (!opt_.lower_triangle_only || opt_.stencil != HessianStencil::Full) return;
+  const Index nrows = num_block_rows();
+#pragma omp parallel for schedule(dynamic, 64) if (nrows >= kParallelMinRows)
+  for (Index r = 0; r < nrows; ++r) {
+    const std::int64_t b0 = row_start_[static_cast<std::size_t>(r)];
+    for (std::int64_t t = contrib_start_[static_cast<std::size_t>(r)]; t < contrib_start_[static_cast<std::size_t>(r) + 1]; ++t) {
+      const Index i = contrib_node_[static_cast<std::size_t>(t)];
+      std::uint16_t* m = map_.data() + contrib_map_[static_cast<std::size_t>(t)];
+      for (Index a = 0; a < stencil_size(i); ++a)
+        if (m[a] != kSkip && row_dest_[static_cast<std::size_t>(b0 + m[a])] < 0) m[a] = kSkip;
+    }
+  }
+}
+
 void EnergyHessian::compute_tangents(const Vec3Array& x) {
   const Discretization& disc = energy_.discretization();
   const EnergyOptions& eo = energy_.options();
@@ -366,15 +385,19 @@ void EnergyHessian::assemble(const Vec3Array& x, const std::vector<double>& diag
           const Vec3 dk = at_point(contrib_d_[static_cast<std::size_t>(t)], G ? &contrib_e_[static_cast<std::size_t>(t) * G] : nullptr);
           const Eigen::Matrix<double, 3, 9> U = dk[0] * C.middleRows<3>(0) + dk[1] * C.middleRows<3>(3) + dk[2] * C.middleRows<3>(6);
           auto add = [&](std::uint16_t p, const Vec3& dl) {
-            if (p != kSkip) row[p] += dl[0] * U.middleCols<3>(0) + dl[1] * U.middleCols<3>(3) + dl[2] * U.middleCols<3>(6);
+            row[p] += dl[0] * U.middleCols<3>(0) + dl[1] * U.middleCols<3>(3) + dl[2] * U.middleCols<3>(6);
           };
+          // A skipped block (eliminated, or not stored) costs neither its gradient vector nor its product.
           if (points == 1) {
-            add(m[0], disc.self_d()[static_cast<std::size_t>(i)]);
-            for (Index a = 0; a < K; ++a) add(m[1 + a], P.d[static_cast<std::size_t>(e0 + a)]);
-          } else {
-            add(m[0], at_point(disc.self_d()[static_cast<std::size_t>(i)], &disc.self_e()[static_cast<std::size_t>(i) * G]));
+            if (m[0] != kSkip) add(m[0], disc.self_d()[static_cast<std::size_t>(i)]);
             for (Index a = 0; a < K; ++a)
-              add(m[1 + a], at_point(P.d[static_cast<std::size_t>(e0 + a)], &P.e[static_cast<std::size_t>(e0 + a) * G]));
+              if (m[1 + a] != kSkip) add(m[1 + a], P.d[static_cast<std::size_t>(e0 + a)]);
+          } else {
+            if (m[0] != kSkip)
+              add(m[0], at_point(disc.self_d()[static_cast<std::size_t>(i)], &disc.self_e()[static_cast<std::size_t>(i) * G]));
+            for (Index a = 0; a < K; ++a)
+              if (m[1 + a] != kSkip)
+                add(m[1 + a], at_point(P.d[static_cast<std::size_t>(e0 + a)], &P.e[static_cast<std::size_t>(e0 + a) * G]));
           }
         }
       }

@@ -52,7 +52,8 @@ struct EnergyHessianOptions {
   bool project_psd = false;
   /// Store only the block lower triangle (block row >= block column; diagonal blocks whole): all a
   /// Cholesky factorisation reads (it reads the scalar lower triangle); about half the memory and the write
-  /// traffic. The arithmetic is the same (a block row needs its whole sum).
+  /// traffic. With the full stencil the refill also computes only the stored blocks (about half the arithmetic;
+  /// each stored block's sum is the same, term by term, as in the full matrix).
   bool lower_triangle_only = false;
   CompactLumping lumping = CompactLumping::Polar;  ///< Compact only
 };
@@ -90,6 +91,7 @@ class EnergyHessian {
   void build_scatter_map(const std::vector<std::vector<Index>>& cols, const std::vector<std::int64_t>& map_count);
   void build_pattern();
   void add_stabilizer_blocks();
+  void skip_unstored_blocks();
   void compute_tangents(const Vec3Array& x);
 
   const PointPrimitiveEnergy& energy_;

@@ -6,13 +6,16 @@ and measures per run the wall time of one model step (a load step of quasi_stati
 1 ms step of xpbd, a substep of explicit) and the peak resident memory of the whole process. Per model it fits
 both as power laws of the number of neighbour pairs, in log space,
 
-    seconds per step = exp(c0) * pairs^c1,      peak bytes = exp(c0) * pairs^c1,
+    seconds per step = exp(c0 + c_tools t) * pairs^c1,      peak bytes = exp(c0) * pairs^c1,
 
-and takes the uncertainty from the scatter: log_sigma, the standard deviation of ln(measured / fitted) with
-two fitted parameters. It writes data/calibration/cost_model.json (read by vascsim; --out elsewhere) with
-every run it measured, and prints a table.
+with t = 1 for a scene with tools (contact refactors the preconditioner: the vein's catheter costs about 2.5 times
+its bonded patch at the same size) and 0 without; c_tools is fitted only where a model has runs of both kinds. The
+uncertainty is the scatter: log_sigma, the standard deviation of ln(measured / fitted) with the fitted parameters
+taken off. It writes data/calibration/cost_model.json (read by vascsim; --out elsewhere) with every run it
+measured, and prints a table.
 
     /usr/bin/python3 scripts/calibrate_cost_model.py --vascsim build/vascsim
+    /usr/bin/python3 scripts/calibrate_cost_model.py --refit     # the fits again from the file's own runs
 
 Takes 20-60 minutes on 2 cores. Run it on the machine the estimates are for; the load average before and
 after is recorded, since other work on the machine slows every run (docs/performance.md).
@@ -101,17 +104,67 @@ def steps_of(summary, step_key):
     return math.ceil(solver["duration_s"] / solver[step_key] - 1e-9)
 
 
-def fit(xs, ys):
-    """Least squares of ln y = c0 + c1 ln x; log_sigma with two fitted parameters."""
-    lx, ly = [math.log(x) for x in xs], [math.log(y) for y in ys]
-    n = len(lx)
-    mx, my = sum(lx) / n, sum(ly) / n
-    sxx = sum((a - mx) ** 2 for a in lx)
-    c1 = sum((a - mx) * (b - my) for a, b in zip(lx, ly)) / sxx if sxx > 0 else 0.0
-    c0 = my - c1 * mx
-    res = [b - (c0 + c1 * a) for a, b in zip(lx, ly)]
-    sigma = math.sqrt(sum(r * r for r in res) / (n - 2)) if n > 2 else float("nan")
-    return {"c0": c0, "c1": c1, "log_sigma": sigma, "runs": n}
+def solve(A, b):
+    """x with A x = b (a small dense system, Gaussian elimination with partial pivoting)."""
+    n = len(b)
+    M = [row[:] + [v] for row, v in zip(A, b)]
+    for k in range(n):
+        p = max(range(k, n), key=lambda r: abs(M[r][k]))
+        M[k], M[p] = M[p], M[k]
+        for r in range(k + 1, n):
+            f = M[r][k] / M[k][k]
+            for c in range(k, n + 1):
+                M[r][c] -= f * M[k][c]
+    x = [0.0] * n
+    for k in reversed(range(n)):
+        x[k] = (M[k][n] - sum(M[k][c] * x[c] for c in range(k + 1, n))) / M[k][k]
+    return x
+
+
+def fit(xs, ys, tools=None):
+    """Least squares of ln y = c0 + c1 ln x (+ c_tools t where `tools` holds both values); log_sigma with the
+    fitted parameters taken off the degrees of freedom."""
+    rows = [[1.0, math.log(x)] for x in xs]
+    with_tools = tools is not None and 0 < sum(tools) < len(tools)
+    if with_tools:
+        rows = [r + [float(t)] for r, t in zip(rows, tools)]
+    ly = [math.log(y) for y in ys]
+    k = len(rows[0])
+    normal = [[sum(r[i] * r[j] for r in rows) for j in range(k)] for i in range(k)]
+    c = solve(normal, [sum(r[i] * v for r, v in zip(rows, ly)) for i in range(k)])
+    res = [v - sum(ci * ri for ci, ri in zip(c, r)) for r, v in zip(rows, ly)]
+    n = len(ly)
+    sigma = math.sqrt(sum(r * r for r in res) / (n - k)) if n > k else float("nan")
+    out = {"c0": c[0], "c1": c[1], "log_sigma": sigma, "runs": n}
+    if with_tools:
+        out["c_tools"] = c[2]
+    return out
+
+
+def has_tools(scene):
+    """Whether a bundled scene file has tools (obstacles)."""
+    return bool(json.loads(pathlib.Path(scene).read_text()).get("obstacles"))
+
+
+def time_fit(runs):
+    return fit([r["pairs"] for r in runs], [r["seconds_per_step"] for r in runs], [has_tools(r["scene"]) for r in runs])
+
+
+def print_fit(model, step, t, m):
+    tools = f", x{math.exp(t['c_tools']):.2f} with tools" if "c_tools" in t else ""
+    print(f"{model}: seconds per {step} = exp({t['c0']:.3f}) pairs^{t['c1']:.3f}{tools}, scatter factor "
+          f"{math.exp(t['log_sigma']):.2f}; peak bytes = exp({m['c0']:.3f}) pairs^{m['c1']:.3f}, scatter factor "
+          f"{math.exp(m['log_sigma']):.2f}", flush=True)
+
+
+def refit(path):
+    """The fits again from the runs recorded in the calibration file (no run)."""
+    doc = json.loads(pathlib.Path(path).read_text())
+    for model, m in doc["models"].items():
+        m["seconds_per_step"] = time_fit(m["runs"])
+        print_fit(model, m["step"], m["seconds_per_step"], m["peak_bytes"])
+    pathlib.Path(path).write_text(json.dumps(doc, indent=2) + "\n")
+    print(f"wrote {path}")
 
 
 def main():
@@ -120,7 +173,10 @@ def main():
     ap.add_argument("--out", default="data/calibration/cost_model.json")
     ap.add_argument("--models", default=",".join(RUNS), help="comma-separated subset (default: all)")
     ap.add_argument("--nice", type=int, default=19)
+    ap.add_argument("--refit", action="store_true", help="fit again from the runs recorded in --out; run nothing")
     args = ap.parse_args()
+    if args.refit:
+        return refit(args.out)
     before = loadavg()
     started = time.time()
     models = {}
@@ -141,15 +197,12 @@ def main():
         pairs = [r["pairs"] for r in measured]
         models[model] = {
             "step": step, "step_length_key": step_key,
-            "seconds_per_step": fit(pairs, [r["seconds_per_step"] for r in measured]),
+            "seconds_per_step": time_fit(measured),
             "peak_bytes": fit(pairs, [r["peak_bytes"] for r in measured]),
             "pairs_range": [min(pairs), max(pairs)],
             "runs": measured,
         }
-        t, m = models[model]["seconds_per_step"], models[model]["peak_bytes"]
-        print(f"{model}: seconds per {step} = exp({t['c0']:.3f}) pairs^{t['c1']:.3f}, scatter factor "
-              f"{math.exp(t['log_sigma']):.2f}; peak bytes = exp({m['c0']:.3f}) pairs^{m['c1']:.3f}, scatter factor "
-              f"{math.exp(m['log_sigma']):.2f}", flush=True)
+        print_fit(model, step, models[model]["seconds_per_step"], models[model]["peak_bytes"])
     after = loadavg()
     doc = {
         "description": "Cost model of `vascsim check` and of the estimate `vascsim run` prints: per model, the wall "
@@ -166,6 +219,7 @@ def main():
         old = json.loads(path.read_text())
         old["models"].update(models)
         doc["models"] = old["models"]
+        doc["measured"] += f" ({args.models}; the others as before: {old['measured']})"
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(doc, indent=2) + "\n")
     print(f"wrote {path}")

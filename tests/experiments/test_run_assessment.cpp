@@ -39,10 +39,33 @@ TEST(CostModel, ReadsAndEvaluatesTheCalibration) {
   EXPECT_FALSE(e->extrapolated);
   EXPECT_TRUE(estimate_cost(c, "quasi_static", 5e6, 1)->extrapolated);
   EXPECT_FALSE(estimate_cost(c, "xpbd", 4e5, 1).has_value());
+  // Without c_tools a run with tools costs what one without does.
+  EXPECT_EQ(estimate_cost(c, "quasi_static", 4e5, 12, true)->seconds_per_step, e->seconds_per_step);
   EXPECT_NE(describe_cost(*e).find("12 load steps x"), std::string::npos) << describe_cost(*e);
   std::ofstream(file) << R"({"measured": "test"})";
   EXPECT_THROW(CostCalibration::read(file), InputError);
   fs::remove(file);
+}
+
+// A scene with tools costs exp(c_tools) times one without at the same size (contact refactors the preconditioner);
+// its memory fit has no such term.
+TEST(CostModel, ARunWithToolsTakesTheToolsFactor) {
+  const fs::path file = fs::path(::testing::TempDir()) / ("cost_tools_" + std::to_string(::getpid()) + ".json");
+  std::ofstream(file) << R"({"measured": "test", "regenerate": "none", "models": {"quasi_static": {
+      "step": "load step", "step_length_key": "",
+      "seconds_per_step": {"c0": -13.0, "c1": 1.1, "c_tools": 0.9, "log_sigma": 0.3, "runs": 9},
+      "peak_bytes": {"c0": 12.0, "c1": 0.5, "log_sigma": 0.1, "runs": 9},
+      "pairs_range": [1e5, 1e6]}}})";
+  const CostCalibration c = CostCalibration::read(file);
+  fs::remove(file);
+  const auto bonded = estimate_cost(c, "quasi_static", 4e5, 12, false);
+  const auto pressed = estimate_cost(c, "quasi_static", 4e5, 12, true);
+  ASSERT_TRUE(bonded && pressed);
+  EXPECT_NEAR(pressed->seconds_per_step / bonded->seconds_per_step, std::exp(0.9), 1e-12);
+  EXPECT_NEAR(pressed->seconds_per_step, std::exp(-13.0 + 1.1 * std::log(4e5) + 0.9), 1e-12 * pressed->seconds_per_step);
+  EXPECT_EQ(pressed->peak_bytes, bonded->peak_bytes);
+  EXPECT_TRUE(pressed->tools);
+  EXPECT_FALSE(bonded->tools);
 }
 
 TEST(CostModel, TheBundledCalibrationCoversTheRealTimeAndStaticModels) {

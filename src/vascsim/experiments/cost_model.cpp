@@ -16,6 +16,7 @@ PowerLaw read_power_law(const nlohmann::json& j) {
   PowerLaw p;
   p.c0 = j.at("c0").get<double>();
   p.c1 = j.at("c1").get<double>();
+  p.c_tools = j.value("c_tools", 0.0);
   p.log_sigma = j.at("log_sigma").get<double>();
   p.runs = j.at("runs").get<int>();
   return p;
@@ -23,7 +24,9 @@ PowerLaw read_power_law(const nlohmann::json& j) {
 
 }  // namespace
 
-double PowerLaw::operator()(double x) const { return std::exp(c0 + c1 * std::log(x)); }
+double PowerLaw::operator()(double x, bool tools) const {
+  return std::exp(c0 + c1 * std::log(x) + (tools ? c_tools : 0.0));
+}
 
 double PowerLaw::factor() const { return std::exp(log_sigma); }
 
@@ -62,13 +65,14 @@ const ModelCost* CostCalibration::find(const std::string& model) const {
 }
 
 std::optional<CostEstimate> estimate_cost(const CostCalibration& calibration, const std::string& model, double pairs,
-                                          double steps) {
+                                          double steps, bool tools) {
   const ModelCost* m = calibration.find(model);
   if (m == nullptr || !(pairs > 0.0)) return std::nullopt;
   CostEstimate e;
   e.step = m->step;
   e.steps = steps;
-  e.seconds_per_step = m->seconds_per_step(pairs);
+  e.tools = tools;
+  e.seconds_per_step = m->seconds_per_step(pairs, tools);
   e.total_s = steps * e.seconds_per_step;
   e.factor = m->seconds_per_step.factor();
   e.peak_bytes = m->peak_bytes(pairs);

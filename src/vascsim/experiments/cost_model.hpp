@@ -13,12 +13,16 @@
 
 namespace vascsim {
 
-/// y = exp(c0) x^c1, with the scatter of the fit.
+/// y = exp(c0) x^c1, times exp(c_tools) for a run with tools, with the scatter of the fit.
 struct PowerLaw {
   double c0 = 0.0, c1 = 0.0;
+  /// ln of the cost of a run whose scene has tools against one without, at the same size: contact changes the
+  /// tangent and refactors the preconditioner (the vein's catheter against its bonded patch: about 2.5x). 0 when
+  /// the calibration has no such runs.
+  double c_tools = 0.0;
   double log_sigma = 0.0;  ///< standard deviation of ln(measured / fitted)
   int runs = 0;
-  double operator()(double x) const;
+  double operator()(double x, bool tools = false) const;
   /// exp(log_sigma): the measured values lay within this factor of the fit, either way (one standard deviation).
   double factor() const;
 };
@@ -55,13 +59,14 @@ struct CostEstimate {
   double peak_bytes = 0.0;        ///< the run's peak resident memory
   double memory_factor = 1.0;
   bool extrapolated = false;      ///< pairs outside the calibrated range
+  bool tools = false;             ///< the run's scene has tools (the calibration's c_tools applied)
   int runs = 0;                   ///< calibration runs behind the time fit
 };
 
-/// The estimate for `model` with `pairs` neighbour pairs and `steps` model steps; nullopt when the model is
-/// not calibrated.
+/// The estimate for `model` with `pairs` neighbour pairs and `steps` model steps, for a scene with tools or without;
+/// nullopt when the model is not calibrated.
 std::optional<CostEstimate> estimate_cost(const CostCalibration& calibration, const std::string& model, double pairs,
-                                          double steps);
+                                          double steps, bool tools = false);
 
 /// "12 load steps x 1.9 s = 23 s (within a factor 1.4 either way: ...)", for messages.
 std::string describe_cost(const CostEstimate& e);

@@ -22,7 +22,8 @@ double headless_model_steps(const Scene& scene, Simulation& sim, const ModelCost
 
 std::optional<CostEstimate> estimate_run_cost(const CostCalibration& calibration, const Scene& scene, Simulation& sim,
                                               double steps) {
-  return estimate_cost(calibration, scene.model, static_cast<double>(sim.discretization().pairs().col.size()), steps);
+  return estimate_cost(calibration, scene.model, static_cast<double>(sim.discretization().pairs().col.size()), steps,
+                       !scene.obstacles.empty());
 }
 
 std::vector<std::string> model_accuracy_warnings(const ForceAccuracyTable& table, const Scene& scene, Simulation& sim) {

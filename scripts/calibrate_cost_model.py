@@ -8,8 +8,8 @@ both as power laws of the number of neighbour pairs, in log space,
 
     seconds per step = exp(c0 + c_tools t) * pairs^c1,      peak bytes = exp(c0) * pairs^c1,
 
-with t = 1 for a scene with tools (contact refactors the preconditioner: the vein's catheter costs about 2.5 times
-its bonded patch at the same size) and 0 without; c_tools is fitted only where a model has runs of both kinds. The
+with t = 1 for a scene with tools (contact refactors the preconditioner: quasi_static's catheter runs cost about 3.9
+times a bonded run of the same size) and 0 without; c_tools is fitted only where a model has runs of both kinds. The
 uncertainty is the scatter: log_sigma, the standard deviation of ln(measured / fitted) with the fitted parameters
 taken off. It writes data/calibration/cost_model.json (read by vascsim; --out elsewhere) with every run it
 measured, and prints a table.
@@ -104,40 +104,21 @@ def steps_of(summary, step_key):
     return math.ceil(solver["duration_s"] / solver[step_key] - 1e-9)
 
 
-def solve(A, b):
-    """x with A x = b (a small dense system, Gaussian elimination with partial pivoting)."""
-    n = len(b)
-    M = [row[:] + [v] for row, v in zip(A, b)]
-    for k in range(n):
-        p = max(range(k, n), key=lambda r: abs(M[r][k]))
-        M[k], M[p] = M[p], M[k]
-        for r in range(k + 1, n):
-            f = M[r][k] / M[k][k]
-            for c in range(k, n + 1):
-                M[r][c] -= f * M[k][c]
-    x = [0.0] * n
-    for k in reversed(range(n)):
-        x[k] = (M[k][n] - sum(M[k][c] * x[c] for c in range(k + 1, n))) / M[k][k]
-    return x
-
-
 def fit(xs, ys, tools=None):
     """Least squares of ln y = c0 + c1 ln x (+ c_tools t where `tools` holds both values); log_sigma with the
     fitted parameters taken off the degrees of freedom."""
-    rows = [[1.0, math.log(x)] for x in xs]
+    import numpy as np
+    columns = [np.ones(len(xs)), np.log(xs)]
     with_tools = tools is not None and 0 < sum(tools) < len(tools)
     if with_tools:
-        rows = [r + [float(t)] for r, t in zip(rows, tools)]
-    ly = [math.log(y) for y in ys]
-    k = len(rows[0])
-    normal = [[sum(r[i] * r[j] for r in rows) for j in range(k)] for i in range(k)]
-    c = solve(normal, [sum(r[i] * v for r, v in zip(rows, ly)) for i in range(k)])
-    res = [v - sum(ci * ri for ci, ri in zip(c, r)) for r, v in zip(rows, ly)]
-    n = len(ly)
-    sigma = math.sqrt(sum(r * r for r in res) / (n - k)) if n > k else float("nan")
-    out = {"c0": c[0], "c1": c[1], "log_sigma": sigma, "runs": n}
+        columns.append(np.asarray(tools, dtype=float))
+    A, ly = np.column_stack(columns), np.log(ys)
+    c = np.linalg.lstsq(A, ly, rcond=None)[0]
+    n, k = A.shape
+    sigma = math.sqrt(float(np.sum((ly - A @ c) ** 2)) / (n - k)) if n > k else float("nan")
+    out = {"c0": float(c[0]), "c1": float(c[1]), "log_sigma": sigma, "runs": n}
     if with_tools:
-        out["c_tools"] = c[2]
+        out["c_tools"] = float(c[2])
     return out
 
 

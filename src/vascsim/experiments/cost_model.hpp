@@ -17,7 +17,7 @@ namespace vascsim {
 struct PowerLaw {
   double c0 = 0.0, c1 = 0.0;
   /// ln of the cost of a run whose scene has tools against one without, at the same size: contact changes the
-  /// tangent and refactors the preconditioner (the vein's catheter against its bonded patch: about 2.5x). 0 when
+  /// tangent and refactors the preconditioner (quasi_static's catheter runs against bonded ones: about 3.9x). 0 when
   /// the calibration has no such runs.
   double c_tools = 0.0;
   double log_sigma = 0.0;  ///< standard deviation of ln(measured / fitted)

@@ -71,8 +71,9 @@ inline constexpr double kBenchNodeTolerance = 0.10;
 inline constexpr const char* kBenchLayersOverride = "geometry.min_layers=3";
 
 /// The scene keys that make a tube scene a timing case: the benchmark's defaults (more support growths for coarse
-/// vein clouds, kBenchLayersOverride), then the user's overrides, then model=`model`, the spacing, output_interval_s = one 1 ms step,
-/// duration_s = total_steps steps, and the model's ramp kept but finished within the run (these win).
+/// vein clouds, kBenchLayersOverride), then the user's overrides, then model=`model`, the spacing,
+/// output_interval_s = one 1 ms step, duration_s = total_steps steps, and the model's ramp kept but finished within
+/// the run (these win).
 std::vector<std::string> timed_scene_overrides(const std::string& model, const std::vector<std::string>& user,
                                                int total_steps, double ramp_s, double spacing_m);
 

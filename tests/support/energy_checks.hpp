@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "vascsim/core/types.hpp"
+#include "vascsim/model/discretization.hpp"
 #include "vascsim/model/material.hpp"
 
 #include "support/test_support.hpp"
@@ -28,6 +29,15 @@ inline Vec3Array large_deformation(const Vec3Array& X, std::uint64_t seed) {
   for (std::size_t i = 0; i < X.size(); ++i)
     x[i] = A * X[i] + 0.05 * kDelta * Vec3(uni(rng), uni(rng), uni(rng));
   return x;
+}
+
+// The patch test's measure: the largest error over the nodes of the fitted gradient of the affine field u = A X.
+inline double max_affine_gradient_error(const Discretization& d, const Mat3& A) {
+  Vec3Array u(d.rest_positions().size());
+  for (std::size_t i = 0; i < u.size(); ++i) u[i] = A * d.rest_positions()[i];
+  double err = 0.0;
+  for (Index i = 0; i < d.num_nodes(); ++i) err = std::max(err, (d.displacement_gradient(i, u) - A).norm());
+  return err;
 }
 
 inline double max_norm(const Vec3Array& a) {

@@ -8,6 +8,7 @@
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/geometry/generators.hpp"
+#include "vascsim/geometry/graded_axis.hpp"
 #include "vascsim/geometry/kuhn.hpp"
 
 namespace vascsim {
@@ -23,6 +24,15 @@ void check_spec(const Centerline& cl, const SweptVesselSpec& s) {
   if (!(std::isfinite(s.node_spacing_m) && s.node_spacing_m > 0.0)) fail("node spacing must be finite and > 0");
   if (s.min_layers < 3) fail("at least 3 node layers through the wall are needed (docs/model.md, hollow vessels)");
   if (!std::isfinite(s.lattice_angle_deg)) fail("lattice angle must be finite");
+  if (s.refine.enabled) {
+    const WallRefinement& r = s.refine;
+    if (!(r.node_spacing_m > 0.0 && r.node_spacing_m <= s.node_spacing_m))
+      fail(fmt::format("the refined spacing {:.4g} m must be > 0 and at most the node spacing {:.4g} m",
+                       r.node_spacing_m, s.node_spacing_m));
+    if (!(r.angle_half_width_deg > 0.0 && r.s_half_length_m > 0.0 && r.margin_m >= 0.0))
+      fail("the refined window needs a half width > 0 deg, a half length > 0 m and a margin >= 0 m");
+    if (s.angular_nodes > 0 || s.axial_nodes > 0) fail("a graded lattice chooses its own counts; leave them out");
+  }
   if (!(cl.min_radius_of_curvature() > s.outer_radius_m))
     fail(fmt::format("the centre-line's smallest radius of curvature {:.6g} m must exceed the outer radius {:.6g} m "
                      "(the wall would fold over itself)",
@@ -33,32 +43,63 @@ void check_spec(const Centerline& cl, const SweptVesselSpec& s) {
 struct SweepLattice {
   int nr = 0, nt = 0, nz = 0;
   double r_in = 0.0, length = 0.0, phase = 0.0;
-  std::vector<double> cos_t, sin_t;  // per angular index
-  std::vector<Frame> frames;         // per axial index (rotation-minimising)
+  std::vector<double> theta, cos_t, sin_t;  // per angular index, rad
+  std::vector<double> s;                    // per axial index, m
+  std::vector<Frame> frames;                // per axial index (rotation-minimising)
+  bool graded = false;
   Index id(int ir, int it, int iz) const { return static_cast<Index>(ir + nr * ((it % nt) + nt * iz)); }
-  double s_at(int iz) const { return length * iz / (nz - 1); }
+  double s_at(int iz) const { return s[static_cast<std::size_t>(iz)]; }
   Vec3 radial(int it, int iz) const {
     const Frame& f = frames[static_cast<std::size_t>(iz)];
     return cos_t[static_cast<std::size_t>(it)] * f.N + sin_t[static_cast<std::size_t>(it)] * f.B;
   }
 };
 
+// The graded lattice's columns (angles, rad) and cross-sections (arc lengths, m): fine over the window and its
+// margin, graded outside (graded_axis.hpp); around the centre-line as arc length at the mid-wall radius.
+void graded_axes(const SweptVesselSpec& s, double r_mid, SweepLattice& g) {
+  const WallRefinement& r = s.refine;
+  const AxisGrading grading{r.node_spacing_m, s.node_spacing_m, r.growth};
+  const double c = r.angle_center_deg * std::numbers::pi / 180.0 * r_mid,
+               w = r.angle_half_width_deg * std::numbers::pi / 180.0 * r_mid;
+  if (!(2.0 * (w + r.margin_m) < 2.0 * std::numbers::pi * r_mid))
+    fail("the refined window and its margins go all the way round the vessel; use a uniform lattice");
+  const std::vector<double> around =
+      graded_circle(2.0 * std::numbers::pi * r_mid, {c - w - r.margin_m, c - w, c + w, c + w + r.margin_m}, grading);
+  for (double x : around) g.theta.push_back(x / r_mid);
+  g.s = graded_line(g.length, {r.s_center_m - r.s_half_length_m - r.margin_m, r.s_center_m - r.s_half_length_m,
+                               r.s_center_m + r.s_half_length_m, r.s_center_m + r.s_half_length_m + r.margin_m},
+                    grading);
+  g.nt = static_cast<int>(g.theta.size());
+  g.nz = static_cast<int>(g.s.size());
+}
+
 SweepLattice sweep_lattice(const Centerline& cl, const SweptVesselSpec& s) {
   SweepLattice g;
   g.r_in = s.outer_radius_m - s.wall_thickness_m;
   const double r_mid = 0.5 * (g.r_in + s.outer_radius_m);
   g.length = cl.length();
-  g.nr = std::max(s.min_layers, static_cast<int>(std::ceil(s.wall_thickness_m / s.node_spacing_m - 1e-9)) + 1);
-  g.nt = lattice_columns(r_mid, s.node_spacing_m, s.angular_nodes);
-  const double nz_real = g.length / s.node_spacing_m;
-  if (!(static_cast<double>(g.nr) * g.nt * (nz_real + 1.0) <= 5e7))
-    fail("more than 5e7 nodes requested (increase node_spacing_m)");
-  g.nz = lattice_cross_sections(g.length, s.node_spacing_m, s.axial_nodes);
+  // Layers follow the finest spacing along the wall.
+  const double across = s.refine.enabled ? s.refine.node_spacing_m : s.node_spacing_m;
+  g.nr = std::max(s.min_layers, static_cast<int>(std::ceil(s.wall_thickness_m / across - 1e-9)) + 1);
+  g.graded = s.refine.enabled;
+  if (g.graded) {
+    graded_axes(s, r_mid, g);
+    if (!(static_cast<double>(g.nr) * g.nt * g.nz <= 5e7)) fail("more than 5e7 nodes requested (coarsen the spacings)");
+  } else {
+    g.nt = lattice_columns(r_mid, s.node_spacing_m, s.angular_nodes);
+    const double nz_real = g.length / s.node_spacing_m;
+    if (!(static_cast<double>(g.nr) * g.nt * (nz_real + 1.0) <= 5e7))
+      fail("more than 5e7 nodes requested (increase node_spacing_m)");
+    g.nz = lattice_cross_sections(g.length, s.node_spacing_m, s.axial_nodes);
+    g.phase = lattice_phase_rad(s.lattice_angle_deg, g.nt);
+    for (int it = 0; it < g.nt; ++it) g.theta.push_back(2.0 * std::numbers::pi * it / g.nt + g.phase);
+    for (int iz = 0; iz < g.nz; ++iz) g.s.push_back(g.length * iz / (g.nz - 1));
+  }
   g.cos_t.resize(static_cast<std::size_t>(g.nt));
   g.sin_t.resize(static_cast<std::size_t>(g.nt));
-  g.phase = lattice_phase_rad(s.lattice_angle_deg, g.nt);
   for (int it = 0; it < g.nt; ++it) {
-    const double th = 2.0 * std::numbers::pi * it / g.nt + g.phase;
+    const double th = g.theta[static_cast<std::size_t>(it)];
     g.cos_t[static_cast<std::size_t>(it)] = std::cos(th);
     g.sin_t[static_cast<std::size_t>(it)] = std::sin(th);
   }
@@ -120,7 +161,8 @@ void sweep_surface(const SweepLattice& g, SweptVessel& out) {
   for (int iz = 0; iz < nz; ++iz)
     for (int it = 0; it < nt; ++it) {
       const Vec3 dir = g.radial(it, iz);
-      const Eigen::Vector2d uv(static_cast<double>(iz) / (nz - 1), static_cast<double>(it) / nt);
+      const double u = g.graded ? g.s_at(iz) / g.length : static_cast<double>(iz) / (nz - 1);
+      const Eigen::Vector2d uv(u, static_cast<double>(it) / nt);
       const auto o = static_cast<std::size_t>(outer(it, iz));
       const auto i = static_cast<std::size_t>(inner(it, iz));
       out.surface_vertices[o] = X[static_cast<std::size_t>(g.id(g.nr - 1, it, iz))];
@@ -163,6 +205,16 @@ SweptVessel make_swept_vessel(const Centerline& cl, const SweptVesselSpec& s) {
   out.angular_nodes = g.nt;
   out.axial_nodes = g.nz;
   out.angle_phase_rad = g.phase;
+  out.graded = s.refine.enabled;
+  out.theta_rad = g.theta;
+  out.s_m = g.s;
+  for (int it = 0; it < g.nt; ++it) {
+    // As the uniform lattice always computed it (its regions select by these angles).
+    const double deg = out.graded ? g.theta[static_cast<std::size_t>(it)] * 180.0 / std::numbers::pi
+                                  : 360.0 * it / g.nt + g.phase * 180.0 / std::numbers::pi;
+    const double wrapped = std::fmod(deg, 360.0);
+    out.theta_deg.push_back(wrapped < 0.0 ? wrapped + 360.0 : wrapped);
+  }
   out.cloud.kind = "swept_vessel";
   out.cloud.spacing_m = s.node_spacing_m;
   sweep_nodes(cl, s, g, out.cloud);

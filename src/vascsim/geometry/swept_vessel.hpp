@@ -11,6 +11,18 @@
 
 namespace vascsim {
 
+/// A graded lattice (geometry.refine, docs/scene-format.md): node_spacing_m inside a window of the wall and a margin
+/// around it, coarsening by `growth` per step outside it up to the spec's own node_spacing_m. The window's edges and
+/// the margin's are lattice lines, so a wall patch of the window's extent has its outermost nodes on its edges.
+struct WallRefinement {
+  bool enabled = false;
+  double angle_center_deg = 0.0, angle_half_width_deg = 0.0;  ///< around the centre-line, from N towards B
+  double s_center_m = 0.0, s_half_length_m = 0.0;             ///< along it (arc length)
+  double node_spacing_m = 0.0;  ///< the fine spacing (along the wall and through it)
+  double margin_m = 0.0;        ///< fine beyond the window's edges (at the mid-wall radius around the centre-line)
+  double growth = 1.3;          ///< ratio of successive steps outside, in (1, 3]
+};
+
 struct SweptVesselSpec {
   double outer_radius_m = 1.5e-3;
   double wall_thickness_m = 0.3e-3;
@@ -20,6 +32,7 @@ struct SweptVesselSpec {
   double lattice_angle_deg = 0.0;
   /// Lattice counts around and along the centre-line when > 0 (see TubeSpec); 0: from node_spacing_m.
   int angular_nodes = 0, axial_nodes = 0;
+  WallRefinement refine;  ///< a graded lattice instead of a uniform one (counts and lattice angle then unused)
 };
 
 struct SweptVessel {
@@ -43,6 +56,10 @@ struct SweptVessel {
   /// Angle of lattice column 0, rad (lattice_phase_rad of the spec's lattice angle); column k is at
   /// angle_phase_rad + 2 pi k / angular_nodes.
   double angle_phase_rad = 0.0;
+  /// Per column its angle (rad, and deg in [0, 360)), per cross-section its arc length (m): equally spaced
+  /// unless the lattice is graded.
+  std::vector<double> theta_rad, theta_deg, s_m;
+  bool graded = false;
 };
 
 /// Throws InputError for a bad spec, a centre-line whose smallest radius of curvature is <= the outer

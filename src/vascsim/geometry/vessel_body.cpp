@@ -1,5 +1,6 @@
 #include "vascsim/geometry/vessel_body.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -19,6 +20,14 @@ std::vector<char> outer_triangles(const std::vector<std::array<Index, 3>>& trian
   out.reserve(triangles.size());
   for (const auto& t : triangles) out.push_back(is_outer(t[0]) && is_outer(t[1]) && is_outer(t[2]) ? 1 : 0);
   return out;
+}
+
+// Column k's angle, rad, continued past the seam (k = -1 is the last column one turn back, k = nt the first one
+// turn on).
+double column_angle(const SweptVessel& v, int k) {
+  const int nt = v.angular_nodes;
+  const int wrapped = ((k % nt) + nt) % nt;
+  return v.theta_rad[static_cast<std::size_t>(wrapped)] + 2.0 * std::numbers::pi * ((k - wrapped) / nt);
 }
 
 }  // namespace
@@ -45,19 +54,35 @@ Body body_from_swept_vessel(SweptVessel v, std::shared_ptr<const Centerline> cen
   w.layer_spacing_m = w.thickness_m / (nr - 1);
   w.angle_step_deg = 360.0 / nt;
   w.s_step_m = v.length_m / (nz - 1);
+  if (v.graded) {
+    // The nominal steps are the finest ones; each node's own cell is in w.cells.
+    w.angle_step_deg = 360.0, w.s_step_m = v.length_m;
+    for (int it = 0; it < nt; ++it)
+      w.angle_step_deg = std::min(w.angle_step_deg, (column_angle(v, it + 1) - column_angle(v, it)) * 180.0 / std::numbers::pi);
+    for (int iz = 0; iz + 1 < nz; ++iz) w.s_step_m = std::min(w.s_step_m, v.s_m[iz + 1] - v.s_m[iz]);
+    w.cells.resize(n);
+  }
   for (int iz = 0; iz < nz; ++iz) {
-    const double s = v.length_m * iz / (nz - 1);
+    const double s = v.s_m[static_cast<std::size_t>(iz)];
     const Frame f = w.centerline->frame(s);
     for (int it = 0; it < nt; ++it) {
-      const double th = 2.0 * std::numbers::pi * it / nt + v.angle_phase_rad;
+      const double th = v.theta_rad[static_cast<std::size_t>(it)];
       const Vec3 dir = std::cos(th) * f.N + std::sin(th) * f.B;
-      const double th_deg = 360.0 * it / nt + v.angle_phase_rad * 180.0 / std::numbers::pi;
+      LatticeCell cell;
+      if (v.graded) {
+        // Half-way to the neighbouring columns and cross-sections (the vessel's ends close the cell there).
+        cell.theta_lo_deg = -0.5 * (th - column_angle(v, it - 1)) * 180.0 / std::numbers::pi;
+        cell.theta_hi_deg = 0.5 * (column_angle(v, it + 1) - th) * 180.0 / std::numbers::pi;
+        cell.s_lo_m = iz > 0 ? 0.5 * (v.s_m[iz - 1] + s) : s;
+        cell.s_hi_m = iz + 1 < nz ? 0.5 * (v.s_m[iz + 1] + s) : s;
+      }
       for (int ir = 0; ir < nr; ++ir) {
         const auto i = static_cast<std::size_t>(ir + nr * (it + nt * iz));
         w.depth_m[i] = w.thickness_m * ir / (nr - 1);
         w.s_m[i] = s;
-        w.theta_deg[i] = th_deg < 0.0 ? th_deg + 360.0 : th_deg >= 360.0 ? th_deg - 360.0 : th_deg;
+        w.theta_deg[i] = v.theta_deg[static_cast<std::size_t>(it)];
         w.outward[i] = dir;
+        if (v.graded) w.cells[i] = cell;
       }
     }
   }

@@ -18,6 +18,12 @@ struct SweptVessel;
 struct MeshWall;
 
 /// Per-node position inside a vessel wall (rest configuration).
+/// A node's cell along a graded wall (geometry.refine): half-way to its neighbouring columns and cross-sections.
+struct LatticeCell {
+  double theta_lo_deg = 0.0, theta_hi_deg = 0.0;  ///< the cell's sides around the centre-line, from the node's angle
+  double s_lo_m = 0.0, s_hi_m = 0.0;              ///< its ends along the centre-line (arc length)
+};
+
 struct WallCoordinates {
   double thickness_m = 0.0;
   /// Distance from the inner (lumen) surface into the wall along the wall normal, 0..thickness, m.
@@ -40,6 +46,9 @@ struct WallCoordinates {
   /// arc length between cross-sections, m. A node stands for the strip of half a step on either side.
   double angle_step_deg = 0.0;
   double s_step_m = 0.0;
+  /// Per node, on a graded lattice only (empty on a uniform one, whose steps above are every node's): its cell.
+  /// The steps above are then the finest.
+  std::vector<LatticeCell> cells;
 
   /// Per node, when the generator knows it exactly (imported meshes: nodes snapped onto a surface):
   /// 1 on the inner (lumen) surface, 2 on the outer surface, 0 inside. Empty: decide by depth.

@@ -76,8 +76,16 @@ struct SupportMetric {
 
 SupportMetric support_metric(const DiscretizationOptions& opt, Index i, double across_scale) {
   if (opt.support != DiscretizationOptions::Support::Wall) return {};
-  return {&opt.wall_normals[static_cast<std::size_t>(i)], opt.wall_stretch,
+  const double stretch = opt.wall_stretches.empty() ? opt.wall_stretch : opt.wall_stretches[static_cast<std::size_t>(i)];
+  return {&opt.wall_normals[static_cast<std::size_t>(i)], stretch,
           opt.wall_depths.empty() ? nullptr : &opt.wall_depths, i, across_scale};
+}
+
+// The largest stretch of any node's support (the spatial grid's reach).
+double largest_stretch(const DiscretizationOptions& opt) {
+  double s = opt.wall_stretch;
+  for (double v : opt.wall_stretches) s = std::max(s, v);
+  return s;
 }
 
 // WallReach::Thickness: the wall's far surface at this fraction of h_0 (poly6 weight 8 % of the centre's), inside the
@@ -176,6 +184,11 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
     throw InputError(fmt::format("discretization: wall-aligned supports need one wall normal per node ({} for {} nodes) "
                                  "and a stretch >= 1 ({})",
                                  opt.wall_normals.size(), n, opt.wall_stretch));
+  if (wall && !opt.wall_stretches.empty() &&
+      (opt.wall_stretches.size() != static_cast<std::size_t>(n) ||
+       !std::all_of(opt.wall_stretches.begin(), opt.wall_stretches.end(), [](double v) { return v >= 1.0; })))
+    throw InputError(fmt::format("discretization: {} per-node wall stretches for {} nodes; each must be >= 1",
+                                 opt.wall_stretches.size(), n));
   if (wall && !opt.wall_depths.empty() && opt.wall_depths.size() != static_cast<std::size_t>(n))
     throw InputError(fmt::format("discretization: {} wall depths for {} nodes", opt.wall_depths.size(), n));
   if (wall && opt.wall_reach == DiscretizationOptions::WallReach::Thickness) {
@@ -184,7 +197,7 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
     wall_across_scale_ = std::min(1.0, kThicknessReach * h0 / opt.wall_thickness_m);
   }
   const double hmax = h0 * std::pow(opt.growth_factor, opt.max_growths) *
-                      (wall ? std::max(opt.wall_stretch, 1.0 / wall_across_scale_) : 1.0);
+                      (wall ? std::max(largest_stretch(opt), 1.0 / wall_across_scale_) : 1.0);
   SpatialGrid grid(X_, hmax);
   h_.assign(n, h0);
   std::vector<NeighbourhoodTrial> trials(n);
@@ -243,7 +256,7 @@ std::string Discretization::growth_advice(const std::vector<int>& failed, double
   constexpr int kMaxGrowthsAllowed = 10;
   const bool wall = opt.support == DiscretizationOptions::Support::Wall;
   const double hmax = h0 * std::pow(opt.growth_factor, kMaxGrowthsAllowed) *
-                      (wall ? std::max(opt.wall_stretch, 1.0 / wall_across_scale_) : 1.0);
+                      (wall ? std::max(largest_stretch(opt), 1.0 / wall_across_scale_) : 1.0);
   const SpatialGrid grid(X_, hmax);
   int needed = opt.max_growths;
   for (std::size_t i = 0; i < failed.size() && needed <= kMaxGrowthsAllowed; ++i) {

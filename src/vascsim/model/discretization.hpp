@@ -35,6 +35,8 @@ struct DiscretizationOptions {
   /// w_ij = W(|M_i X_ij|, h_i), M_i = n n^T + (I - n n^T) / wall_stretch. Empty normals: isotropic supports.
   std::vector<Vec3> wall_normals;
   double wall_stretch = 1.0;
+  /// Optional, per node (a graded lattice, geometry.refine): its own stretch instead of wall_stretch.
+  std::vector<double> wall_stretches;
   /// Optional, per node: its depth in the wall, m. Given, the through-wall part of X_ij is the depth difference,
   /// so the ellipsoid follows a curved wall's layers instead of the node's tangent plane.
   std::vector<double> wall_depths;

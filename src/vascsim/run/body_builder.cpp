@@ -28,7 +28,7 @@ Body build_body(const GeometrySpec& spec) {
   if (spec.type == "tube") {
     SweptVesselSpec ss{spec.tube.outer_radius_m,    spec.tube.wall_thickness_m, spec.tube.node_spacing_m,
                        std::max(3, spec.tube.min_layers), spec.tube.lattice_angle_deg, spec.tube.angular_nodes,
-                       spec.tube.axial_nodes};
+                       spec.tube.axial_nodes, {}};
     return body_from_tube(make_tube(spec.tube), make_swept_vessel(straight_centerline(spec.tube.length_m), ss));
   }
   if (spec.type == "vessel") {
@@ -36,7 +36,9 @@ Body build_body(const GeometrySpec& spec) {
     auto line = std::make_shared<const Centerline>(build_centerline(c));
     SweptVesselSpec ss{spec.tube.outer_radius_m, spec.tube.wall_thickness_m, spec.tube.node_spacing_m,
                        spec.tube.min_layers,     spec.tube.lattice_angle_deg, spec.tube.angular_nodes,
-                       spec.tube.axial_nodes};
+                       spec.tube.axial_nodes,    spec.refine};
+    if (ss.refine.enabled && spec.refine_s_center_fraction >= 0.0)
+      ss.refine.s_center_m = spec.refine_s_center_fraction * line->length();
     return body_from_swept_vessel(make_swept_vessel(*line, ss), line);
   }
   if (spec.type == "mesh") return body_from_mesh(spec.mesh);

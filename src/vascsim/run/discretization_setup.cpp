@@ -51,17 +51,45 @@ std::vector<DiscretizationOptions::WallCell> wall_cells(const Body& body) {
       const double r = from_axis.norm();
       // A node at X - c(s) from a bending centre-line moves (1 - T'(s).(X - c)) metres per metre of arc length: the
       // outside of a bend is longer than the centre-line, the inside shorter (the frame rotates without twist).
-      const double lo_s = std::max(s - 0.5 * ds, 0.0), hi_s = std::min(s + 0.5 * ds, wall.length_m);
+      double lo_s = std::max(s - 0.5 * ds, 0.0), hi_s = std::min(s + 0.5 * ds, wall.length_m);
+      double width = dtheta, offset = 0.0;  // around the centre-line, rad
+      if (!wall.cells.empty()) {            // a graded lattice: the node's own cell
+        const LatticeCell& cell = wall.cells[i];
+        lo_s = cell.s_lo_m, hi_s = cell.s_hi_m;
+        width = (cell.theta_hi_deg - cell.theta_lo_deg) * std::numbers::pi / 180.0;
+        offset = 0.5 * (cell.theta_hi_deg + cell.theta_lo_deg) * std::numbers::pi / 180.0;
+      }
       const Vec3 bend = (line.tangent(hi_s) - line.tangent(lo_s)) / (hi_s - lo_s);
       const double stretch = 1.0 - bend.dot(from_axis);
-      c.edges = {r * dtheta * around, (hi_s - lo_s) * stretch * axis};
-      c.centre = {0.0, (0.5 * (lo_s + hi_s) - s) * stretch};
+      c.edges = {r * width * around, (hi_s - lo_s) * stretch * axis};
+      // `around` = n x T points towards decreasing theta (theta turns from N towards B, T x N = B).
+      c.centre = {-r * offset, (0.5 * (lo_s + hi_s) - s) * stretch};
     } else {
       const Vec3 t1 = n.unitOrthogonal();
       c.edges = {body.cloud.spacing_m * t1, body.cloud.spacing_m * n.cross(t1)};
     }
   }
   return cells;
+}
+
+// Per node on a graded lattice, its spacing along the wall (the square root of its cell's area at the mean node
+// radius, as along_wall_spacing); empty on a uniform lattice, whose one spacing is every node's.
+std::vector<double> along_wall_spacings(const Body& body) {
+  const WallCoordinates& wall = *body.wall;
+  if (wall.cells.empty()) return {};
+  const Vec3Array& X = body.cloud.positions;
+  double radius = 0.0;
+  for (std::size_t i = 0; i < X.size(); ++i) radius += (X[i] - wall.centerline->position(wall.s_m[i])).norm();
+  radius /= static_cast<double>(X.size());
+  std::vector<double> spacing(X.size());
+  for (std::size_t i = 0; i < X.size(); ++i) {
+    const LatticeCell& c = wall.cells[i];
+    // A cell at a vessel's end is half a step long; the spacing there is its neighbour's full step.
+    const bool end = wall.s_m[i] <= c.s_lo_m || wall.s_m[i] >= c.s_hi_m;
+    const double ds = (c.s_hi_m - c.s_lo_m) * (end ? 2.0 : 1.0);
+    spacing[i] = std::sqrt(radius * (c.theta_hi_deg - c.theta_lo_deg) * std::numbers::pi / 180.0 * ds);
+  }
+  return spacing;
 }
 
 }  // namespace
@@ -76,6 +104,7 @@ DiscretizationOptions discretization_options(const Scene& scene, const Body& bod
   o.wall_normals = body.wall->outward;
   o.wall_depths = body.wall->depth_m;
   o.wall_stretch = std::max(1.0, along_wall_spacing(body) / body.wall->layer_spacing_m);
+  for (double d : along_wall_spacings(body)) o.wall_stretches.push_back(std::max(1.0, d / body.wall->layer_spacing_m));
   o.wall_thickness_m = body.wall->thickness_m;
   o.wall_layer_spacing_m = body.wall->layer_spacing_m;
   if (o.wall_quadrature == DiscretizationOptions::WallQuadrature::GaussCell) o.wall_cells = wall_cells(body);

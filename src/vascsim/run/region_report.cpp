@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 #include <fmt/format.h>
 #include <numbers>
 
@@ -66,19 +67,32 @@ void describe_wall_patch(const SelectorSpec& s, const WallCoordinates& wall, con
   const double width = 2.0 * s.angle_half_width_deg, length = 2.0 * s.s_half_length_m;
   const double s_c = wall_patch_center_s(s, wall);
   double lo = 1e9, hi = -1e9, s_lo = 1e30, s_hi = -1e30, r = 0.0;
+  std::size_t k_lo = 0, k_hi = 0, k_s_lo = 0, k_s_hi = 0;  // the outermost nodes
+  std::set<long long> columns, cross_sections;             // on a graded lattice, counted by their positions
   for (Index i : region.nodes) {
     const auto k = static_cast<std::size_t>(i);
     const double d = std::remainder(wall.theta_deg[k] - s.angle_center_deg, 360.0);
-    lo = std::min(lo, d), hi = std::max(hi, d);
-    s_lo = std::min(s_lo, wall.s_m[k]), s_hi = std::max(s_hi, wall.s_m[k]);
+    if (d < lo) lo = d, k_lo = k;
+    if (d > hi) hi = d, k_hi = k;
+    if (wall.s_m[k] < s_lo) s_lo = wall.s_m[k], k_s_lo = k;
+    if (wall.s_m[k] > s_hi) s_hi = wall.s_m[k], k_s_hi = k;
+    columns.insert(std::llround(d / (1e-6 * wall.angle_step_deg)));
+    cross_sections.insert(std::llround(wall.s_m[k] / (1e-6 * wall.s_step_m)));
     r += (disc.rest_positions()[k] - wall.centerline->position(wall.s_m[k])).norm() / region.nodes.size();
   }
   // The strips the nodes stand for: half a lattice step beyond the outermost columns and cross-sections
-  // (not beyond the vessel's ends).
+  // (not beyond the vessel's ends; on a graded lattice the outermost nodes' own cells).
   // Measured by span instead, the outermost nodes themselves: the surface a prescribed displacement holds.
-  const double step = wall.angle_step_deg, half_a = edges ? 0.0 : 0.5 * step, half_s = edges ? 0.0 : 0.5 * wall.s_step_m;
-  const double a0 = lo - half_a, a1 = hi + half_a;
-  const double z0 = std::max(0.0, s_lo - half_s), z1 = std::min(wall.length_m, s_hi + half_s);
+  const double step = wall.angle_step_deg;
+  const bool graded = !wall.cells.empty();
+  double a0 = lo, a1 = hi, z0 = s_lo, z1 = s_hi;
+  if (!edges && graded) {
+    a0 += wall.cells[k_lo].theta_lo_deg, a1 += wall.cells[k_hi].theta_hi_deg;
+    z0 = wall.cells[k_s_lo].s_lo_m, z1 = wall.cells[k_s_hi].s_hi_m;
+  } else if (!edges) {
+    a0 -= 0.5 * step, a1 += 0.5 * step;
+    z0 = std::max(0.0, s_lo - 0.5 * wall.s_step_m), z1 = std::min(wall.length_m, s_hi + 0.5 * wall.s_step_m);
+  }
   const double asked_z0 = std::max(0.0, s_c - s.s_half_length_m), asked_z1 = std::min(wall.length_m, s_c + s.s_half_length_m);
   const double asked_area = swept_area(wall, r, s.angle_center_deg, s.angle_half_width_deg, asked_z0, asked_z1);
   const double area = edges ? swept_area(wall, r, s.angle_center_deg + 0.5 * (lo + hi), 0.5 * (hi - lo), z0, z1)
@@ -87,8 +101,9 @@ void describe_wall_patch(const SelectorSpec& s, const WallCoordinates& wall, con
                          {"s_center_m", s_c}, {"area_m2", asked_area}};
   out.report["selected"] = {{"angle_deg", a1 - a0}, {"angle_center_deg", s.angle_center_deg + 0.5 * (lo + hi)},
                             {"length_m", z1 - z0}, {"s_center_m", 0.5 * (z0 + z1)}, {"area_m2", area},
-                            {"columns", std::lround((hi - lo) / step) + 1},
-                            {"cross_sections", std::lround((s_hi - s_lo) / wall.s_step_m) + 1},
+                            {"columns", graded ? static_cast<long>(columns.size()) : std::lround((hi - lo) / step) + 1},
+                            {"cross_sections", graded ? static_cast<long>(cross_sections.size())
+                                                      : std::lround((s_hi - s_lo) / wall.s_step_m) + 1},
                             {"lattice_angle_step_deg", step}, {"lattice_s_step_m", wall.s_step_m},
                             {"measured_as", edges ? "edges" : "strips"}};
   const double f = kSelectionTolerance, f_area = (1.0 + f) * (1.0 + f) - 1.0;
@@ -134,7 +149,8 @@ std::vector<RegionSelection> describe_selections(const Scene& scene, const Discr
     r.report = {{"name", r.name}, {"selector", s.type}, {"nodes", regions[k].nodes.size()},
                 {"selected_bounds", bounds(disc, regions[k].nodes)}};
     if (s.type == "wall_patch" && body.wall && body.wall->angle_step_deg > 0.0)
-      describe_wall_patch(s, *body.wall, disc, regions[k], scene.geometry.fit_lattice_to_patch == "edges", r);
+      describe_wall_patch(s, *body.wall, disc, regions[k],
+                          scene.geometry.fit_lattice_to_patch == "edges" || scene.geometry.refine.enabled, r);
     else if (s.type == "surface_patch" && body.wall)
       describe_surface_patch(s, *body.wall, disc, regions[k], r);
     else if (s.type == "cylinder_end")

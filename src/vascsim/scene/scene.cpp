@@ -82,6 +82,30 @@ MeshGeometrySpec read_mesh(JsonReader& g) {
   return m;
 }
 
+// geometry.refine: a graded vessel lattice, fine over a window of the wall (docs/scene-format.md).
+void read_refinement(JsonReader& g, GeometrySpec& s) {
+  JsonReader r = g.object("refine");
+  WallRefinement& w = s.refine;
+  w.enabled = true;
+  w.node_spacing_m = r.required_number("node_spacing_m", 1e-8, 10.0);
+  if (w.node_spacing_m > s.tube.node_spacing_m)
+    r.fail("node_spacing_m", fmt::format("{:.4g} m is coarser than geometry.node_spacing_m ({:.4g} m), the spacing "
+                                         "away from the window", w.node_spacing_m, s.tube.node_spacing_m));
+  w.angle_center_deg = r.number("angle_center_deg", 0.0, -360.0, 360.0);
+  w.angle_half_width_deg = r.required_number("angle_half_width_deg", 1e-6, 179.0);
+  if (r.has("s_center_m") && r.has("s_center_fraction"))
+    r.fail("s_center_m", "give s_center_m or s_center_fraction, not both");
+  if (r.has("s_center_m")) w.s_center_m = r.required_number("s_center_m", 0.0, 100.0);
+  else s.refine_s_center_fraction = r.number("s_center_fraction", 0.5, 0.0, 1.0);
+  w.s_half_length_m = r.required_number("s_half_length_m", 1e-8, 100.0);
+  w.margin_m = r.number("margin_m", 0.0, 0.0, 100.0);
+  w.growth = r.number("growth", 1.3, 1.01, 3.0);
+  r.finish();
+  if (g.has("lattice_angle_deg")) g.fail("lattice_angle_deg", "a graded lattice (refine) places its own columns; leave it out");
+  if (s.fit_lattice_to_patch != "none")
+    g.fail("fit_lattice_to_patch", "a graded lattice (refine) puts its window's edges on nodes itself; use 'none'");
+}
+
 // A wall swept along a centre-line, with node layers through it (tube, vessel).
 bool swept_wall(const std::string& geometry_type) { return geometry_type == "tube" || geometry_type == "vessel"; }
 
@@ -107,6 +131,7 @@ GeometrySpec read_geometry(JsonReader g) {
     if (s.tube.min_layers < 3) g.fail("min_layers", "a swept vessel needs at least 3 layers (docs/model.md design decision 2)");
     if (!g.has("centerline")) g.fail("centerline", "missing; a centre-line object is required");
     s.centerline = read_centerline(g.object("centerline"));
+    if (g.has("refine")) read_refinement(g, s);
   } else if (s.type == "mesh") {
     s.mesh = read_mesh(g);
   } else if (s.type == "box") {

@@ -14,6 +14,7 @@
 
 #include "vascsim/geometry/centerline.hpp"
 #include "vascsim/geometry/generators.hpp"
+#include "vascsim/geometry/swept_vessel.hpp"
 #include "vascsim/mapping/mls_map.hpp"
 #include "vascsim/model/discretization.hpp"
 #include "vascsim/model/point_primitive_energy.hpp"
@@ -50,6 +51,10 @@ struct GeometrySpec {
   /// wall patch's strips, or its nodes' span, are the extent asked (geometry/lattice_fit; they go into
   /// tube.angular_nodes / axial_nodes); "none" keeps the counts of the spacing
   std::string fit_lattice_to_patch = "none";
+  /// vessel: a graded lattice (geometry.refine); its s_center_m is refine_s_center_fraction of the centre-line's
+  /// length when that is >= 0.
+  WallRefinement refine;
+  double refine_s_center_fraction = -1.0;
   CenterlineSpec centerline;
   MeshGeometrySpec mesh;
   BoxSpec box;

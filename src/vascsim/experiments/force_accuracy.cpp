@@ -74,6 +74,8 @@ AccuracyEstimate estimate_accuracy(const ForceAccuracyTable& table, const Scene&
   e.nodes = nodes;
   const std::string& type = scene.geometry.type;
   if (type != "tube" && type != "vessel") return e;
+  e.graded = scene.geometry.refine.enabled;
+  if (e.graded) return e;  // its node count says nothing of its resolution where the load acts
   const bool tool = !scene.obstacles.empty();
   const std::string basis = basis_name(scene.discretization.basis);
   for (const AccuracyCase& c : table.cases)
@@ -102,6 +104,9 @@ AccuracyEstimate estimate_accuracy(const ForceAccuracyTable& table, const Scene&
 }
 
 std::string describe_accuracy(const ForceAccuracyTable& table, const AccuracyEstimate& e) {
+  if (e.graded)
+    return "not covered: the table's rows are uniform lattices, and a graded lattice's node count does not say how "
+           "fine it is where the load acts (geometry.refine; docs/validation.md, 'Graded lattices')";
   if (e.match == nullptr) {
     std::string cases;
     for (const AccuracyCase& c : table.cases) cases += (cases.empty() ? "" : "; ") + c.name + " (" + c.basis + " fit)";

@@ -71,6 +71,7 @@ struct AccuracyEstimate {
   const AccuracyRow* below = nullptr;   ///< the rows it lies between (one of them null outside the table)
   const AccuracyRow* above = nullptr;
   double nodes = 0.0;                   ///< the node count asked about
+  bool graded = false;                  ///< a graded lattice (geometry.refine): the table's uniform rows do not apply
 };
 
 AccuracyEstimate estimate_accuracy(const ForceAccuracyTable& table, const Scene& scene, double nodes);

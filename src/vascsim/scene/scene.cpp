@@ -617,7 +617,12 @@ void read_mapping_and_output(JsonReader& root, Scene& sc) {
   JsonReader map = root.object("mapping");
   sc.mapping.support_radius_factor =
       map.number("support_radius_factor", MlsMapOptions{}.support_radius_factor, 1.5, 5.0);
-  sc.mapping.max_growths = map.integer("max_growths", MlsMapOptions{}.max_growths, 0, 20);
+  // A map's first radius follows each vertex's nearest node, a layer step away; where a graded lattice is coarse its
+  // columns lie up to (coarse spacing / layer step) times farther, so the radius may grow further there (each vertex
+  // keeps the smallest radius that passes, so where the lattice is fine nothing changes).
+  constexpr int kGradedLatticeGrowths = 12;
+  sc.mapping.max_growths =
+      map.integer("max_growths", sc.geometry.refine.enabled ? kGradedLatticeGrowths : MlsMapOptions{}.max_growths, 0, 20);
   map.finish();
 
   JsonReader out = root.object("output");

@@ -1,5 +1,5 @@
-// A graded vessel lattice (geometry.refine): node positions along one axis (graded_axis), the swept wall built on
-// them, its cells, its regions, and the point-primitive fit on it.
+// A graded vessel lattice (geometry.refine): node positions along one axis (graded_axis), the swept wall
+// built on them, its cells, its regions, and the point-primitive fit on it.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -29,11 +29,11 @@ bool contains(const std::vector<double>& x, double v) {
   return std::any_of(x.begin(), x.end(), [v](double p) { return std::abs(p - v) < 1e-12; });
 }
 
-// Along a 20 mm axis with a window of [8, 12] mm and 1 mm margins, fine 0.25 mm, coarse 1 mm, growth 1.3: the ends
-// and every break are nodes, the window and margins have equal steps of 0.25 mm (their lengths are multiples of it),
-// and outside each step is at most 1.3 times its neighbour nearer the window (the final scaling is one factor per
-// side, so the ratio is exact up to the cap; next to the window the scaling itself enters, at most 10 % here) and
-// never above the coarse spacing by more than that scaling.
+// Along a 20 mm axis with a window of [8, 12] mm and 1 mm margins, fine 0.25 mm, coarse 1 mm, growth 1.3: the
+// ends and every break are nodes, the window and margins have equal steps of 0.25 mm (their lengths are
+// multiples of it), and outside each step is at most 1.3 times its neighbour nearer the window (the final
+// scaling is one factor per side, so the ratio is exact up to the cap; next to the window the scaling itself
+// enters, at most 10 % here) and never above the coarse spacing by more than that scaling.
 TEST(GradedAxis, ALineIsFineInItsWindowAndGrowsOutside) {
   const AxisGrading g{0.25e-3, 1e-3, 1.3};
   const std::vector<double> x = graded_line(20e-3, {7e-3, 8e-3, 12e-3, 13e-3}, g);
@@ -49,7 +49,8 @@ TEST(GradedAxis, ALineIsFineInItsWindowAndGrowsOutside) {
     } else {
       EXPECT_LT(step, 1.1e-3);
     }
-    const double limit = 1.3 * (std::abs(x[k] - 13e-3) < 1e-12 || std::abs(x[k + 1] - 7e-3) < 1e-12 ? 1.1 : 1.0 + 1e-9);
+    const double limit =
+        1.3 * (std::abs(x[k] - 13e-3) < 1e-12 || std::abs(x[k + 1] - 7e-3) < 1e-12 ? 1.1 : 1.0 + 1e-9);
     if (k > 0 && mid > 13e-3) {
       EXPECT_LT(step / (x[k] - x[k - 1]), limit);
     }
@@ -61,9 +62,10 @@ TEST(GradedAxis, ALineIsFineInItsWindowAndGrowsOutside) {
   EXPECT_LT(x.size(), 45u);
 }
 
-// Around a closed axis the window comes first and the rest of the period is graded from both its edges: every value
-// lies in [w0, w0 + period), the steps (including the one that closes the circle) are positive and at most the coarse
-// spacing by the scaling, and the grading is symmetric about the point opposite the window's centre.
+// Around a closed axis the window comes first and the rest of the period is graded from both its edges: every
+// value lies in [w0, w0 + period), the steps (including the one that closes the circle) are positive and at
+// most the coarse spacing by the scaling, and the grading is symmetric about the point opposite the window's
+// centre.
 TEST(GradedAxis, ACircleClosesOntoItsWindow) {
   const AxisGrading g{0.2, 1.0, 1.25};
   const double period = 20.0;
@@ -78,9 +80,8 @@ TEST(GradedAxis, ACircleClosesOntoItsWindow) {
     EXPECT_LT(s, 1.1);
   }
   // Symmetry of the graded part: the k-th step after the window equals the k-th before it (the closing side).
-  const std::size_t window_steps =
-      static_cast<std::size_t>(std::find_if(x.begin(), x.end(), [](double v) { return std::abs(v - 1.5) < 1e-12; }) -
-                               x.begin());
+  const std::size_t window_steps = static_cast<std::size_t>(
+      std::find_if(x.begin(), x.end(), [](double v) { return std::abs(v - 1.5) < 1e-12; }) - x.begin());
   ASSERT_GT(steps.size(), window_steps + 2);
   for (std::size_t k = 0; k < (steps.size() - window_steps) / 2; ++k)
     EXPECT_NEAR(steps[window_steps + k], steps[steps.size() - 1 - k], 1e-12) << k;
@@ -93,20 +94,22 @@ TEST(GradedAxis, BadGradingIsAnInputError) {
   EXPECT_THROW(graded_line(10.0, {2.0, 3.0}, AxisGrading{0.2, 1.0, 1.0}), InputError);  // no growth
   EXPECT_THROW(graded_line(10.0, {3.0, 2.0}, ok), InputError);                          // decreasing
   EXPECT_THROW(graded_line(10.0, {11.0, 12.0}, ok), InputError);                        // off the axis
-  EXPECT_THROW(graded_circle(4.0, {-2.5, 2.5}, ok), InputError);                        // longer than the period
+  EXPECT_THROW(graded_circle(4.0, {-2.5, 2.5}, ok), InputError);  // longer than the period
   // A margin of 0 repeats a break: accepted.
   EXPECT_NO_THROW(graded_line(10.0, {2.0, 2.0, 3.0, 3.0}, ok));
   EXPECT_NO_THROW(graded_circle(10.0, {2.0, 2.0, 3.0, 3.0}, ok));
 }
 
-// The bent aorta graded around its crown: the cells of the nodes on the outer wall tile it (their areas r d_theta ds,
-// without the bend's stretch, sum to the straightened wall's 2 pi r L, which Pappus's rule makes the swept one's; a
-// cell too short or too wide by half a step anywhere would miss by a few per cent), the refined window's edges are
-// lattice lines, and the lattice has under 5,000 nodes (the uniform 1.5 mm lattice has about 20,000).
+// The bent aorta graded around its crown: the cells of the nodes on the outer wall tile it (their areas r
+// d_theta ds, without the bend's stretch, sum to the straightened wall's 2 pi r L, which Pappus's rule makes
+// the swept one's; a cell too short or too wide by half a step anywhere would miss by a few per cent), the
+// refined window's edges are lattice lines, and the lattice has under 5,000 nodes (the uniform 1.5 mm lattice
+// has about 20,000).
 TEST(GradedLattice, TheCellsTileTheWallAndTheWindowEdgesAreLatticeLines) {
   const Centerline arch = bent_centerline(30e-3, 180.0, 10e-3);
   SweptVesselSpec spec;
-  spec.outer_radius_m = 12.5e-3, spec.wall_thickness_m = 1.5e-3, spec.node_spacing_m = 4e-3, spec.min_layers = 4;
+  spec.outer_radius_m = 12.5e-3, spec.wall_thickness_m = 1.5e-3, spec.node_spacing_m = 4e-3,
+  spec.min_layers = 4;
   spec.refine = {true, 180.0, 15.0, 0.5 * arch.length(), 5e-3, 1.5e-3, 3e-3, 1.3};
   const SweptVessel v = make_swept_vessel(arch, spec);
   const auto line = std::make_shared<const Centerline>(arch);
@@ -116,8 +119,10 @@ TEST(GradedLattice, TheCellsTileTheWallAndTheWindowEdgesAreLatticeLines) {
   EXPECT_TRUE(v.graded);
   EXPECT_LT(body.cloud.positions.size(), 5000u);
   // Edges: columns at 165 and 195 deg, cross-sections at L/2 -+ 5 mm.
-  EXPECT_TRUE(std::any_of(v.theta_deg.begin(), v.theta_deg.end(), [](double t) { return std::abs(t - 165.0) < 1e-9; }));
-  EXPECT_TRUE(std::any_of(v.theta_deg.begin(), v.theta_deg.end(), [](double t) { return std::abs(t - 195.0) < 1e-9; }));
+  EXPECT_TRUE(std::any_of(v.theta_deg.begin(), v.theta_deg.end(),
+                          [](double t) { return std::abs(t - 165.0) < 1e-9; }));
+  EXPECT_TRUE(std::any_of(v.theta_deg.begin(), v.theta_deg.end(),
+                          [](double t) { return std::abs(t - 195.0) < 1e-9; }));
   EXPECT_TRUE(contains(v.s_m, 0.5 * arch.length() - 5e-3));
   EXPECT_TRUE(contains(v.s_m, 0.5 * arch.length() + 5e-3));
   double area = 0.0, turn = 0.0;
@@ -154,11 +159,13 @@ nlohmann::json graded_aorta() {
   })");
 }
 
-// The patch test on the graded lattice: with quasi_static's defaults on walls (quadratic fit, per-node supports that
-// follow the local spacing, Gauss points over each node's cell) every node's fitted gradient of an affine field is the
-// field's own, to round-off: 1e-9 relative (WallSupport.AffineFieldsGiveTheExactGradient's 1e-10 on a tube 20 times
-// smaller, whose supports are 4 times less stretched; measured 1.7e-10 here), where a fit missing a term is wrong by
-// O(1): the grading leaves the fit consistent. The patch selects the window, whose edges are nodes: 30 deg and 10 mm measured by its nodes' span.
+// The patch test on the graded lattice: with quasi_static's defaults on walls (quadratic fit, per-node
+// supports that follow the local spacing, Gauss points over each node's cell) every node's fitted gradient of
+// an affine field is the field's own, to round-off: 1e-9 relative
+// (WallSupport.AffineFieldsGiveTheExactGradient's 1e-10 on a tube 20 times smaller, whose supports are 4
+// times less stretched; measured 1.7e-10 here), where a fit missing a term is wrong by O(1): the grading
+// leaves the fit consistent. The patch selects the window, whose edges are nodes: 30 deg and 10 mm measured
+// by its nodes' span.
 TEST(GradedLattice, AffineFieldsGiveTheExactGradientAndThePatchIsTheWindow) {
   Simulation sim(parse_scene(graded_aorta(), "graded.json"));
   const Discretization& d = sim.discretization();
@@ -188,8 +195,9 @@ TEST(GradedLattice, BadRefinementIsAnInputError) {
   unknown["geometry"]["refine"]["spacing"] = 1e-3;
   fails(unknown, "spacing");
   nlohmann::json tube = graded_aorta();
-  tube["geometry"] = {{"type", "tube"}, {"outer_radius_m", 1.5e-3}, {"wall_thickness_m", 0.3e-3}, {"length_m", 0.02},
-                      {"node_spacing_m", 0.3e-3}, {"refine", graded_aorta()["geometry"]["refine"]}};
+  tube["geometry"] = {
+      {"type", "tube"},   {"outer_radius_m", 1.5e-3}, {"wall_thickness_m", 0.3e-3},
+      {"length_m", 0.02}, {"node_spacing_m", 0.3e-3}, {"refine", graded_aorta()["geometry"]["refine"]}};
   fails(tube, "refine");
 }
 

@@ -57,8 +57,10 @@ Body body_from_swept_vessel(SweptVessel v, std::shared_ptr<const Centerline> cen
   if (v.graded) {
     // The nominal steps are the finest ones; each node's own cell is in w.cells.
     w.angle_step_deg = 360.0, w.s_step_m = v.length_m;
-    for (int it = 0; it < nt; ++it)
-      w.angle_step_deg = std::min(w.angle_step_deg, (column_angle(v, it + 1) - column_angle(v, it)) * 180.0 / std::numbers::pi);
+    for (int it = 0; it < nt; ++it) {
+      const double step_rad = column_angle(v, it + 1) - column_angle(v, it);
+      w.angle_step_deg = std::min(w.angle_step_deg, step_rad * 180.0 / std::numbers::pi);
+    }
     for (int iz = 0; iz + 1 < nz; ++iz) w.s_step_m = std::min(w.s_step_m, v.s_m[iz + 1] - v.s_m[iz]);
     w.cells.resize(n);
   }

@@ -111,7 +111,7 @@ CASES = {
     "aorta-bent-graded": ("scenes/aorta-bent.json", "indenter",
                           ["geometry.node_spacing_m=4e-3", "geometry.fit_lattice_to_patch=none", GROWTHS,
                            'geometry.refine={"angle_center_deg": 180, "angle_half_width_deg": 15, "s_half_length_m": 5e-3, '
-                           '"node_spacing_m": 1.5e-3, "margin_m": 3e-3}', "quasi_static.load_steps=2",
+                           '"node_spacing_m": 1.5e-3, "margin_m": 3e-3, "growth": 1.3}', "quasi_static.load_steps=2",
                            "regions.2.bc.magnitude_m=1e-3", "output.surface=false", "output.vtk=false"], 2,
                           [0.061, 0.052]),
 }

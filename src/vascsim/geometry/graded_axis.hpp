@@ -13,7 +13,7 @@ namespace vascsim {
 struct AxisGrading {
   double fine_m = 0.0;    ///< the step inside the window (rounded so that a whole number of steps fill it)
   double coarse_m = 0.0;  ///< the largest step outside (before the final scaling)
-  double growth = 1.3;    ///< ratio of two successive steps outside the window, > 1
+  double growth = 1.2;    ///< ratio of two successive steps outside the window, > 1
 };
 
 /// Positions from 0 to `length` (both included). The window runs from breaks.front() to breaks.back()

@@ -20,7 +20,7 @@ struct WallRefinement {
   double s_center_m = 0.0, s_half_length_m = 0.0;             ///< along it (arc length)
   double node_spacing_m = 0.0;  ///< the fine spacing (along the wall and through it)
   double margin_m = 0.0;        ///< fine beyond the window's edges (at the mid-wall radius around the centre-line)
-  double growth = 1.3;          ///< ratio of successive steps outside, in (1, 3]
+  double growth = 1.2;          ///< ratio of successive steps outside, in (1, 3]
 };
 
 struct SweptVesselSpec {

@@ -99,7 +99,7 @@ void read_refinement(JsonReader& g, GeometrySpec& s) {
   else s.refine_s_center_fraction = r.number("s_center_fraction", 0.5, 0.0, 1.0);
   w.s_half_length_m = r.required_number("s_half_length_m", 1e-8, 100.0);
   w.margin_m = r.number("margin_m", 0.0, 0.0, 100.0);
-  w.growth = r.number("growth", 1.3, 1.01, 3.0);
+  w.growth = r.number("growth", 1.2, 1.01, 3.0);
   r.finish();
   if (g.has("lattice_angle_deg")) g.fail("lattice_angle_deg", "a graded lattice (refine) places its own columns; leave it out");
   if (s.fit_lattice_to_patch != "none")

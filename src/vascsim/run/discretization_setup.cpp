@@ -16,15 +16,20 @@ namespace {
 // mean node radius, sqrt(r Delta_theta Delta_s), when the wall is swept along a centre-line; the generator's
 // nominal spacing otherwise. A lattice fitted to a patch (geometry.fit_lattice_to_patch) differs from the nominal
 // spacing by up to a factor 1.5, and its supports must follow the nodes it has, not the number that was asked.
-double along_wall_spacing(const Body& body) {
+// The nodes' mean distance from the centre-line, m.
+double mean_node_radius(const Body& body) {
   const WallCoordinates& wall = *body.wall;
   const Vec3Array& X = body.cloud.positions;
-  if (!wall.has_centerline() || !(wall.angle_step_deg > 0.0) || !(wall.s_step_m > 0.0) || X.empty())
-    return body.cloud.spacing_m;
   double radius = 0.0;
   for (std::size_t i = 0; i < X.size(); ++i) radius += (X[i] - wall.centerline->position(wall.s_m[i])).norm();
-  radius /= static_cast<double>(X.size());
-  return std::sqrt(radius * wall.angle_step_deg * std::numbers::pi / 180.0 * wall.s_step_m);
+  return radius / static_cast<double>(X.size());
+}
+
+double along_wall_spacing(const Body& body) {
+  const WallCoordinates& wall = *body.wall;
+  if (!wall.has_centerline() || !(wall.angle_step_deg > 0.0) || !(wall.s_step_m > 0.0) || body.cloud.positions.empty())
+    return body.cloud.spacing_m;
+  return std::sqrt(mean_node_radius(body) * wall.angle_step_deg * std::numbers::pi / 180.0 * wall.s_step_m);
 }
 
 // Per node, its cell along the wall (WallQuadrature::GaussCell): on a wall swept along a centre-line, the column
@@ -77,12 +82,9 @@ std::vector<DiscretizationOptions::WallCell> wall_cells(const Body& body) {
 std::vector<double> along_wall_spacings(const Body& body) {
   const WallCoordinates& wall = *body.wall;
   if (wall.cells.empty()) return {};
-  const Vec3Array& X = body.cloud.positions;
-  double radius = 0.0;
-  for (std::size_t i = 0; i < X.size(); ++i) radius += (X[i] - wall.centerline->position(wall.s_m[i])).norm();
-  radius /= static_cast<double>(X.size());
-  std::vector<double> spacing(X.size());
-  for (std::size_t i = 0; i < X.size(); ++i) {
+  const double radius = mean_node_radius(body);
+  std::vector<double> spacing(wall.cells.size());
+  for (std::size_t i = 0; i < spacing.size(); ++i) {
     const LatticeCell& c = wall.cells[i];
     // A cell at a vessel's end is half a step long; the spacing there is its neighbour's full step.
     const bool end = wall.s_m[i] <= c.s_lo_m || wall.s_m[i] >= c.s_hi_m;

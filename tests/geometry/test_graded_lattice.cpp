@@ -14,6 +14,7 @@
 #include "vascsim/geometry/graded_axis.hpp"
 #include "vascsim/geometry/swept_vessel.hpp"
 #include "vascsim/geometry/vessel_body.hpp"
+#include "vascsim/model/point_primitive_energy.hpp"
 #include "vascsim/run/simulation.hpp"
 #include "vascsim/scene/scene.hpp"
 
@@ -175,6 +176,25 @@ TEST(GradedLattice, AffineFieldsGiveTheExactGradientAndThePatchIsTheWindow) {
   const nlohmann::json report = sim.region_selections().at(2).report;
   EXPECT_NEAR(report.at("selected").at("angle_deg").get<double>(), 30.0, 1e-6);
   EXPECT_NEAR(report.at("selected").at("length_m").get<double>(), 10e-3, 1e-9);
+}
+
+// T3-T5 on the graded lattice, with the energy quasi_static builds from the scene (quadratic fit, per-node
+// supports and cells, Gauss points over each cell, the quadratic stabiliser): a rigid motion stores no energy
+// and moves no node, the forces at a large deformation conserve momentum, and the forces and Hessian product
+// are the energy's derivatives (central differences). The bounds and their reasons are the shared checks'
+// (support/energy_checks.hpp), which every basis and quadrature passes on a uniform lattice; a graded lattice
+// must not loosen them, since its nodes differ only in their supports and cells.
+TEST(GradedLattice, PassesTheEnergyChecksT3ToT5) {
+  nlohmann::json doc = graded_aorta();  // coarser, for the finite differences: 1,836 nodes
+  doc["geometry"]["node_spacing_m"] = 6e-3;
+  doc["geometry"]["refine"]["node_spacing_m"] = 2.5e-3;
+  doc["geometry"]["refine"]["margin_m"] = 2.5e-3;
+  Simulation sim(parse_scene(doc, "graded.json"));
+  ASSERT_FALSE(sim.body().wall->cells.empty());  // graded: every node has its own cell
+  const PointPrimitiveEnergy& energy = sim.energy();
+  ASSERT_GT(energy.options().stabilizer_alpha, 0.0);
+  test::expect_rigid_motion_free_and_momentum(energy, sim.discretization().material());
+  test::expect_stabiliser_derivatives<PointPrimitiveEnergy>(sim.discretization(), energy.options());
 }
 
 TEST(GradedLattice, BadRefinementIsAnInputError) {

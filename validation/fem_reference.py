@@ -23,6 +23,8 @@ Cases (scene files are read for every dimension, material and boundary condition
 
 Example (the committed references; hours on a shared 2-core machine, see docs/validation.md):
   /usr/bin/python3 validation/fem_reference.py vein-indent --levels 1,2,3
+The catheter's check with reduced-integration elements (validation/references/vein-catheter-c3d20r.csv):
+  /usr/bin/python3 validation/fem_reference.py vein-catheter --levels 2,3,4 --element C3D20R --name vein-catheter-c3d20r
 """
 import argparse
 import csv

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <vector>
 
@@ -14,7 +15,10 @@
 #include "vascsim/geometry/graded_axis.hpp"
 #include "vascsim/geometry/swept_vessel.hpp"
 #include "vascsim/geometry/vessel_body.hpp"
+#include "vascsim/model/discretization.hpp"
 #include "vascsim/model/point_primitive_energy.hpp"
+#include "vascsim/run/body_builder.hpp"
+#include "vascsim/run/discretization_setup.hpp"
 #include "vascsim/run/simulation.hpp"
 #include "vascsim/scene/scene.hpp"
 
@@ -195,6 +199,43 @@ TEST(GradedLattice, PassesTheEnergyChecksT3ToT5) {
   ASSERT_GT(energy.options().stabilizer_alpha, 0.0);
   test::expect_rigid_motion_free_and_momentum(energy, sim.discretization().material());
   test::expect_stabiliser_derivatives<PointPrimitiveEnergy>(sim.discretization(), energy.options());
+}
+
+// A graded lattice's cells beside the fine window are long one way and short the other (here 4:1, 0.1 mm
+// against 0.4 mm). Each node's support is stretched by its cell's own two sides, so it reaches two steps along
+// either, as the quadratic fit needs, and the guard grows few supports: at most 2 % (measured none). With one
+// stretch from the sides' mean, as before, the support reaches a single step along the long side, whose nodes
+// then lie on its edge with no weight, and the guard grows the supports isotropically: asserted above 10 %
+// (measured 16 %), which shows the check can fail.
+TEST(GradedLattice, SupportsReachTwoStepsAlongBothSidesOfLongCells) {
+  const nlohmann::json doc = nlohmann::json::parse(R"({
+    "name": "graded-vein", "model": "quasi_static",
+    "geometry": { "type": "vessel", "centerline": { "type": "straight", "length_m": 4e-3 },
+                  "outer_radius_m": 1.5e-3, "wall_thickness_m": 0.3e-3, "node_spacing_m": 0.4e-3,
+                  "refine": { "angle_center_deg": 90, "angle_half_width_deg": 30, "s_center_fraction": 0.5,
+                              "s_half_length_m": 0.5e-3, "node_spacing_m": 0.1e-3, "margin_m": 0.2e-3 } },
+    "material": { "youngs_modulus_pa": 0.5e6, "poisson_ratio": 0.45, "density_kg_m3": 1060 },
+    "discretization": { "max_growths": 10 },
+    "regions": [ { "name": "end", "select": { "type": "cylinder_end", "end": "start" }, "bc": { "type": "fixed" } } ]
+  })");
+  const Scene scene = parse_scene(doc, "graded-vein.json");
+  const Body body = build_body(scene.geometry);
+  const DiscretizationOptions sides = discretization_options(scene, body);
+  ASSERT_EQ(sides.wall_axial_stretches.size(), body.cloud.positions.size());
+  DiscretizationOptions mean = sides;
+  for (std::size_t i = 0; i < mean.wall_stretches.size(); ++i)
+    mean.wall_stretches[i] = std::sqrt(sides.wall_stretches[i] * sides.wall_axial_stretches[i]);
+  mean.wall_axes.clear();
+  mean.wall_axial_stretches.clear();
+  const auto grown_share = [&](const DiscretizationOptions& o) {
+    const Discretization d(body.cloud, scene.material, o);
+    return static_cast<double>(d.grown_nodes()) / static_cast<double>(d.num_nodes());
+  };
+  const double with_sides = grown_share(sides), with_mean = grown_share(mean);
+  std::printf("[ graded supports ] %zu nodes: grown %.3f with the cells' sides, %.3f with their mean\n",
+              body.cloud.positions.size(), with_sides, with_mean);
+  EXPECT_LT(with_sides, 0.02);
+  EXPECT_GT(with_mean, 0.1);
 }
 
 TEST(GradedLattice, BadRefinementIsAnInputError) {

@@ -63,28 +63,42 @@ struct SupportMetric {
   const std::vector<double>* depth = nullptr;  ///< per node, m (empty: use the normal)
   Index i = 0;
   double across_scale = 1.0;
+  const Vec3* axis = nullptr;  ///< a direction in the wall with its own stretch (null: one stretch in the wall)
+  double axial_stretch = 1.0;
   double operator()(const Vec3& X, Index j) const {
     if (!normal) return X.norm();
     const double across = depth ? (*depth)[static_cast<std::size_t>(j)] - (*depth)[static_cast<std::size_t>(i)]
                                 : X.dot(*normal);
     const double along2 = std::max(0.0, X.squaredNorm() - across * across);
-    return std::sqrt(across_scale * across_scale * across * across + along2 / (stretch * stretch));
+    const double c = across_scale * across;
+    if (!axis) return std::sqrt(c * c + along2 / (stretch * stretch));
+    const double axial = X.dot(*axis), around2 = std::max(0.0, along2 - axial * axial);
+    return std::sqrt(c * c + around2 / (stretch * stretch) + axial * axial / (axial_stretch * axial_stretch));
   }
   // The largest distance inside the support.
-  double reach(double h) const { return normal ? std::max(stretch, 1.0 / across_scale) * h : h; }
+  double reach(double h) const {
+    return normal ? std::max({stretch, axis ? axial_stretch : 1.0, 1.0 / across_scale}) * h : h;
+  }
 };
 
 SupportMetric support_metric(const DiscretizationOptions& opt, Index i, double across_scale) {
   if (opt.support != DiscretizationOptions::Support::Wall) return {};
-  const double stretch = opt.wall_stretches.empty() ? opt.wall_stretch : opt.wall_stretches[static_cast<std::size_t>(i)];
-  return {&opt.wall_normals[static_cast<std::size_t>(i)], stretch,
-          opt.wall_depths.empty() ? nullptr : &opt.wall_depths, i, across_scale};
+  const auto k = static_cast<std::size_t>(i);
+  const double stretch = opt.wall_stretches.empty() ? opt.wall_stretch : opt.wall_stretches[k];
+  SupportMetric m{&opt.wall_normals[k], stretch, opt.wall_depths.empty() ? nullptr : &opt.wall_depths, i,
+                  across_scale};
+  if (!opt.wall_axes.empty()) {
+    m.axis = &opt.wall_axes[k];
+    m.axial_stretch = opt.wall_axial_stretches[k];
+  }
+  return m;
 }
 
 // The largest stretch of any node's support (the spatial grid's reach).
 double largest_stretch(const DiscretizationOptions& opt) {
   double s = opt.wall_stretch;
   for (double v : opt.wall_stretches) s = std::max(s, v);
+  for (double v : opt.wall_axial_stretches) s = std::max(s, v);
   return s;
 }
 
@@ -184,6 +198,13 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
     throw InputError(fmt::format("discretization: wall-aligned supports need one wall normal per node ({} for {} nodes) "
                                  "and a stretch >= 1 ({})",
                                  opt.wall_normals.size(), n, opt.wall_stretch));
+  if (wall && (opt.wall_axes.size() != opt.wall_axial_stretches.size() ||
+               (!opt.wall_axes.empty() && opt.wall_axes.size() != opt.wall_stretches.size()) ||
+               !std::all_of(opt.wall_axial_stretches.begin(), opt.wall_axial_stretches.end(),
+                            [](double v) { return v >= 1.0; })))
+    throw InputError(fmt::format("discretization: {} wall axes and {} axial stretches (each >= 1) for {} per-node "
+                                 "stretches",
+                                 opt.wall_axes.size(), opt.wall_axial_stretches.size(), opt.wall_stretches.size()));
   if (wall && !opt.wall_stretches.empty() &&
       (opt.wall_stretches.size() != static_cast<std::size_t>(n) ||
        !std::all_of(opt.wall_stretches.begin(), opt.wall_stretches.end(), [](double v) { return v >= 1.0; })))

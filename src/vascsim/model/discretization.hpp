@@ -37,6 +37,12 @@ struct DiscretizationOptions {
   double wall_stretch = 1.0;
   /// Optional, per node (a graded lattice, geometry.refine): its own stretch instead of wall_stretch.
   std::vector<double> wall_stretches;
+  /// Optional with wall_stretches, per node: a unit direction in the wall's plane (a swept vessel's centre-line
+  /// tangent) and the stretch along it; wall_stretches is then the stretch across it (around the vessel). A graded
+  /// lattice's cells can be four times longer one way than the other, and one stretch from their mean side reaches
+  /// only one step along the long side, where a quadratic fit needs two (docs/model.md section 21.1).
+  std::vector<Vec3> wall_axes;
+  std::vector<double> wall_axial_stretches;
   /// Optional, per node: its depth in the wall, m. Given, the through-wall part of X_ij is the depth difference,
   /// so the ellipsoid follows a curved wall's layers instead of the node's tangent plane.
   std::vector<double> wall_depths;

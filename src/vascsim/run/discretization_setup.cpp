@@ -77,21 +77,26 @@ std::vector<DiscretizationOptions::WallCell> wall_cells(const Body& body) {
   return cells;
 }
 
-// Per node on a graded lattice, its spacing along the wall (the square root of its cell's area at the mean node
-// radius, as along_wall_spacing); empty on a uniform lattice, whose one spacing is every node's.
-std::vector<double> along_wall_spacings(const Body& body) {
+// Per node on a graded lattice, its support's stretches (DiscretizationOptions::wall_stretches around the vessel,
+// wall_axial_stretches along its centre-line, wall_axes that direction): its cell's two sides along the wall over the
+// layer step, at least 1. Its cell's sides, not their mean: beside the fine window the cells are up to coarse / fine
+// times longer one way than the other, and one stretch from their mean reaches a single step along the long side,
+// where the quadratic fit needs two (its guard then grew a third of the supports of a graded vein, isotropically).
+// Nothing on a uniform lattice, whose one stretch is every node's.
+void graded_wall_supports(const Body& body, DiscretizationOptions& o) {
   const WallCoordinates& wall = *body.wall;
-  if (wall.cells.empty()) return {};
-  const double radius = mean_node_radius(body);
-  std::vector<double> spacing(wall.cells.size());
-  for (std::size_t i = 0; i < spacing.size(); ++i) {
+  if (wall.cells.empty()) return;
+  const double radius = mean_node_radius(body), D = wall.layer_spacing_m;
+  for (std::size_t i = 0; i < wall.cells.size(); ++i) {
     const LatticeCell& c = wall.cells[i];
     // A cell at a vessel's end is half a step long; the spacing there is its neighbour's full step.
     const bool end = wall.s_m[i] <= c.s_lo_m || wall.s_m[i] >= c.s_hi_m;
     const double ds = (c.s_hi_m - c.s_lo_m) * (end ? 2.0 : 1.0);
-    spacing[i] = std::sqrt(radius * (c.theta_hi_deg - c.theta_lo_deg) * std::numbers::pi / 180.0 * ds);
+    const double around = radius * (c.theta_hi_deg - c.theta_lo_deg) * std::numbers::pi / 180.0;
+    o.wall_stretches.push_back(std::max(1.0, around / D));
+    o.wall_axial_stretches.push_back(std::max(1.0, ds / D));
+    o.wall_axes.push_back(wall.centerline->tangent(wall.s_m[i]));
   }
-  return spacing;
 }
 
 }  // namespace
@@ -106,7 +111,7 @@ DiscretizationOptions discretization_options(const Scene& scene, const Body& bod
   o.wall_normals = body.wall->outward;
   o.wall_depths = body.wall->depth_m;
   o.wall_stretch = std::max(1.0, along_wall_spacing(body) / body.wall->layer_spacing_m);
-  for (double d : along_wall_spacings(body)) o.wall_stretches.push_back(std::max(1.0, d / body.wall->layer_spacing_m));
+  graded_wall_supports(body, o);
   o.wall_thickness_m = body.wall->thickness_m;
   o.wall_layer_spacing_m = body.wall->layer_spacing_m;
   if (o.wall_quadrature == DiscretizationOptions::WallQuadrature::GaussCell) o.wall_cells = wall_cells(body);

@@ -202,8 +202,8 @@ TEST(GradedLattice, PassesTheEnergyChecksT3ToT5) {
 }
 
 // A graded lattice's cells beside the fine window are long one way and short the other (here 4:1, 0.1 mm
-// against 0.4 mm). Each node's support is stretched by its cell's own two sides, so it reaches two steps along
-// either, as the quadratic fit needs, and the guard grows few supports: at most 2 % (measured none). With one
+// against 0.4 mm). Each node's support is stretched by its cell's own two sides, so it reaches two steps
+// along either, as the quadratic fit needs, and the guard grows few supports: at most 2 % (measured none). With one
 // stretch from the sides' mean, as before, the support reaches a single step along the long side, whose nodes
 // then lie on its edge with no weight, and the guard grows the supports isotropically: asserted above 10 %
 // (measured 16 %), which shows the check can fail.
@@ -216,7 +216,8 @@ TEST(GradedLattice, SupportsReachTwoStepsAlongBothSidesOfLongCells) {
                               "s_half_length_m": 0.5e-3, "node_spacing_m": 0.1e-3, "margin_m": 0.2e-3 } },
     "material": { "youngs_modulus_pa": 0.5e6, "poisson_ratio": 0.45, "density_kg_m3": 1060 },
     "discretization": { "max_growths": 10 },
-    "regions": [ { "name": "end", "select": { "type": "cylinder_end", "end": "start" }, "bc": { "type": "fixed" } } ]
+    "regions": [ { "name": "end", "select": { "type": "cylinder_end", "end": "start" },
+                   "bc": { "type": "fixed" } } ]
   })");
   const Scene scene = parse_scene(doc, "graded-vein.json");
   const Body body = build_body(scene.geometry);

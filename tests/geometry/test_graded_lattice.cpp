@@ -203,10 +203,10 @@ TEST(GradedLattice, PassesTheEnergyChecksT3ToT5) {
 
 // A graded lattice's cells beside the fine window are long one way and short the other (here 4:1, 0.1 mm
 // against 0.4 mm). Each node's support is stretched by its cell's own two sides, so it reaches two steps
-// along either, as the quadratic fit needs, and the guard grows few supports: at most 2 % (measured none). With one
-// stretch from the sides' mean, as before, the support reaches a single step along the long side, whose nodes
-// then lie on its edge with no weight, and the guard grows the supports isotropically: asserted above 10 %
-// (measured 16 %), which shows the check can fail.
+// along either, as the quadratic fit needs, and the guard grows few supports: at most 2 % (measured none).
+// With one stretch from the sides' mean, as before, the support reaches a single step along the long side,
+// whose nodes then lie on its edge with no weight, and the guard grows the supports isotropically: asserted
+// above 10 % (measured 16 %), which shows the check can fail.
 TEST(GradedLattice, SupportsReachTwoStepsAlongBothSidesOfLongCells) {
   const nlohmann::json doc = nlohmann::json::parse(R"({
     "name": "graded-vein", "model": "quasi_static",

@@ -12,10 +12,6 @@ namespace vascsim {
 
 namespace {
 
-// The lattice's node spacing along the wall: the square root of the wall area per column and cross-section at the
-// mean node radius, sqrt(r Delta_theta Delta_s), when the wall is swept along a centre-line; the generator's
-// nominal spacing otherwise. A lattice fitted to a patch (geometry.fit_lattice_to_patch) differs from the nominal
-// spacing by up to a factor 1.5, and its supports must follow the nodes it has, not the number that was asked.
 // The nodes' mean distance from the centre-line, m.
 double mean_node_radius(const Body& body) {
   const WallCoordinates& wall = *body.wall;
@@ -25,6 +21,10 @@ double mean_node_radius(const Body& body) {
   return radius / static_cast<double>(X.size());
 }
 
+// The lattice's node spacing along the wall: the square root of the wall area per column and cross-section at the
+// mean node radius, sqrt(r Delta_theta Delta_s), when the wall is swept along a centre-line; the generator's
+// nominal spacing otherwise. A lattice fitted to a patch (geometry.fit_lattice_to_patch) differs from the nominal
+// spacing by up to a factor 1.5, and its supports must follow the nodes it has, not the number that was asked.
 double along_wall_spacing(const Body& body) {
   const WallCoordinates& wall = *body.wall;
   if (!wall.has_centerline() || !(wall.angle_step_deg > 0.0) || !(wall.s_step_m > 0.0) || body.cloud.positions.empty())

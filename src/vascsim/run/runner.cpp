@@ -9,6 +9,7 @@
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/interrupt.hpp"
 #include "vascsim/core/stopwatch.hpp"
+#include "vascsim/model/integration_constraint.hpp"
 #include "vascsim/model/registry.hpp"
 #include "vascsim/run/output_writer.hpp"
 #include "vascsim/run/tool_reach.hpp"
@@ -97,6 +98,15 @@ static nlohmann::json contact_info(const Simulation& sim) {
           {"stiffness_pa_per_m", r->stiffness_pa_per_m}};
 }
 
+// How far the quadrature is from the discrete divergence theorem inside the body
+// (model/integration_constraint).
+static nlohmann::json integration_constraint_info(const Discretization& disc) {
+  const IntegrationConstraintReport r = integration_constraint_report(disc);
+  return {{"interior_nodes", r.interior_nodes},
+          {"interior_max", r.interior_max},
+          {"interior_rms", r.interior_rms}};
+}
+
 nlohmann::json describe_run(const Scene& scene, Simulation& sim) {
   const auto& disc = sim.discretization();
   const nlohmann::json wall_stretch = disc.wall_stretch() > 0.0 ? nlohmann::json(disc.wall_stretch()) : nlohmann::json();
@@ -116,6 +126,7 @@ nlohmann::json describe_run(const Scene& scene, Simulation& sim) {
           {"support_wall_across_scale", disc.wall_stretch() > 0.0 ? nlohmann::json(disc.wall_across_scale())
                                                                   : nlohmann::json()},
           {"energy_points_per_node", disc.energy_points()},
+          {"integration_constraint", integration_constraint_info(disc)},
           {"volume_m3", disc.total_volume()},
           {"mass_kg", std::accumulate(disc.masses().begin(), disc.masses().end(), 0.0)},
           {"solver", sim.model().info()},

@@ -35,8 +35,11 @@ AccuracyCase read_case(const nlohmann::json& j) {
 
 bool same(double a, double b) { return std::abs(a - b) <= 0.01 * std::max(std::abs(a), std::abs(b)); }
 
-// The scene's local-fit basis as the table names it.
-std::string basis_name(GradientBasis b) {
+// The scene's local-fit basis as the table names it (the quadratic fit with the through-wall cube is a fit of
+// its own, which the table's rows do not cover).
+std::string basis_name(const DiscretizationOptions& d) {
+  if (d.wall_cube) return "quadratic with the through-wall cube";
+  const GradientBasis b = d.basis;
   return b == GradientBasis::Quadratic ? "quadratic" : b == GradientBasis::WallQuadratic ? "wall_quadratic" : "linear";
 }
 
@@ -77,7 +80,7 @@ AccuracyEstimate estimate_accuracy(const ForceAccuracyTable& table, const Scene&
   e.graded = scene.geometry.refine.enabled;
   if (e.graded) return e;  // its node count says nothing of its resolution where the load acts
   const bool tool = !scene.obstacles.empty();
-  const std::string basis = basis_name(scene.discretization.basis);
+  const std::string basis = basis_name(scene.discretization);
   for (const AccuracyCase& c : table.cases)
     if (c.tool == tool && c.basis == basis && same(c.outer_radius_m, scene.geometry.tube.outer_radius_m) &&
         same(c.wall_thickness_m, scene.geometry.tube.wall_thickness_m))

@@ -106,6 +106,11 @@ double largest_stretch(const DiscretizationOptions& opt) {
 // support so that a fit across the wall is conditioned, the nearer layers still weighing most.
 constexpr double kThicknessReach = 0.75;
 
+// DiscretizationOptions::wall_cube: the through-wall cube counts as resolved when its residual after the
+// quadratic fit keeps at least this fraction of its weighted square (on three layers it is zero to rounding,
+// on four about 0.1-0.5).
+constexpr double kCubeResolvable = 1e-8;
+
 NeighbourhoodTrial evaluate(const Vec3Array& X, Index i, double h, const SpatialGrid& grid, GradientBasis basis,
                             const SupportMetric& metric, const Vec3* fit_normal) {
   NeighbourhoodTrial t;
@@ -327,6 +332,13 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
     pairs_.e.resize(npairs * G);
     self_e_.assign(static_cast<std::size_t>(n) * G, Vec3::Zero());
   }
+  if (opt.wall_cube) {
+    if (basis != GradientBasis::Quadratic || opt.wall_normals.size() != static_cast<std::size_t>(n))
+      throw InputError(
+          "discretization: the through-wall cube (wall_cube) extends the quadratic basis on a wall and "
+          "needs basis 'quadratic' and one wall normal per node (discretization.support 'wall')");
+    cube_fitted_.assign(static_cast<std::size_t>(n), 0);
+  }
 #pragma omp parallel for schedule(static)
   for (Index i = 0; i < n; ++i) {
     const NeighbourhoodTrial& t = trials[i];
@@ -336,11 +348,17 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
     Mat9 Binv;
     if (quadratic) Binv = quadratic_moment(X_, i, t, h_[i], basis, fit_normal(i)).inverse();  // conditioned by the guard (double)
     Vec3 dsum = Vec3::Zero();
-    std::array<Vec3, kMaxPointDirections> esum{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+    std::array<Vec3, kMaxPointDirections> esum;
+    esum.fill(Vec3::Zero());
     // Gauss points: the fit's gradient along the point direction u_k changes by c_ij^T M_k / h^2 per metre.
     std::array<Eigen::Matrix<double, 9, 3>, kMaxPointDirections> M;
+    // The cube's direction (the last with wall_cube) gets its vectors from add_wall_cube: the quadratic part
+    // of the gradient does not change with the square of the offset.
+    const std::size_t fitted = opt.wall_cube ? G - 1 : G;
     for (std::size_t k = 0; k < G; ++k)
-      M[k] = monomial_hessians_along(basis, point_axes_[static_cast<std::size_t>(i) * G + k], *fit_normal_or(i, opt));
+      M[k] = k < fitted ? monomial_hessians_along(basis, point_axes_[static_cast<std::size_t>(i) * G + k],
+                                                  *fit_normal_or(i, opt))
+                        : Eigen::Matrix<double, 9, 3>::Zero();
     for (std::size_t a = 0; a < t.nbr.size(); ++a) {
       const Index e = pairs_.row_start[i] + static_cast<Index>(a);
       const Vec3 Xij = X_[t.nbr[a]] - X_[i];
@@ -352,15 +370,69 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
         for (std::size_t k = 0; k < G; ++k) {
           Vec3& ek = pairs_.e[static_cast<std::size_t>(e) * G + k];
           ek = (fit_[e].transpose() * M[k]).transpose() / (h_[i] * h_[i]);
-          esum[k] += ek;
         }
       } else {
         pairs_.d[e] = t.w[a] * (Ainv * Xij);
       }
+    }
+    if (opt.wall_cube) add_wall_cube(i, opt.wall_normals[static_cast<std::size_t>(i)], t.nbr);
+    for (Index e = pairs_.row_start[i]; e < pairs_.row_start[i + 1]; ++e) {
       dsum += pairs_.d[e];
+      for (std::size_t k = 0; k < G; ++k) esum[k] += pairs_.e[static_cast<std::size_t>(e) * G + k];
     }
     self_d_[i] = -dsum;
     for (std::size_t k = 0; k < G; ++k) self_e_[static_cast<std::size_t>(i) * G + k] = -esum[k];
+  }
+  if (opt.wall_cube)
+    for (Index i = 0; i < n; ++i) cube_nodes_ += cube_fitted_[static_cast<std::size_t>(i)];
+}
+
+// DiscretizationOptions::wall_cube for node i (docs/model.md section 5.3): the least-squares fit over the
+// quadratic monomials p and the cube m = (z / h)^3 of the through-wall coordinate z = X_ij . n, by
+// eliminating m's coefficient. With m~ the residual of m after the quadratic fit (orthogonal to p in the
+// weights w), the cube's coefficient is c(y) = sum_j beta_j (y_j - y_i) with
+// beta_j = w_j m~_j / sum_l w_l m~_l^2, and every quadratic coefficient loses c(y) times the quadratic fit's
+// coefficient of m: the node's gradient vectors d_ij and their derivatives e_ij,k lose beta_j times the
+// quadratic fit's gradient (and derivatives) of m. The cube's own gradient is zero at the node and
+// 3 o^2 / h^3 n at a point offset o along n: the last point direction, whose offset is o^2.
+void Discretization::add_wall_cube(Index i, const Vec3& normal, const std::vector<Index>& nbr) {
+  const Index e0 = pairs_.row_start[i];
+  const std::size_t K = nbr.size(), G = static_cast<std::size_t>(point_directions_);
+  const double h = h_[i];
+  std::vector<double> m(K), residual(K);
+  Vec9 coeff = Vec9::Zero();  // the quadratic fit of m: sum_j fit_ij m_j
+  double plain = 0.0;
+  for (std::size_t a = 0; a < K; ++a) {
+    const double z = (X_[nbr[a]] - X_[i]).dot(normal) / h;
+    m[a] = z * z * z;
+    coeff += fit_[static_cast<std::size_t>(e0) + a] * m[a];
+    plain += pairs_.w[static_cast<std::size_t>(e0) + a] * m[a] * m[a];
+  }
+  double S = 0.0;
+  for (std::size_t a = 0; a < K; ++a) {
+    residual[a] = m[a] - coeff.dot(quadratic_monomials(X_[nbr[a]] - X_[i], h));
+    S += pairs_.w[static_cast<std::size_t>(e0) + a] * residual[a] * residual[a];
+  }
+  // A neighbourhood of three depths (a three-layer wall) fits z^3 with z exactly: no cube to add.
+  if (!(S > kCubeResolvable * plain)) return;
+  cube_fitted_[static_cast<std::size_t>(i)] = 1;
+  // The quadratic fit's gradient of m and its derivatives along the point directions.
+  Vec3 gm = Vec3::Zero();
+  std::array<Vec3, kMaxPointDirections> em;
+  em.fill(Vec3::Zero());
+  for (std::size_t a = 0; a < K; ++a) {
+    const std::size_t e = static_cast<std::size_t>(e0) + a;
+    gm += pairs_.d[e] * m[a];
+    for (std::size_t k = 0; k < G; ++k) em[k] += pairs_.e[e * G + k] * m[a];
+  }
+  const double h3 = h * h * h;
+  for (std::size_t a = 0; a < K; ++a) {
+    const std::size_t e = static_cast<std::size_t>(e0) + a;
+    const double beta = pairs_.w[e] * residual[a] / S;
+    pairs_.d[e] -= beta * gm;
+    for (std::size_t k = 0; k < G; ++k) pairs_.e[e * G + k] -= beta * em[k];
+    // The cube's gradient 3 o^2 / h^3 n at the offset o along n: its own direction, the last.
+    if (G > 0) pairs_.e[e * G + G - 1] += beta * 3.0 / h3 * normal;
   }
 }
 
@@ -385,7 +457,7 @@ void Discretization::place_wall_points(const DiscretizationOptions& opt) {
     throw InputError(fmt::format("discretization: Gauss points over the cell need each node's cell along the wall ({} "
                                  "for {} nodes)", opt.wall_cells.size(), n));
   energy_points_ = cell ? 8 : 2;
-  point_directions_ = cell ? 3 : 1;
+  point_directions_ = (cell ? 3 : 1) + (opt.wall_cube ? 1 : 0);
   const std::size_t P = static_cast<std::size_t>(energy_points_), G = static_cast<std::size_t>(point_directions_);
   point_offset_.assign(static_cast<std::size_t>(n) * P * G, 0.0);
   point_axes_.resize(static_cast<std::size_t>(n) * G);
@@ -396,6 +468,7 @@ void Discretization::place_wall_points(const DiscretizationOptions& opt) {
     const double lo = std::max(d - half_step, 0.0), hi = std::min(d + half_step, t);
     const double centre = 0.5 * (lo + hi) - d, spread = hi > lo ? 0.5 * (hi - lo) * gauss : 0.0;
     point_axes_[ii * G] = opt.wall_normals[ii];
+    if (opt.wall_cube) point_axes_[ii * G + G - 1] = opt.wall_normals[ii];
     std::array<double, 2> half_edge{0.0, 0.0}, along_centre{0.0, 0.0};
     if (cell)
       for (std::size_t k = 0; k < 2; ++k) {
@@ -409,6 +482,7 @@ void Discretization::place_wall_points(const DiscretizationOptions& opt) {
     for (std::size_t q = 0; q < P; ++q) {
       double* o = &point_offset_[(ii * P + q) * G];
       o[0] = (q & 1) ? centre + spread : centre - spread;
+      if (opt.wall_cube) o[G - 1] = o[0] * o[0];  // the cube's direction (add_wall_cube)
       if (cell) {
         o[1] = along_centre[0] + ((q & 2) ? half_edge[0] : -half_edge[0]);
         o[2] = along_centre[1] + ((q & 4) ? half_edge[1] : -half_edge[1]);

@@ -66,6 +66,11 @@ struct DiscretizationOptions {
   /// F_i + sum_k o_qk dF_i/du_k: the strain's variation along the wall is integrated too, not only across it.
   /// Both need a wall support with depths and a curvature-fitting basis.
   enum class WallQuadrature { Nodes, Gauss, GaussCell } wall_quadrature = WallQuadrature::Nodes;
+  /// The quadratic basis on a wall (wall_normals given): also fit the cube of the through-wall coordinate,
+  /// (X_ij . n_i)^3, so that a node's gradient and its points' gradients are exact for a displacement cubic
+  /// across the wall, as transverse shear makes it (docs/model.md section 5.3). Nodes whose neighbourhood
+  /// cannot tell the cube from the quadratic monomials (a wall of three layers) keep the quadratic fit.
+  bool wall_cube = false;
   /// WallQuadrature::GaussCell: per node, its cell along the wall (filled by the simulation from the body's lattice).
   struct WallCell {
     std::array<Vec3, 2> edges;            ///< the cell's two edges along the wall (column and cross-section steps), m
@@ -132,6 +137,8 @@ class Discretization {
   double tet_volume() const { return tet_volume_; }     ///< sum |T|, m^3
   double mean_neighbours() const;
   int grown_nodes() const { return grown_nodes_; }      ///< nodes whose h_i had to grow
+  /// DiscretizationOptions::wall_cube: the nodes whose fit holds the through-wall cube (0 without it).
+  int wall_cube_nodes() const { return cube_nodes_; }
   /// Supports that follow the wall: their reach along the wall over their reach through it (docs/model.md section
   /// 3.1); 0 with isotropic supports.
   double wall_stretch() const { return wall_stretch_; }
@@ -150,11 +157,12 @@ class Discretization {
   /// node), 2 (Gauss points across its slab of the wall) or 8 (2 x 2 x 2 over its cell), each weighing
   /// V_i / points.
   int energy_points() const { return energy_points_; }
-  /// The directions u_k a point's offset is measured along: 0 (one point per node), 1 (the wall normal) or 3 (the
-  /// normal and the cell's two edges along the wall).
+  /// The directions u_k a point's offset is measured along: 0 (one point per node), 1 (the wall normal) or 3
+  /// (the normal and the cell's two edges along the wall); with the through-wall cube one more, the last,
+  /// whose "offset" is the square of the offset along the normal (m^2): the cube's gradient grows with it.
   int point_directions() const { return point_directions_; }
-  static constexpr int kMaxPointDirections = 3;
-  /// Point q of node i: its offset from the node along direction k, m.
+  static constexpr int kMaxPointDirections = 4;
+  /// Point q of node i: its offset from the node along direction k, m (m^2 for the cube's direction).
   double point_offset(Index i, int q, int k = 0) const {
     return energy_points_ == 1
                ? 0.0
@@ -162,7 +170,8 @@ class Discretization {
                                 static_cast<std::size_t>(q)) * static_cast<std::size_t>(point_directions_) +
                                static_cast<std::size_t>(k)];
   }
-  /// With Gauss points: e_ii,k = -sum_j e_ij,k, 1/m^2 (G per node; empty otherwise).
+  /// With Gauss points: e_ii,k = -sum_j e_ij,k, 1/m^2 (1/m^3 for the cube's direction; G per node; empty
+  /// otherwise).
   const Vec3Array& self_e() const { return self_e_; }
   /// dF_i/du_k = sum_j (x_j - x_i) e_ij,k^T, 1/m, for k < point_directions(), written to D[k].
   void deformation_gradient_derivatives(Index i, const Vec3Array& x, Mat3* D) const;
@@ -180,6 +189,7 @@ class Discretization {
   std::string growth_advice(const std::vector<int>& failed, double h0, const DiscretizationOptions& opt) const;
   void compute_volumes(const DiscretizationOptions& opt);
   void place_wall_points(const DiscretizationOptions& opt);
+  void add_wall_cube(Index i, const Vec3& normal, const std::vector<Index>& nbr);
   Eigen::MatrixXd quadratic_residual_operator(Index i) const;
   /// The wall normal the wall-quadratic basis fits node i in (nullptr for the other bases).
   const Vec3* fit_normal(Index i) const {
@@ -204,6 +214,8 @@ class Discretization {
   Vec3Array fit_normals_;  // wall-quadratic basis: the wall's unit normal per node
   double mean_spacing_ = 0.0, min_spacing_ = 0.0, tet_volume_ = 0.0;
   int grown_nodes_ = 0;
+  int cube_nodes_ = 0;
+  std::vector<char> cube_fitted_;  // wall_cube: per node, whether its fit holds the cube
   double wall_stretch_ = 0.0;
   double wall_across_scale_ = 1.0;
   int energy_points_ = 1;

@@ -376,6 +376,12 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
       sc.discretization.support != DiscretizationOptions::Support::Wall)
     disc.fail("basis", "'wall_quadratic' fits in the frame of the wall and needs discretization.support 'wall' (a "
                        "geometry of type 'tube' or 'vessel'); use 'linear' or 'quadratic'");
+  // The through-wall cube (docs/model.md section 5.3): an option, off by default (it stiffens bonded patches).
+  sc.discretization.wall_cube = disc.boolean("wall_cube", false);
+  if (sc.discretization.wall_cube && (sc.discretization.basis != GradientBasis::Quadratic || !on_wall))
+    disc.fail("wall_cube",
+              "the through-wall cube extends the quadratic fit on a wall and needs discretization.basis "
+              "'quadratic' and support 'wall' (a geometry of type 'tube' or 'vessel')");
   sc.discretization.quadratic_min_neighbours = disc.integer("quadratic_min_neighbours", 18, 9, 200);
   sc.discretization.quadratic_min_eigen_ratio = disc.number("quadratic_min_eigen_ratio", 1e-6, 1e-14, 1.0);
   disc.finish();

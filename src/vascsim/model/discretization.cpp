@@ -337,9 +337,9 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
       throw InputError(
           "discretization: the through-wall cube (wall_cube) extends the quadratic basis on a wall and "
           "needs basis 'quadratic' and one wall normal per node (discretization.support 'wall')");
-    cube_fitted_.assign(static_cast<std::size_t>(n), 0);
   }
-#pragma omp parallel for schedule(static)
+  int cubes = 0;
+#pragma omp parallel for schedule(static) reduction(+ : cubes)
   for (Index i = 0; i < n; ++i) {
     const NeighbourhoodTrial& t = trials[i];
     const Mat3 Ainv = t.A.inverse();  // well conditioned by the guard above (double precision)
@@ -375,7 +375,7 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
         pairs_.d[e] = t.w[a] * (Ainv * Xij);
       }
     }
-    if (opt.wall_cube) add_wall_cube(i, opt.wall_normals[static_cast<std::size_t>(i)], t.nbr);
+    if (opt.wall_cube && add_wall_cube(i, opt.wall_normals[static_cast<std::size_t>(i)], t.nbr)) ++cubes;
     for (Index e = pairs_.row_start[i]; e < pairs_.row_start[i + 1]; ++e) {
       dsum += pairs_.d[e];
       for (std::size_t k = 0; k < G; ++k) esum[k] += pairs_.e[static_cast<std::size_t>(e) * G + k];
@@ -383,8 +383,7 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
     self_d_[i] = -dsum;
     for (std::size_t k = 0; k < G; ++k) self_e_[static_cast<std::size_t>(i) * G + k] = -esum[k];
   }
-  if (opt.wall_cube)
-    for (Index i = 0; i < n; ++i) cube_nodes_ += cube_fitted_[static_cast<std::size_t>(i)];
+  cube_nodes_ = cubes;
 }
 
 // DiscretizationOptions::wall_cube for node i (docs/model.md section 5.3): the least-squares fit over the
@@ -395,7 +394,7 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
 // coefficient of m: the node's gradient vectors d_ij and their derivatives e_ij,k lose beta_j times the
 // quadratic fit's gradient (and derivatives) of m. The cube's own gradient is zero at the node and
 // 3 o^2 / h^3 n at a point offset o along n: the last point direction, whose offset is o^2.
-void Discretization::add_wall_cube(Index i, const Vec3& normal, const std::vector<Index>& nbr) {
+bool Discretization::add_wall_cube(Index i, const Vec3& normal, const std::vector<Index>& nbr) {
   const Index e0 = pairs_.row_start[i];
   const std::size_t K = nbr.size(), G = static_cast<std::size_t>(point_directions_);
   const double h = h_[i];
@@ -414,8 +413,7 @@ void Discretization::add_wall_cube(Index i, const Vec3& normal, const std::vecto
     S += pairs_.w[static_cast<std::size_t>(e0) + a] * residual[a] * residual[a];
   }
   // A neighbourhood of three depths (a three-layer wall) fits z^3 with z exactly: no cube to add.
-  if (!(S > kCubeResolvable * plain)) return;
-  cube_fitted_[static_cast<std::size_t>(i)] = 1;
+  if (!(S > kCubeResolvable * plain)) return false;
   // The quadratic fit's gradient of m and its derivatives along the point directions.
   Vec3 gm = Vec3::Zero();
   std::array<Vec3, kMaxPointDirections> em;
@@ -434,6 +432,7 @@ void Discretization::add_wall_cube(Index i, const Vec3& normal, const std::vecto
     // The cube's gradient 3 o^2 / h^3 n at the offset o along n: its own direction, the last.
     if (G > 0) pairs_.e[e * G + G - 1] += beta * 3.0 / h3 * normal;
   }
+  return true;
 }
 
 // Gauss points (WallQuadrature::Gauss): node i stands for the depths within half a layer step of its own, clipped to

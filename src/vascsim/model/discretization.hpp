@@ -189,7 +189,8 @@ class Discretization {
   std::string growth_advice(const std::vector<int>& failed, double h0, const DiscretizationOptions& opt) const;
   void compute_volumes(const DiscretizationOptions& opt);
   void place_wall_points(const DiscretizationOptions& opt);
-  void add_wall_cube(Index i, const Vec3& normal, const std::vector<Index>& nbr);
+  /// Fits the through-wall cube at node i (DiscretizationOptions::wall_cube); false where it is not resolvable.
+  bool add_wall_cube(Index i, const Vec3& normal, const std::vector<Index>& nbr);
   Eigen::MatrixXd quadratic_residual_operator(Index i) const;
   /// The wall normal the wall-quadratic basis fits node i in (nullptr for the other bases).
   const Vec3* fit_normal(Index i) const {
@@ -215,7 +216,6 @@ class Discretization {
   double mean_spacing_ = 0.0, min_spacing_ = 0.0, tet_volume_ = 0.0;
   int grown_nodes_ = 0;
   int cube_nodes_ = 0;
-  std::vector<char> cube_fitted_;  // wall_cube: per node, whether its fit holds the cube
   double wall_stretch_ = 0.0;
   double wall_across_scale_ = 1.0;
   int energy_points_ = 1;

@@ -31,6 +31,9 @@ GROWTHS = "discretization.max_growths=10"
 # The wall scenes have four node layers through the wall; the rows with three show the through-wall error the fourth
 # removes (docs/validation.md, "Layers through the wall").
 THREE_LAYERS = "geometry.min_layers=3"
+# The quadratic fit without the through-wall cube (the default until 2026-11-27, docs/model.md section 5.3): one row per
+# wall case at the scene's resolution, drawn but not in the last panel.
+NO_CUBE = "discretization.wall_cube=false"
 # What each case runs: the scene, the column of probes.csv compared, the resolutions (label, overrides).
 CASES = {
     "vein-indent": {
@@ -43,12 +46,15 @@ CASES = {
                  for d in ("0.15", "0.2", "0.3")]
         + [(f"{d} mm, edges, 3 layers", [f"geometry.node_spacing_m={d}e-3", GROWTHS, "geometry.fit_lattice_to_patch=edges",
                                          THREE_LAYERS]) for d in ("0.15", "0.3")]
-        + [("0.15 mm, unfitted lattice", ["geometry.node_spacing_m=0.15e-3", GROWTHS, "geometry.fit_lattice_to_patch=none"])],
+        + [("0.15 mm, unfitted lattice", ["geometry.node_spacing_m=0.15e-3", GROWTHS, "geometry.fit_lattice_to_patch=none"])]
+        + [("0.15 mm, edges, without the cube", ["geometry.node_spacing_m=0.15e-3", GROWTHS,
+                                                 "geometry.fit_lattice_to_patch=edges", NO_CUBE])],
     },
     "vein-catheter": {
         "scene": "scenes/hand-dorsal-vein-catheter.json", "column": "catheter", "x": "depth", "unit": ("mm", "mN"),
         "runs": [(f"{d} mm", [f"geometry.node_spacing_m={d}e-3", GROWTHS]) for d in ("0.15", "0.2", "0.3", "0.4")]
-        + [(f"{d} mm, 3 layers", [f"geometry.node_spacing_m={d}e-3", GROWTHS, THREE_LAYERS]) for d in ("0.15", "0.3", "0.4")],
+        + [(f"{d} mm, 3 layers", [f"geometry.node_spacing_m={d}e-3", GROWTHS, THREE_LAYERS]) for d in ("0.15", "0.3", "0.4")]
+        + [("0.15 mm, without the cube", ["geometry.node_spacing_m=0.15e-3", GROWTHS, NO_CUBE])],
     },
     "aorta-bent": {
         "scene": "scenes/aorta-bent.json", "column": "indenter", "x": "depth", "unit": ("mm", "N"),
@@ -58,7 +64,16 @@ CASES = {
                                      "geometry.fit_lattice_to_patch=edges"])
                  for d in ("1.0", "1.5", "2.2")]
         + [(f"{d} mm, edges, 3 layers", [f"geometry.node_spacing_m={d}e-3", GROWTHS, "output.surface=false",
-                                         "geometry.fit_lattice_to_patch=edges", THREE_LAYERS]) for d in ("1.0", "2.2")],
+                                         "geometry.fit_lattice_to_patch=edges", THREE_LAYERS]) for d in ("1.0", "2.2")]
+        + [("1.0 mm, edges, without the cube", ["geometry.node_spacing_m=1.0e-3", GROWTHS, "output.surface=false",
+                                                "geometry.fit_lattice_to_patch=edges", NO_CUBE])],
+    },
+    "aorta-press": {
+        # The curved vessel's contact case: a rigid 10 mm probe on the crown of the arch (no bonded edge).
+        "scene": "validation/scenes/aorta-press.json", "column": "probe", "x": "depth", "unit": ("mm", "N"),
+        "runs": [(f"{d} mm", [f"geometry.node_spacing_m={d}e-3", GROWTHS, "output.surface=false"])
+                 for d in ("1.0", "1.5", "2.2")]
+        + [("1.0 mm, without the cube", ["geometry.node_spacing_m=1.0e-3", GROWTHS, "output.surface=false", NO_CUBE])],
     },
     "cantilever": {
         "scene": "scenes/cantilever.json", "column": "tip", "x": "load", "unit": ("uN", "um"),
@@ -199,7 +214,14 @@ def figure(results, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     cases = list(results)
-    fig, axes = plt.subplots(1, len(cases) + 1, figsize=(4.2 * (len(cases) + 1), 4.0))
+    panels = len(cases) + 1
+    rows = 1 if panels <= 4 else 2
+    cols = -(-panels // rows)
+    fig, grid = plt.subplots(rows, cols, figsize=(4.2 * cols, 4.0 * rows), squeeze=False)
+    axes = list(grid.flat)
+    for ax in axes[panels:]:
+        ax.set_visible(False)
+    axes = axes[:panels]
     for ax, case in zip(axes, cases):
         ref, _ = read_reference(case)
         xu, yu = CASES[case]["unit"]
@@ -227,7 +249,8 @@ def figure(results, path):
         # The scenes' own layering solid, the three-layer rows of the same case dashed in the same colour.
         colour = None
         for three, style in ((False, "o-"), (True, "s--")):
-            runs = [r for r in results[case] if "lattice" not in r["label"] and ("3 layers" in r["label"]) == three]
+            runs = [r for r in results[case] if "lattice" not in r["label"] and "without" not in r["label"]
+                    and ("3 layers" in r["label"]) == three]
             if not runs:
                 continue
             runs.sort(key=lambda r: r["nodes"])

@@ -17,6 +17,7 @@ Cases (scene files are read for every dimension, material and boundary condition
   vein-indent     scenes/vein-indent.json            bonded patch on the straight vein, force vs depth
   vein-catheter   scenes/hand-dorsal-vein-catheter.json  rigid frictionless catheter on the same vein
   aorta-bent      scenes/aorta-bent.json             bonded patch on the crown of the 180 deg arch
+  aorta-press     validation/scenes/aorta-press.json rigid frictionless 10 mm probe on the same crown
   cantilever      scenes/cantilever.json             docs/validation.md T9 beam, tip deflection vs load
   svk-check       one element stretched to 1.3 and compressed to 0.8 against St Venant-Kirchhoff's closed
                   form (shows that *ELASTIC with NLGEOM is the SVK law)
@@ -50,6 +51,8 @@ CASES = {
                                                whole_circumference=a.whole_circumference),
     "vein-catheter": lambda a: cases.CatheterPress(scene(a, "hand-dorsal-vein-catheter.json"), penalty=a.penalty),
     "aorta-bent": lambda a: cases.BondedPatch(scene(a, "aorta-bent.json"), family=a.family),
+    "aorta-press": lambda a: cases.CatheterPress(a.scene or os.path.join(HERE, "scenes", "aorta-press.json"),
+                                                 penalty=a.penalty),
     "cantilever": lambda a: cases.Cantilever(scene(a, "cantilever.json")),
 }
 
@@ -114,7 +117,7 @@ def main():
                     help="wall mesh family of the bonded patches (default geometric; fem/geometry.py)")
     ap.add_argument("--whole-circumference", action="store_true",
                     help="vein-indent: model both halves in theta (the check of the theta symmetry plane)")
-    ap.add_argument("--penalty", type=float, default=5e7, help="vein-catheter: contact penalty slope, Pa/mm")
+    ap.add_argument("--penalty", type=float, default=5e7, help="vein-catheter, aorta-press: contact penalty slope, Pa/mm")
     ap.add_argument("--work", default=None, help="deck directory (default out/fem/<case>)")
     ap.add_argument("--out", default=os.path.join(HERE, "references"), help="where the CSV files go")
     ap.add_argument("--name", default=None, help="file name of the reference (default: the case)")

@@ -110,21 +110,22 @@ TEST(CostModel, TheBundledCalibrationCoversTheRealTimeAndStaticModels) {
   }
 }
 
-// The estimate takes the rows of the bundled table (their values change whenever the table is measured again, so
-// they are read from it, not repeated here): exact at a row, the mean of two rows half way between them in
-// log(nodes), the coarsest row below the table; and only from the cases of the scene's own local-fit basis (the
-// scene's quasi_static fits curvature; the same scene with the linear fit, the real-time model's, reads the other
-// case, whose rows differ).
+// The estimate takes the rows of the bundled table (their values change whenever the table is measured again,
+// so they are read from it, not repeated here): exact at a row, the mean of two rows half way between them in
+// log(nodes), the coarsest row below the table; and only from the cases of the scene's own local-fit basis
+// (the scene's quasi_static fits curvature with the through-wall cube; the same scene without the cube, or
+// with the linear fit, the real-time model's, reads another case, whose rows differ).
 TEST(ForceAccuracy, MatchesTheVesselAndInterpolatesInLogNodes) {
   const ForceAccuracyTable table = ForceAccuracyTable::read(ForceAccuracyTable::default_file());
   Scene vein = load_scene(test::source_path("scenes/hand-dorsal-vein.json"));
   ASSERT_EQ(vein.discretization.basis, GradientBasis::Quadratic);
+  ASSERT_TRUE(vein.discretization.wall_cube);
   auto case_of = [&](const std::string& basis) {
     return std::find_if(table.cases.begin(), table.cases.end(), [&](const AccuracyCase& c) {
       return c.name == "hand dorsal vein, bonded indenter" && c.basis == basis;
     });
   };
-  const auto vc = case_of("quadratic");
+  const auto vc = case_of("quadratic_cube");
   ASSERT_NE(vc, table.cases.end());
   ASSERT_GE(vc->rows.size(), 3u);
   const AccuracyRow &coarsest = vc->rows[0], &coarse = vc->rows[1], &finer = vc->rows[2];
@@ -145,7 +146,13 @@ TEST(ForceAccuracy, MatchesTheVesselAndInterpolatesInLogNodes) {
   // The same vessel with a catheter: the catheter case; an imported mesh: not covered.
   EXPECT_EQ(estimate_accuracy(table, load_scene(test::source_path("scenes/hand-dorsal-vein-catheter.json")), 22914).match->name,
             "hand dorsal vein, 6 Fr catheter (Fig. 10)");
-  // The linear fit reads the linear case.
+  // Without the cube the quadratic case, and the linear fit the linear case.
+  const auto quadratic = case_of("quadratic");
+  ASSERT_NE(quadratic, table.cases.end());
+  vein.discretization.wall_cube = false;
+  e = estimate_accuracy(table, vein, finer.nodes);
+  ASSERT_NE(e.match, nullptr);
+  EXPECT_EQ(e.match, &*quadratic);
   const auto linear = case_of("linear");
   ASSERT_NE(linear, table.cases.end());
   vein.discretization.basis = GradientBasis::Linear;

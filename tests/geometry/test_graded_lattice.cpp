@@ -182,12 +182,13 @@ TEST(GradedLattice, AffineFieldsGiveTheExactGradientAndThePatchIsTheWindow) {
   EXPECT_NEAR(report.at("selected").at("length_m").get<double>(), 10e-3, 1e-9);
 }
 
-// T3-T5 on the graded lattice, with the energy quasi_static builds from the scene (quadratic fit, per-node
-// supports and cells, Gauss points over each cell, the quadratic stabiliser): a rigid motion stores no energy
-// and moves no node, the forces at a large deformation conserve momentum, and the forces and Hessian product
-// are the energy's derivatives (central differences). The bounds and their reasons are the shared checks'
-// (support/energy_checks.hpp), which every basis and quadrature passes on a uniform lattice; a graded lattice
-// must not loosen them, since its nodes differ only in their supports and cells.
+// T3-T5 on the graded lattice, with the energy quasi_static builds from the scene (quadratic fit with the
+// through-wall cube, per-node supports and cells, Gauss points over each cell, the quadratic stabiliser): a
+// rigid motion stores no energy and moves no node, the forces at a large deformation conserve momentum, and
+// the forces and Hessian product are the energy's derivatives (central differences). The bounds and their
+// reasons are the shared checks' (support/energy_checks.hpp), which every basis and quadrature passes on a
+// uniform lattice; a graded lattice must not loosen them, since its nodes differ only in their supports and
+// cells.
 TEST(GradedLattice, PassesTheEnergyChecksT3ToT5) {
   nlohmann::json doc = graded_aorta();  // coarser, for the finite differences: 1,836 nodes
   doc["geometry"]["node_spacing_m"] = 6e-3;
@@ -197,7 +198,9 @@ TEST(GradedLattice, PassesTheEnergyChecksT3ToT5) {
   ASSERT_FALSE(sim.body().wall->cells.empty());  // graded: every node has its own cell
   const PointPrimitiveEnergy& energy = sim.energy();
   ASSERT_GT(energy.options().stabilizer_alpha, 0.0);
-  test::expect_rigid_motion_free_and_momentum(energy, sim.discretization().material());
+  // Forces scale with the lattice's spacing squared: the bound's is the fine window's 2.5 mm, not kDelta.
+  test::expect_rigid_motion_free_and_momentum(energy, sim.discretization().material(),
+                                              doc["geometry"]["refine"]["node_spacing_m"].get<double>());
   test::expect_stabiliser_derivatives<PointPrimitiveEnergy>(sim.discretization(), energy.options());
 }
 

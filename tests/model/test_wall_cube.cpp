@@ -158,8 +158,9 @@ TEST(WallCube, PassesTheEnergyChecksT3ToT5) {
   EXPECT_LE(test::assembled_hessian_error(energy, test::large_deformation(disc.rest_positions(), 3)), 1e-10);
 }
 
-// The key needs the quadratic fit on a wall (the error names the key); it is off by default, and
-// quasi_static's default fit on a tube takes it.
+// The key needs the quadratic fit on a wall (the error names the key); quasi_static's default fit on a tube
+// takes it and it is on by default there, off with the linear fit and for the models whose wall default is
+// the linear fit (implicit).
 TEST(WallCube, IsCheckedAtItsKey) {
   nlohmann::json doc = nlohmann::json::parse(R"({
     "name": "q", "model": "quasi_static",
@@ -174,6 +175,11 @@ TEST(WallCube, IsCheckedAtItsKey) {
   doc["discretization"].erase("basis");
   EXPECT_TRUE(parse_scene(doc, "q.json").discretization.wall_cube);
   doc["discretization"].erase("wall_cube");
+  EXPECT_TRUE(parse_scene(doc, "q.json").discretization.wall_cube);
+  doc["discretization"]["basis"] = "linear";
+  EXPECT_FALSE(parse_scene(doc, "q.json").discretization.wall_cube);
+  doc["discretization"].erase("basis");
+  doc["model"] = "implicit";
   EXPECT_FALSE(parse_scene(doc, "q.json").discretization.wall_cube);
 }
 

@@ -35,12 +35,12 @@ AccuracyCase read_case(const nlohmann::json& j) {
 
 bool same(double a, double b) { return std::abs(a - b) <= 0.01 * std::max(std::abs(a), std::abs(b)); }
 
-// The scene's local-fit basis as the table names it (the quadratic fit with the through-wall cube is a fit of
-// its own, which the table's rows do not cover).
+// The scene's local-fit basis as the table names it (the quadratic fit with the through-wall cube,
+// quasi_static's default on walls, is a fit of its own with rows of its own).
 std::string basis_name(const DiscretizationOptions& d) {
-  if (d.wall_cube) return "quadratic with the through-wall cube";
   const GradientBasis b = d.basis;
-  return b == GradientBasis::Quadratic ? "quadratic" : b == GradientBasis::WallQuadratic ? "wall_quadratic" : "linear";
+  if (b == GradientBasis::Quadratic) return d.wall_cube ? "quadratic_cube" : "quadratic";
+  return b == GradientBasis::WallQuadratic ? "wall_quadratic" : "linear";
 }
 
 }  // namespace

@@ -112,7 +112,11 @@ std::string describe_accuracy(const ForceAccuracyTable& table, const AccuracyEst
            "fine it is where the load acts (geometry.refine; docs/validation.md, 'Graded lattices')";
   if (e.match == nullptr) {
     std::string cases;
-    for (const AccuracyCase& c : table.cases) cases += (cases.empty() ? "" : "; ") + c.name + " (" + c.basis + " fit)";
+    for (const AccuracyCase& c : table.cases) {
+      const std::string fit =
+          c.basis == "quadratic_cube" ? "quadratic fit with the through-wall cube" : c.basis + " fit";
+      cases += (cases.empty() ? "" : "; ") + c.name + " (" + fit + ")";
+    }
     return fmt::format("not covered: no case of the accuracy table has this vessel, loading and local-fit basis "
                        "(cases: {})", cases);
   }

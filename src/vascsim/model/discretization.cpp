@@ -106,10 +106,29 @@ double largest_stretch(const DiscretizationOptions& opt) {
 // support so that a fit across the wall is conditioned, the nearer layers still weighing most.
 constexpr double kThicknessReach = 0.75;
 
-// DiscretizationOptions::wall_cube: the through-wall cube counts as resolved when its residual after the
-// quadratic fit keeps at least this fraction of its weighted square (on three layers it is zero to rounding,
-// on four about 0.1-0.5).
+// DiscretizationOptions::wall_cube: the through-wall cube counts as resolved when the support holds at least
+// four of the wall's depths (a cube through three is a quadratic through them) and its residual after the
+// quadratic fit keeps at least this fraction of its weighted square (on a flat wall of three layers it is
+// zero to rounding, on four about 0.1-0.5). The count matters on a curved wall: there a neighbour on the
+// node's own layer lies off its tangent plane, so z^3 keeps a small residual on three layers, and fitting it
+// amplifies the curvature's trace into the gradients (the catheter on the vein with three layers was 11-18 %
+// stiff).
 constexpr double kCubeResolvable = 1e-8;
+constexpr int kCubeDepths = 4;
+// Two depths count as one layer when they differ by less than this fraction of the layer spacing.
+constexpr double kSameLayer = 0.25;
+
+// The number of distinct wall depths among node i and its neighbours (kSameLayer of the layer spacing apart).
+int support_depths(Index i, const std::vector<Index>& nbr, const DiscretizationOptions& opt) {
+  std::vector<double> d{opt.wall_depths[static_cast<std::size_t>(i)]};
+  for (Index j : nbr) d.push_back(opt.wall_depths[static_cast<std::size_t>(j)]);
+  std::sort(d.begin(), d.end());
+  const double tol = kSameLayer * opt.wall_layer_spacing_m;
+  int layers = 1;
+  for (std::size_t a = 1; a < d.size(); ++a)
+    if (d[a] - d[a - 1] > tol) ++layers;
+  return layers;
+}
 
 NeighbourhoodTrial evaluate(const Vec3Array& X, Index i, double h, const SpatialGrid& grid, GradientBasis basis,
                             const SupportMetric& metric, const Vec3* fit_normal) {
@@ -375,7 +394,7 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
         pairs_.d[e] = t.w[a] * (Ainv * Xij);
       }
     }
-    if (opt.wall_cube && add_wall_cube(i, opt.wall_normals[static_cast<std::size_t>(i)], t.nbr)) ++cubes;
+    if (opt.wall_cube && add_wall_cube(i, opt.wall_normals[static_cast<std::size_t>(i)], t.nbr, opt)) ++cubes;
     for (Index e = pairs_.row_start[i]; e < pairs_.row_start[i + 1]; ++e) {
       dsum += pairs_.d[e];
       for (std::size_t k = 0; k < G; ++k) esum[k] += pairs_.e[static_cast<std::size_t>(e) * G + k];
@@ -394,7 +413,11 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
 // coefficient of m: the node's gradient vectors d_ij and their derivatives e_ij,k lose beta_j times the
 // quadratic fit's gradient (and derivatives) of m. The cube's own gradient is zero at the node and
 // 3 o^2 / h^3 n at a point offset o along n: the last point direction, whose offset is o^2.
-bool Discretization::add_wall_cube(Index i, const Vec3& normal, const std::vector<Index>& nbr) {
+bool Discretization::add_wall_cube(Index i, const Vec3& normal, const std::vector<Index>& nbr,
+                                   const DiscretizationOptions& opt) {
+  if (opt.wall_depths.size() == static_cast<std::size_t>(num_nodes()) &&
+      support_depths(i, nbr, opt) < kCubeDepths)
+    return false;
   const Index e0 = pairs_.row_start[i];
   const std::size_t K = nbr.size(), G = static_cast<std::size_t>(point_directions_);
   const double h = h_[i];
@@ -412,7 +435,7 @@ bool Discretization::add_wall_cube(Index i, const Vec3& normal, const std::vecto
     residual[a] = m[a] - coeff.dot(quadratic_monomials(X_[nbr[a]] - X_[i], h));
     S += pairs_.w[static_cast<std::size_t>(e0) + a] * residual[a] * residual[a];
   }
-  // A neighbourhood of three depths (a three-layer wall) fits z^3 with z exactly: no cube to add.
+  // A neighbourhood of three depths on a flat wall fits z^3 with z exactly: no cube to add.
   if (!(S > kCubeResolvable * plain)) return false;
   // The quadratic fit's gradient of m and its derivatives along the point directions.
   Vec3 gm = Vec3::Zero();

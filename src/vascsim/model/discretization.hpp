@@ -190,7 +190,8 @@ class Discretization {
   void compute_volumes(const DiscretizationOptions& opt);
   void place_wall_points(const DiscretizationOptions& opt);
   /// Fits the through-wall cube at node i (DiscretizationOptions::wall_cube); false where it is not resolvable.
-  bool add_wall_cube(Index i, const Vec3& normal, const std::vector<Index>& nbr);
+  bool add_wall_cube(Index i, const Vec3& normal, const std::vector<Index>& nbr,
+                     const DiscretizationOptions& opt);
   Eigen::MatrixXd quadratic_residual_operator(Index i) const;
   /// The wall normal the wall-quadratic basis fits node i in (nullptr for the other bases).
   const Vec3* fit_normal(Index i) const {

@@ -198,9 +198,9 @@ TEST(GradedLattice, PassesTheEnergyChecksT3ToT5) {
   ASSERT_FALSE(sim.body().wall->cells.empty());  // graded: every node has its own cell
   const PointPrimitiveEnergy& energy = sim.energy();
   ASSERT_GT(energy.options().stabilizer_alpha, 0.0);
-  // Forces scale with the lattice's spacing squared: the bound's is the fine window's 2.5 mm, not kDelta.
+  // A node's force scales with its own spacing squared: the bound's spacing is the lattice's largest, 6 mm.
   test::expect_rigid_motion_free_and_momentum(energy, sim.discretization().material(),
-                                              doc["geometry"]["refine"]["node_spacing_m"].get<double>());
+                                              doc["geometry"]["node_spacing_m"].get<double>());
   test::expect_stabiliser_derivatives<PointPrimitiveEnergy>(sim.discretization(), energy.options());
 }
 

@@ -48,10 +48,10 @@ inline double max_norm(const Vec3Array& a) {
 }
 
 // T3 and T4 for an energy whose fit reproduces affine fields: a rigid motion (a rotation and a shift) stores
-// no energy (1e-14 of mu V / 2: rounding) and moves no node (1e-10 E Delta^2, Delta the lattice's finest
-// spacing: a node's force is a stress times an area of order Delta^2), and at a large deformation the forces
-// sum to zero and have no torque (1e-12 relative: rounding of sums of a few hundred terms). The bounds'
-// reasons are QuadraticBasis.RigidMotionIsFreeAndForcesConserveMomentum's.
+// no energy (1e-14 of mu V / 2: rounding) and moves no node (1e-10 E Delta^2, Delta the lattice's largest
+// spacing: a node's force is a stress times its own area, of order its spacing squared), and at a large
+// deformation the forces sum to zero and have no torque (1e-12 relative: rounding of sums of a few hundred
+// terms). The bounds' reasons are QuadraticBasis.RigidMotionIsFreeAndForcesConserveMomentum's.
 template <class Energy>
 void expect_rigid_motion_free_and_momentum(const Energy& energy, const Material& mat,
                                            double spacing = kDelta) {

@@ -35,7 +35,17 @@ THREE_LAYERS = "geometry.min_layers=3"
 # The quadratic fit without the through-wall cube (the default until 2026-11-27, docs/model.md section 5.3): one row per
 # wall case at the scene's resolution, drawn but not in the last panel.
 NO_CUBE = "discretization.wall_cube=false"
-# What each case runs: the scene, the column of probes.csv compared, the resolutions (label, overrides).
+
+
+def graded_at_crown(spacing_mm):
+    """scenes/aorta-bent-graded.json's refinement (the bonded patch at the arch's crown and 6 mm round it, steps
+    growing 1.2 times outside up to the scene's 4 mm) with the given spacing over the patch."""
+    return ('geometry.refine={"angle_center_deg":180,"angle_half_width_deg":15,"s_center_fraction":0.5,'
+            f'"s_half_length_m":5e-3,"node_spacing_m":{spacing_mm}e-3,"margin_m":6e-3,"growth":1.2}}')
+
+
+# What each case runs: the scene, the column of probes.csv compared, the resolutions (label, overrides[, the scene
+# instead of the case's]).
 CASES = {
     "vein-indent": {
         "scene": "scenes/vein-indent.json", "column": "indenter", "x": "depth", "unit": ("mm", "mN"),
@@ -67,14 +77,20 @@ CASES = {
         + [(f"{d} mm, edges, 3 layers", [f"geometry.node_spacing_m={d}e-3", GROWTHS, "output.surface=false",
                                          "geometry.fit_lattice_to_patch=edges", THREE_LAYERS]) for d in ("1.0", "2.2")]
         + [("1.0 mm, edges, without the cube", ["geometry.node_spacing_m=1.0e-3", GROWTHS, "output.surface=false",
-                                                "geometry.fit_lattice_to_patch=edges", NO_CUBE])],
+                                                "geometry.fit_lattice_to_patch=edges", NO_CUBE])]
+        # The bundled graded lattice (scenes/aorta-bent-graded.json: 1.5 mm over the patch), and 1.0 mm there.
+        + [(f"graded, {d} mm at the patch", ["output.surface=false", graded_at_crown(d)], "scenes/aorta-bent-graded.json")
+           for d in ("1.5", "1.0")],
     },
     "aorta-press": {
         # The curved vessel's contact case: a rigid 10 mm probe on the crown of the arch (no bonded edge).
         "scene": "validation/scenes/aorta-press.json", "column": "probe", "x": "depth", "unit": ("mm", "N"),
         "runs": [(f"{d} mm", [f"geometry.node_spacing_m={d}e-3", GROWTHS, "output.surface=false"])
                  for d in ("1.0", "1.5", "2.2")]
-        + [("1.0 mm, without the cube", ["geometry.node_spacing_m=1.0e-3", GROWTHS, "output.surface=false", NO_CUBE])],
+        + [("1.0 mm, without the cube", ["geometry.node_spacing_m=1.0e-3", GROWTHS, "output.surface=false", NO_CUBE])]
+        # The bonded case's graded lattice round the same crown (not tuned to the probe).
+        + [(f"graded, {d} mm at the crown", ["geometry.node_spacing_m=4e-3", GROWTHS, "output.surface=false",
+                                             graded_at_crown(d)]) for d in ("1.5", "1.0")],
     },
     "cantilever": {
         "scene": "scenes/cantilever.json", "column": "tip", "x": "load", "unit": ("uN", "um"),
@@ -171,9 +187,10 @@ def main():
         spec = CASES[case]
         ref, _ = read_reference(case)
         results[case] = []
-        for label, sets in spec["runs"]:
+        for label, sets, *scene in spec["runs"]:
             out_dir = os.path.join(a.out, case, label.replace(" ", "").replace(",", "-").replace("=", ""))
-            summary = run_vascsim(a.vascsim, spec["scene"], sets + a.set, out_dir, a.reuse, a.threads)
+            summary = run_vascsim(a.vascsim, scene[0] if scene else spec["scene"], sets + a.set, out_dir, a.reuse,
+                                  a.threads)
             c = curve(summary, spec["column"], spec["x"])
             if len(c) != len(ref) or any(abs(p[0] - r[0]) > 1e-6 * max(abs(r[0]), 1e-30) for p, r in zip(c, ref)):
                 sys.exit(f"error_table.py: {case} {label}: the run's load steps do not match the reference's")
@@ -234,6 +251,11 @@ def markdown(results):
     return "\n".join(lines)
 
 
+def run_kind(label):
+    """The group a run is drawn with in the last panel: "graded", "3 layers" or "" (the scene's own layering)."""
+    return "graded" if label.startswith("graded") else "3 layers" if "3 layers" in label else ""
+
+
 def figure(results, path):
     import matplotlib
     matplotlib.use("Agg")
@@ -273,14 +295,15 @@ def figure(results, path):
         xu, _ = CASES[case]["unit"]
         # The scenes' own layering solid, the three-layer rows of the same case dashed in the same colour.
         colour = None
-        for three, style in ((False, "o-"), (True, "s--")):
+        # Graded lattices as diamonds, unjoined.
+        for kind, style in (("", "o-"), ("3 layers", "s--"), ("graded", "D")):
             runs = [r for r in results[case] if "lattice" not in r["label"] and "without" not in r["label"]
-                    and ("3 layers" in r["label"]) == three]
+                    and run_kind(r["label"]) == kind]
             if not runs:
                 continue
             runs.sort(key=lambda r: r["nodes"])
             line, = ax.plot([r["nodes"] for r in runs], [100 * r["errors"][last] for r in runs], style, color=colour,
-                            label=f"{case} at {ref[last][0] * SCALE[xu]:.3g} {xu}" + (", 3 layers" if three else ""))
+                            label=f"{case} at {ref[last][0] * SCALE[xu]:.3g} {xu}" + (f", {kind}" if kind else ""))
             colour = line.get_color()
         levels = read_fem_levels(case)
         ax.plot([lv[2] for lv in levels], [100 * (lv[3][last] / ref[last][1] - 1) for lv in levels], "x:", color=colour)

@@ -26,6 +26,9 @@ Example (the committed references; hours on a shared 2-core machine, see docs/va
   /usr/bin/python3 validation/fem_reference.py vein-indent --levels 1,2,3
 The catheter's check with reduced-integration elements (validation/references/vein-catheter-c3d20r.csv):
   /usr/bin/python3 validation/fem_reference.py vein-catheter --levels 2,3,4 --element C3D20R --name vein-catheter-c3d20r
+The vein's with reduced-integration elements, to 0.9 mm (validation/references/vein-indent-c3d20r.csv; 11 minutes):
+  /usr/bin/python3 validation/fem_reference.py vein-indent --levels 2,3,4 --element C3D20R \
+      --scene validation/scenes/vein-indent-900um.json --name vein-indent-c3d20r
 The aorta pressed by a probe (validation/references/aorta-press.csv; 43 minutes):
   /usr/bin/python3 validation/fem_reference.py aorta-press --levels 2,3,4
 The aorta's, to 2 mm (validation/references/aorta-bent-c3d20r.csv):

@@ -29,6 +29,9 @@ The catheter's check with reduced-integration elements (validation/references/ve
 The vein's with reduced-integration elements, to 0.9 mm (validation/references/vein-indent-c3d20r.csv; 11 minutes):
   /usr/bin/python3 validation/fem_reference.py vein-indent --levels 2,3,4 --element C3D20R \
       --scene validation/scenes/vein-indent-900um.json --name vein-indent-c3d20r
+The same with the committed elements, levels 2-4 (validation/references/vein-indent-900um.csv; 18 minutes):
+  /usr/bin/python3 validation/fem_reference.py vein-indent --levels 2,3,4 \
+      --scene validation/scenes/vein-indent-900um.json --name vein-indent-900um
 The aorta pressed by a probe (validation/references/aorta-press.csv; 43 minutes):
   /usr/bin/python3 validation/fem_reference.py aorta-press --levels 2,3,4
 The aorta's, to 2 mm (validation/references/aorta-bent-c3d20r.csv):

@@ -15,7 +15,8 @@ relative error), OUT/error_table.md (per case and resolution: nodes, the error a
 |error| where the reference is converged, solve time) and the figure (force or deflection against depth with the
 FEM reference band per case where it is converged, and the error at the deepest converged point against the node
 count). For scale, the table and the last panel also show CalculiX's own mesh levels against their extrapolation,
-counted in nodes of the whole problem (four times the quarter model's). "Converged": the extrapolation's uncertainty is at most TRUSTED_UNCERTAINTY (5 %) of the force.
+counted in nodes of the whole problem (four times the quarter model's). "Converged": the extrapolation's
+uncertainty is at most TRUSTED_UNCERTAINTY (5 %) of the force.
 """
 import argparse
 import csv

@@ -32,6 +32,9 @@ The vein's with reduced-integration elements, to 0.9 mm (validation/references/v
 The same with the committed elements, levels 2-4 (validation/references/vein-indent-900um.csv; 18 minutes):
   /usr/bin/python3 validation/fem_reference.py vein-indent --levels 2,3,4 \
       --scene validation/scenes/vein-indent-900um.json --name vein-indent-900um
+The bonded aorta, four levels to 2 mm (validation/references/aorta-bent-2mm.csv; 9 minutes):
+  /usr/bin/python3 validation/fem_reference.py aorta-bent --levels 2,3,4 \
+      --scene validation/scenes/aorta-bent-2mm.json --name aorta-bent-2mm
 The aorta pressed by a probe (validation/references/aorta-press.csv; 43 minutes):
   /usr/bin/python3 validation/fem_reference.py aorta-press --levels 2,3,4
 The aorta's, to 2 mm (validation/references/aorta-bent-c3d20r.csv):

@@ -1,12 +1,15 @@
 #include "vascsim/run/contact_surface_builder.hpp"
 
-#include <algorithm>
 #include <fmt/format.h>
+#include <algorithm>
+#include <array>
+#include <numbers>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/spatial_grid.hpp"
 #include "vascsim/geometry/surface_samples.hpp"
 #include "vascsim/mapping/mls_map.hpp"
+#include "vascsim/mapping/surface_quadratic_fit.hpp"
 
 namespace vascsim {
 
@@ -27,6 +30,67 @@ std::vector<Index> node_at_vertex(const RenderSurface& surf, const Discretizatio
   for (std::size_t v = 0; v < surf.rest_vertices.size(); ++v)
     grid.for_each_within(surf.rest_vertices[v], tol, [&](Index i, double) { node[v] = i; });
   return node;
+}
+
+// Whether a triangle is smooth: its vertex normals within 30 degrees of its face normal (the samples' Phong
+// criterion, geometry/surface_samples.cpp); a crease keeps its barycentric weights.
+bool smooth(const RenderSurface& surf, const std::array<Index, 3>& t) {
+  const Vec3& a = surf.rest_vertices[t[0]];
+  const Vec3 face = (surf.rest_vertices[t[1]] - a).cross(surf.rest_vertices[t[2]] - a).normalized();
+  for (int k = 0; k < 3; ++k)
+    if (surf.rest_normals[t[k]].dot(face) < std::cos(std::numbers::pi / 6.0)) return false;
+  return true;
+}
+
+// Adds a correction to the row that starts at `first` of col/val: onto an entry of the same node, or
+// appended.
+void add_to_row(const SurfaceFitRow& add, std::size_t first, std::vector<Index>& col,
+                std::vector<double>& val) {
+  for (std::size_t k = 0; k < add.node.size(); ++k) {
+    const auto end = col.end();
+    const auto it = std::find(col.begin() + static_cast<std::ptrdiff_t>(first), end, add.node[k]);
+    if (it != end) {
+      val[static_cast<std::size_t>(it - col.begin())] += add.phi[k];
+    } else {
+      col.push_back(add.node[k]);
+      val.push_back(add.phi[k]);
+    }
+  }
+}
+
+// The curvature corrections for the samples flagged in `want` (the others stay empty): fitted over the
+// surface's nodes (each node once, with its vertex's normal), each sample at its interpolated normal on its
+// triangle.
+std::vector<SurfaceFitRow> curvature_rows(const RenderSurface& surf, const SurfaceSamples& samples,
+                                          const std::vector<Index>& node, const std::vector<char>& want) {
+  SurfaceNodes nodes;
+  std::vector<char> seen;
+  for (std::size_t v = 0; v < node.size(); ++v) {
+    const Index i = node[v];
+    if (i < 0) continue;
+    if (static_cast<std::size_t>(i) >= seen.size()) seen.resize(static_cast<std::size_t>(i) + 1, 0);
+    if (seen[static_cast<std::size_t>(i)]) continue;
+    seen[static_cast<std::size_t>(i)] = 1;
+    nodes.node.push_back(i);
+    nodes.position_m.push_back(surf.rest_vertices[v]);
+    nodes.normal.push_back(surf.rest_normals[v]);
+  }
+  Vec3Array points, normals;
+  std::vector<SurfaceCorners> corners;
+  std::vector<std::size_t> of;
+  for (std::size_t v = 0; v < want.size(); ++v) {
+    if (!want[v]) continue;
+    const auto& t = surf.triangles[static_cast<std::size_t>(samples.triangle[v])];
+    points.push_back(samples.positions[v]);
+    normals.push_back(samples.normals[v]);
+    corners.push_back({{surf.rest_vertices[t[0]], surf.rest_vertices[t[1]], surf.rest_vertices[t[2]]},
+                       samples.barycentric[v]});
+    of.push_back(v);
+  }
+  std::vector<SurfaceFitRow> fitted = surface_curvature_rows(nodes, points, normals, corners);
+  std::vector<SurfaceFitRow> rows(want.size());
+  for (std::size_t k = 0; k < of.size(); ++k) rows[of[k]] = std::move(fitted[k]);
+  return rows;
 }
 
 }  // namespace
@@ -52,7 +116,8 @@ std::shared_ptr<const ContactSurface> build_contact_surface(const Scene& scene, 
   std::vector<std::size_t> mls_of;
   for (std::size_t v = 0; v < nv; ++v) {
     const auto& tri = surf.triangles[static_cast<std::size_t>(samples.triangle[v])];
-    interp[v] = spec.interpolated && node[tri[0]] >= 0 && node[tri[1]] >= 0 && node[tri[2]] >= 0;
+    interp[v] = spec.shape_functions != ContactSpec::Shape::Mls && node[tri[0]] >= 0 && node[tri[1]] >= 0 &&
+                node[tri[2]] >= 0;
     if (!interp[v]) {
       mls_of.push_back(v);
       mls_points.push_back(samples.positions[v]);
@@ -61,6 +126,15 @@ std::shared_ptr<const ContactSurface> build_contact_surface(const Scene& scene, 
   std::unique_ptr<MlsMap> map;
   if (!mls_points.empty()) map = std::make_unique<MlsMap>(disc.rest_positions(), mls_points, scene.mapping);
 
+  // "quadratic": the interpolating samples on smooth triangles take the fit instead, where it is conditioned.
+  std::vector<SurfaceFitRow> quadratic;
+  if (spec.shape_functions == ContactSpec::Shape::Quadratic) {
+    std::vector<char> want(nv, 0);
+    for (std::size_t v = 0; v < nv; ++v)
+      want[v] = interp[v] && smooth(surf, surf.triangles[static_cast<std::size_t>(samples.triangle[v])]);
+    quadratic = curvature_rows(surf, samples, node, want);
+  }
+
   out->rest_points = samples.positions;
   out->area_m2 = samples.area_m2;
   out->row_start.assign(nv + 1, 0);
@@ -68,11 +142,17 @@ std::shared_ptr<const ContactSurface> build_contact_surface(const Scene& scene, 
   for (std::size_t v = 0; v < nv; ++v) {
     if (interp[v]) {
       const auto& tri = surf.triangles[static_cast<std::size_t>(samples.triangle[v])];
+      const std::size_t first = out->col.size();
       for (int k = 0; k < 3; ++k) {
         out->col.push_back(node[tri[k]]);
         out->val.push_back(samples.barycentric[v][k]);
       }
-      ++report.interpolated;
+      if (!quadratic.empty() && !quadratic[v].node.empty()) {
+        add_to_row(quadratic[v], first, out->col, out->val);
+        ++report.quadratic;
+      } else {
+        ++report.interpolated;
+      }
     } else {
       for (Index k = map->row_start()[m]; k < map->row_start()[m + 1]; ++k) {
         out->col.push_back(map->columns()[static_cast<std::size_t>(k)]);

@@ -4,9 +4,12 @@
 // shape functions over the nodes, either
 //   "interpolated": the barycentric weights of the triangle's vertices, where each vertex is a node (the
 //                   swept vessels' surfaces are their outer and inner node layers), or
+//   "quadratic":    a quadratic fit of the surface's nodes round each sample
+//   (mapping/surface_quadratic_fit.hpp),
+//                   on smooth triangles whose vertices are nodes; the barycentric weights elsewhere, or
 //   "mls":          the MLS map of the rendered surface (mapping/mls_map.hpp), for any surface.
-// "interpolated" falls back to "mls" for a triangle whose vertices are not all nodes. Every node below the surface
-// is also a sample of its own (it must not enter a tool either; see the .cpp).
+// "interpolated" and "quadratic" fall back to "mls" for a triangle whose vertices are not all nodes. Every
+// node below the surface is also a sample of its own (it must not enter a tool either; see the .cpp).
 
 #include <memory>
 
@@ -20,6 +23,7 @@ namespace vascsim {
 struct ContactSurfaceReport {
   Index samples = 0;
   Index interpolated = 0;  ///< samples with barycentric shape functions
+  Index quadratic = 0;     ///< samples with the quadratic fit's shape functions
   Index node_samples = 0;  ///< nodes below the surface, samples of their own
   double spacing_m = 0.0;
   double stiffness_pa_per_m = 0.0;

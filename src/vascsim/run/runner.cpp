@@ -90,9 +90,10 @@ static nlohmann::json contact_info(const Simulation& sim) {
   const auto& r = sim.contact_surface_report();
   if (!r) return {{"surface", "nodes"}};
   return {{"surface", "embedded"},
-          {"shape_functions", sim.scene().contact.interpolated ? "interpolated" : "mls"},
+          {"shape_functions", shape_functions_name(sim.scene().contact.shape_functions)},
           {"samples", r->samples},
           {"interpolated_samples", r->interpolated},
+          {"quadratic_samples", r->quadratic},
           {"node_samples", r->node_samples},
           {"sample_spacing_m", r->spacing_m},
           {"stiffness_pa_per_m", r->stiffness_pa_per_m}};

@@ -48,9 +48,11 @@ void Simulation::build(const BuildChecks& checks) {
   if (scene.contact.embedded) {
     ContactSurfaceReport& r = contact_report_.emplace();
     problem_->set_contact_surface(build_contact_surface(scene, *body_, *disc_, r));
-    spdlog::info("contact: the tools meet the wall's surface at {} samples {:.3g} m apart ({} interpolating their "
-                 "triangle's nodes, the others on the MLS map) and {} nodes below it, stiffness {:.3g} Pa/m",
-                 r.samples, r.spacing_m, r.interpolated, r.node_samples, r.stiffness_pa_per_m);
+    spdlog::info(
+        "contact: the tools meet the wall's surface at {} samples {:.3g} m apart ({} interpolating their "
+        "triangle's nodes, {} on the quadratic fit, the others on the MLS map) and {} nodes below it, "
+        "stiffness {:.3g} Pa/m",
+        r.samples, r.spacing_m, r.interpolated, r.quadratic, r.node_samples, r.stiffness_pa_per_m);
   }
   selections_ = describe_selections(scene, *disc_, *body_, problem_->regions());
   for (const RegionSelection& r : selections_)

@@ -515,6 +515,22 @@ void read_tools(JsonReader& root, Scene& sc) {
   }
 }
 
+}  // namespace
+
+const char* shape_functions_name(ContactSpec::Shape shape) {
+  switch (shape) {
+    case ContactSpec::Shape::Quadratic:
+      return "quadratic";
+    case ContactSpec::Shape::Mls:
+      return "mls";
+    case ContactSpec::Shape::Interpolated:
+      break;
+  }
+  return "interpolated";
+}
+
+namespace {
+
 void read_contact(JsonReader& root, Scene& sc) {
   JsonReader c = root.object("contact");
   // With the accurate wall configuration the tools meet the wall's surface (docs/validation.md: at the nodes its
@@ -526,7 +542,11 @@ void read_contact(JsonReader& root, Scene& sc) {
   sc.contact.embedded = c.string("surface", surface_default, {"nodes", "embedded"}) == "embedded";
   if (c.has("shape_functions")) {
     if (!sc.contact.embedded) c.fail("shape_functions", "applies to contact.surface \"embedded\" only");
-    sc.contact.interpolated = c.string("shape_functions", "interpolated", {"interpolated", "mls"}) == "interpolated";
+    const std::string shape =
+        c.string("shape_functions", "interpolated", {"interpolated", "quadratic", "mls"});
+    sc.contact.shape_functions = shape == "quadratic" ? ContactSpec::Shape::Quadratic
+                                 : shape == "mls"     ? ContactSpec::Shape::Mls
+                                                      : ContactSpec::Shape::Interpolated;
   }
   if (c.has("stiffness_pa_per_m")) {
     if (!sc.contact.embedded) c.fail("stiffness_pa_per_m", "applies to contact.surface \"embedded\" only");

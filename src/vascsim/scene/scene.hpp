@@ -141,12 +141,17 @@ struct ContactSpec {
   /// "nodes": the nodes are points the tools push (an active set); "embedded": the tools meet the wall's
   /// MLS-mapped surface, sampled between the nodes, through a penalty (section 22.5).
   bool embedded = false;
-  /// embedded: the samples' shape functions: true ("interpolated") the barycentric weights of their triangle's
-  /// nodes where its vertices are nodes, false ("mls") the MLS map of the rendered surface
-  bool interpolated = true;
+  /// embedded: the samples' shape functions (run/contact_surface_builder.hpp): "interpolated" the barycentric
+  /// weights of their triangle's nodes, "quadratic" a quadratic fit of the surface's nodes round the sample
+  /// (mapping/surface_quadratic_fit.hpp), both where the triangle's vertices are nodes; "mls" the MLS map of
+  /// the rendered surface
+  enum class Shape { Interpolated, Quadratic, Mls } shape_functions = Shape::Interpolated;
   double stiffness_pa_per_m = 0.0;  ///< embedded: pressure per metre of penetration, Pa/m; 0: 100 E / mean spacing
   double sample_spacing_m = 0.0;    ///< embedded: spacing of the surface's samples, m; 0: a third of its mean edge
 };
+
+/// "interpolated", "quadratic" or "mls": the name contact.shape_functions takes.
+const char* shape_functions_name(ContactSpec::Shape shape);
 
 struct OutputSpec {
   bool vtk = false;    ///< node cloud series vtk/nodes.pvd

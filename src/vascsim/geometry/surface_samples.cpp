@@ -74,6 +74,7 @@ SurfaceSamples sample_surface(const RenderSurface& surface, double spacing_m) {
       out.area_m2.push_back(sub_area);
       out.triangle.push_back(static_cast<Index>(t));
       out.barycentric.push_back(w);
+      out.smooth.push_back(smooth ? 1 : 0);
     };
     for (int i = 0; i < m; ++i)
       for (int j = 0; i + j < m; ++j) {

@@ -19,6 +19,7 @@ struct SurfaceSamples {
   std::vector<double> area_m2;  ///< surface area each sample stands for, m^2 (they sum to the mesh's area)
   std::vector<Index> triangle;  ///< the triangle each sample lies on
   Vec3Array barycentric;        ///< its barycentric coordinates there (weights of the triangle's vertices)
+  std::vector<char> smooth;  ///< 1 where its triangle is smooth (the sample lifted onto the curved surface)
   int subdivisions_max = 1;     ///< the largest m used
 };
 

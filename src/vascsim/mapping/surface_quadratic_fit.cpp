@@ -14,13 +14,6 @@ namespace {
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 
-// An orthonormal pair spanning the plane normal to n.
-void tangent_frame(const Vec3& n, Vec3& t1, Vec3& t2) {
-  const Vec3 seed = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
-  t1 = n.cross(seed).normalized();
-  t2 = n.cross(t1);
-}
-
 struct Candidate {
   std::size_t k;  // entry in SurfaceNodes
   double a, b;    // tangent coordinates over the radius
@@ -31,8 +24,8 @@ struct Candidate {
 bool fit_at(const SurfaceNodes& nodes, const SpatialGrid& grid, const Vec3& p, const Vec3& n,
             const SurfaceCorners& corners, double r, const SurfaceQuadraticFitOptions& opt,
             SurfaceFitRow& row) {
-  Vec3 t1, t2;
-  tangent_frame(n, t1, t2);
+  const Vec3 t1 = n.unitOrthogonal(),
+             t2 = n.cross(t1);  // any tangent frame: the fit's monomials span the same
   std::vector<Candidate> cands;
   grid.for_each_within(p, r, [&](Index j, double dist) {
     const auto k = static_cast<std::size_t>(j);

@@ -2,8 +2,6 @@
 
 #include <fmt/format.h>
 #include <algorithm>
-#include <array>
-#include <numbers>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/spatial_grid.hpp"
@@ -30,16 +28,6 @@ std::vector<Index> node_at_vertex(const RenderSurface& surf, const Discretizatio
   for (std::size_t v = 0; v < surf.rest_vertices.size(); ++v)
     grid.for_each_within(surf.rest_vertices[v], tol, [&](Index i, double) { node[v] = i; });
   return node;
-}
-
-// Whether a triangle is smooth: its vertex normals within 30 degrees of its face normal (the samples' Phong
-// criterion, geometry/surface_samples.cpp); a crease keeps its barycentric weights.
-bool smooth(const RenderSurface& surf, const std::array<Index, 3>& t) {
-  const Vec3& a = surf.rest_vertices[t[0]];
-  const Vec3 face = (surf.rest_vertices[t[1]] - a).cross(surf.rest_vertices[t[2]] - a).normalized();
-  for (int k = 0; k < 3; ++k)
-    if (surf.rest_normals[t[k]].dot(face) < std::cos(std::numbers::pi / 6.0)) return false;
-  return true;
 }
 
 // Adds a correction to the row that starts at `first` of col/val: onto an entry of the same node, or
@@ -131,7 +119,7 @@ std::shared_ptr<const ContactSurface> build_contact_surface(const Scene& scene, 
   if (spec.shape_functions == ContactSpec::Shape::Quadratic) {
     std::vector<char> want(nv, 0);
     for (std::size_t v = 0; v < nv; ++v)
-      want[v] = interp[v] && smooth(surf, surf.triangles[static_cast<std::size_t>(samples.triangle[v])]);
+      want[v] = interp[v] && samples.smooth[v];  // a crease keeps its barycentric weights
     quadratic = curvature_rows(surf, samples, node, want);
   }
 

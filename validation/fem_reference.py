@@ -21,6 +21,8 @@ Cases (scene files are read for every dimension, material and boundary condition
   cantilever      scenes/cantilever.json             docs/validation.md T9 beam, tip deflection vs load
   svk-check       one element stretched to 1.3 and compressed to 0.8 against St Venant-Kirchhoff's closed
                   form (shows that *ELASTIC with NLGEOM is the SVK law)
+  mooney-rivlin-check  the same for *HYPERELASTIC, MOONEY-RIVLIN against vascsim's mooney_rivlin energy (a scene
+                  with material.law "mooney_rivlin" is written as that law, D1 = 2 / bulk_modulus_pa)
 
 Example (the committed references; hours on a shared 2-core machine, see docs/validation.md):
   /usr/bin/python3 validation/fem_reference.py vein-indent --levels 1,2,3
@@ -50,7 +52,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 
-from fem import cases, ccx, richardson, svk_check  # noqa: E402
+from fem import cases, ccx, mooney_rivlin_check, richardson, svk_check  # noqa: E402
 
 def scene(a, bundled):
     """The case's scene file: --scene, or the bundled one."""
@@ -120,7 +122,7 @@ def write_reference(name, case, levels, curves, infos, out_dir):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("case", choices=sorted(CASES) + ["svk-check"])
+    ap.add_argument("case", choices=sorted(CASES) + ["svk-check", "mooney-rivlin-check"])
     ap.add_argument("--levels", default="1,2,3", help="refinement levels m (comma list; the finest three "
                     "are extrapolated)")
     ap.add_argument("--element", default="C3D20", choices=["C3D20", "C3D20R"])
@@ -138,6 +140,8 @@ def main():
     a = ap.parse_args()
     if a.case == "svk-check":
         return svk_check.main(os.path.join(a.work or os.path.join(ROOT, "out", "fem", "svk-check")), a.out)
+    if a.case == "mooney-rivlin-check":
+        return mooney_rivlin_check.main(a.work or os.path.join(ROOT, "out", "fem", "mooney-rivlin-check"), a.out)
     levels = [int(v) for v in a.levels.split(",")]
     if len(levels) < 3:
         ap.error("three levels at least are needed for the extrapolation")

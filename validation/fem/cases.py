@@ -51,7 +51,7 @@ class WallCase:
         self.symmetry_factor = 2.0 if whole_circumference else 4.0
         self.scene = scene_params.load(scene_path)
         scene_params.clamped_ends(self.scene, scene_path)
-        self.youngs, self.poisson = scene_params.material(self.scene, scene_path)
+        self.material = scene_params.material(self.scene, scene_path)
         self.r_out, self.t, line = scene_params.wall(self.scene, scene_path)
         self.r_in = self.r_out - self.t
         if line["type"] == "straight":
@@ -94,7 +94,7 @@ class WallCase:
                 lambda r, th, s: scene_params.angle_is(th, theta_c) or scene_params.angle_is(th, theta_c + 180),
                 wall))
         deck.nset("SYMS", mesh.nodes_where_param(lambda r, th, s: abs(s - s_c) < eps, wall))
-        deck.elastic("TISSUE", self.youngs, self.poisson, elset="WALL")
+        deck.material("TISSUE", self.material, elset="WALL")
         bcs = "*BOUNDARY\nFIX, 1, 3\n"
         if not self.whole_circumference:
             bcs += f"SYMT, {sym_theta + 1}, {sym_theta + 1}\n"
@@ -284,7 +284,7 @@ class Cantilever:
     def __init__(self, scene_path):
         self.scene_path = scene_path
         self.scene = scene_params.load(scene_path)
-        self.youngs, self.poisson = scene_params.material(self.scene, scene_path)
+        self.material = scene_params.material(self.scene, scene_path)
         self.beam = scene_params.beam(self.scene, scene_path)
         self.steps = scene_params.load_steps(self.scene)
         self.load_dir = np.array(self.beam["direction"], dtype=float)
@@ -298,7 +298,7 @@ class Cantilever:
                        refine([0.0, bm["height"]], n_cross), lambda x, y, z: np.array([x, y, z]))
         deck = ccx.Deck(f"{os.path.basename(self.scene_path)}: cantilever, level {m}")
         deck.mesh(mesh, element, blocks={"BEAM": "BEAM"})
-        deck.elastic("TISSUE", self.youngs, self.poisson, elset="BEAM")
+        deck.material("TISSUE", self.material, elset="BEAM")
         eps = 1e-9
         deck.nset("CLAMP", mesh.nodes_where(lambda x: abs(x[0]) < eps))
         end = lambda x: abs(x[0] - bm["length"]) < eps
@@ -332,6 +332,8 @@ class Cantilever:
 
     def timoshenko(self):
         bm = self.beam
+        if self.material.law != "svk":
+            return None
         # The scene's beam bends along its height (load along z).
         return timoshenko_tip_deflection(bm["force"], bm["length"] * ccx.MM, bm["width"] * ccx.MM,
-                                         bm["height"] * ccx.MM, self.youngs, self.poisson)
+                                         bm["height"] * ccx.MM, self.material.youngs, self.material.poisson)

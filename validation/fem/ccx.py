@@ -57,6 +57,15 @@ class Deck:
         self.add(f"*MATERIAL, NAME={name}\n*ELASTIC\n{youngs_pa:.12g}, {poisson:.12g}")
         self.add(f"*SOLID SECTION, ELSET={elset}, MATERIAL={name}")
 
+    def material(self, name, mat, elset="EALL"):
+        """scene_params.Material: svk as *ELASTIC (St Venant-Kirchhoff under NLGEOM), mooney_rivlin as
+        *HYPERELASTIC, MOONEY-RIVLIN (C10, C01, D1 = 2 / kappa)."""
+        if mat.law == "svk":
+            return self.elastic(name, mat.youngs, mat.poisson, elset)
+        self.add(f"*MATERIAL, NAME={name}\n*HYPERELASTIC, MOONEY-RIVLIN\n"
+                 f"{mat.c10:.12g}, {mat.c01:.12g}, {2.0 / mat.kappa:.12g}")
+        self.add(f"*SOLID SECTION, ELSET={elset}, MATERIAL={name}")
+
     def write(self, path):
         with open(path, "w") as f:
             f.write("".join(self.parts))

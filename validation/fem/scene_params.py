@@ -19,11 +19,26 @@ def _need(cond, path, key, what):
         raise SceneError(f"{path}: key '{key}': {what}")
 
 
+class Material:
+    """The scene's strain-energy law in the decks' units (Pa). svk: E and nu. mooney_rivlin: C10, C01 and the bulk
+    modulus kappa, psi = C10 (I1bar - 3) + C01 (I2bar - 3) + kappa/2 (J - 1)^2, which is CalculiX's MOONEY-RIVLIN
+    with D1 = 2 / kappa."""
+
+    def __init__(self, law, **values):
+        self.law = law
+        self.__dict__.update(values)
+
+
 def material(scene, path):
     mat = scene["material"]
     law = mat.get("law", "svk")
-    _need(law == "svk", path, "material.law", f"the references use St Venant-Kirchhoff (svk), not {law}")
-    return mat["youngs_modulus_pa"], mat["poisson_ratio"]
+    _need(law in ("svk", "mooney_rivlin"), path, "material.law",
+          f"the references model St Venant-Kirchhoff (svk) and Mooney-Rivlin (mooney_rivlin), not {law}")
+    if law == "svk":
+        return Material("svk", youngs=mat["youngs_modulus_pa"], poisson=mat["poisson_ratio"])
+    for key in ("c10_pa", "c01_pa", "bulk_modulus_pa"):
+        _need(key in mat, path, f"material.{key}", "mooney_rivlin needs it")
+    return Material("mooney_rivlin", c10=mat["c10_pa"], c01=mat["c01_pa"], kappa=mat["bulk_modulus_pa"])
 
 
 def wall(scene, path):

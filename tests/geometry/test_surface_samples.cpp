@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -69,6 +70,33 @@ TEST(SurfaceSamples, CreasesKeepTheFacesFlat) {
   EXPECT_NEAR(area, 6.0, 1e-12);
   EXPECT_THROW(sample_surface(cube, 0.0), InputError);
   EXPECT_THROW(sample_surface(cube, -1.0), InputError);
+}
+
+// A graded lattice's surface: a large and a small flat triangle (legs 10 mm and 0.5 mm). One spacing from the
+// whole surface's mean edge (a third of it, 2.7 mm) leaves the small triangle a single sample; with at least
+// a third of its own mean edge apart it gets ceil(0.707 / (0.569 / 3)) = 4 per side, 16 samples, as a uniform
+// lattice of its size would, while the large triangle's sampling and the total area do not change.
+TEST(SurfaceSamples, EachTriangleAtLeastAFractionOfItsOwnEdgeApart) {
+  RenderSurface s;
+  s.rest_vertices = {Vec3(0, 0, 0),     Vec3(10e-3, 0, 0),   Vec3(0, 10e-3, 0),
+                     Vec3(20e-3, 0, 0), Vec3(20.5e-3, 0, 0), Vec3(20e-3, 0.5e-3, 0)};
+  s.triangles = {{0, 1, 2}, {3, 4, 5}};
+  const double leg = 10e-3, small = 0.5e-3, diag = std::sqrt(2.0);
+  const double mean = (2.0 * leg + diag * leg + 2.0 * small + diag * small) / 6.0;
+  auto count_on = [](const SurfaceSamples& samples, Index t) {
+    return std::count(samples.triangle.begin(), samples.triangle.end(), t);
+  };
+  const SurfaceSamples plain = sample_surface(s, mean / 3.0);
+  const SurfaceSamples own = sample_surface(s, mean / 3.0, 1.0 / 3.0);
+  EXPECT_EQ(count_on(plain, 1), 1);
+  EXPECT_EQ(count_on(own, 1), 16);
+  EXPECT_EQ(count_on(own, 0), count_on(plain, 0));
+  double area = 0.0;
+  for (double a : own.area_m2) area += a;
+  EXPECT_NEAR(area, mesh_area(s), 1e-12 * area);
+  EXPECT_NEAR(own.spacing_min_m, (2.0 + diag) * small / 3.0 / 3.0, 1e-15);
+  EXPECT_DOUBLE_EQ(plain.spacing_min_m, mean / 3.0);
+  EXPECT_THROW(sample_surface(s, mean / 3.0, -0.1), InputError);
 }
 
 }  // namespace

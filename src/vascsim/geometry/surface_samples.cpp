@@ -24,25 +24,34 @@ Vec3 lifted(const std::array<Vec3, 3>& P, const std::array<Vec3, 3>& N, const Ve
 
 }  // namespace
 
-SurfaceSamples sample_surface(const RenderSurface& surface, double spacing_m) {
+SurfaceSamples sample_surface(const RenderSurface& surface, double spacing_m, double own_edge_fraction) {
   if (!(spacing_m > 0.0) || !std::isfinite(spacing_m))
     throw InputError(fmt::format("surface samples: the spacing must be a positive length in metres (got {})", spacing_m));
+  if (!(own_edge_fraction >= 0.0) || !std::isfinite(own_edge_fraction))
+    throw InputError(fmt::format(
+        "surface samples: the fraction of a triangle's own edge must be >= 0 (got {})", own_edge_fraction));
   const bool have_normals = surface.rest_normals.size() == surface.rest_vertices.size();
   std::vector<int> m_of(surface.triangles.size());
-  double count = 0.0;
+  double count = 0.0, finest = spacing_m;
   for (std::size_t t = 0; t < surface.triangles.size(); ++t) {
     const auto& tri = surface.triangles[t];
     const Vec3& a = surface.rest_vertices[tri[0]];
     const Vec3& b = surface.rest_vertices[tri[1]];
     const Vec3& c = surface.rest_vertices[tri[2]];
-    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-    m_of[t] = std::max(1, static_cast<int>(std::ceil(longest / spacing_m - 1e-9)));
+    const double ab = (b - a).norm(), bc = (c - b).norm(), ca = (a - c).norm();
+    const double longest = std::max({ab, bc, ca});
+    double spacing = spacing_m;
+    if (own_edge_fraction > 0.0 && ab + bc + ca > 0.0)
+      spacing = std::min(spacing, own_edge_fraction * (ab + bc + ca) / 3.0);
+    finest = std::min(finest, spacing);
+    m_of[t] = std::max(1, static_cast<int>(std::ceil(longest / spacing - 1e-9)));
     count += static_cast<double>(m_of[t]) * m_of[t];
   }
   if (count > 2e7)
     throw InputError(fmt::format("surface samples: {:.3g} samples at a spacing of {:.3g} m; use a larger spacing",
                                  count, spacing_m));
   SurfaceSamples out;
+  out.spacing_min_m = finest;
   out.positions.reserve(static_cast<std::size_t>(count));
   out.normals.reserve(static_cast<std::size_t>(count));
   out.area_m2.reserve(static_cast<std::size_t>(count));

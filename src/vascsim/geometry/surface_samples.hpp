@@ -21,11 +21,15 @@ struct SurfaceSamples {
   Vec3Array barycentric;        ///< its barycentric coordinates there (weights of the triangle's vertices)
   std::vector<char> smooth;  ///< 1 where its triangle is smooth (the sample lifted onto the curved surface)
   int subdivisions_max = 1;     ///< the largest m used
+  double spacing_min_m = 0.0;   ///< the finest spacing a triangle was sampled at (own_edge_fraction), m
 };
 
-/// Samples `surface` at about `spacing_m` (> 0). Normals that differ from the face normal by more than 30
+/// Samples `surface` at about `spacing_m` (> 0). With own_edge_fraction > 0 a triangle is sampled no farther
+/// apart than that fraction of its own mean edge (m >= ceil(longest edge / (fraction x mean edge))): a graded
+/// lattice's fine triangles then get as many samples as a uniform lattice's, where one spacing from the whole
+/// surface's mean edge would leave them one or two. Normals that differ from the face normal by more than 30
 /// degrees (a crease: a box's edge, a vessel's rim) keep that triangle flat. Throws InputError for a
-/// non-positive spacing or more than 2e7 samples.
-SurfaceSamples sample_surface(const RenderSurface& surface, double spacing_m);
+/// non-positive spacing, a negative fraction or more than 2e7 samples.
+SurfaceSamples sample_surface(const RenderSurface& surface, double spacing_m, double own_edge_fraction = 0.0);
 
 }  // namespace vascsim

@@ -90,11 +90,16 @@ std::shared_ptr<const ContactSurface> build_contact_surface(const Scene& scene, 
   const RenderSurface& surf = *body.surface;
   const ContactSpec& spec = scene.contact;
   auto out = std::make_shared<ContactSurface>();
-  out->sample_spacing_m = spec.sample_spacing_m > 0.0 ? spec.sample_spacing_m : mean_edge(surf) / 3.0;
+  // The default: a third of the surface's mean edge, and on each triangle at least a third of its own, so
+  // that a graded lattice's fine window, under the tool, is sampled as densely as a uniform lattice
+  // (docs/model.md 22.5).
+  constexpr double kEdgeFraction = 1.0 / 3.0;
+  const bool asked = spec.sample_spacing_m > 0.0;
+  out->sample_spacing_m = asked ? spec.sample_spacing_m : kEdgeFraction * mean_edge(surf);
   out->stiffness_pa_per_m = spec.stiffness_pa_per_m > 0.0
                                 ? spec.stiffness_pa_per_m
                                 : 100.0 * scene.material.youngs_modulus_pa / disc.mean_spacing();
-  const SurfaceSamples samples = sample_surface(surf, out->sample_spacing_m);
+  const SurfaceSamples samples = sample_surface(surf, out->sample_spacing_m, asked ? 0.0 : kEdgeFraction);
   const auto nv = samples.positions.size();
 
   // Which samples interpolate their triangle's nodes; the others take the MLS map.
@@ -175,6 +180,7 @@ std::shared_ptr<const ContactSurface> build_contact_surface(const Scene& scene, 
   out->finish();
   report.samples = static_cast<Index>(nv);
   report.spacing_m = out->sample_spacing_m;
+  report.spacing_min_m = samples.spacing_min_m;
   report.stiffness_pa_per_m = out->stiffness_pa_per_m;
   return out;
 }

@@ -25,7 +25,8 @@ struct ContactSurfaceReport {
   Index interpolated = 0;  ///< samples with barycentric shape functions
   Index quadratic = 0;     ///< samples with the quadratic fit's shape functions
   Index node_samples = 0;  ///< nodes below the surface, samples of their own
-  double spacing_m = 0.0;
+  double spacing_m = 0.0;  ///< the spacing asked, or a third of the surface's mean edge, m
+  double spacing_min_m = 0.0;  ///< the finest a triangle was sampled at (a third of its own mean edge), m
   double stiffness_pa_per_m = 0.0;
 };
 

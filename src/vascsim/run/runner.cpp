@@ -96,6 +96,7 @@ static nlohmann::json contact_info(const Simulation& sim) {
           {"quadratic_samples", r->quadratic},
           {"node_samples", r->node_samples},
           {"sample_spacing_m", r->spacing_m},
+          {"sample_spacing_min_m", r->spacing_min_m},
           {"stiffness_pa_per_m", r->stiffness_pa_per_m}};
 }
 

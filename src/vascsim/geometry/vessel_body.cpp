@@ -177,4 +177,21 @@ Body body_from_lattice(NodeCloud cloud) {
   return b;
 }
 
+double mean_node_radius_m(const Body& body) {
+  const WallCoordinates& wall = *body.wall;
+  const Vec3Array& X = body.cloud.positions;
+  double radius = 0.0;
+  for (std::size_t i = 0; i < X.size(); ++i) radius += (X[i] - wall.centerline->position(wall.s_m[i])).norm();
+  return radius / static_cast<double>(X.size());
+}
+
+double along_wall_spacing_m(const Body& body) {
+  if (!body.wall) return body.cloud.spacing_m;
+  const WallCoordinates& wall = *body.wall;
+  if (!wall.has_centerline() || !(wall.angle_step_deg > 0.0) || !(wall.s_step_m > 0.0) ||
+      body.cloud.positions.empty())
+    return body.cloud.spacing_m;
+  return std::sqrt(mean_node_radius_m(body) * wall.angle_step_deg * std::numbers::pi / 180.0 * wall.s_step_m);
+}
+
 }  // namespace vascsim

@@ -104,4 +104,14 @@ Body body_from_mesh_wall(MeshWall wall);
 /// nodes themselves (every face "outer").
 Body body_from_lattice(NodeCloud cloud);
 
+/// A wall swept along a centre-line: the nodes' mean distance from it, m. Requires body.wall with a
+/// centre-line.
+double mean_node_radius_m(const Body& body);
+
+/// The lattice's node spacing along the wall, m: the square root of the wall area per column and
+/// cross-section at the mean node radius, sqrt(r Delta_theta Delta_s), when the wall is swept along a
+/// centre-line (the finest steps on a graded lattice); the generator's nominal spacing otherwise. A lattice
+/// fitted to a patch (geometry.fit_lattice_to_patch) differs from the nominal spacing by up to a factor 1.5.
+double along_wall_spacing_m(const Body& body);
+
 }  // namespace vascsim

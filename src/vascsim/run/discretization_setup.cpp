@@ -12,26 +12,6 @@ namespace vascsim {
 
 namespace {
 
-// The nodes' mean distance from the centre-line, m.
-double mean_node_radius(const Body& body) {
-  const WallCoordinates& wall = *body.wall;
-  const Vec3Array& X = body.cloud.positions;
-  double radius = 0.0;
-  for (std::size_t i = 0; i < X.size(); ++i) radius += (X[i] - wall.centerline->position(wall.s_m[i])).norm();
-  return radius / static_cast<double>(X.size());
-}
-
-// The lattice's node spacing along the wall: the square root of the wall area per column and cross-section at the
-// mean node radius, sqrt(r Delta_theta Delta_s), when the wall is swept along a centre-line; the generator's
-// nominal spacing otherwise. A lattice fitted to a patch (geometry.fit_lattice_to_patch) differs from the nominal
-// spacing by up to a factor 1.5, and its supports must follow the nodes it has, not the number that was asked.
-double along_wall_spacing(const Body& body) {
-  const WallCoordinates& wall = *body.wall;
-  if (!wall.has_centerline() || !(wall.angle_step_deg > 0.0) || !(wall.s_step_m > 0.0) || body.cloud.positions.empty())
-    return body.cloud.spacing_m;
-  return std::sqrt(mean_node_radius(body) * wall.angle_step_deg * std::numbers::pi / 180.0 * wall.s_step_m);
-}
-
 // Per node, its cell along the wall (WallQuadrature::GaussCell): on a wall swept along a centre-line, the column
 // step around it (r_i Delta_theta, perpendicular to the normal and the centre-line) by the cross-section step along
 // it (Delta_s along the centre-line's tangent, longer on the outside of a bend, halved and shifted inwards at the
@@ -86,7 +66,7 @@ std::vector<DiscretizationOptions::WallCell> wall_cells(const Body& body) {
 void graded_wall_supports(const Body& body, DiscretizationOptions& o) {
   const WallCoordinates& wall = *body.wall;
   if (wall.cells.empty()) return;
-  const double radius = mean_node_radius(body), D = wall.layer_spacing_m;
+  const double radius = mean_node_radius_m(body), D = wall.layer_spacing_m;
   for (std::size_t i = 0; i < wall.cells.size(); ++i) {
     const LatticeCell& c = wall.cells[i];
     // A cell at a vessel's end is half a step long; the spacing there is its neighbour's full step.
@@ -110,7 +90,7 @@ DiscretizationOptions discretization_options(const Scene& scene, const Body& bod
                      "type 'vessel' or 'tube'); use 'isotropic'");
   o.wall_normals = body.wall->outward;
   o.wall_depths = body.wall->depth_m;
-  o.wall_stretch = std::max(1.0, along_wall_spacing(body) / body.wall->layer_spacing_m);
+  o.wall_stretch = std::max(1.0, along_wall_spacing_m(body) / body.wall->layer_spacing_m);
   graded_wall_supports(body, o);
   o.wall_thickness_m = body.wall->thickness_m;
   o.wall_layer_spacing_m = body.wall->layer_spacing_m;

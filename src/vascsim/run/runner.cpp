@@ -11,6 +11,7 @@
 #include "vascsim/core/stopwatch.hpp"
 #include "vascsim/model/integration_constraint.hpp"
 #include "vascsim/model/registry.hpp"
+#include "vascsim/run/contact_resolution.hpp"
 #include "vascsim/run/output_writer.hpp"
 #include "vascsim/run/tool_reach.hpp"
 #include "vascsim/run/tool_series.hpp"
@@ -165,22 +166,31 @@ namespace {
 // What a run finds suspicious, gathered step by step (records are not kept: a dynamic run may have 10^6).
 class RunFindings {
  public:
-  explicit RunFindings(const Scene& scene) : scene_(scene), touched_(scene.obstacles.size(), false) {}
+  RunFindings(const Scene& scene, const Body& body) : scene_(scene), touched_(scene.obstacles.size(), false) {
+    const double spacing = along_wall_spacing_m(body);
+    for (const RigidObstacle& tool : scene.obstacles)
+      resolution_.emplace_back(tool.name, tool.radius_m, scene.material.youngs_modulus_pa,
+                               scene.material.poisson_ratio, spacing);
+  }
 
   void add(const StepRecord& r) {
     bool contact = false;
     for (std::size_t o = 0; o < r.obstacles.size() && o < touched_.size(); ++o) {
       contact = contact || r.obstacles[o].contacts > 0;
       touched_[o] = touched_[o] || r.obstacles[o].contacts > 0 || r.obstacles[o].force_n.norm() > 0.0;
+      resolution_[o].add(r.obstacles[o].displacement_m, r.obstacles[o].force_n.norm());
     }
     unconverged_in_contact_ += !r.report.converged && contact ? 1 : 0;
     ++records_;
   }
 
-  /// One line each: a tool that never touched the tissue, load steps that did not converge while a tool was in
-  /// contact (with the load_steps value to try).
+  /// One line each: a tool that never touched the tissue, a tool whose contact the lattice did not resolve
+  /// (run/contact_resolution.hpp), load steps that did not converge while a tool was in contact (with the
+  /// load_steps value to try).
   std::vector<std::string> warnings(int load_steps) const {
     std::vector<std::string> out;
+    for (const ContactResolution& r : resolution_)
+      if (auto w = r.warning()) out.push_back(*w);
     for (std::size_t o = 0; o < touched_.size(); ++o)
       if (!touched_[o] && records_ > 1)
         out.push_back(fmt::format("the tool '{}' never touched the tissue (no contact and zero force at all {} "
@@ -197,6 +207,7 @@ class RunFindings {
  private:
   const Scene& scene_;
   std::vector<bool> touched_;
+  std::vector<ContactResolution> resolution_;  // per tool
   int unconverged_in_contact_ = 0;
   std::size_t records_ = 0;
 };
@@ -244,7 +255,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   };
 
   nlohmann::json steps = nlohmann::json::array();
-  RunFindings findings(scene);
+  RunFindings findings(scene, sim.body());
   auto record = [&](const StepRecord& r) {
     probes.add_row(csv_row(r));
     steps.push_back(step_json(scene, r));

@@ -44,6 +44,13 @@ TEST(ContactResolution, WarnsUpToTheDeepestUnderResolvedStep) {
   ContactResolution untouched("probe", R, E, nu, 1.0e-3);
   untouched.add(1e-3, 0.0);
   EXPECT_FALSE(untouched.warning().has_value());
+  // A tool that does not move is named without a depth.
+  ContactResolution fixed("wall_probe", R, E, nu, 1.0e-3);
+  fixed.add(0.0, 43.23e-3);
+  ASSERT_TRUE(fixed.warning().has_value());
+  const std::string f = *fixed.warning();
+  EXPECT_EQ(f.find("of its push"), std::string::npos) << f;
+  EXPECT_NE(f.find("'wall_probe' was narrower than the lattice resolves: its Hertz"), std::string::npos) << f;
 }
 
 }  // namespace

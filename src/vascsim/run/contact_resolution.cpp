@@ -31,17 +31,15 @@ void ContactResolution::add(double displacement_m, double force_n) {
 
 std::optional<std::string> ContactResolution::warning() const {
   if (depth_m_ < 0.0) return std::nullopt;
+  // A tool that does not move (displacement 0) is named without a depth.
+  const std::string where = depth_m_ > 0.0 ? fmt::format(" up to {:.3g} mm of its push", depth_m_ * 1e3) : "";
   return fmt::format(
-      "the contact of the tool '{}' was narrower than the lattice resolves up to {:.3g} mm of its push: its "
-      "Hertz "
-      "diameter 2 (3 F R / (4 E*))^(1/3) is {:.3g} mm there, {:.2g} node spacings of {:.3g} mm; below about "
-      "{:.1f} "
-      "spacings the force depends on where the nodes fall, by up to 4-6 % at one spacing "
-      "(docs/validation.md, \"The "
-      "contact's onset\"). A finer lattice under the tool (geometry.node_spacing_m, geometry.refine) removes "
-      "it",
-      tool_, depth_m_ * 1e3, diameter_m_ * 1e3, diameter_m_ / spacing_m_, spacing_m_ * 1e3,
-      kResolvedContactSpacings);
+      "the contact of the tool '{}' was narrower than the lattice resolves{}: its Hertz diameter "
+      "2 (3 F R / (4 E*))^(1/3) is {:.3g} mm there, {:.2g} node spacings of {:.3g} mm; below about "
+      "{:.1f} spacings the force depends on where the nodes fall, by up to 4-6 % at one spacing "
+      "(docs/validation.md, \"The contact's onset\"). A finer lattice under the tool "
+      "(geometry.node_spacing_m, geometry.refine) removes it",
+      tool_, where, diameter_m_ * 1e3, diameter_m_ / spacing_m_, spacing_m_ * 1e3, kResolvedContactSpacings);
 }
 
 }  // namespace vascsim

@@ -174,33 +174,43 @@ def reference(case, steps):
     return [(float(r[keys[0]]), float(r[keys[1]])) for r in rows]
 
 
-def main():
-    if len(sys.argv) != 4 or sys.argv[2] not in CASES:
-        sys.exit(f"usage: check_reference_case.py VASCSIM CASE WORKDIR (CASE one of {', '.join(CASES)})")
-    vascsim, case, work = sys.argv[1:]
-    scene, column, sets, steps, bounds = CASES[case]
+def run_vascsim(vascsim, scene, sets, work, label):
+    """quasi_static on a scene (a path under the repository) with the given overrides; its summary.json."""
     cmd = [vascsim, "-q", "run", os.path.join(ROOT, scene), "--set", "model=quasi_static", "--out", work]
     for s in sets:
         cmd += ["--set", s]
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
-        sys.exit(f"{case}: vascsim failed ({r.returncode}): {r.stderr.strip()}")
+        sys.exit(f"{label}: vascsim failed ({r.returncode}): {r.stderr.strip()}")
     with open(os.path.join(work, "summary.json")) as f:
-        summary = json.load(f)
+        return json.load(f)
+
+
+def compare(label, k, x, y, x_ref, y_ref, bound):
+    """One load step against the reference: prints the error and whether it is within the bound (|error| <= b,
+    or lo <= error <= hi for a pair, a case whose sign matters); True if it is."""
+    if abs(x - x_ref) > 1e-6 * abs(x_ref):
+        sys.exit(f"{label}: step {k + 1} is at {x:.6g}, the reference's at {x_ref:.6g}")
+    err = y / y_ref - 1.0
+    lo, hi = bound if isinstance(bound, tuple) else (-bound, bound)
+    ok = lo <= err <= hi
+    print(f"{label}: step {k + 1} at {x:.4g}: vascsim {y:.6g}, reference {y_ref:.6g}, error {100 * err:+.2f} % "
+          f"(bounds {100 * lo:+.1f} to {100 * hi:+.1f} %) {'ok' if ok else 'FAILED'}")
+    return ok
+
+
+def main():
+    if len(sys.argv) != 4 or sys.argv[2] not in CASES:
+        sys.exit(f"usage: check_reference_case.py VASCSIM CASE WORKDIR (CASE one of {', '.join(CASES)})")
+    vascsim, case, work = sys.argv[1:]
+    scene, column, sets, steps, bounds = CASES[case]
+    summary = run_vascsim(vascsim, scene, sets, work, case)
     ref = reference(case, steps)
     failed = 0
     for k, (st, (x_ref, y_ref)) in enumerate(zip(summary["steps"][1:], ref)):
         reg = st["regions"][column]
         x, y = (reg["force_n"], reg["displacement_m"]) if case == "cantilever" else (reg["displacement_m"], reg["force_n"])
-        if abs(x - x_ref) > 1e-6 * abs(x_ref):
-            sys.exit(f"{case}: step {k + 1} is at {x:.6g}, the reference's at {x_ref:.6g}")
-        err = y / y_ref - 1.0
-        # A bound is |error| <= b, or lo <= error <= hi for a pair (a case whose sign matters).
-        lo, hi = bounds[k] if isinstance(bounds[k], tuple) else (-bounds[k], bounds[k])
-        ok = lo <= err <= hi
-        failed += 0 if ok else 1
-        print(f"{case}: step {k + 1} at {x:.4g}: vascsim {y:.6g}, reference {y_ref:.6g}, error {100 * err:+.2f} % "
-              f"(bounds {100 * lo:+.1f} to {100 * hi:+.1f} %) {'ok' if ok else 'FAILED'}")
+        failed += 0 if compare(case, k, x, y, x_ref, y_ref, bounds[k]) else 1
     print(f"check_reference_case {case}: {steps - failed} passed, {failed} failed ({summary['nodes']} nodes)")
     return 1 if failed else 0
 

@@ -40,6 +40,9 @@ TEST(ContactResolution, WarnsUpToTheDeepestUnderResolvedStep) {
   EXPECT_NE(w.find("'probe'"), std::string::npos) << w;
   EXPECT_NE(w.find("up to 0.5 mm"), std::string::npos) << w;
   EXPECT_NE(w.find("1.28 mm"), std::string::npos) << w;
+  // The first step's 2a = 1.01 mm over 1.4 spacings: 0.722 mm resolves every step, and the message says so.
+  EXPECT_NEAR(coarse.resolving_spacing_m(), hertz_contact_diameter_m(force[0], R, E, nu) / 1.4, 1e-15);
+  EXPECT_NE(w.find("at most 0.722 mm"), std::string::npos) << w;
   EXPECT_FALSE(fine.warning().has_value()) << *fine.warning();
   ContactResolution untouched("probe", R, E, nu, 1.0e-3);
   untouched.add(1e-3, 0.0);

@@ -23,10 +23,15 @@ ContactResolution::ContactResolution(std::string tool, double tip_radius_m, doub
 
 void ContactResolution::add(double displacement_m, double force_n) {
   const double d = hertz_contact_diameter_m(std::abs(force_n), radius_m_, youngs_pa_, poisson_);
+  if (d > 0.0 && (narrowest_m_ == 0.0 || d < narrowest_m_)) narrowest_m_ = d;
   if (d > 0.0 && spacing_m_ > 0.0 && d < kResolvedContactSpacings * spacing_m_ && displacement_m > depth_m_) {
     depth_m_ = displacement_m;
     diameter_m_ = d;
   }
+}
+
+double ContactResolution::resolving_spacing_m() const {
+  return narrowest_m_ / kResolvedContactSpacings;
 }
 
 std::optional<std::string> ContactResolution::warning() const {
@@ -37,9 +42,10 @@ std::optional<std::string> ContactResolution::warning() const {
       "the contact of the tool '{}' was narrower than the lattice resolves{}: its Hertz diameter "
       "2 (3 F R / (4 E*))^(1/3) is {:.3g} mm there, {:.2g} node spacings of {:.3g} mm; below about "
       "{:.1f} spacings the force depends on where the nodes fall, by up to 4-6 % at one spacing "
-      "(docs/validation.md, \"The contact's onset\"). A finer lattice under the tool "
-      "(geometry.node_spacing_m, geometry.refine) removes it",
-      tool_, where, diameter_m_ * 1e3, diameter_m_ / spacing_m_, spacing_m_ * 1e3, kResolvedContactSpacings);
+      "(docs/validation.md, \"The contact's onset\"). A node spacing of at most {:.3g} mm under the tool "
+      "resolves it from the first loaded step (geometry.node_spacing_m, or geometry.refine round the tool)",
+      tool_, where, diameter_m_ * 1e3, diameter_m_ / spacing_m_, spacing_m_ * 1e3, kResolvedContactSpacings,
+      resolving_spacing_m() * 1e3);
 }
 
 }  // namespace vascsim

@@ -26,13 +26,18 @@ class ContactResolution {
                     double node_spacing_m);
   /// One load step: the tool's displacement (m) and the force it exerts along its motion (N).
   void add(double displacement_m, double force_n);
-  /// One line if some step's contact was under-resolved, naming the depth up to which it was.
+  /// The node spacing along the wall that would have resolved every loaded step's contact so far: the
+  /// narrowest Hertz diameter over kResolvedContactSpacings, m (0 before the tool carries a load).
+  double resolving_spacing_m() const;
+  /// One line if some step's contact was under-resolved, naming the depth up to which it was and the spacing
+  /// that would resolve it.
   std::optional<std::string> warning() const;
 
  private:
   std::string tool_;
   double radius_m_, youngs_pa_, poisson_, spacing_m_;
   double depth_m_ = -1.0, diameter_m_ = 0.0;  // the deepest under-resolved step
+  double narrowest_m_ = 0.0;                  // the smallest Hertz diameter of a loaded step
 };
 
 }  // namespace vascsim

@@ -242,6 +242,58 @@ TEST(GradedLattice, SupportsReachTwoStepsAlongBothSidesOfLongCells) {
   EXPECT_GT(with_mean, 0.1);
 }
 
+// The centre-line point nearest a point: on the bent aorta's arch and on a leg, a point 12.5 mm out from the
+// centre-line along any normal projects back to its own arc length (to 1e-9 m; golden-section search to 1e-12
+// of the length, the rest round-off; the nearest sample alone is up to 0.13 mm off); past an end it projects
+// to the end.
+TEST(GradedLattice, ThePointNearestAToolProjectsOntoItsArcLength) {
+  const Centerline arch = bent_centerline(30e-3, 180.0, 10e-3);
+  for (double s : {3e-3, 10e-3, 0.37 * arch.length(), 0.5 * arch.length(), arch.length() - 4e-3})
+    for (double angle_deg : {0.0, 90.0, 180.0, 250.0}) {
+      const Frame f = arch.frame(s);
+      const double a = angle_deg * kPi / 180.0;
+      const Vec3 p = arch.position(s) + 12.5e-3 * (std::cos(a) * f.N + std::sin(a) * f.B);
+      EXPECT_NEAR(arch.closest_arc_length(p), s, 1e-9) << "s " << s << " angle " << angle_deg;
+    }
+  EXPECT_NEAR(arch.closest_arc_length(arch.position(0.0) - 5e-3 * arch.tangent(0.0)), 0.0, 1e-9);
+  EXPECT_NEAR(arch.closest_arc_length(arch.position(arch.length()) + 5e-3 * arch.tangent(arch.length())),
+              arch.length(), 1e-9);
+}
+
+// geometry.refine.around: the window centred on the probe at the arch's crown (its tip at 180 deg,
+// mid-length) builds the lattice that the explicit centre does, node for node (1e-9 m: the projection's
+// tolerance moves the window's centre by less), and the window turns with a tool moved round the vessel.
+TEST(GradedLattice, AWindowAroundAToolIsCentredOnIt) {
+  nlohmann::json explicit_centre = graded_aorta();
+  explicit_centre["obstacles"] = nlohmann::json::parse(
+      R"([{ "name": "probe", "shape": "catheter", "diameter_m": 10e-3, "length_m": 20e-3,
+            "tip_m": [30e-3, 0, 52.5e-3], "direction": [0, 0, -1], "push_m": 1e-3 }])");
+  explicit_centre["regions"].erase(2);
+  nlohmann::json around = explicit_centre;
+  for (const char* key : {"angle_center_deg", "s_center_fraction"}) around["geometry"]["refine"].erase(key);
+  around["geometry"]["refine"]["around"] = "probe";
+  auto largest_difference = [](const nlohmann::json& x, const nlohmann::json& y) {
+    const Body a = build_body(parse_scene(x, "graded.json").geometry);
+    const Body b = build_body(parse_scene(y, "graded.json").geometry);
+    EXPECT_EQ(a.cloud.positions.size(), b.cloud.positions.size());
+    double largest = a.cloud.positions.size() == b.cloud.positions.size() ? 0.0 : 1.0;
+    for (std::size_t i = 0; i < std::min(a.cloud.positions.size(), b.cloud.positions.size()); ++i)
+      largest = std::max(largest, (a.cloud.positions[i] - b.cloud.positions[i]).norm());
+    return largest;
+  };
+  EXPECT_LT(largest_difference(explicit_centre, around), 1e-9);
+  // The probe moved a quarter turn round the crown's cross-section, to the arch's side (+y, the frame's B
+  // there: 90 deg): the window follows it, and differs from the crown's.
+  nlohmann::json side = around, side_explicit = explicit_centre;
+  for (nlohmann::json* doc : {&side, &side_explicit}) {
+    (*doc)["obstacles"][0]["tip_m"] = {30e-3, 12.5e-3, 40e-3};
+    (*doc)["obstacles"][0]["direction"] = {0, -1, 0};
+  }
+  side_explicit["geometry"]["refine"]["angle_center_deg"] = 90;
+  EXPECT_LT(largest_difference(side_explicit, side), 1e-9);
+  EXPECT_GT(largest_difference(explicit_centre, side), 1e-3);
+}
+
 TEST(GradedLattice, BadRefinementIsAnInputError) {
   auto fails = [](const nlohmann::json& doc, const char* what) {
     const std::string message = test::scene_error(doc, "graded.json");
@@ -264,6 +316,14 @@ TEST(GradedLattice, BadRefinementIsAnInputError) {
       {"type", "tube"},   {"outer_radius_m", 1.5e-3}, {"wall_thickness_m", 0.3e-3},
       {"length_m", 0.02}, {"node_spacing_m", 0.3e-3}, {"refine", graded_aorta()["geometry"]["refine"]}};
   fails(tube, "refine");
+  nlohmann::json nobody = graded_aorta();
+  nobody["geometry"]["refine"].erase("angle_center_deg");
+  nobody["geometry"]["refine"].erase("s_center_fraction");
+  nobody["geometry"]["refine"]["around"] = "probe";
+  fails(nobody, "no obstacle named 'probe'");
+  nlohmann::json both = graded_aorta();
+  both["geometry"]["refine"]["around"] = "probe";
+  fails(both, "leave it out");
 }
 
 }  // namespace

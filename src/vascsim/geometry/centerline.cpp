@@ -193,6 +193,30 @@ Vec3 Centerline::position(double s) const {
   return eval(seg, t);
 }
 
+double Centerline::closest_arc_length(const Vec3& p) const {
+  if (!p.allFinite()) throw InputError("centerline: the point to project is not finite");
+  std::size_t nearest = 0;
+  for (std::size_t k = 1; k < samples_.size(); ++k)
+    if ((samples_[k].x - p).squaredNorm() < (samples_[nearest].x - p).squaredNorm()) nearest = k;
+  // The distance is unimodal between the neighbouring samples (a few degrees of turn apart).
+  double lo = samples_[nearest == 0 ? 0 : nearest - 1].s;
+  double hi = samples_[std::min(nearest + 1, samples_.size() - 1)].s;
+  const double inv_phi = (std::sqrt(5.0) - 1.0) / 2.0;
+  auto dist2 = [&](double s) { return (position(s) - p).squaredNorm(); };
+  double a = hi - inv_phi * (hi - lo), b = lo + inv_phi * (hi - lo);
+  double fa = dist2(a), fb = dist2(b);
+  while (hi - lo > 1e-12 * std::max(1.0, length_)) {
+    if (fa < fb) {
+      hi = b, b = a, fb = fa;
+      a = hi - inv_phi * (hi - lo), fa = dist2(a);
+    } else {
+      lo = a, a = b, fa = fb;
+      b = lo + inv_phi * (hi - lo), fb = dist2(b);
+    }
+  }
+  return 0.5 * (lo + hi);
+}
+
 Vec3 Centerline::tangent(double s) const {
   int seg = 0;
   double t = 0.0;

@@ -39,6 +39,10 @@ class Centerline {
   /// Rotation-minimising frame at arc length s. The frame at s = 0 has N = the coordinate axis least
   /// aligned with T, made orthogonal to T (a centre-line along +z gives N = x, B = y, as make_tube).
   Frame frame(double s) const;
+  /// Arc length of the centre-line point nearest to `p` (m): the nearest of the arc-length samples, then a
+  /// golden-section search between its neighbours. Where two points are about as near (p on the axis of a
+  /// circular arc), the first sample's side wins.
+  double closest_arc_length(const Vec3& p) const;
   /// Smallest radius of curvature, sampled at the Gauss and sample points of every segment, m.
   double min_radius_of_curvature() const { return min_radius_of_curvature_; }
   const Vec3Array& points() const { return points_; }

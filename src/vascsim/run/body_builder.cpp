@@ -1,5 +1,9 @@
 #include "vascsim/run/body_builder.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
 #include <fmt/format.h>
 
 #include "vascsim/core/error.hpp"
@@ -22,6 +26,25 @@ Body body_from_mesh(const MeshGeometrySpec& spec) {
   return body_from_mesh_wall(make_mesh_wall(mesh, ws));
 }
 
+// geometry.refine.around: the window's centre is the centre-line's point nearest the tool and the tool's
+// angle around it there.
+void centre_window_on(const std::string& tool, const Vec3& point_m, const Centerline& line,
+                      WallRefinement& w) {
+  const double s = line.closest_arc_length(point_m);
+  const Frame f = line.frame(s);
+  const Vec3 radial = point_m - line.position(s);
+  const Vec3 in_plane = radial - radial.dot(f.T) * f.T;
+  if (in_plane.norm() < 1e-9 * std::max(1.0, line.length()))
+    throw InputError(
+        fmt::format("geometry.refine.around: the obstacle '{}' stands on the centre-line, so it has no "
+                    "angle around it; give angle_center_deg and s_center_m instead",
+                    tool));
+  double theta = std::atan2(in_plane.dot(f.B), in_plane.dot(f.N)) * 180.0 / std::numbers::pi;
+  if (theta < 0.0) theta += 360.0;
+  w.angle_center_deg = theta;
+  w.s_center_m = s;
+}
+
 }  // namespace
 
 Body build_body(const GeometrySpec& spec) {
@@ -39,6 +62,8 @@ Body build_body(const GeometrySpec& spec) {
                        spec.tube.axial_nodes,    spec.refine};
     if (ss.refine.enabled && spec.refine_s_center_fraction >= 0.0)
       ss.refine.s_center_m = spec.refine_s_center_fraction * line->length();
+    if (ss.refine.enabled && !spec.refine_around.empty())
+      centre_window_on(spec.refine_around, spec.refine_around_point_m, *line, ss.refine);
     return body_from_swept_vessel(make_swept_vessel(*line, ss), line);
   }
   if (spec.type == "mesh") return body_from_mesh(spec.mesh);

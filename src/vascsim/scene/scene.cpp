@@ -91,12 +91,21 @@ void read_refinement(JsonReader& g, GeometrySpec& s) {
   if (w.node_spacing_m > s.tube.node_spacing_m)
     r.fail("node_spacing_m", fmt::format("{:.4g} m is coarser than geometry.node_spacing_m ({:.4g} m), the spacing "
                                          "away from the window", w.node_spacing_m, s.tube.node_spacing_m));
+  if (r.has("around")) {
+    // The window's centre is where the named obstacle stands (resolved once the obstacles are read).
+    s.refine_around = r.required_string("around");
+    for (const char* key : {"angle_center_deg", "s_center_m", "s_center_fraction"})
+      if (r.has(key))
+        r.fail(key, fmt::format("the window is centred on the obstacle '{}' (around); leave it out",
+                                s.refine_around));
+  }
   w.angle_center_deg = r.number("angle_center_deg", 0.0, -360.0, 360.0);
   w.angle_half_width_deg = r.required_number("angle_half_width_deg", 1e-6, 179.0);
   if (r.has("s_center_m") && r.has("s_center_fraction"))
     r.fail("s_center_m", "give s_center_m or s_center_fraction, not both");
   if (r.has("s_center_m")) w.s_center_m = r.required_number("s_center_m", 0.0, 100.0);
-  else s.refine_s_center_fraction = r.number("s_center_fraction", 0.5, 0.0, 1.0);
+  else if (s.refine_around.empty())
+    s.refine_s_center_fraction = r.number("s_center_fraction", 0.5, 0.0, 1.0);
   w.s_half_length_m = r.required_number("s_half_length_m", 1e-8, 100.0);
   w.margin_m = r.number("margin_m", 0.0, 0.0, 100.0);
   w.growth = r.number("growth", 1.2, 1.01, 3.0);
@@ -466,6 +475,21 @@ void read_probes(JsonReader& root, Scene& sc) {
   }
 }
 
+// geometry.refine.around: the named obstacle's tool point at rest, which build_body projects onto the
+// centre-line.
+void centre_refinement_on_tool(JsonReader& root, Scene& sc) {
+  GeometrySpec& g = sc.geometry;
+  if (g.refine_around.empty()) return;
+  for (const RigidObstacle& o : sc.obstacles)
+    if (o.name == g.refine_around) {
+      g.refine_around_point_m = o.tool_point_m;
+      return;
+    }
+  root.fail("geometry.refine.around",
+            fmt::format("no obstacle named '{}'{}", g.refine_around,
+                        sc.obstacles.empty() ? " (the scene has no obstacles)" : ""));
+}
+
 void read_tools(JsonReader& root, Scene& sc) {
   for (auto& o : root.array_of_objects("obstacles", false)) {
     RigidObstacle ob;
@@ -768,6 +792,7 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   read_probes(root, sc);
   sc.gravity_m_s2 = root.vec3("gravity_m_s2", Vec3::Zero());
   read_tools(root, sc);
+  centre_refinement_on_tool(root, sc);
   read_contact(root, sc);
   read_model_blocks(root, sc);
   read_haptics(root, file, sc);

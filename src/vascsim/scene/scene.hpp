@@ -55,6 +55,10 @@ struct GeometrySpec {
   /// length when that is >= 0.
   WallRefinement refine;
   double refine_s_center_fraction = -1.0;
+  /// vessel: geometry.refine.around, the obstacle the window is centred on (empty: the window's own centre),
+  /// and that obstacle's tool point at rest (m; the catheter's tip, the sphere's centre).
+  std::string refine_around;
+  Vec3 refine_around_point_m = Vec3::Zero();
   CenterlineSpec centerline;
   MeshGeometrySpec mesh;
   BoxSpec box;

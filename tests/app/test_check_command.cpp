@@ -69,22 +69,21 @@ TEST_P(BundledSceneSlow, CheckBuildsAndReports) {
   for (const auto& tool : report["tools"]) EXPECT_TRUE(tool["touches"].get<bool>()) << tool;
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, BundledSceneSlow,
-                         ::testing::Values("scenes/vein-indent.json", "scenes/cantilever.json",
-                                           "scenes/hand-dorsal-vein.json", "scenes/hand-dorsal-vein-catheter.json",
-                                           "scenes/aorta-bent.json", "scenes/aorta-bent-graded.json",
-                                           "scenes/aorta-bent-catheter.json",
-                                           "scenes/retinal-artery-twice-bent.json",
-                                           "scenes/realtime/hand-dorsal-vein.json",
-                                           "scenes/realtime/hand-dorsal-vein-catheter.json",
-                                           "scenes/realtime/aorta-bent.json",
-                                           "scenes/realtime/retinal-artery-twice-bent.json"),
-                         [](const ::testing::TestParamInfo<std::string>& info) {
-                           std::string name = info.param.substr(info.param.find('/') + 1);
-                           for (char& c : name)
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           return name;
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Scenes, BundledSceneSlow,
+    ::testing::Values("scenes/vein-indent.json", "scenes/cantilever.json", "scenes/hand-dorsal-vein.json",
+                      "scenes/hand-dorsal-vein-catheter.json", "scenes/hand-dorsal-vein-catheter-graded.json",
+                      "scenes/aorta-bent.json", "scenes/aorta-bent-graded.json",
+                      "scenes/aorta-bent-catheter.json", "scenes/retinal-artery-twice-bent.json",
+                      "scenes/realtime/hand-dorsal-vein.json",
+                      "scenes/realtime/hand-dorsal-vein-catheter.json", "scenes/realtime/aorta-bent.json",
+                      "scenes/realtime/retinal-artery-twice-bent.json"),
+    [](const ::testing::TestParamInfo<std::string>& info) {
+      std::string name = info.param.substr(info.param.find('/') + 1);
+      for (char& c : name)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+      return name;
+    });
 
 // ------------------------------------------------------------------------------------------------------------
 // Where run fails before solving, check fails the same way: same exit code, same message line.

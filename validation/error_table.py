@@ -14,8 +14,8 @@ from the same command). Writes OUT/error_table.csv (one row per case, resolution
 relative error), OUT/error_table.md (per case and resolution: nodes, the error at a few depths, the largest
 |error| where the reference is converged, solve time) and the figure (force or deflection against depth with the
 FEM reference band per case where it is converged, and the signed largest error where the reference is converged
-against the node count). For scale, the table and the last panel also show CalculiX's own mesh levels against their extrapolation,
-counted in nodes of the whole problem (four times the quarter model's). "Converged": the extrapolation's
+against the node count). For scale, the table and the last panel also show CalculiX's own mesh levels against their
+extrapolation, counted in nodes of the whole problem (four times the quarter model's). "Converged": the extrapolation's
 uncertainty is at most TRUSTED_UNCERTAINTY (5 %) of the force.
 """
 import argparse
@@ -276,14 +276,14 @@ def markdown(results):
         lines.append("|---" * (4 + len(picks)) + "|")
         for r in runs:
             errs = " | ".join(f"{100 * r['errors'][k]:+.1f} %" for k in picks)
-            worst = max(abs(r["errors"][k]) for k in trusted)
+            largest = abs(worst(r["errors"], trusted))
             note = f" ({r['unconverged']} steps unconverged)" if r["unconverged"] else ""
-            lines.append(f"| {r['label']} | {r['nodes']:,} | {errs} | {100 * worst:.1f} % | {r['solve_s']:.0f} s{note} |")
+            lines.append(f"| {r['label']} | {r['nodes']:,} | {errs} | {100 * largest:.1f} % | {r['solve_s']:.0f} s{note} |")
         # For scale, per node: the FEM's own levels against their extrapolation.
         for level, element, nodes, ys in read_fem_levels(case):
             errs = " | ".join(f"{100 * (ys[k] / ref[k][1] - 1):+.1f} %" for k in picks)
-            worst = max(abs(ys[k] / ref[k][1] - 1) for k in trusted)
-            lines.append(f"| CalculiX level {level} ({element}) | {nodes:,} | {errs} | {100 * worst:.1f} % | |")
+            largest = abs(worst([y / r[1] - 1 for y, r in zip(ys, ref)], trusted))
+            lines.append(f"| CalculiX level {level} ({element}) | {nodes:,} | {errs} | {100 * largest:.1f} % | |")
         lines.append("")
     return "\n".join(lines)
 

@@ -1,6 +1,7 @@
 #include "vascsim/model/discretization.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
@@ -371,9 +372,9 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
     esum.fill(Vec3::Zero());
     // Gauss points: the fit's gradient along the point direction u_k changes by c_ij^T M_k / h^2 per metre.
     std::array<Eigen::Matrix<double, 9, 3>, kMaxPointDirections> M;
-    // The cube's direction (the last with wall_cube) gets its vectors from add_wall_cube: the quadratic part
-    // of the gradient does not change with the square of the offset.
-    const std::size_t fitted = opt.wall_cube ? G - 1 : G;
+    // The directions of the offsets' products (the cubics', after the linear ones) get their vectors from
+    // add_wall_cube / add_wall_cubics: the quadratic part of the gradient does not change with them.
+    const std::size_t fitted = static_cast<std::size_t>(linear_directions_);
     for (std::size_t k = 0; k < G; ++k)
       M[k] = k < fitted ? monomial_hessians_along(basis, point_axes_[static_cast<std::size_t>(i) * G + k],
                                                   *fit_normal_or(i, opt))
@@ -394,7 +395,12 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
         pairs_.d[e] = t.w[a] * (Ainv * Xij);
       }
     }
-    if (opt.wall_cube && add_wall_cube(i, opt.wall_normals[static_cast<std::size_t>(i)], t.nbr, opt)) ++cubes;
+    if (opt.wall_cube) {
+      const bool mixed = opt.wall_cubics != DiscretizationOptions::WallCubics::Cube;
+      if ((mixed && add_wall_cubics(i, t.nbr, opt)) ||
+          add_wall_cube(i, opt.wall_normals[static_cast<std::size_t>(i)], t.nbr, opt))
+        ++cubes;
+    }
     for (Index e = pairs_.row_start[i]; e < pairs_.row_start[i + 1]; ++e) {
       dsum += pairs_.d[e];
       for (std::size_t k = 0; k < G; ++k) esum[k] += pairs_.e[static_cast<std::size_t>(e) * G + k];
@@ -412,7 +418,7 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
 // beta_j = w_j m~_j / sum_l w_l m~_l^2, and every quadratic coefficient loses c(y) times the quadratic fit's
 // coefficient of m: the node's gradient vectors d_ij and their derivatives e_ij,k lose beta_j times the
 // quadratic fit's gradient (and derivatives) of m. The cube's own gradient is zero at the node and
-// 3 o^2 / h^3 n at a point offset o along n: the last point direction, whose offset is o^2.
+// 3 o^2 / h^3 n at a point offset o along n: the first point direction after the linear ones, whose offset is o^2.
 bool Discretization::add_wall_cube(Index i, const Vec3& normal, const std::vector<Index>& nbr,
                                    const DiscretizationOptions& opt) {
   if (opt.wall_depths.size() == static_cast<std::size_t>(num_nodes()) &&
@@ -452,8 +458,113 @@ bool Discretization::add_wall_cube(Index i, const Vec3& normal, const std::vecto
     const double beta = pairs_.w[e] * residual[a] / S;
     pairs_.d[e] -= beta * gm;
     for (std::size_t k = 0; k < G; ++k) pairs_.e[e * G + k] -= beta * em[k];
-    // The cube's gradient 3 o^2 / h^3 n at the offset o along n: its own direction, the last.
-    if (G > 0) pairs_.e[e * G + G - 1] += beta * 3.0 / h3 * normal;
+    // The cube's gradient 3 o^2 / h^3 n at the offset o along n: its own direction, the first after the linear ones.
+    if (G > 0) pairs_.e[e * G + static_cast<std::size_t>(linear_directions_)] += beta * 3.0 / h3 * normal;
+  }
+  return true;
+}
+
+namespace {
+// The wall frame's coordinates (z through the wall, s1 and s2 along the cell's edges) as exponents: the six cubics
+// with a through-wall factor, z^3 (add_wall_cube's) first, and the six products of two coordinates, in the order of
+// the point directions after the linear ones. (The cubics along the wall alone, s1^3 ..., are left out: a support
+// that spans three columns along the wall cannot tell s^3 from s.)
+using Exponents = std::array<int, 3>;
+constexpr std::array<Exponents, 6> kCubics{{{3, 0, 0}, {2, 1, 0}, {2, 0, 1}, {1, 2, 0}, {1, 1, 1}, {1, 0, 2}}};
+constexpr std::array<Exponents, 6> kSquares{{{2, 0, 0}, {1, 1, 0}, {1, 0, 1}, {0, 2, 0}, {0, 1, 1}, {0, 0, 2}}};
+
+double monomial(const Exponents& e, const Vec3& c) {
+  double v = 1.0;
+  for (int k = 0; k < 3; ++k)
+    for (int p = 0; p < e[static_cast<std::size_t>(k)]; ++p) v *= c[k];
+  return v;
+}
+
+int square_index(const Exponents& e) {
+  for (std::size_t a = 0; a < kSquares.size(); ++a)
+    if (kSquares[a] == e) return static_cast<int>(a);
+  return -1;
+}
+}  // namespace
+
+// DiscretizationOptions::WallCubics::ThroughWall for node i (docs/model.md section 5.4): add_wall_cube's
+// elimination with R monomials m_r at once. With M~ the residuals of the m_r after the quadratic fit, the cubics'
+// coefficients are c_r(y) = sum_j beta_rj (y_j - y_i) with beta = S^-1 (w M~)^T, S = M~^T W M~ (R x R); every
+// quadratic coefficient loses sum_r c_r(y) times the quadratic fit's of m_r. A cubic's gradient is zero at the node
+// and quadratic in a point's offset: its derivatives go to the directions of the offsets' products. z^3 joins only
+// where the support holds four depths (add_wall_cube).
+bool Discretization::add_wall_cubics(Index i, const std::vector<Index>& nbr, const DiscretizationOptions& opt) {
+  const std::size_t ii = static_cast<std::size_t>(i), G = static_cast<std::size_t>(point_directions_);
+  const std::size_t L = static_cast<std::size_t>(linear_directions_);
+  if (L != 3 || G != L + kSquares.size()) return false;  // the cell's points (checked by place_wall_points)
+  const std::array<Vec3, 3> axes{opt.wall_normals[ii], point_axes_[ii * G + 1], point_axes_[ii * G + 2]};
+  const bool cube = opt.wall_depths.size() != static_cast<std::size_t>(num_nodes()) ||
+                    support_depths(i, nbr, opt) >= kCubeDepths;
+  const std::vector<Exponents> terms(kCubics.begin() + (cube ? 0 : 1), kCubics.end());
+  const Eigen::Index R = static_cast<Eigen::Index>(terms.size()), K = static_cast<Eigen::Index>(nbr.size());
+  const Index e0 = pairs_.row_start[i];
+  const double h = h_[i];
+  Eigen::MatrixXd m(K, R), residual(K, R);
+  Eigen::VectorXd w(K);
+  for (Eigen::Index a = 0; a < K; ++a) {
+    const Vec3 X = X_[nbr[static_cast<std::size_t>(a)]] - X_[i];
+    const Vec3 c(X.dot(axes[0]) / h, X.dot(axes[1]) / h, X.dot(axes[2]) / h);
+    for (Eigen::Index r = 0; r < R; ++r) m(a, r) = monomial(terms[static_cast<std::size_t>(r)], c);
+    w(a) = pairs_.w[static_cast<std::size_t>(e0 + a)];
+  }
+  for (Eigen::Index r = 0; r < R; ++r) {
+    Vec9 coeff = Vec9::Zero();  // the quadratic fit of m_r
+    for (Eigen::Index a = 0; a < K; ++a) coeff += fit_[static_cast<std::size_t>(e0 + a)] * m(a, r);
+    for (Eigen::Index a = 0; a < K; ++a)
+      residual(a, r) = m(a, r) - coeff.dot(quadratic_monomials(X_[nbr[static_cast<std::size_t>(a)]] - X_[i], h));
+  }
+  // Resolvable: the residuals' Gram matrix, scaled by each monomial's own weighted square, keeps its smallest
+  // eigenvalue above add_wall_cube's fraction.
+  const Eigen::MatrixXd S = residual.transpose() * w.asDiagonal() * residual;
+  const Eigen::VectorXd plain = (m.array().square().colwise() * w.array()).colwise().sum().transpose();
+  if (!(plain.minCoeff() > 0.0)) return false;
+  const Eigen::VectorXd scale = plain.cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd scaled = scale.asDiagonal() * S * scale.asDiagonal();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled, Eigen::EigenvaluesOnly);
+  if (!(eig.eigenvalues()(0) > kCubeResolvable)) return false;
+  Eigen::MatrixXd beta = S.ldlt().solve(residual.transpose() * w.asDiagonal());  // R x K
+  // The cubics' coefficients vanish on every quadratic field in exact arithmetic; the quadratic fit's B_i^-1
+  // (conditioned to 1e6) leaves a rounding of it that the elimination amplifies (a rigid motion's forces 200 times
+  // the cube's). Projecting each row of beta out of the span of the quadratic monomials over the stencil, with
+  // Householder's orthogonal basis of it, restores it to rounding.
+  Eigen::MatrixXd Pq(K, 9);
+  for (Eigen::Index a = 0; a < K; ++a)
+    Pq.row(a) = quadratic_monomials(X_[nbr[static_cast<std::size_t>(a)]] - X_[i], h).transpose();
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(Pq);
+  const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(K, 9);
+  beta -= (beta * Q) * Q.transpose();
+  // The quadratic fit's gradient of each m_r and its derivatives along the linear point directions.
+  std::vector<Vec3> gm(static_cast<std::size_t>(R), Vec3::Zero());
+  std::vector<std::array<Vec3, 3>> em(static_cast<std::size_t>(R));
+  for (Eigen::Index r = 0; r < R; ++r) {
+    em[static_cast<std::size_t>(r)].fill(Vec3::Zero());
+    for (Eigen::Index a = 0; a < K; ++a) {
+      const std::size_t e = static_cast<std::size_t>(e0 + a);
+      gm[static_cast<std::size_t>(r)] += pairs_.d[e] * m(a, r);
+      for (std::size_t k = 0; k < L; ++k) em[static_cast<std::size_t>(r)][k] += pairs_.e[e * G + k] * m(a, r);
+    }
+  }
+  const double h3 = h * h * h;
+  for (Eigen::Index a = 0; a < K; ++a) {
+    const std::size_t e = static_cast<std::size_t>(e0 + a);
+    for (Eigen::Index r = 0; r < R; ++r) {
+      const double b = beta(r, a);
+      const Exponents& ex = terms[static_cast<std::size_t>(r)];
+      pairs_.d[e] -= b * gm[static_cast<std::size_t>(r)];
+      for (std::size_t k = 0; k < L; ++k) pairs_.e[e * G + k] -= b * em[static_cast<std::size_t>(r)][k];
+      // d(z^a s1^b s2^c) = a z^(a-1) s1^b s2^c n + ... : each term a product of two offsets along an axis.
+      for (std::size_t k = 0; k < 3; ++k) {
+        if (ex[k] == 0) continue;
+        Exponents sq = ex;
+        --sq[k];
+        pairs_.e[e * G + L + static_cast<std::size_t>(square_index(sq))] += b * ex[k] / h3 * axes[k];
+      }
+    }
   }
   return true;
 }
@@ -479,7 +590,12 @@ void Discretization::place_wall_points(const DiscretizationOptions& opt) {
     throw InputError(fmt::format("discretization: Gauss points over the cell need each node's cell along the wall ({} "
                                  "for {} nodes)", opt.wall_cells.size(), n));
   energy_points_ = cell ? 8 : 2;
-  point_directions_ = (cell ? 3 : 1) + (opt.wall_cube ? 1 : 0);
+  const bool mixed = opt.wall_cube && opt.wall_cubics != DiscretizationOptions::WallCubics::Cube;
+  if (mixed && !cell)
+    throw InputError("discretization: the cubics along the wall (wall_cubics) need Gauss points over each node's "
+                     "cell (wall_quadrature 'gauss_cell'): their gradients vary along the wall");
+  linear_directions_ = cell ? 3 : 1;
+  point_directions_ = linear_directions_ + (mixed ? static_cast<int>(kSquares.size()) : opt.wall_cube ? 1 : 0);
   const std::size_t P = static_cast<std::size_t>(energy_points_), G = static_cast<std::size_t>(point_directions_);
   point_offset_.assign(static_cast<std::size_t>(n) * P * G, 0.0);
   point_axes_.resize(static_cast<std::size_t>(n) * G);
@@ -490,7 +606,7 @@ void Discretization::place_wall_points(const DiscretizationOptions& opt) {
     const double lo = std::max(d - half_step, 0.0), hi = std::min(d + half_step, t);
     const double centre = 0.5 * (lo + hi) - d, spread = hi > lo ? 0.5 * (hi - lo) * gauss : 0.0;
     point_axes_[ii * G] = opt.wall_normals[ii];
-    if (opt.wall_cube) point_axes_[ii * G + G - 1] = opt.wall_normals[ii];
+    for (std::size_t k = static_cast<std::size_t>(linear_directions_); k < G; ++k) point_axes_[ii * G + k] = opt.wall_normals[ii];
     std::array<double, 2> half_edge{0.0, 0.0}, along_centre{0.0, 0.0};
     if (cell)
       for (std::size_t k = 0; k < 2; ++k) {
@@ -504,10 +620,19 @@ void Discretization::place_wall_points(const DiscretizationOptions& opt) {
     for (std::size_t q = 0; q < P; ++q) {
       double* o = &point_offset_[(ii * P + q) * G];
       o[0] = (q & 1) ? centre + spread : centre - spread;
-      if (opt.wall_cube) o[G - 1] = o[0] * o[0];  // the cube's direction (add_wall_cube)
       if (cell) {
         o[1] = along_centre[0] + ((q & 2) ? half_edge[0] : -half_edge[0]);
         o[2] = along_centre[1] + ((q & 4) ? half_edge[1] : -half_edge[1]);
+      }
+      if (mixed) {
+        // The products of the point's wall-frame coordinates (add_wall_cubics), from its offset vector.
+        const std::size_t L = static_cast<std::size_t>(linear_directions_);
+        Vec3 P = Vec3::Zero();
+        for (std::size_t k = 0; k < L; ++k) P += o[k] * point_axes_[ii * G + k];
+        const Vec3 c(P.dot(point_axes_[ii * G]), P.dot(point_axes_[ii * G + 1]), P.dot(point_axes_[ii * G + 2]));
+        for (std::size_t a = 0; a < kSquares.size(); ++a) o[L + a] = monomial(kSquares[a], c);
+      } else if (opt.wall_cube) {
+        o[G - 1] = o[0] * o[0];  // the cube's direction (add_wall_cube)
       }
     }
   }

@@ -71,6 +71,12 @@ struct DiscretizationOptions {
   /// across the wall, as transverse shear makes it (docs/model.md section 5.3). Nodes whose neighbourhood
   /// cannot tell the cube from the quadratic monomials (a wall of three layers) keep the quadratic fit.
   bool wall_cube = false;
+  /// Which cubic monomials the wall fit adds to the quadratic basis with wall_cube (docs/model.md section 5.4), in
+  /// the node's wall frame (z through the wall, s1 s2 along the cell's edges): Cube, z^3 alone; ThroughWall, the six
+  /// cubics with a through-wall factor (z^3, z^2 s, z s s'), which a plate's bending under a varying moment and its
+  /// transverse shear are made of. ThroughWall needs WallQuadrature::GaussCell (the cubics' gradients at the points
+  /// vary with the products of their offsets).
+  enum class WallCubics { Cube, ThroughWall } wall_cubics = WallCubics::Cube;
   /// WallQuadrature::GaussCell: per node, its cell along the wall (filled by the simulation from the body's lattice).
   struct WallCell {
     std::array<Vec3, 2> edges;            ///< the cell's two edges along the wall (column and cross-section steps), m
@@ -159,9 +165,10 @@ class Discretization {
   int energy_points() const { return energy_points_; }
   /// The directions u_k a point's offset is measured along: 0 (one point per node), 1 (the wall normal) or 3
   /// (the normal and the cell's two edges along the wall); with the through-wall cube one more, the last,
-  /// whose "offset" is the square of the offset along the normal (m^2): the cube's gradient grows with it.
+  /// whose "offset" is the square of the offset along the normal (m^2): the cube's gradient grows with it; with
+  /// DiscretizationOptions::WallCubics::ThroughWall six more, the products of two of the three offsets.
   int point_directions() const { return point_directions_; }
-  static constexpr int kMaxPointDirections = 4;
+  static constexpr int kMaxPointDirections = 9;
   /// Point q of node i: its offset from the node along direction k, m (m^2 for the cube's direction).
   double point_offset(Index i, int q, int k = 0) const {
     return energy_points_ == 1
@@ -192,6 +199,9 @@ class Discretization {
   /// Fits the through-wall cube at node i (DiscretizationOptions::wall_cube); false where it is not resolvable.
   bool add_wall_cube(Index i, const Vec3& normal, const std::vector<Index>& nbr,
                      const DiscretizationOptions& opt);
+  /// Fits the cubics of DiscretizationOptions::WallCubics::ThroughWall at node i; false where they are not
+  /// resolvable (the caller then tries the cube alone).
+  bool add_wall_cubics(Index i, const std::vector<Index>& nbr, const DiscretizationOptions& opt);
   Eigen::MatrixXd quadratic_residual_operator(Index i) const;
   /// The wall normal the wall-quadratic basis fits node i in (nullptr for the other bases).
   const Vec3* fit_normal(Index i) const {
@@ -221,6 +231,7 @@ class Discretization {
   double wall_across_scale_ = 1.0;
   int energy_points_ = 1;
   int point_directions_ = 0;
+  int linear_directions_ = 0;  // the point directions whose offset is a length (the first ones)
   std::vector<double> point_offset_;  // energy_points x point_directions per node with Gauss points, m
   Vec3Array point_axes_;              // the point directions u_k per node (unit), point_directions per node
   Vec3Array self_e_;

@@ -393,6 +393,18 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
     disc.fail("wall_cube",
               "the through-wall cube extends the quadratic fit on a wall and needs discretization.basis "
               "'quadratic' and support 'wall' (a geometry of type 'tube' or 'vessel')");
+  // The cubics with a through-wall factor beside the cube (docs/model.md section 5.4): more accurate at the default
+  // resolutions, less at coarse ones, so not the default.
+  const bool cell_points = quadrature == "gauss_cell";
+  const std::string cubics = disc.string("wall_cubics", "cube", {"cube", "through_wall"});
+  sc.discretization.wall_cubics = cubics == "through_wall" ? DiscretizationOptions::WallCubics::ThroughWall
+                                                           : DiscretizationOptions::WallCubics::Cube;
+  if (cubics == "through_wall" && !sc.discretization.wall_cube)
+    disc.fail("wall_cubics", "'through_wall' extends the through-wall cube and needs discretization.wall_cube true");
+  if (cubics == "through_wall" && !cell_points)
+    disc.fail("wall_cubics", fmt::format("'through_wall' needs Gauss points over each node's cell (wall_quadrature "
+                                         "'gauss_cell', not '{}'): the cubics' gradients vary along the wall",
+                                         quadrature));
   sc.discretization.quadratic_min_neighbours = disc.integer("quadratic_min_neighbours", 18, 9, 200);
   sc.discretization.quadratic_min_eigen_ratio = disc.number("quadratic_min_eigen_ratio", 1e-6, 1e-14, 1.0);
   disc.finish();

@@ -150,9 +150,9 @@ TEST(WallCube, ThreeLayersKeepTheQuadraticFit) {
   EXPECT_EQ(diff, 0.0);
 }
 
-// The same on a curved wall (a tube, through the scene as a user builds it, with the cube alone): a neighbour on the node's own
-// layer lies off its tangent plane, so z^3 is not exactly a quadratic of z there, and only the count of the
-// support's depths tells three layers from four. With three layers no node fits the cube and the gradient
+// The same on a curved wall (a tube, through the scene as a user builds it, with the cube alone): a neighbour on
+// the node's own layer lies off its tangent plane, so z^3 is not exactly a quadratic of z there, and only the count
+// of the support's depths tells three layers from four. With three layers no node fits the cube and the gradient
 // vectors are the quadratic fit's bit for bit; with four every node fits it. (Counted by the residual alone,
 // all 672 nodes of the three-layer tube fitted it, and the catheter on the three-layer vein came out 11-18 %
 // stiff.)

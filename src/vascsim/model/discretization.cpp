@@ -592,8 +592,8 @@ void Discretization::place_wall_points(const DiscretizationOptions& opt) {
   energy_points_ = cell ? 8 : 2;
   const bool mixed = opt.wall_cube && opt.wall_cubics != DiscretizationOptions::WallCubics::Cube;
   if (mixed && !cell)
-    throw InputError("discretization: the cubics along the wall (wall_cubics) need Gauss points over each node's "
-                     "cell (wall_quadrature 'gauss_cell'): their gradients vary along the wall");
+    throw InputError("discretization: the cubics with a through-wall factor (wall_cubics) need Gauss points over "
+                     "each node's cell (wall_quadrature 'gauss_cell'): their gradients vary along the wall");
   linear_directions_ = cell ? 3 : 1;
   point_directions_ = linear_directions_ + (mixed ? static_cast<int>(kSquares.size()) : opt.wall_cube ? 1 : 0);
   const std::size_t P = static_cast<std::size_t>(energy_points_), G = static_cast<std::size_t>(point_directions_);
@@ -606,7 +606,8 @@ void Discretization::place_wall_points(const DiscretizationOptions& opt) {
     const double lo = std::max(d - half_step, 0.0), hi = std::min(d + half_step, t);
     const double centre = 0.5 * (lo + hi) - d, spread = hi > lo ? 0.5 * (hi - lo) * gauss : 0.0;
     point_axes_[ii * G] = opt.wall_normals[ii];
-    for (std::size_t k = static_cast<std::size_t>(linear_directions_); k < G; ++k) point_axes_[ii * G + k] = opt.wall_normals[ii];
+    for (std::size_t k = static_cast<std::size_t>(linear_directions_); k < G; ++k)
+      point_axes_[ii * G + k] = opt.wall_normals[ii];
     std::array<double, 2> half_edge{0.0, 0.0}, along_centre{0.0, 0.0};
     if (cell)
       for (std::size_t k = 0; k < 2; ++k) {

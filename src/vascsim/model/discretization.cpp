@@ -504,19 +504,19 @@ bool Discretization::add_wall_cubics(Index i, const std::vector<Index>& nbr, con
   const Eigen::Index R = static_cast<Eigen::Index>(terms.size()), K = static_cast<Eigen::Index>(nbr.size());
   const Index e0 = pairs_.row_start[i];
   const double h = h_[i];
-  Eigen::MatrixXd m(K, R), residual(K, R);
+  Eigen::MatrixXd m(K, R), residual(K, R), Pq(K, 9);  // Pq: the quadratic monomials over the stencil
   Eigen::VectorXd w(K);
   for (Eigen::Index a = 0; a < K; ++a) {
     const Vec3 X = X_[nbr[static_cast<std::size_t>(a)]] - X_[i];
     const Vec3 c(X.dot(axes[0]) / h, X.dot(axes[1]) / h, X.dot(axes[2]) / h);
     for (Eigen::Index r = 0; r < R; ++r) m(a, r) = monomial(terms[static_cast<std::size_t>(r)], c);
     w(a) = pairs_.w[static_cast<std::size_t>(e0 + a)];
+    Pq.row(a) = quadratic_monomials(X, h).transpose();
   }
   for (Eigen::Index r = 0; r < R; ++r) {
     Vec9 coeff = Vec9::Zero();  // the quadratic fit of m_r
     for (Eigen::Index a = 0; a < K; ++a) coeff += fit_[static_cast<std::size_t>(e0 + a)] * m(a, r);
-    for (Eigen::Index a = 0; a < K; ++a)
-      residual(a, r) = m(a, r) - coeff.dot(quadratic_monomials(X_[nbr[static_cast<std::size_t>(a)]] - X_[i], h));
+    for (Eigen::Index a = 0; a < K; ++a) residual(a, r) = m(a, r) - Pq.row(a).dot(coeff);
   }
   // Resolvable: the residuals' Gram matrix, scaled by each monomial's own weighted square, keeps its smallest
   // eigenvalue above add_wall_cube's fraction.
@@ -532,9 +532,6 @@ bool Discretization::add_wall_cubics(Index i, const std::vector<Index>& nbr, con
   // (conditioned to 1e6) leaves a rounding of it that the elimination amplifies (a rigid motion's forces 200 times
   // the cube's). Projecting each row of beta out of the span of the quadratic monomials over the stencil, with
   // Householder's orthogonal basis of it, restores it to rounding.
-  Eigen::MatrixXd Pq(K, 9);
-  for (Eigen::Index a = 0; a < K; ++a)
-    Pq.row(a) = quadratic_monomials(X_[nbr[static_cast<std::size_t>(a)]] - X_[i], h).transpose();
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(Pq);
   const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(K, 9);
   beta -= (beta * Q) * Q.transpose();

@@ -39,4 +39,27 @@ inline nlohmann::json catheter_pressed_block() {
   })");
 }
 
+/// A 6 mm piece of the hand dorsal vein at the real-time resolution (outer radius 1.5 mm, wall 0.3 mm, node
+/// spacing 0.3 mm along the wall, three layers through it: 1,764 nodes on a wall lattice), both ends clamped, the
+/// 6 Fr catheter 0.2 mm above the outer wall at mid-length pointing into it; motion_m presses it 0.6 mm. Model
+/// `implicit` with the given settings block.
+inline nlohmann::json vein_piece_catheter(const nlohmann::json& implicit_settings) {
+  nlohmann::json scene = nlohmann::json::parse(R"({
+    "name": "vein-piece-catheter",
+    "model": "implicit",
+    "geometry": { "type": "vessel", "centerline": { "type": "straight", "length_m": 6e-3 },
+                  "outer_radius_m": 1.5e-3, "wall_thickness_m": 0.3e-3, "node_spacing_m": 0.3e-3, "min_layers": 3 },
+    "material": { "youngs_modulus_pa": 0.5e6, "poisson_ratio": 0.45, "density_kg_m3": 1060 },
+    "discretization": { "max_growths": 10 },
+    "regions": [
+      { "name": "end_start", "select": { "type": "cylinder_end", "end": "start" }, "bc": { "type": "fixed" } },
+      { "name": "end_finish", "select": { "type": "cylinder_end", "end": "end" }, "bc": { "type": "fixed" } }
+    ],
+    "obstacles": [ { "name": "catheter", "shape": "catheter", "diameter_fr": 6, "length_m": 5e-3,
+                     "tip_m": [0, 1.7e-3, 3e-3], "direction": [0, -1, 0], "motion_m": [0, -0.8e-3, 0] } ]
+  })");
+  scene["implicit"] = implicit_settings;
+  return scene;
+}
+
 }  // namespace vascsim::test

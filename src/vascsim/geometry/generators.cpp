@@ -101,6 +101,7 @@ NodeCloud make_tube(const TubeSpec& s) {
   cloud.kind = "tube";
   cloud.spacing_m = s.node_spacing_m;
   cloud.tube = TubeShape{s.outer_radius_m, r_in, s.length_m, nr};
+  cloud.wall_lattice = WallLatticeNumbering{nr, nt, nz};
   auto id = [&](int ir, int it, int iz) { return static_cast<Index>(ir + nr * ((it % nt) + nt * iz)); };
   const double phase = lattice_phase_rad(s.lattice_angle_deg, nt);
   cloud.positions.resize(static_cast<std::size_t>(total));

@@ -216,6 +216,7 @@ SweptVessel make_swept_vessel(const Centerline& cl, const SweptVesselSpec& s) {
     out.theta_deg.push_back(wrapped < 0.0 ? wrapped + 360.0 : wrapped);
   }
   out.cloud.kind = "swept_vessel";
+  out.cloud.wall_lattice = WallLatticeNumbering{g.nr, g.nt, g.nz};
   out.cloud.spacing_m = s.node_spacing_m;
   sweep_nodes(cl, s, g, out.cloud);
   sweep_tets(g, out.cloud);

@@ -17,23 +17,6 @@ namespace {
 // Below this many block rows a parallel region costs more than it saves.
 constexpr Index kParallelMinRows = 2048;
 
-// vec index of a 3x3 entry (a, c): column-major, as Eigen stores Mat3.
-constexpr int vec_index(int a, int c) { return a + 3 * c; }
-
-// The 9x9 matrix of a linear map dF -> dP, column (b, d) = vec(dP(e_b e_d^T)).
-template <class Fn>
-Mat9 tangent_of(const Fn& dP) {
-  Mat9 C;
-  for (int d = 0; d < 3; ++d)
-    for (int b = 0; b < 3; ++b) {
-      Mat3 dF = Mat3::Zero();
-      dF(b, d) = 1.0;
-      const Mat3 P = dP(dF);
-      C.col(vec_index(b, d)) = Eigen::Map<const Eigen::Matrix<double, 9, 1>>(P.data());
-    }
-  return C;
-}
-
 // Symmetric square root of a symmetric positive semi-definite 3x3 matrix.
 Mat3 psd_sqrt(const Mat3& A) {
   Eigen::SelfAdjointEigenSolver<Mat3> es;
@@ -291,56 +274,7 @@ void EnergyHessian::skip_unstored_blocks() {
   }
 }
 
-void EnergyHessian::compute_tangents(const Vec3Array& x) {
-  const Discretization& disc = energy_.discretization();
-  const EnergyOptions& eo = energy_.options();
-  const Index n = disc.num_nodes();
-  const int points = disc.energy_points();
-  const double lambda = energy_.strain_lambda(), mu = energy_.shear_modulus(), kv = eo.volume_stiffness_pa;
-  // Literal strain (docs/model.md section 7): eps = 2E and sigma = 2S, so U_lit = 4 U_SVK and its tangent is 4x.
-  const double svk_scale = eo.strain == StrainMeasure::GreenHalf ? 1.0 : 4.0;
-  const Mat3 I = Mat3::Identity();
-#pragma omp parallel for schedule(static) if (n >= kParallelMinRows)
-  for (Index i = 0; i < n; ++i) {
-    // F_i and its derivatives dF_i/du_k once per node; each energy point q has F_i + sum_k o_qk dF_i/du_k.
-    const Mat3 Fi = disc.deformation_gradient(i, x);
-    Mat3 Di[Discretization::kMaxPointDirections];
-    disc.deformation_gradient_derivatives(i, x, Di);
-    for (int q = 0; q < points; ++q) {
-      const Mat3 F = disc.point_gradient(i, q, Fi, Di);
-      Mat9 C;
-      if (eo.law) {
-        const materials::MaterialFrame* frame = eo.frames.empty() ? nullptr : &eo.frames[static_cast<std::size_t>(i)];
-        C = tangent_of([&](const Mat3& dF) { return eo.law->first_piola_derivative(F, dF, frame); });
-      } else {
-        // SVK: P = F S, S = lambda tr(E) I + 2 mu E, E = 1/2 (F^T F - I) (Eqs. 5-7 with the 1/2).
-        const Mat3 E = 0.5 * (F.transpose() * F - I);
-        const Mat3 S = lambda * E.trace() * I + 2.0 * mu * E;
-        C = svk_scale * tangent_of([&](const Mat3& dF) {
-              const Mat3 dE = 0.5 * (dF.transpose() * F + F.transpose() * dF);
-              return Mat3(dF * S + F * (lambda * dE.trace() * I + 2.0 * mu * dE));
-            });
-      }
-      if (kv > 0.0) {
-        // docs/model.md section 9.1: P_v = k_v (J - 1) cof(F), dP_v = k_v [(cof : dF) cof + (J - 1) dcof[dF]].
-        const double J = F.determinant();
-        const Mat3 cof = cofactor(F);
-        C += tangent_of([&](const Mat3& dF) {
-          return Mat3(kv * (cof.cwiseProduct(dF).sum() * cof + (J - 1.0) * cofactor_derivative(F, dF)));
-        });
-      }
-      // Exact tangents are symmetric; symmetrise the rounding (into a new matrix: C^T must not alias C).
-      const Mat9 Csym = (0.5 * disc.volumes()[static_cast<std::size_t>(i)] / points) * (C + C.transpose());
-      C = Csym;
-      if (opt_.project_psd) {
-        Eigen::SelfAdjointEigenSolver<Mat9> es(C);
-        if (es.eigenvalues()(0) < 0.0)
-          C = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
-      }
-      tangent_[static_cast<std::size_t>(i * points + q)] = C;
-    }
-  }
-}
+void EnergyHessian::compute_tangents(const Vec3Array& x) { energy_tangents(energy_, x, opt_.project_psd, tangent_); }
 
 void EnergyHessian::assemble(const Vec3Array& x, const std::vector<double>& diagonal_shift) {
   const Discretization& disc = energy_.discretization();

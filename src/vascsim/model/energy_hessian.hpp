@@ -29,7 +29,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "vascsim/model/point_primitive_energy.hpp"
+#include "vascsim/model/energy_tangents.hpp"
 
 namespace vascsim {
 
@@ -119,7 +119,7 @@ class EnergyHessian {
   std::vector<std::uint16_t> map_;
   static constexpr std::uint16_t kSkip = 0xFFFF;
 
-  std::vector<Mat9, Eigen::aligned_allocator<Mat9>> tangent_;  // per node (and point): V d^2 psi/dF^2 (+ k_v), N m
+  Mat9Array tangent_;  // per node (and point): V d^2 psi/dF^2 (+ k_v), N m (energy_tangents.hpp)
   std::vector<std::vector<Mat3>> scratch_;                     // per thread: one block row
   Eigen::SparseMatrix<double> H_;
 };

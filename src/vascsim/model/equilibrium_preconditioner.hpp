@@ -5,6 +5,7 @@
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
+#include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -12,6 +13,9 @@
 #include "vascsim/model/free_dofs.hpp"
 
 namespace vascsim {
+
+/// The Newton matrix applied to a vector (per node; the solver's contact filter included): out = H v.
+using NewtonOperator = std::function<void(const Vec3Array& v, Vec3Array& out)>;
 
 class EquilibriumPreconditioner {
  public:
@@ -27,6 +31,11 @@ class EquilibriumPreconditioner {
   /// Changes whenever P does (a refactorisation), unique over every preconditioner of the process, so cached
   /// products with P^{-1} can tell they are stale.
   virtual long long version() const { return 0; }
+  /// A preconditioner that smooths with the Newton matrix itself (multigrid) gets it from the solver before each
+  /// conjugate-gradient solve (null after it); the others ignore it.
+  virtual void set_operator(const NewtonOperator* /*op*/) const {}
+  /// True when apply() already respects the contacts' constraints (the solver then adds no contact correction).
+  virtual bool handles_contacts() const { return false; }
 };
 
 /// P = a factor of the virtual tetrahedra's linear-elastic stiffness on the free nodes (exact sparse Cholesky

@@ -33,7 +33,9 @@ ImplicitSettings read_implicit_settings(JsonReader& b) {
   s.max_newton_iterations = b.integer("max_newton_iterations", d.max_newton_iterations, 1, 1000);
   s.max_cg_iterations = b.integer("max_cg_iterations", d.max_cg_iterations, 1, 100000);
   s.time_budget_s = b.number("time_budget_s", d.time_budget_s, 0.0, 10.0);
-  s.preconditioner = b.string("preconditioner", d.preconditioner, {"meshless", "tet"});
+  s.preconditioner = b.string("preconditioner", d.preconditioner, {"auto", "multigrid", "meshless", "tet"});
+  s.single_precision = b.boolean("single_precision", d.single_precision);
+  s.level_refresh_frames = b.integer("level_refresh_frames", d.level_refresh_frames, 1, 1000000);
   s.line_search = b.boolean("line_search", d.line_search);
   s.haptic_candidates = b.integer("haptic_candidates", d.haptic_candidates, 0, 24);
   s.refactor_cg_rate = b.number("refactor_cg_rate", d.refactor_cg_rate, 0.0, 1.0);
@@ -103,21 +105,41 @@ ImplicitModel::ImplicitModel(const Problem& problem, const ImplicitSettings& set
   // Candidates within half a node spacing of a tool: more than a tool moves in a frame at hand speed.
   candidates_ = std::make_unique<HapticCandidates>(free_, settings.haptic_candidates,
                                                    0.5 * problem.discretization().mean_spacing());
-  if (settings.preconditioner == "tet") {
+  std::string kind = settings.preconditioner;
+  if (kind == "auto") kind = WallMultigrid::supports(problem) ? "multigrid" : "meshless";
+  if (kind == "multigrid" && !WallMultigrid::supports(problem))
+    throw InputError("key 'implicit.preconditioner': \"multigrid\" needs a wall whose nodes form a lattice (geometry "
+                     "type vessel or tube) with one energy point per node; use \"meshless\"");
+  std::string described;
+  if (kind == "tet") {
     tet_ = std::make_unique<TetStiffnessPreconditioner>(problem, free_, "cholesky");
     newton_.set_preconditioner(tet_.get());
+    described = "tet stiffness";
+  } else if (kind == "multigrid") {
+    WallMultigridOptions o;
+    o.inv_h2 = 1.0 / (h_ * h_);
+    multigrid_ = std::make_unique<WallMultigrid>(problem, free_, contacts_, o);
+    multigrid_->install(multigrid_->build_level(x_));
+    newton_.set_preconditioner(multigrid_.get());
+    if (settings.single_precision && SinglePrecisionHessian::supports(problem.energy())) {
+      single_ = std::make_unique<SinglePrecisionHessian>(problem.energy());
+      newton_.set_single_precision(single_.get());
+    }
+    described = fmt::format("wall multigrid, {} coarse nodes, level built in {:.2f} s{}",
+                            multigrid_->info()["coarse_nodes"].get<long long>(), multigrid_->last_level_seconds(),
+                            single_ ? ", single-precision products" : "");
   } else {
     install(build_factor(x_));
+    described = fmt::format("meshless factor, nnz(L) {:.3g}, {:.2f} s", factor_->factor->stats().nnz_l,
+                            factor_->factor->build_seconds());
   }
   spdlog::info("implicit: frame {:.4g} s, {} frames per output, {} outputs; preconditioner {}", h_, per_output,
-               num_steps_, settings.preconditioner == "tet" ? std::string("tet stiffness")
-                                                             : fmt::format("meshless factor, nnz(L) {:.3g}, {:.2f} s",
-                                                                           factor_->factor->stats().nnz_l,
-                                                                           factor_->factor->build_seconds()));
+               num_steps_, described);
 }
 
 ImplicitModel::~ImplicitModel() {
-  if (pending_.valid()) pending_.wait();  // the job reads this model's problem
+  if (pending_.valid()) pending_.wait();  // the jobs read this model's problem
+  if (level_pending_.valid()) level_pending_.wait();
 }
 
 void ImplicitModel::set_realtime(bool realtime) {
@@ -185,7 +207,11 @@ void ImplicitModel::linearize() {
   // 24.3). P is the factor in use: exact when it was built at this state, otherwise off by its drift.
   const auto& tools = problem_.tools();
   linearization_.assign(tools.size(), std::nullopt);
-  if (!factor_ || tools.empty()) return;
+  const EquilibriumPreconditioner* P = factor_ ? static_cast<const EquilibriumPreconditioner*>(factor_->factor.get())
+                                               : multigrid_.get();
+  if (P == nullptr || tools.empty()) return;
+  // The multigrid's solves leave the correction alone (it holds the contacts itself): build it for the hand-off.
+  if (multigrid_) newton_.update_contact_correction();
   const ContactCorrection& w = newton_.contact_correction();
   for (std::size_t o = 0; o < tools.size(); ++o) {
     ToolLinearization lin;
@@ -197,7 +223,7 @@ void ImplicitModel::linearize() {
     }
     // The direction the tissue pushes the tool: against the force the tool exerts on it.
     if (loads_[o].force_n.norm() > 0.0) lin.normal = -loads_[o].force_n.normalized();
-    if (candidates_) candidates_->fill(o, contacts_, x_, *factor_->factor, newton_.node_compliance(), lin);
+    if (candidates_) candidates_->fill(o, contacts_, x_, *P, newton_.node_compliance(), lin);
     linearization_[o] = lin;
   }
 }
@@ -216,6 +242,13 @@ void ImplicitModel::poll_background() {
 }
 
 void ImplicitModel::relinearize_now() {
+  if (multigrid_) {
+    if (level_pending_.valid()) level_spare_ = multigrid_->install(level_pending_.get());
+    level_spare_ = multigrid_->install(multigrid_->build_level(x_, std::move(level_spare_)));
+    multigrid_->prepare_window(x_);
+    linearize();
+    return;
+  }
   if (!factor_) return;
   if (pending_.valid()) install(pending_.get());
   auto f = build_factor(x_, std::move(spare_));
@@ -254,6 +287,35 @@ void ImplicitModel::maybe_refactor(const NewtonResult& r) {
     install(job());
 }
 
+void ImplicitModel::poll_multigrid() {
+  if (level_pending_.valid() && level_pending_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+    level_spare_ = multigrid_->install(level_pending_.get());
+    ++factorisations_;
+    spdlog::debug("implicit: multigrid level installed (built in {:.1f} ms)", multigrid_->last_level_seconds() * 1e3);
+  }
+}
+
+void ImplicitModel::refresh_multigrid() {
+  // The coarse level carries the wall's global response, which the frames change slowly: a deterministic run
+  // rebuilds it every level_refresh_frames frames; a realtime session builds the next one in the background (one
+  // thread) as soon as the last is in, so it is never older than about two builds.
+  if (!multigrid_) return;
+  ++frames_since_level_;
+  if (realtime_) {
+    if (level_pending_.valid()) return;
+    auto job = [this, x = x_, reuse = std::move(level_spare_)]() mutable {
+      omp_set_num_threads(1);
+      return multigrid_->build_level(x, std::move(reuse));
+    };
+    level_pending_ = std::async(std::launch::async, std::move(job));
+    frames_since_level_ = 0;
+  } else if (frames_since_level_ >= settings_.level_refresh_frames) {
+    level_spare_ = multigrid_->install(multigrid_->build_level(x_, std::move(level_spare_)));
+    ++factorisations_;
+    frames_since_level_ = 0;
+  }
+}
+
 void ImplicitModel::prepare_frame(double s) {
   // Warm start at a = x_n + h v_n (the inertial prediction), prescribed nodes at their positions at s, tools
   // placed; nodes the tools now enter go onto their surfaces.
@@ -266,11 +328,13 @@ void ImplicitModel::prepare_frame(double s) {
   }
   place_tools(s);
   contacts_.project(x_, true);
+  if (multigrid_) multigrid_->prepare_window(x_);
 }
 
 StepReport ImplicitModel::step() {
   const Stopwatch frame;
   poll_background();
+  poll_multigrid();
   const double t_next = t_ + h_;
   const double s_next = ramped_load_factor(t_next, settings_.ramp_time_s);
   Vec3Array f_ext;
@@ -299,6 +363,7 @@ StepReport ImplicitModel::step() {
   worst_residual_ = std::max(worst_residual_, r.residual);
   phase.restart();
   maybe_refactor(r);
+  refresh_multigrid();
   split_.refactor_s += phase.seconds();
   phase.restart();
   linearize();
@@ -358,7 +423,7 @@ nlohmann::json ImplicitModel::info() const {
                       {"solve", split_.solve_s},
                       {"refactor", split_.refactor_s},
                       {"linearize", split_.linearize_s}};
-  j["preconditioner"] = factor_ ? factor_->factor->info() : tet_->info();
+  j["preconditioner"] = factor_ ? factor_->factor->info() : multigrid_ ? multigrid_->info() : tet_->info();
   return j;
 }
 

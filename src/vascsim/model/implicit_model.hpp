@@ -28,6 +28,7 @@
 #include "vascsim/model/newton_equilibrium.hpp"
 #include "vascsim/model/registry.hpp"
 #include "vascsim/model/tool_placement.hpp"
+#include "vascsim/model/wall_multigrid.hpp"
 
 namespace vascsim {
 
@@ -43,7 +44,15 @@ struct ImplicitSettings {
   int max_newton_iterations = 8;     ///< per frame
   int max_cg_iterations = 20;        ///< per Newton iteration (more means a stale factor: see refactor_*)
   double time_budget_s = 0.0;        ///< realtime sessions: a frame stops at this wall time (0: no budget), s
-  std::string preconditioner = "meshless";  ///< "meshless" (factor of the Hessian) or "tet" (linear tets)
+  /// "auto": the wall multigrid where the nodes form a wall lattice (wall_multigrid.hpp), else "meshless" (a
+  /// factor of the Hessian); "multigrid", "meshless", or "tet" (linear tets, for comparison).
+  std::string preconditioner = "auto";
+  /// With the multigrid: conjugate gradients and the smoothing on the Hessian product in single precision
+  /// (single_precision_hessian.hpp), where the energy allows it.
+  bool single_precision = true;
+  /// With the multigrid, a run that is not realtime (deterministic) rebuilds its coarse level every this many
+  /// frames (a realtime session rebuilds it in the background as often as it can).
+  int level_refresh_frames = 6;
   bool line_search = true;           ///< Armijo line search in every Newton iteration (off: whole steps)
   int haptic_candidates = 24;        ///< contacts and near contacts handed to the haptic thread (0: K only)
   /// Refactor when CG reduced the residual by less than this per iteration (NewtonResult::cg_rate: about 0.1
@@ -105,6 +114,8 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   void install(std::unique_ptr<Factor> f);
   void poll_background();
   void linearize();                             // every tool's linearisation from the contact compliance
+  void refresh_multigrid();                     // the multigrid's coarse level, at the refresh rate
+  void poll_multigrid();                        // install a level built in the background
 
   const Problem& problem_;
   ImplicitSettings settings_;
@@ -118,6 +129,11 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   ToolPlacement tools_;
   NewtonEquilibrium newton_;
   std::unique_ptr<EquilibriumPreconditioner> tet_;  // "tet" preconditioner
+  std::unique_ptr<WallMultigrid> multigrid_;        // "multigrid"
+  std::unique_ptr<WallMultigrid::Level> level_spare_;
+  std::future<std::unique_ptr<WallMultigrid::Level>> level_pending_;
+  std::unique_ptr<SinglePrecisionHessian> single_;  // single-precision products with the multigrid
+  long long frames_since_level_ = 0;
   std::unique_ptr<Factor> factor_;                  // "meshless": the factor in use
   std::unique_ptr<Factor> spare_;                   // the one it replaced, refilled by the next refactorisation
   std::future<std::unique_ptr<Factor>> pending_;    // a factor being built in the background

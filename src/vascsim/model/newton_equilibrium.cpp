@@ -65,8 +65,12 @@ void NewtonEquilibrium::precondition(const Vec3Array& r, Vec3Array& z) const {
 }
 
 void NewtonEquilibrium::hessian_product(const PointPrimitiveEnergy::Linearization& lin, const Vec3Array& x,
-                                        const Vec3Array& p, const InertiaTerm& inertia, Vec3Array& Hp) const {
-  problem_.energy().hessian_product(lin, p, Hp);
+                                        const Vec3Array& p, const InertiaTerm& inertia, Vec3Array& Hp,
+                                        bool positive) const {
+  if (single_)
+    single_->product(p, Hp, positive);
+  else
+    problem_.energy().hessian_product(lin, p, Hp);
   if (embedded_) embedded_->add_hessian_product(p, Hp);
   for (std::size_t i = 0; i < Hp.size(); ++i)
     if (problem_.constrained()[i]) Hp[i].setZero();
@@ -74,7 +78,7 @@ void NewtonEquilibrium::hessian_product(const PointPrimitiveEnergy::Linearizatio
     const auto& m = problem_.discretization().masses();
     for (Index i : free_.nodes) Hp[i] += (inertia.inv_h2 * m[i]) * p[i];
   }
-  contacts_.add_curvature(x, p, Hp);
+  if (!positive) contacts_.add_curvature(x, p, Hp);
   contacts_.filter(Hp);
 }
 
@@ -84,9 +88,22 @@ int NewtonEquilibrium::conjugate_gradients(const Vec3Array& x, const Vec3Array& 
   const std::size_t n = x.size();
   dx.assign(n, Vec3::Zero());
   Vec3Array r(n, Vec3::Zero()), z, p, Hp;
-  const auto lin = problem_.energy().linearize(x);
+  const auto lin = single_ ? PointPrimitiveEnergy::Linearization{} : problem_.energy().linearize(x);
+  if (single_) single_->linearize(x);
   if (embedded_) embedded_->linearize(x);
-  use_correction_ = preconditioner_ != nullptr && !contacts_.empty() && correction_.update(*preconditioner_, compliance_);
+  use_correction_ = preconditioner_ != nullptr && !preconditioner_->handles_contacts() && !contacts_.empty() &&
+                    correction_.update(*preconditioner_, compliance_);
+  // A multigrid preconditioner smooths with this very matrix (the linearisation above).
+  const NewtonOperator op = [&](const Vec3Array& v, Vec3Array& out) {
+    hessian_product(lin, x, v, inertia, out, single_ != nullptr);
+  };
+  struct OperatorScope {
+    const EquilibriumPreconditioner* p;
+    ~OperatorScope() {
+      if (p) p->set_operator(nullptr);
+    }
+  } scope{preconditioner_};
+  if (preconditioner_) preconditioner_->set_operator(&op);
   for (Index i : free_.nodes) r[i] = rhs[i];
   contacts_.filter(r);
   const double r0 = residual_norm(r);

@@ -19,6 +19,7 @@
 #include "vascsim/model/contact_correction.hpp"
 #include "vascsim/model/embedded_contact.hpp"
 #include "vascsim/model/equilibrium_preconditioner.hpp"
+#include "vascsim/model/single_precision_hessian.hpp"
 
 namespace vascsim {
 
@@ -71,6 +72,10 @@ class NewtonEquilibrium {
   /// or 10 / rel_tolerance times the rounding of the rest state's forces if that is larger.
   void set_force_floor(double newton) { force_floor_ = newton; }
   void set_preconditioner(const EquilibriumPreconditioner* preconditioner) { preconditioner_ = preconditioner; }
+  /// Conjugate gradients (and a multigrid preconditioner's smoothing) on the Hessian product in single precision
+  /// (single_precision_hessian.hpp) instead of the energy's double one; null: double. For solves that need a
+  /// relative accuracy far above 1e-7 (the real-time model's frames).
+  void set_single_precision(SinglePrecisionHessian* product) { single_ = product; }
   /// Contact on the wall's surface (embedded_contact.hpp), one more energy term; null: none (the tools, if any,
   /// meet the nodes through the active set).
   void set_embedded_contact(EmbeddedContact* contact) { embedded_ = contact; }
@@ -107,8 +112,11 @@ class NewtonEquilibrium {
  private:
   double residual(Vec3Array& x, double s, const Vec3Array& f_ext, const InertiaTerm& inertia, Vec3Array& r);
   void precondition(const Vec3Array& r, Vec3Array& z) const;
+  /// positive: the operator a multigrid preconditioner smooths with (single-precision products only): the
+  /// geometric stiffness clamped to positive semi-definite and no contact curvature, so that the V-cycle stays
+  /// symmetric positive definite where compression makes the exact Hessian indefinite.
   void hessian_product(const PointPrimitiveEnergy::Linearization& lin, const Vec3Array& x, const Vec3Array& p,
-                       const InertiaTerm& inertia, Vec3Array& Hp) const;
+                       const InertiaTerm& inertia, Vec3Array& Hp, bool positive = false) const;
   bool line_search(const Vec3Array& x, const Vec3Array& r, const Vec3Array& f_ext, const InertiaTerm& inertia,
                    Vec3Array& dx, Vec3Array& trial);
 
@@ -118,6 +126,7 @@ class NewtonEquilibrium {
   NewtonSettings settings_;
   const EquilibriumPreconditioner* preconditioner_ = nullptr;
   EmbeddedContact* embedded_ = nullptr;
+  SinglePrecisionHessian* single_ = nullptr;
   Vec3Array r_unfiltered_;
   double force_floor_ = 0.0;
   mutable NodeCompliance compliance_;     // P^{-1} E_i per node, per factor (node_compliance.hpp)

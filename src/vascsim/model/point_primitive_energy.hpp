@@ -63,6 +63,10 @@ class PointPrimitiveEnergy {
   /// stabiliser energy is c_i/2 sum_j w_ij |r_ij|^2. All zero when alpha_hg = 0.
   const std::vector<double>& stabilizer_coefficients() const { return stab_c_; }
 
+  /// The stabiliser as a constant matrix when the energy applies it so (a fit other than the linear basis's);
+  /// null when it is folded into the stress gather or off.
+  const StabilizerMatrix* stabilizer_matrix() const { return stab_matrix_.get(); }
+
   /// Elastic energy of configuration x (#N positions, m), J.
   EnergyBreakdown energy(const Vec3Array& x) const;
 

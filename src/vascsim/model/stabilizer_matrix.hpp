@@ -24,6 +24,8 @@ class StabilizerMatrix {
   double add_product(const Vec3Array& v, Vec3Array& out, double sign) const;
   /// u . K u / 2, J for u in m.
   double energy(const Vec3Array& u) const;
+  /// K itself (scalar, n x n, N/m: the stabiliser's Hessian is K times the 3 x 3 identity).
+  const Eigen::SparseMatrix<double, Eigen::RowMajor, int>& matrix() const { return K_; }
   /// Stored nonzeros of the scalar n x n matrix K.
   std::int64_t nonzeros() const { return K_.nonZeros(); }
 

@@ -1,0 +1,60 @@
+#pragma once
+// The point-primitive Hessian-vector product in single precision, for the real-time solver's conjugate gradients
+// and its preconditioner's smoothing (docs/model.md section 24.1), where a frame's linear solves need a relative
+// accuracy of 1e-1 to 1e-3, far above float's 1e-7.
+//
+// Why: the product is the unit of a frame's cost (each conjugate-gradient iteration with the wall multigrid
+// takes three), and it is bound by memory, not arithmetic (the same speed with AVX-512 as with SSE2): the
+// double product reads each neighbour pair's index and gradient vector twice (28 bytes each time) and the
+// stabiliser's 2-hop matrix (12 bytes per entry). Here the pairs take 16 bytes and the stabiliser 8, and the
+// per-node linearisation F_i, S_i 72 bytes instead of 144.
+//
+// Same mathematics as PointPrimitiveEnergy::hessian_product (docs/model.md section 10), for the energies it
+// supports: the built-in St Venant-Kirchhoff law with the Green strain (no material law, no volume term), one
+// energy point per node, and a stabiliser that is off or applied as its matrix (StabilizerMatrix; the folded
+// linear-fit stabiliser is applied through its matrix here). Parallel over nodes with OpenMP.
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "vascsim/model/point_primitive_energy.hpp"
+
+namespace vascsim {
+
+class SinglePrecisionHessian {
+ public:
+  /// Whether `energy` is one this product reproduces.
+  static bool supports(const PointPrimitiveEnergy& energy);
+  /// Copies the discretisation's pairs and the stabiliser in float. Throws std::invalid_argument when
+  /// !supports(energy).
+  explicit SinglePrecisionHessian(const PointPrimitiveEnergy& energy);
+
+  /// F_i and the SVK stress S_i at configuration x (m), for the products that follow.
+  void linearize(const Vec3Array& x);
+  /// out = K(x) v (N for v in m; K the energy's Hessian at the last linearize, stabiliser included), every node.
+  /// With `positive`, the geometric part dF S uses S with its negative eigenvalues set to zero: K is then positive
+  /// semi-definite at any state (the material part F dS always is; dF S is where compression makes SVK indefinite),
+  /// as a multigrid's smoothing needs; the exact K elsewhere.
+  void product(const Vec3Array& v, Vec3Array& out, bool positive = false) const;
+
+ private:
+  struct Pair {
+    Index node;
+    float d[3];
+  };
+  const PointPrimitiveEnergy& energy_;
+  float lambda_ = 0.f, mu_ = 0.f;
+  std::vector<Index> row_start_, trow_start_;
+  std::vector<Pair> pairs_, transposed_;
+  std::vector<Eigen::Vector3f> self_d_;
+  std::vector<float> volume_;
+  // The stabiliser's scalar matrix, row-major (its rows sum to zero: applied to differences).
+  std::vector<Index> stab_start_, stab_col_;
+  std::vector<float> stab_value_;
+  // Per node: F_i and S_i (linearize), and the product's intermediate dP_i.
+  std::vector<Eigen::Matrix3f> F_, S_, S_plus_;
+  mutable std::vector<Eigen::Matrix3f> Q_;
+  mutable std::vector<Eigen::Vector3f> v_;
+};
+
+}  // namespace vascsim

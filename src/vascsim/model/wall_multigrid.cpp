@@ -1,0 +1,301 @@
+#include "vascsim/model/wall_multigrid.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <fmt/format.h>
+#include <stdexcept>
+
+#include "vascsim/core/error.hpp"
+#include "vascsim/core/sparse_cholesky.hpp"
+#include "vascsim/core/stopwatch.hpp"
+#include "vascsim/model/stabilizer_matrix.hpp"
+#include "vascsim/model/wall_coarse_space.hpp"
+
+namespace vascsim {
+
+namespace {
+long long next_version() {
+  static std::atomic<long long> versions{1LL << 40};  // apart from the factors' versions (meshless_factor.cpp)
+  return ++versions;
+}
+}  // namespace
+
+WallMultigrid::Level::Level() : coarse(SparseCholeskyOptions{CholeskyOrdering::Default, true, true}) {}
+
+bool WallMultigrid::supports(const Problem& problem) {
+  return has_wall_lattice(problem.discretization()) && problem.discretization().energy_points() == 1;
+}
+
+WallMultigrid::WallMultigrid(const Problem& problem, const FreeDofs& free, const ContactActiveSet& contacts,
+                             const WallMultigridOptions& options)
+    : problem_(problem), free_(free), contacts_(contacts), options_(options) {
+  if (!supports(problem))
+    throw std::invalid_argument("WallMultigrid: the nodes form no wall lattice with one energy point per node");
+  const Discretization& disc = problem.discretization();
+  const Index n = disc.num_nodes();
+  shift_.assign(static_cast<std::size_t>(n), 0.0);
+  for (Index i = 0; i < n; ++i) shift_[static_cast<std::size_t>(i)] = disc.masses()[static_cast<std::size_t>(i)] * options.inv_h2;
+  // The stabiliser's Hessian is constant: its diagonal for the Jacobi blocks, its entries in the window.
+  stab_diag_.assign(static_cast<std::size_t>(n), 0.0);
+  const PointPrimitiveEnergy& energy = problem.energy();
+  if (energy.stabilizer_matrix())
+    stab_rows_ = energy.stabilizer_matrix()->matrix();
+  else if (energy.options().stabilizer_alpha > 0.0)
+    stab_rows_ = StabilizerMatrix(disc, energy.stabilizer_coefficients(),
+                                  energy.options().stabilizer_fit == StabilizerFit::Quadratic)
+                     .matrix();
+  if (stab_rows_.rows() > 0)
+    for (Index i = 0; i < n; ++i) stab_diag_[static_cast<std::size_t>(i)] = stab_rows_.coeff(i, i);
+  prolongation_ = wall_coarse_space(disc, problem.constrained());
+  galerkin_ = std::make_unique<GalerkinHessian>(energy, prolongation_, shift_);
+  const double along = std::max(1.0, disc.wall_stretch()) * disc.mean_spacing();
+  window_m_ = options.window_spacings * along;
+  window_slot_.assign(static_cast<std::size_t>(n), -1);
+}
+
+WallMultigrid::~WallMultigrid() = default;
+
+double WallMultigrid::last_level_seconds() const { return level_ ? level_->build_s : 0.0; }
+
+std::unique_ptr<WallMultigrid::Level> WallMultigrid::build_level(const Vec3Array& x, std::unique_ptr<Level> reuse) const {
+  const Stopwatch clock;
+  auto level = reuse ? std::move(reuse) : std::make_unique<Level>();
+  const Discretization& disc = problem_.discretization();
+  energy_tangents(problem_.energy(), x, true, level->tangents);
+  // Diagonal blocks: node k's block gathers every energy i whose stencil holds k (itself and the transposed row).
+  const PairTable& T = disc.transposed();
+  level->jacobi_inverse.resize(free_.nodes.size());
+  for (std::size_t a = 0; a < free_.nodes.size(); ++a) {
+    const Index k = free_.nodes[a];
+    Mat3 D = tangent_block(level->tangents[static_cast<std::size_t>(k)], disc.self_d()[static_cast<std::size_t>(k)],
+                           disc.self_d()[static_cast<std::size_t>(k)]);
+    for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e)
+      D += tangent_block(level->tangents[static_cast<std::size_t>(T.col[static_cast<std::size_t>(e)])],
+                         T.d[static_cast<std::size_t>(e)], T.d[static_cast<std::size_t>(e)]);
+    D.diagonal().array() += stab_diag_[static_cast<std::size_t>(k)] + shift_[static_cast<std::size_t>(k)];
+    level->jacobi_inverse[a] = D.inverse();
+  }
+  galerkin_->assemble(level->tangents, level->coarse_matrix);
+  if (!level->coarse.analysed()) level->coarse.analyse(level->coarse_matrix);
+  level->coarse.factorize(level->coarse_matrix);
+  level->build_s = clock.seconds();
+  return level;
+}
+
+std::unique_ptr<WallMultigrid::Level> WallMultigrid::install(std::unique_ptr<Level> level) {
+  std::swap(level, level_);
+  version_ = next_version();  // not at every window: the compliance caches then hold until the next level
+  ++levels_built_;
+  return level;
+}
+
+void WallMultigrid::prepare_window(const Vec3Array& x) {
+  const Discretization& disc = problem_.discretization();
+  for (Index k : window_) window_slot_[static_cast<std::size_t>(k)] = -1;
+  window_.clear();
+  window_contacts_.clear();
+  if (!contacts_.empty()) {
+    for (Index k : free_.nodes) {
+      bool near = contacts_.in_contact(k);
+      for (std::size_t o = 0; !near && o < problem_.tools().size(); ++o)
+        near = obstacle_contact(contacts_.geometry(o), x[static_cast<std::size_t>(k)]).value < window_m_;
+      if (near) {
+        window_slot_[static_cast<std::size_t>(k)] = static_cast<Index>(window_.size());
+        window_.push_back(k);
+      }
+    }
+  }
+  if (window_.empty()) return;
+  // The energies whose stencils reach the window: its nodes and every node that has one of them as neighbour.
+  const PairTable& P = disc.pairs();
+  const PairTable& T = disc.transposed();
+  window_energies_.clear();
+  std::vector<char> seen(static_cast<std::size_t>(disc.num_nodes()), 0);
+  for (Index k : window_) {
+    if (!seen[static_cast<std::size_t>(k)]) seen[static_cast<std::size_t>(k)] = 1, window_energies_.push_back(k);
+    for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e) {
+      const Index i = T.col[static_cast<std::size_t>(e)];
+      if (!seen[static_cast<std::size_t>(i)]) seen[static_cast<std::size_t>(i)] = 1, window_energies_.push_back(i);
+    }
+  }
+  energy_tangents(problem_.energy(), x, true, window_tangents_, &window_energies_);
+  const Eigen::Index m = static_cast<Eigen::Index>(window_.size());
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(3 * m, 3 * m);
+  std::vector<std::pair<Index, Vec3>> members;
+  for (Index i : window_energies_) {
+    members.clear();
+    if (const Index s = window_slot_[static_cast<std::size_t>(i)]; s >= 0) members.push_back({s, disc.self_d()[static_cast<std::size_t>(i)]});
+    for (Index e = P.row_start[i]; e < P.row_start[i + 1]; ++e)
+      if (const Index s = window_slot_[static_cast<std::size_t>(P.col[static_cast<std::size_t>(e)])]; s >= 0)
+        members.push_back({s, P.d[static_cast<std::size_t>(e)]});
+    const Mat9& C = window_tangents_[static_cast<std::size_t>(i)];
+    for (const auto& [a, da] : members)
+      for (const auto& [b, db] : members) A.block<3, 3>(3 * a, 3 * b) += tangent_block(C, da, db);
+  }
+  for (Eigen::Index a = 0; a < m; ++a) {
+    const Index k = window_[static_cast<std::size_t>(a)];
+    A.block<3, 3>(3 * a, 3 * a).diagonal().array() += shift_[static_cast<std::size_t>(k)];
+    if (stab_rows_.rows() == 0) continue;
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor, int>::InnerIterator it(stab_rows_, k); it; ++it)
+      if (const Index b = window_slot_[static_cast<std::size_t>(it.col())]; b >= 0)
+        A.block<3, 3>(3 * a, 3 * b).diagonal().array() += it.value();
+  }
+  window_factor_.compute(A);
+  if (window_factor_.info() != Eigen::Success)
+    throw NumericalError("wall multigrid: the window's block of the Newton matrix is not positive definite");
+}
+
+void WallMultigrid::update_window_contacts() const {
+  // The contacts in the window hold their normal displacement: the window's solve is projected onto n . z = 0
+  // there by a Woodbury correction of its factor (recomputed when the set or a normal changed).
+  std::vector<Index> contacts;
+  Vec3Array normals;
+  for (Index k : window_)
+    if (contacts_.in_contact(k)) contacts.push_back(k), normals.push_back(contacts_.normal(k));
+  bool same = contacts == window_contacts_ && normals.size() == window_normals_.size();
+  for (std::size_t c = 0; same && c < normals.size(); ++c) same = normals[c] == window_normals_[c];
+  if (same) return;
+  window_contacts_ = std::move(contacts);
+  window_normals_ = std::move(normals);
+  const Eigen::Index m = static_cast<Eigen::Index>(window_.size()), mc = static_cast<Eigen::Index>(window_contacts_.size());
+  if (mc == 0) return;
+  Eigen::MatrixXd Nt = Eigen::MatrixXd::Zero(3 * m, mc);
+  for (Eigen::Index c = 0; c < mc; ++c)
+    Nt.block<3, 1>(3 * window_slot_[static_cast<std::size_t>(window_contacts_[static_cast<std::size_t>(c)])], c) =
+        window_normals_[static_cast<std::size_t>(c)];
+  window_Z_ = window_factor_.solve(Nt);
+  window_NZ_.compute(Nt.transpose() * window_Z_);
+}
+
+void WallMultigrid::smooth(const Vec3Array& b, Vec3Array& z, bool constrained) const {
+  z.assign(b.size(), Vec3::Zero());
+  const double w = options_.jacobi_damping;
+  for (std::size_t a = 0; a < free_.nodes.size(); ++a) {
+    const Index k = free_.nodes[a];
+    if (window_slot_[static_cast<std::size_t>(k)] < 0) z[static_cast<std::size_t>(k)] = w * (level_->jacobi_inverse[a] * b[static_cast<std::size_t>(k)]);
+  }
+  if (window_.empty()) return;
+  const Eigen::Index m = static_cast<Eigen::Index>(window_.size());
+  wb_.resize(3 * m);
+  for (Eigen::Index a = 0; a < m; ++a) wb_.segment<3>(3 * a) = b[static_cast<std::size_t>(window_[static_cast<std::size_t>(a)])];
+  Eigen::VectorXd y = window_factor_.solve(wb_);
+  if (constrained && !window_contacts_.empty()) {
+    Eigen::VectorXd ny(static_cast<Eigen::Index>(window_contacts_.size()));
+    for (std::size_t c = 0; c < window_contacts_.size(); ++c)
+      ny[static_cast<Eigen::Index>(c)] = window_normals_[c].dot(
+          y.segment<3>(3 * window_slot_[static_cast<std::size_t>(window_contacts_[c])]));
+    y -= window_Z_ * window_NZ_.solve(ny);
+  }
+  for (Eigen::Index a = 0; a < m; ++a) z[static_cast<std::size_t>(window_[static_cast<std::size_t>(a)])] = y.segment<3>(3 * a);
+}
+
+void WallMultigrid::update_coarse_contacts() const {
+  // Every contact, in the window or not (the solver's active set), with today's normals.
+  std::vector<Index> contacts;
+  Vec3Array normals;
+  for (Index k : free_.nodes)
+    if (contacts_.in_contact(k)) contacts.push_back(k), normals.push_back(contacts_.normal(k));
+  bool same = contacts == coarse_contacts_ && normals.size() == coarse_normals_.size() && coarse_contacts_version_ == version_;
+  for (std::size_t c = 0; same && c < normals.size(); ++c) same = normals[c] == coarse_normals_[c];
+  if (same) return;
+  coarse_contacts_ = std::move(contacts);
+  coarse_normals_ = std::move(normals);
+  coarse_contacts_version_ = version_;
+  const Eigen::Index mc = static_cast<Eigen::Index>(coarse_contacts_.size());
+  if (mc == 0) return;
+  coarse_G_ = Eigen::MatrixXd::Zero(3 * static_cast<Eigen::Index>(prolongation_.coarse_nodes), mc);  // G^T
+  for (Eigen::Index c = 0; c < mc; ++c) {
+    const Index k = coarse_contacts_[static_cast<std::size_t>(c)];
+    for (auto e = prolongation_.row_start[static_cast<std::size_t>(k)]; e < prolongation_.row_start[static_cast<std::size_t>(k) + 1]; ++e)
+      coarse_G_.block<3, 1>(3 * prolongation_.coarse[static_cast<std::size_t>(e)], c) +=
+          prolongation_.weight[static_cast<std::size_t>(e)] * coarse_normals_[static_cast<std::size_t>(c)];
+  }
+  level_->coarse.solve(coarse_G_, coarse_Z_);
+  coarse_GZ_.compute(coarse_G_.transpose() * coarse_Z_);
+}
+
+void WallMultigrid::coarse_correction(const Vec3Array& b, Vec3Array& z, bool constrained) const {
+  prolongation_.restrict_to(b, cb_);
+  level_->coarse.solve(cb_, cy_);
+  if (constrained && !coarse_contacts_.empty()) {
+    // Only coarse corrections that leave the contacts where they are: the Galerkin correction in that subspace,
+    // so it never raises the error's energy however many contacts there are.
+    const Eigen::VectorXd g = coarse_G_.transpose() * cy_;
+    cy_ -= coarse_Z_ * coarse_GZ_.solve(g);
+  }
+  prolongation_.prolongate_add(cy_, z);
+}
+
+bool WallMultigrid::apply(const Vec3Array& r, Vec3Array& z) const {
+  if (!level_) return false;
+  b_ = r;
+  contacts_.filter(b_);
+  update_window_contacts();
+  update_coarse_contacts();
+  if (op_ == nullptr) {
+    // Without the operator: the parts added (an additive two-level method).
+    smooth(b_, z, true);
+    coarse_correction(b_, z, true);
+    contacts_.filter(z);
+    return true;
+  }
+  // One symmetric V-cycle: z1 = S b; z2 = z1 + C (b - H z1); z = z2 + S (b - H z2).
+  smooth(b_, z1_, true);
+  contacts_.filter(z1_);
+  (*op_)(z1_, t_);
+  for (Index k : free_.nodes) t_[static_cast<std::size_t>(k)] = b_[static_cast<std::size_t>(k)] - t_[static_cast<std::size_t>(k)];
+  contacts_.filter(t_);
+  coarse_correction(t_, z1_, true);
+  contacts_.filter(z1_);
+  (*op_)(z1_, t_);
+  for (Index k : free_.nodes) t_[static_cast<std::size_t>(k)] = b_[static_cast<std::size_t>(k)] - t_[static_cast<std::size_t>(k)];
+  contacts_.filter(t_);
+  smooth(t_, y_, true);
+  z.assign(r.size(), Vec3::Zero());
+  for (Index k : free_.nodes) z[static_cast<std::size_t>(k)] = z1_[static_cast<std::size_t>(k)] + y_[static_cast<std::size_t>(k)];
+  contacts_.filter(z);
+  return true;
+}
+
+bool WallMultigrid::solve_columns(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) const {
+  // The parts added (smoothing and the coarse correction), all columns at once through the coarse factor.
+  if (!level_) return false;
+  const std::size_t n = static_cast<std::size_t>(problem_.discretization().num_nodes());
+  const Eigen::Index cols = B.cols();
+  std::vector<Vec3Array> z(static_cast<std::size_t>(cols));
+  Vec3Array b(n, Vec3::Zero());
+  Eigen::VectorXd col, c;
+  Eigen::MatrixXd C(3 * static_cast<Eigen::Index>(prolongation_.coarse_nodes), cols), Y;
+  for (Eigen::Index j = 0; j < cols; ++j) {
+    col = B.col(j);
+    free_.unpack(col, b);
+    smooth(b, z[static_cast<std::size_t>(j)], false);
+    prolongation_.restrict_to(b, c);
+    C.col(j) = c;
+  }
+  level_->coarse.solve(C, Y);
+  X.resize(B.rows(), cols);
+  for (Eigen::Index j = 0; j < cols; ++j) {
+    Vec3Array& zj = z[static_cast<std::size_t>(j)];
+    c = Y.col(j);
+    prolongation_.prolongate_add(c, zj);
+    free_.pack(zj, col);
+    X.col(j) = col;
+  }
+  return true;
+}
+
+nlohmann::json WallMultigrid::info() const {
+  nlohmann::json j = {{"matrix", "wall multigrid"},
+                      {"inertia_shift", options_.inv_h2 > 0.0},
+                      {"coarse_nodes", prolongation_.coarse_nodes},
+                      {"coarse_blocks", galerkin_->blocks()},
+                      {"window_m", window_m_},
+                      {"window_nodes", window_.size()},
+                      {"levels_built", levels_built_},
+                      {"last_level_build_s", last_level_seconds()}};
+  if (level_) j["coarse_nnz_l"] = level_->coarse.stats().nnz_l;
+  return j;
+}
+
+}  // namespace vascsim

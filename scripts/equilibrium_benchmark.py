@@ -17,40 +17,18 @@ Rows, each measured by an ordinary vascsim command and compared with a reference
 Run it on an otherwise idle machine; it records the load average and the machine in its JSON.
 """
 import argparse
-import bisect
-import csv
 import json
 import os
 import pathlib
 import platform
-import subprocess
-import sys
-import time
+
+from bench_common import interpolate, read_csv, sh
 
 
-def sh(cmd, env=None):
-    t0 = time.time()
-    proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
-    if proc.returncode != 0:
-        sys.exit(f"{' '.join(map(str, cmd))} failed ({proc.returncode}): {proc.stderr.strip()[-2000:]}")
-    return proc.stdout, time.time() - t0
 
 
-def read_csv(path):
-    with open(path) as f:
-        rows = list(csv.reader(line for line in f if not line.startswith("#")))
-    head = rows[0]
-    return [{k: float(v) for k, v in zip(head, r)} for r in rows[1:]]
 
 
-def interpolate(xs, ys, x):
-    i = bisect.bisect_left(xs, x)
-    if i <= 0:
-        return ys[0]
-    if i >= len(xs):
-        return ys[-1]
-    w = (x - xs[i - 1]) / (xs[i] - xs[i - 1])
-    return (1 - w) * ys[i - 1] + w * ys[i]
 
 
 def main():

@@ -1,7 +1,7 @@
 // The real-time model's preconditioner on wall lattices (model/wall_multigrid.hpp) and its parts: the coarse
 // space (wall_coarse_space.hpp), the Galerkin coarse operator (galerkin_hessian.hpp) and the single-precision
 // Hessian product (single_precision_hessian.hpp). Each part against an independent form of the same quantity;
-// speed is measured by bench/bench_realtime_solver.cpp, not here.
+// speed is measured by bench/bench_realtime_preconditioners.cpp and scripts/realtime_benchmark.py, not here.
 
 #include <gtest/gtest.h>
 

@@ -71,10 +71,12 @@ int run_session(const Scene& scene, const std::filesystem::path& out_dir, const 
   print_warnings(summary, ctx);
   const auto unconverged = summary["unconverged_frames"].get<long long>();
   if (unconverged == 0) return 0;
-  // Realtime frames stop at their time budget by design; a lockstep frame takes the time it needs.
+  // Realtime frames stop at their time budget or iteration limit by design (the next frame goes on from there); a
+  // lockstep frame takes the time it needs.
   if (h["mode"].get<std::string>() == "realtime") {
-    ctx.out << fmt::format("note: {} of {} frames stopped before converging (the realtime time budget)\n", unconverged,
-                           h["simulation_steps"].get<std::size_t>());
+    ctx.out << fmt::format("note: {} of {} frames ended before converging (a realtime frame stops at its time budget or "
+                           "iteration limit; the next frame goes on from there)\n",
+                           unconverged, h["simulation_steps"].get<std::size_t>());
     return 0;
   }
   ctx.out << fmt::format("NOT CONVERGED: {} of {} frames did not reach the tolerance; the forces of those frames are "

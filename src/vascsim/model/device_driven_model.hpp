@@ -51,6 +51,10 @@ class DeviceDrivenModel {
   /// real-time model follows a fast device in bounded steps); nullopt: at the pose given. The driver reports
   /// the force with this position, so the haptic thread extrapolates from where the force belongs.
   virtual std::optional<Vec3> tool_position_used(std::size_t /*tool*/) const { return std::nullopt; }
+  /// Where tool `tool`'s point was in the last frame's solve, m (the device's pose unless the model trails it);
+  /// tool_position_used may differ when the last frame's force is not its own (a real-time frame that ended far
+  /// from equilibrium hands on the last equilibrium's force with that equilibrium's pose). nullopt: at the pose.
+  virtual std::optional<Vec3> tool_position_solved(std::size_t /*tool*/) const { return std::nullopt; }
   /// The wall's linearised response at tool `tool` after the last frame, when the model computes one; nullopt:
   /// the driver estimates it (a secant along the contact normal).
   virtual std::optional<ToolLinearization> tool_linearization(std::size_t /*tool*/) const { return std::nullopt; }

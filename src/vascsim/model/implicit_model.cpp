@@ -33,6 +33,7 @@ ImplicitSettings read_implicit_settings(JsonReader& b) {
   s.max_newton_iterations = b.integer("max_newton_iterations", d.max_newton_iterations, 1, 1000);
   s.max_cg_iterations = b.integer("max_cg_iterations", d.max_cg_iterations, 1, 100000);
   s.time_budget_s = b.number("time_budget_s", d.time_budget_s, 0.0, 10.0);
+  s.handoff_max_residual = b.number("handoff_max_residual", d.handoff_max_residual, 1e-14, 1e6);
   s.preconditioner = b.string("preconditioner", d.preconditioner, {"auto", "multigrid", "meshless", "tet"});
   s.single_precision = b.boolean("single_precision", d.single_precision);
   s.level_refresh_frames = b.integer("level_refresh_frames", d.level_refresh_frames, 1, 1000000);
@@ -102,6 +103,7 @@ ImplicitModel::ImplicitModel(const Problem& problem, const ImplicitSettings& set
   loads_.assign(problem.tools().size(), ObstacleLoad{});
   tools_.set_bounded(settings.max_tool_step > 0.0);
   place_tools(0.0);
+  handoff_points_ = tools_.points(0.0);
   // Candidates within half a node spacing of a tool: more than a tool moves in a frame at hand speed.
   candidates_ = std::make_unique<HapticCandidates>(free_, settings.haptic_candidates,
                                                    0.5 * problem.discretization().mean_spacing());
@@ -349,7 +351,15 @@ StepReport ImplicitModel::step() {
   const NewtonResult r = newton_.solve(x_, s_next, f_ext, InertiaTerm{1.0 / (h_ * h_), &anchor_}, deadline);
   split_.solve_s += phase.seconds();
   for (std::size_t i = 0; i < x_.size(); ++i) v_[i] = (x_[i] - x_old_[i]) / h_;
-  if (!contacts_.empty()) loads_ = contacts_.loads(newton_.last_residual(), x_, tools_.points(s_next));
+  // The frame's loads are handed on when the frame is near enough its equilibrium; otherwise the last one that was
+  // keeps serving with its own tool pose (a frame's contact reactions far from equilibrium are not a force).
+  const bool handoff = r.converged || r.residual <= settings_.handoff_max_residual;
+  if (handoff) {
+    if (!contacts_.empty()) loads_ = contacts_.loads(newton_.last_residual(), x_, tools_.points(s_next));
+    handoff_points_ = tools_.points(s_next);
+  } else {
+    ++stale_handoffs_;
+  }
   t_ = t_next;
   s_ = s_next;
   for (const auto& p : x_)
@@ -366,7 +376,7 @@ StepReport ImplicitModel::step() {
   refresh_multigrid();
   split_.refactor_s += phase.seconds();
   phase.restart();
-  linearize();
+  if (handoff) linearize();
   split_.linearize_s += phase.seconds();
   split_.frame_s += frame.seconds();
   StepReport rep;
@@ -412,6 +422,8 @@ nlohmann::json ImplicitModel::info() const {
                       {"worst_residual", worst_residual_},
                       {"factorisations", factorisations_},
                       {"max_tool_lag_m", max_tool_lag_},
+                      {"frames_handing_on_an_older_force", stale_handoffs_},
+                      {"handoff_max_residual", settings_.handoff_max_residual},
                       {"time_budget_s", settings_.time_budget_s},
                       {"duration_s", settings_.duration_s},
                       {"ramp_time_s", settings_.ramp_time_s},

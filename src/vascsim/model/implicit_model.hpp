@@ -43,7 +43,12 @@ struct ImplicitSettings {
   double rel_tolerance = 1e-3;
   int max_newton_iterations = 8;     ///< per frame
   int max_cg_iterations = 20;        ///< per Newton iteration (more means a stale factor: see refactor_*)
-  double time_budget_s = 0.0;        ///< realtime sessions: a frame stops at this wall time (0: no budget), s
+  /// Realtime sessions: a frame stops at this wall time, partially converged, and the next one goes on from there
+  /// (0: no budget), s.
+  double time_budget_s = 0.03;
+  /// A frame that ends above this relative residual does not hand its force to the haptic thread (its contact
+  /// reactions are not yet the equilibrium's): the last frame below it keeps serving, from its own tool pose.
+  double handoff_max_residual = 1e-2;
   /// "auto": the wall multigrid where the nodes form a wall lattice (wall_multigrid.hpp), else "meshless" (a
   /// factor of the Hessian); "multigrid", "meshless", or "tet" (linear tets, for comparison).
   std::string preconditioner = "auto";
@@ -62,10 +67,11 @@ struct ImplicitSettings {
   double refactor_residual = 0.0;    ///< ... or a frame ended above this relative residual (0: not a trigger),
   double refactor_travel = 0.5;      ///< ... or a tool travelled this many node spacings since the factor
   /// A device-posed tool in contact moves by at most this many node spacings per frame; one out of contact goes
-  /// at once as far as its way touches no node, then by at most this much (0: always at once). A frame then
-  /// never starts from a tool that jumped deep into the wall: under a fast hand or a slow frame the model's tool
-  /// trails the device, and the haptic thread bridges the gap with the wall's linearised response.
-  double max_tool_step = 0.25;
+  /// at once as far as its way touches no node, then by at most this much (0: always at once, the default: every
+  /// frame solves at the device's pose, and a frame the budget stops is continued by the next). With a bound, a
+  /// frame never starts from a tool that jumped deep into the wall, but under a fast hand or a slow frame the
+  /// model's tool trails the device.
+  double max_tool_step = 0.0;
 };
 
 /// Reads the `implicit` block of a scene (docs/scene-format.md).
@@ -92,7 +98,8 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   double time() const override { return t_; }
   double frame_length_s() const override { return h_; }
   std::vector<ObstacleLoad> tool_loads() const override { return loads_; }
-  std::optional<Vec3> tool_position_used(std::size_t tool) const override { return tools_.points(s_).at(tool); }
+  std::optional<Vec3> tool_position_used(std::size_t tool) const override { return handoff_points_.at(tool); }
+  std::optional<Vec3> tool_position_solved(std::size_t tool) const override { return tools_.points(s_).at(tool); }
   std::optional<ToolLinearization> tool_linearization(std::size_t tool) const override;
   void set_realtime(bool realtime) override;
 
@@ -138,7 +145,9 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   std::unique_ptr<Factor> spare_;                   // the one it replaced, refilled by the next refactorisation
   std::future<std::unique_ptr<Factor>> pending_;    // a factor being built in the background
   std::vector<Vec3> factor_tool_points_;  // tool points when the factor in use was built
-  std::vector<ObstacleLoad> loads_;
+  std::vector<ObstacleLoad> loads_;               // the handed-on loads (the last frame below handoff_max_residual)
+  std::vector<Vec3> handoff_points_;              // the tools' points of that frame
+  long long stale_handoffs_ = 0;                  // frames that kept an older frame's hand-off
   std::vector<std::optional<ToolLinearization>> linearization_;  // per tool, after the last frame
   std::unique_ptr<HapticCandidates> candidates_;
   double spacing_ = 0.0;

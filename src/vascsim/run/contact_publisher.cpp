@@ -23,6 +23,8 @@ FrameSample ContactPublisher::step(const ToolPose& pose) {
   s.sim_time_s = model_.time();
   s.pose_time_s = pose.time_s;
   s.tool_position_m = used.position();
+  s.pose_position_m = pose.position();
+  if (const auto p = model_.tool_position_solved(tool_)) s.tool_lag_m = (*p - pose.position()).norm();
   s.force_n = -load.force_n;  // the tissue's force on the tool
   s.torque_n_m = -load.torque_n_m;
   s.contacts = load.contacts;

@@ -122,10 +122,11 @@ bool run_realtime(const SessionInputs& in, HapticRig& rig, DeviceDrivenModel& mo
 
 std::string history_row(const FrameSample& s) {
   return fmt::format("{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},"
-                     "{:.17g},{},{:.3g},{},{:.4f}",
+                     "{:.17g},{},{:.3g},{},{:.17g},{:.17g},{:.17g},{:.6g},{:.4f}",
                      s.sim_time_s, s.pose_time_s, s.tool_position_m.x(), s.tool_position_m.y(), s.tool_position_m.z(),
                      s.force_n.x(), s.force_n.y(), s.force_n.z(), s.force_n.norm(), s.torque_n_m.x(),
-                     s.torque_n_m.y(), s.torque_n_m.z(), s.contacts, s.residual, s.converged ? 1 : 0, s.wall_s * 1e3);
+                     s.torque_n_m.y(), s.torque_n_m.z(), s.contacts, s.residual, s.converged ? 1 : 0,
+                     s.pose_position_m.x(), s.pose_position_m.y(), s.pose_position_m.z(), s.tool_lag_m, s.wall_s * 1e3);
 }
 
 // The replay against the recording it plays: bit-identical in lockstep on one thread.
@@ -198,7 +199,8 @@ std::vector<std::string> session_warnings(const Scene& scene, const SessionInput
 std::vector<std::string> force_history_columns() {
   return {"sim_time_s",   "pose_time_s",  "tool_x_m",     "tool_y_m", "tool_z_m", "force_x_n",
           "force_y_n",    "force_z_n",    "force_n",      "torque_x_n_m", "torque_y_n_m", "torque_z_n_m",
-          "contacts",     "residual",     "converged",    "step_wall_ms"};
+          "contacts",     "residual",     "converged",    "pose_x_m",     "pose_y_m",     "pose_z_m",
+          "tool_lag_m",   "step_wall_ms"};
 }
 
 nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& options) {

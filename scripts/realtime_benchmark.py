@@ -1,0 +1,312 @@
+#!/usr/bin/env python3
+"""Real time at a trainee's hand speed (docs/performance.md, "Real time at hand speed").
+
+A scripted hand presses the catheter of a real-time scene into the wall and slides it along the wall, at each of
+several speeds, through the 1 kHz haptic loop in realtime mode (the haptic thread at wall-clock 1 kHz, the model
+on the other core), and the run is compared with the converged continuum:
+
+  * the deformation: frames per second while the tool is in the wall (median, and the 10th percentile: the slow
+    frames), the frames that ended before converging, and the model's tool against the device pose each frame was
+    given (tool_lag_m);
+  * the force the hand feels: at every 1 kHz tick (haptic_ticks.csv: the tissue's force at the tick's tool pose,
+    before the coupling and the output filter) against the reference force at that pose, counted where the
+    contact is resolved (its Hertz diameter spans 1.4 node spacings along the wall, docs/validation.md "The
+    contact's onset"); each frame's own force likewise; the force latency and the haptic loop's rate and jitter.
+
+The reference is the fine quasi_static scene of the same set-up (for the vein: scenes/hand-dorsal-vein-catheter.json,
+30,552 nodes, within 0.3 % of the CalculiX reference at 1.2 mm) driven along the same path in lockstep, one
+equilibrium every --reference-step of the path; the force at a tick is interpolated along the path at the tick's
+tool pose. It takes several minutes and is cached in the output folder (--reference to reuse a file).
+
+    /usr/bin/python3 scripts/realtime_benchmark.py --vascsim build/vascsim --out out/realtime-benchmark
+
+Run it on an otherwise idle machine: it records the load average and the machine in benchmark.json.
+"""
+import argparse
+import json
+import math
+import os
+import pathlib
+import platform
+import sys
+import time
+
+from bench_common import interpolate, read_csv, sh
+
+# The solver variants a run compares, each a list of scene overrides on the scene as bundled: "multigrid" is the
+# implicit model's defaults (the wall multigrid with float products, the tool at the device pose, a 30 ms frame
+# budget); "factor" is the real-time path the multigrid replaced (a sparse factor of the meshless Hessian, the tool
+# following the device in steps of 0.25 node spacings, no frame budget, every frame's force handed on).
+VARIANTS = {
+    "multigrid": [],
+    "factor": ["implicit.preconditioner=meshless", "implicit.single_precision=false", "implicit.max_tool_step=0.25",
+               "implicit.time_budget_s=0", "implicit.handoff_max_residual=1e6"],
+}
+
+# The press-and-slide of a 6 Fr catheter on the straight vein, per scene: the tip starts `lift` above the outer
+# wall at `start`, is pushed along `press_dir` to `depth` below the wall, holds, slides along `slide_dir` by
+# `slide`, and holds. Orientation: the catheter's tip pointing along -y (a -90 degree turn about x).
+CASES = {
+    "scenes/realtime/hand-dorsal-vein-catheter.json": {
+        "reference_scene": "scenes/hand-dorsal-vein-catheter.json",
+        "surface": [0.0, 1.5e-3, 10e-3],
+        "press_dir": [0.0, -1.0, 0.0],
+        "slide_dir": [0.0, 0.0, 1.0],
+        "lift": 0.2e-3, "depth": 1.2e-3, "slide": 2.0e-3, "hold": 0.2,
+        "quaternion": [0.7071067811865476, -0.7071067811865476, 0.0, 0.0],
+        "tool_radius": 1e-3, "youngs_modulus": 0.5e6, "poisson": 0.45, "spacing_along_wall": 0.3e-3,
+    },
+}
+
+
+
+
+
+
+def add(a, b, s=1.0):
+    return [x + s * y for x, y in zip(a, b)]
+
+
+def dot(a, b):
+    return sum(x * y for x, y in zip(a, b))
+
+
+class Path:
+    """The hand's path: press (from the lift point to the full depth), then slide; arc length l along it."""
+
+    def __init__(self, c):
+        self.c = c
+        self.top = add(c["surface"], c["press_dir"], -c["lift"])
+        self.bottom = add(c["surface"], c["press_dir"], c["depth"])
+        self.press_len = c["lift"] + c["depth"]
+        self.end = add(self.bottom, c["slide_dir"], c["slide"])
+        self.length = self.press_len + c["slide"]
+
+    def point(self, l):
+        if l <= self.press_len:
+            return add(self.top, self.c["press_dir"], l)
+        return add(self.bottom, self.c["slide_dir"], min(l, self.length) - self.press_len)
+
+    def param(self, p):
+        """The path parameter of the point of the path nearest p (m)."""
+        d = [pi - ti for pi, ti in zip(p, self.top)]
+        lp = min(max(dot(d, self.c["press_dir"]), 0.0), self.press_len)
+        e = [pi - bi for pi, bi in zip(p, self.bottom)]
+        ls = min(max(dot(e, self.c["slide_dir"]), 0.0), self.c["slide"])
+        dist_p = math.dist(p, self.point(lp))
+        dist_s = math.dist(p, self.point(self.press_len + ls))
+        return lp if dist_p <= dist_s else self.press_len + ls
+
+    def depth(self, p):
+        """How far p is below the outer wall along the press direction, m."""
+        return dot([pi - si for pi, si in zip(p, self.c["surface"])], self.c["press_dir"])
+
+    def schedule(self, speed):
+        """(time, l) knots of the motion at `speed` m/s: press, hold, slide, hold."""
+        c = self.c
+        t1 = self.press_len / speed
+        t2 = t1 + c["hold"]
+        t3 = t2 + c["slide"] / speed
+        return [(0.0, 0.0), (t1, self.press_len), (t2, self.press_len), (t3, self.length), (t3 + c["hold"], self.length)]
+
+
+def write_trajectory(path, knots, file, dt=1e-3, note=""):
+    q = path.c["quaternion"]
+    t_end = knots[-1][0]
+    with open(file, "w") as f:
+        f.write(f"# {note}\n")
+        f.write("time_s,x_m,y_m,z_m,qw,qx,qy,qz\n")
+        n = int(round(t_end / dt))
+        for k in range(n + 1):
+            t = k * dt
+            for (ta, la), (tb, lb) in zip(knots, knots[1:]):
+                if ta <= t <= tb:
+                    l = la if tb == ta else la + (lb - la) * (t - ta) / (tb - ta)
+                    break
+            p = path.point(l)
+            f.write(f"{t:.6f},{p[0]:.9g},{p[1]:.9g},{p[2]:.9g},{q[0]},{q[1]},{q[2]},{q[3]}\n")
+
+
+def scene_with_haptics(scene_file, trajectory, mode_settings):
+    doc = json.loads(pathlib.Path(scene_file).read_text())
+    doc["haptics"] = {"device": {"type": "scripted", "trajectory": str(pathlib.Path(trajectory).resolve())},
+                      "ticks_per_step": 10}
+    for block, values in mode_settings.items():
+        doc.setdefault(block, {}).update(values)
+    return doc
+
+
+def reference(args, case, path, out):
+    """The fine scene's equilibrium force along the path, one pose every --reference-step (lockstep)."""
+    cache = pathlib.Path(args.reference) if args.reference else out / "reference.csv"
+    if cache.exists():
+        rows = read_csv(cache)
+        return [r["l_m"] for r in rows], [r["force_n"] for r in rows]
+    step = args.reference_step
+    n = int(math.ceil(path.length / step))
+    frame_s = 0.01  # 10 ticks of 1 ms per pose
+    knots = [(k * frame_s, min(k * step, path.length)) for k in range(n + 1)]
+    traj = out / "reference-trajectory.csv"
+    write_trajectory(path, knots, traj, note="reference poses along the benchmark's path")
+    scene = scene_with_haptics(case["reference_scene"], traj, {"quasi_static": {"frame_s": frame_s}})
+    scene_file = out / "reference-scene.json"
+    scene_file.write_text(json.dumps(scene, indent=1))
+    print(f"reference: {n + 1} equilibria of {case['reference_scene']} along the path (lockstep, minutes) ...",
+          flush=True)
+    _, seconds = sh([args.vascsim, "-q", "run", scene_file, "--out", out / "reference", "--mode", "lockstep", "--yes"],
+                    log=out / "reference.log")
+    frames = read_csv(out / "reference" / "force_history.csv")
+    ls, fs = [], []
+    for f in frames:
+        l = path.param([f["tool_x_m"], f["tool_y_m"], f["tool_z_m"]])
+        if ls and l <= ls[-1] + 1e-12:
+            continue
+        ls.append(l)
+        fs.append(f["force_n"])
+    with open(cache, "w") as f:
+        f.write(f"# {case['reference_scene']} (quasi_static) along the benchmark path; {seconds:.0f} s\n")
+        f.write("l_m,force_n\n")
+        for l, fo in zip(ls, fs):
+            f.write(f"{l:.9g},{fo:.9g}\n")
+    return ls, fs
+
+
+
+
+def resolved(case, force):
+    """The contact's Hertz diameter 2a = 2 (3 F R / (4 E*))^(1/3) spans 1.4 node spacings along the wall."""
+    if force <= 0.0:
+        return False
+    e_star = case["youngs_modulus"] / (1.0 - case["poisson"] ** 2)
+    a = (3.0 * force * case["tool_radius"] / (4.0 * e_star)) ** (1.0 / 3.0)
+    return 2.0 * a >= 1.4 * case["spacing_along_wall"]
+
+
+def quantile(v, q):
+    if not v:
+        return float("nan")
+    s = sorted(v)
+    return s[min(len(s) - 1, int(q * (len(s) - 1) + 0.5))]
+
+
+def session(args, case, path, ref, speed, variant, out):
+    run = out / variant / f"speed-{speed * 1e3:g}-mm-s"
+    run.mkdir(parents=True, exist_ok=True)
+    traj = run / "trajectory.csv"
+    write_trajectory(path, path.schedule(speed), traj, note=f"press and slide at {speed * 1e3:g} mm/s")
+    scene = scene_with_haptics(args.scene, traj, {})
+    scene_file = run / "scene.json"
+    scene_file.write_text(json.dumps(scene, indent=1))
+    cmd = [args.vascsim, "-q", "run", scene_file, "--out", run, "--mode", "realtime"]
+    for s in VARIANTS[variant] + args.set:
+        cmd += ["--set", s]
+    sh(cmd, log=run / "run.log")
+    summary = json.loads((run / "summary.json").read_text())
+    frames = read_csv(run / "force_history.csv")
+    ticks = read_csv(run / "haptic_ticks.csv")
+    ref_l, ref_f = ref
+    # Frames in the wall: the device pose they were given is below the outer wall.
+    wall = [f for f in frames if path.depth([f["pose_x_m"], f["pose_y_m"], f["pose_z_m"]]) > 0.0]
+    rates = [1e3 / f["step_wall_ms"] for f in wall if f["step_wall_ms"] > 0.0]
+    frame_err = []
+    for f in wall:
+        fr = interpolate(ref_l, ref_f, path.param([f["tool_x_m"], f["tool_y_m"], f["tool_z_m"]]))
+        if resolved(case, fr):
+            frame_err.append(abs(f["force_n"] - fr) / fr)
+    tick_err, felt_max, ref_max = [], 0.0, 0.0
+    for t in ticks:
+        p = [t["tool_x_m"], t["tool_y_m"], t["tool_z_m"]]
+        felt = math.sqrt(t["tissue_fx_n"] ** 2 + t["tissue_fy_n"] ** 2 + t["tissue_fz_n"] ** 2)
+        fr = interpolate(ref_l, ref_f, path.param(p)) if path.depth(p) > -1e-4 else 0.0
+        felt_max, ref_max = max(felt_max, felt), max(ref_max, fr)
+        if resolved(case, fr):
+            tick_err.append(abs(felt - fr) / fr)
+    loop = summary["haptics"]["loop"]
+    solver = summary.get("solver", {})
+    return {
+        "variant": variant,
+        "speed_mm_s": speed * 1e3,
+        "frames_in_wall": len(wall),
+        "frames_per_s_in_wall_median": quantile(rates, 0.5),
+        "frames_per_s_in_wall_p10": quantile(rates, 0.1),
+        "frames_not_converged_in_wall": sum(1 for f in wall if f["converged"] < 0.5),
+        "frames_handing_on_an_older_force": solver.get("frames_handing_on_an_older_force"),
+        "tool_lag_max_mm": max((f["tool_lag_m"] for f in frames), default=0.0) * 1e3,
+        "frame_force_error_max": max(frame_err, default=float("nan")),
+        "frame_force_error_median": quantile(frame_err, 0.5),
+        "frames_compared": len(frame_err),
+        "tick_force_error_max": max(tick_err, default=float("nan")),
+        "tick_force_error_p95": quantile(tick_err, 0.95),
+        "tick_force_error_median": quantile(tick_err, 0.5),
+        "ticks_compared": len(tick_err),
+        "felt_force_max_mn": felt_max * 1e3,
+        "reference_force_max_mn": ref_max * 1e3,
+        "haptic_rate_hz": loop["achieved_rate_hz"],
+        "jitter_p99_ms": loop["jitter_p99_ms"],
+        "force_latency_mean_ms": loop["force_latency_mean_ms"],
+        "force_latency_max_ms": loop["force_latency_max_ms"],
+        "out": str(run),
+    }
+
+
+def markdown(rows, meta):
+    lines = [f"Measured {meta['date']} on {meta['machine']} (load average {meta['load_before']} before, "
+             f"{meta['load_after']} after); `{meta['command']}`.", "",
+             "| solver | hand speed | frames/s in the wall, median (p10) | frames not converged | tool lag | "
+             "felt force vs continuum, every tick: max (p95, median) | frame force: max | force latency mean (max) | "
+             "haptic loop, p99 jitter |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(
+            f"| {r['variant']} | {r['speed_mm_s']:g} mm/s | {r['frames_per_s_in_wall_median']:.1f} ({r['frames_per_s_in_wall_p10']:.1f}) | "
+            f"{r['frames_not_converged_in_wall']} of {r['frames_in_wall']} | {r['tool_lag_max_mm']:.3f} mm | "
+            f"{100 * r['tick_force_error_max']:.1f} % ({100 * r['tick_force_error_p95']:.1f} %, "
+            f"{100 * r['tick_force_error_median']:.1f} %), {r['ticks_compared']} ticks | "
+            f"{100 * r['frame_force_error_max']:.1f} % | {r['force_latency_mean_ms']:.0f} ms "
+            f"({r['force_latency_max_ms']:.0f} ms) | {r['haptic_rate_hz']:.1f} Hz, {r['jitter_p99_ms']:.3f} ms |")
+    return "\n".join(lines) + "\n"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--vascsim", default="build/vascsim")
+    ap.add_argument("--scene", default="scenes/realtime/hand-dorsal-vein-catheter.json",
+                    help="a real-time scene this script knows the path of: " + ", ".join(CASES))
+    ap.add_argument("--speeds", default="1,2,5", help="hand speeds, mm/s (comma-separated)")
+    ap.add_argument("--out", default="out/realtime-benchmark")
+    ap.add_argument("--reference", help="a reference.csv of an earlier run (l_m, force_n) instead of computing it")
+    ap.add_argument("--reference-step", type=float, default=0.05e-3, help="path between reference poses, m")
+    ap.add_argument("--variants", default="multigrid,factor",
+                    help="solver variants to compare, comma-separated: " + ", ".join(VARIANTS))
+    ap.add_argument("--set", action="append", default=[], help="a scene override for the sessions (repeatable)")
+    args = ap.parse_args()
+    variants = args.variants.split(",")
+    for v in variants:
+        if v not in VARIANTS:
+            sys.exit(f"--variants: unknown variant '{v}'; known: {', '.join(VARIANTS)}")
+    if args.scene not in CASES:
+        sys.exit(f"--scene {args.scene}: no press-and-slide path is defined for it; known: {', '.join(CASES)}")
+    case = CASES[args.scene]
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    path = Path(case)
+    load_before = os.getloadavg()[0]
+    ref = reference(args, case, path, out)
+    rows = []
+    for v in variants:
+        for s in args.speeds.split(","):
+            speed = float(s) * 1e-3
+            print(f"{v}: session at {float(s):g} mm/s ...", flush=True)
+            rows.append(session(args, case, path, ref, speed, v, out))
+    meta = {"date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
+            "machine": f"{platform.machine()}, {os.cpu_count()} cores ({platform.processor() or 'unknown cpu'})",
+            "load_before": round(load_before, 2), "load_after": round(os.getloadavg()[0], 2),
+            "command": " ".join(sys.argv), "scene": args.scene, "reference_scene": case["reference_scene"]}
+    (out / "benchmark.json").write_text(json.dumps({"meta": meta, "rows": rows}, indent=1))
+    md = markdown(rows, meta)
+    (out / "benchmark.md").write_text(md)
+    print(md)
+
+
+if __name__ == "__main__":
+    main()

@@ -16,7 +16,7 @@ on the other core), and the run is compared with the converged continuum:
 The reference is the fine quasi_static scene of the same set-up (for the vein: scenes/hand-dorsal-vein-catheter.json,
 30,552 nodes, within 0.3 % of the CalculiX reference at 1.2 mm) driven along the same path in lockstep, one
 equilibrium every --reference-step of the path; the force at a tick is interpolated along the path at the tick's
-tool pose. It takes several minutes and is cached in the output folder (--reference to reuse a file).
+tool pose. It takes about half an hour on 2 cores and is cached in the output folder (--reference to reuse a file).
 
     /usr/bin/python3 scripts/realtime_benchmark.py --vascsim build/vascsim --out out/realtime-benchmark
 
@@ -35,10 +35,15 @@ from bench_common import interpolate, read_csv, sh
 
 # The solver variants a run compares, each a list of scene overrides on the scene as bundled: "multigrid" is the
 # implicit model's defaults (the wall multigrid with float products, the tool at the device pose, a 30 ms frame
-# budget); "factor" is the real-time path the multigrid replaced (a sparse factor of the meshless Hessian, the tool
-# following the device in steps of 0.25 node spacings, no frame budget, every frame's force handed on).
+# budget); "multigrid-unbudgeted" the same with frames that take the time they need; "multigrid-bounded" the
+# multigrid with the factor's frame logic (below); "factor" is the real-time
+# path the multigrid replaced (a sparse factor of the meshless Hessian, the tool following the device in steps of
+# 0.25 node spacings, no frame budget, every frame's force handed on).
 VARIANTS = {
     "multigrid": [],
+    "multigrid-unbudgeted": ["implicit.time_budget_s=0"],
+    "multigrid-bounded": ["implicit.max_tool_step=0.25", "implicit.time_budget_s=0",
+                          "implicit.handoff_max_residual=1e6"],
     "factor": ["implicit.preconditioner=meshless", "implicit.single_precision=false", "implicit.max_tool_step=0.25",
                "implicit.time_budget_s=0", "implicit.handoff_max_residual=1e6"],
 }
@@ -275,8 +280,8 @@ def main():
     ap.add_argument("--speeds", default="1,2,5", help="hand speeds, mm/s (comma-separated)")
     ap.add_argument("--out", default="out/realtime-benchmark")
     ap.add_argument("--reference", help="a reference.csv of an earlier run (l_m, force_n) instead of computing it")
-    ap.add_argument("--reference-step", type=float, default=0.05e-3, help="path between reference poses, m")
-    ap.add_argument("--variants", default="multigrid,factor",
+    ap.add_argument("--reference-step", type=float, default=0.1e-3, help="path between reference poses, m")
+    ap.add_argument("--variants", default="multigrid,multigrid-bounded,factor",
                     help="solver variants to compare, comma-separated: " + ", ".join(VARIANTS))
     ap.add_argument("--set", action="append", default=[], help="a scene override for the sessions (repeatable)")
     args = ap.parse_args()

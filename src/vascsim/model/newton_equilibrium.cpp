@@ -266,6 +266,8 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
     best = std::min(best, out.residual);
     const bool out_of_time = SteadyClock::now() >= deadline;
     if (it == settings_.max_newton_iterations || stalled >= 3 || out_of_time) {
+      spdlog::debug("equilibrium:   stopped ({})",
+                    out_of_time ? "out of time" : stalled >= 3 ? "stalled" : "iteration limit");
       out.converged = false;
       out.out_of_time = out_of_time;
       out.loads_measured = true;
@@ -283,6 +285,7 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
     spdlog::debug("equilibrium:   CG {} iterations (eta {:.1e})", cg, eta);
     if (settings_.line_search) {
       if (!line_search(x, r, f_ext, inertia, dx, trial)) {
+        spdlog::debug("equilibrium:   the line search found no decrease");
         out.converged = false;
         break;
       }

@@ -254,11 +254,17 @@ def session(args, case, path, ref, speed, variant, out):
     }
 
 
+def percent(value, compared):
+    """A relative error as a percentage, or a dash where nothing was compared."""
+    return f"{100 * value:.1f} %" if compared else "—"
+
+
 def markdown(rows, meta):
     lines = [f"Measured {meta['date']} on {meta['machine']} (load average {meta['load_before']} before, "
              f"{meta['load_after']} after); `{meta['command']}`.", "",
              "| solver | hand speed | frames/s in the wall, median (p10) | frames not converged | tool lag | "
-             "felt force vs continuum, every tick: max (p95, median) | frame force: max | force latency mean (max) | "
+             "felt force vs continuum, every tick: max (p95, median) | frame force: max (frames handing on their own force "
+             "where the contact is resolved; — none) | force latency mean (max) | "
              "haptic loop, p99 jitter |",
              "|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
@@ -267,7 +273,7 @@ def markdown(rows, meta):
             f"{r['frames_not_converged_in_wall']} of {r['frames_in_wall']} | {r['tool_lag_max_mm']:.3f} mm | "
             f"{100 * r['tick_force_error_max']:.1f} % ({100 * r['tick_force_error_p95']:.1f} %, "
             f"{100 * r['tick_force_error_median']:.1f} %), {r['ticks_compared']} ticks | "
-            f"{100 * r['frame_force_error_max']:.1f} % | {r['force_latency_mean_ms']:.0f} ms "
+            f"{percent(r['frame_force_error_max'], r['frames_compared'])} | {r['force_latency_mean_ms']:.0f} ms "
             f"({r['force_latency_max_ms']:.0f} ms) | {r['haptic_rate_hz']:.1f} Hz, {r['jitter_p99_ms']:.3f} ms |")
     return "\n".join(lines) + "\n"
 

@@ -351,9 +351,10 @@ StepReport ImplicitModel::step() {
   const NewtonResult r = newton_.solve(x_, s_next, f_ext, InertiaTerm{1.0 / (h_ * h_), &anchor_}, deadline);
   split_.solve_s += phase.seconds();
   for (std::size_t i = 0; i < x_.size(); ++i) v_[i] = (x_[i] - x_old_[i]) / h_;
-  // The frame's loads are handed on when the frame is near enough its equilibrium; otherwise the last one that was
-  // keeps serving with its own tool pose (a frame's contact reactions far from equilibrium are not a force).
-  const bool handoff = r.converged || r.residual <= settings_.handoff_max_residual;
+  // The frame's loads are handed on when the frame is near enough its equilibrium, with no contact that pulls
+  // (held, such a contact makes the pushing ones carry more: +128 % measured at a residual of 6e-3); otherwise the
+  // last one that was keeps serving with its own tool pose (contact reactions far from equilibrium are not a force).
+  const bool handoff = r.converged || (r.residual <= settings_.handoff_max_residual && contacts_.pulling() == 0);
   if (handoff) {
     if (!contacts_.empty()) loads_ = contacts_.loads(newton_.last_residual(), x_, tools_.points(s_next));
     handoff_points_ = tools_.points(s_next);

@@ -46,8 +46,9 @@ struct ImplicitSettings {
   /// Realtime sessions: a frame stops at this wall time, partially converged, and the next one goes on from there
   /// (0: no budget), s.
   double time_budget_s = 0.03;
-  /// A frame that ends above this relative residual does not hand its force to the haptic thread (its contact
-  /// reactions are not yet the equilibrium's): the last frame below it keeps serving, from its own tool pose.
+  /// A frame that ends above this relative residual, or unconverged with a contact that pulls, does not hand its
+  /// force to the haptic thread (its contact reactions are not yet the equilibrium's): the last frame that did keeps
+  /// serving, from its own tool pose.
   double handoff_max_residual = 1e-2;
   /// "auto": the wall multigrid where the nodes form a wall lattice (wall_multigrid.hpp), else "meshless" (a
   /// factor of the Hessian); "multigrid", "meshless", or "tet" (linear tets, for comparison).

@@ -48,25 +48,45 @@ double EmbeddedContact::energy(const Vec3Array& x) const {
   return e;
 }
 
+EmbeddedContact::Contact EmbeddedContact::make_contact(Index v, int o, const Vec3& xv,
+                                                       const constraints::ContactConstraint& c) const {
+  const double ka = surface_.stiffness_pa_per_m * surface_.area_m2[static_cast<std::size_t>(v)];
+  const double depth = -c.value;
+  const Vec3& n = c.normal;
+  // The distance's curvature: grad^2 d = (I - n n^T - e e^T) / d, e the capsule's axis on its cylinder
+  // (0 on the rounded ends), d the distance to the core; the penetrating depth softens the normal stiffness
+  // by depth / d along the surface.
+  const constraints::Capsule& g = geometry_[static_cast<std::size_t>(o)];
+  const Vec3 ab = g.b - g.a;
+  const double len2 = ab.squaredNorm();
+  const double t = len2 > 0.0 ? (xv - g.a).dot(ab) / len2 : 0.0;
+  const Vec3 e = t > 0.0 && t < 1.0 ? Vec3(ab / std::sqrt(len2)) : Vec3::Zero();
+  const double core = std::max(g.radius_m - depth, 1e-12);
+  const Mat3 nn = n * n.transpose();
+  const Mat3 K = ka * (nn - (depth / core) * (Mat3::Identity() - nn - e * e.transpose()));
+  return {v, o, xv, n, depth, ka * depth * n, K};
+}
+
 void EmbeddedContact::linearize(const Vec3Array& x) {
   active_.clear();
   for_each_penetration(x, [&](Index v, int o, const Vec3& xv, const constraints::ContactConstraint& c) {
-    const double ka = surface_.stiffness_pa_per_m * surface_.area_m2[static_cast<std::size_t>(v)];
-    const double depth = -c.value;
-    const Vec3& n = c.normal;
-    // The distance's curvature: grad^2 d = (I - n n^T - e e^T) / d, e the capsule's axis on its cylinder
-    // (0 on the rounded ends), d the distance to the core; the penetrating depth softens the normal stiffness
-    // by depth / d along the surface.
-    const constraints::Capsule& g = geometry_[static_cast<std::size_t>(o)];
-    const Vec3 ab = g.b - g.a;
-    const double len2 = ab.squaredNorm();
-    const double t = len2 > 0.0 ? (xv - g.a).dot(ab) / len2 : 0.0;
-    const Vec3 e = t > 0.0 && t < 1.0 ? Vec3(ab / std::sqrt(len2)) : Vec3::Zero();
-    const double core = std::max(g.radius_m - depth, 1e-12);
-    const Mat3 nn = n * n.transpose();
-    const Mat3 K = ka * (nn - (depth / core) * (Mat3::Identity() - nn - e * e.transpose()));
-    active_.push_back({v, o, xv, n, depth, ka * depth * n, K});
+    active_.push_back(make_contact(v, o, xv, c));
   });
+}
+
+void EmbeddedContact::relinearize_carried(const Vec3Array& x) {
+  std::vector<Contact> kept;
+  kept.reserve(active_.size());
+  for (const Contact& old : active_) {
+    Vec3 xv = surface_.rest_points[old.sample];
+    for (Index k = surface_.row_start[old.sample]; k < surface_.row_start[old.sample + 1]; ++k) {
+      const Index i = surface_.col[static_cast<std::size_t>(k)];
+      xv += surface_.val[static_cast<std::size_t>(k)] * (x[i] - rest_nodes_[i]);
+    }
+    const auto c = obstacle_contact(geometry_[static_cast<std::size_t>(old.tool)], xv);
+    if (c.value < 0.0) kept.push_back(make_contact(old.sample, old.tool, xv, c));
+  }
+  active_ = std::move(kept);
 }
 
 void EmbeddedContact::add_forces(Vec3Array& f) const {
@@ -78,7 +98,7 @@ void EmbeddedContact::add_forces(Vec3Array& f) const {
       f[col[static_cast<std::size_t>(k)]] += val[static_cast<std::size_t>(k)] * c.force;
 }
 
-void EmbeddedContact::add_hessian_product(const Vec3Array& p, Vec3Array& Hp) const {
+void EmbeddedContact::add_hessian_product(const Vec3Array& p, Vec3Array& Hp, bool normal_only) const {
   const auto& start = surface_.row_start;
   const auto& col = surface_.col;
   const auto& val = surface_.val;
@@ -86,7 +106,8 @@ void EmbeddedContact::add_hessian_product(const Vec3Array& p, Vec3Array& Hp) con
     Vec3 pv = Vec3::Zero();
     for (Index k = start[c.sample]; k < start[c.sample + 1]; ++k)
       pv += val[static_cast<std::size_t>(k)] * p[col[static_cast<std::size_t>(k)]];
-    const Vec3 hv = c.stiffness * pv;
+    const Vec3 hv = normal_only ? Vec3(c.normal.dot(c.stiffness * c.normal) * c.normal.dot(pv) * c.normal)
+                                : Vec3(c.stiffness * pv);
     for (Index k = start[c.sample]; k < start[c.sample + 1]; ++k)
       Hp[col[static_cast<std::size_t>(k)]] += val[static_cast<std::size_t>(k)] * hv;
   }

@@ -29,16 +29,32 @@ class EmbeddedContact {
   double energy(const Vec3Array& x) const;
   /// Finds the penetrating samples at x; forces, Hessian products and loads then refer to x.
   void linearize(const Vec3Array& x);
+  /// Re-linearises at x (the tools placed anew) the samples that were in contact at the last linearisation, and
+  /// only those (the ones the tools left drop out): the contact set carried into a frame whose tools moved, so that
+  /// its first Newton step answers their move without the samples the moved tools sweep through, most of
+  /// which the wall's response takes out of contact again.
+  void relinearize_carried(const Vec3Array& x);
   /// Adds the contact forces on the nodes (-dU_c/dx at the linearisation), N.
   void add_forces(Vec3Array& f) const;
-  /// Adds (d^2 U_c/dx^2) p at the linearisation.
-  void add_hessian_product(const Vec3Array& p, Vec3Array& Hp) const;
+  /// Adds (d^2 U_c/dx^2) p at the linearisation; with `normal_only`, only its positive semi-definite normal part
+  /// k a_v n n^T (for_each_stiffness): a tool that moved into the wall since the linearisation penetrates deep,
+  /// and the full Hessian's softening along the surface (depth / distance to the core) then outweighs the wall.
+  void add_hessian_product(const Vec3Array& p, Vec3Array& Hp, bool normal_only = false) const;
   /// Per tool at the linearisation: the force on the tissue, its moment about tool_points[o] and the number
   /// of samples in contact.
   std::vector<ObstacleLoad> loads(const std::vector<Vec3>& tool_points) const;
   /// Sum over tools of |force on the tissue|^2 at the linearisation, N^2 (the equilibrium residual's scale).
   double squared_force() const;
   int active() const { return static_cast<int>(active_.size()); }
+  /// Calls f(sample, K) for every penetrating sample at the linearisation, K = k a_v n n^T (N/m): the normal part of
+  /// d^2 U_c / dx_v^2, positive semi-definite (the whole Hessian softens along the surface by depth / distance to
+  /// the tool's core, which a preconditioner need not see). The sample's nodes and weights are row `sample` of
+  /// surface().
+  template <class F>
+  void for_each_stiffness(F&& f) const {
+    for (const Contact& c : active_) f(c.sample, Mat3(c.normal.dot(c.stiffness * c.normal) * c.normal * c.normal.transpose()));
+  }
+  const ContactSurface& surface() const { return surface_; }
 
  private:
   struct Contact {
@@ -50,6 +66,7 @@ class EmbeddedContact {
     Vec3 force;      // k a_v depth n: the sample's force on the tissue, N
     Mat3 stiffness;       // d^2 U_c / dx_v^2, N/m
   };
+  Contact make_contact(Index v, int o, const Vec3& xv, const constraints::ContactConstraint& c) const;
   // Calls f(v, o, x_v, C) for every sample that may penetrate a tool at x (bounded by the largest node
   // displacement) and does.
   template <class F>

@@ -44,6 +44,9 @@ ImplicitSettings read_implicit_settings(JsonReader& b) {
   s.refactor_residual = b.number("refactor_residual", d.refactor_residual, 0.0, 1e6);
   s.refactor_travel = b.number("refactor_travel", d.refactor_travel, 0.0, 1e6);
   s.max_tool_step = b.number("max_tool_step", d.max_tool_step, 0.0, 1e6);
+  s.contact_substep = b.number("contact_substep", d.contact_substep, 0.0, 1e6);
+  s.handoff_force_change = b.number("handoff_force_change", d.handoff_force_change, 0.0, 1.0);
+  s.min_newton_iterations = b.integer("min_newton_iterations", d.min_newton_iterations, 0, 1000);
   b.finish();
   return s;
 }
@@ -56,9 +59,12 @@ NewtonSettings newton_settings(const ImplicitSettings& s) {
   n.max_cg_iterations = s.max_cg_iterations;
   n.max_contact_passes = 50;
   n.line_search = s.line_search;
-  // A frame has a few iterations, not the hundreds of a load step: a contact that pulls is let go at once,
-  // whatever the residual, or a frame that ends early reports the pull as force (a tool that the tissue glues).
+  // Contacts at the nodes that pull are let go below a residual of 1e-3 (releasing at any residual was measured
+  // no better: docs/performance.md section 12).
   n.release_below_residual = 1e-3;
+  // A frame's tool enters the wall by a whole frame's travel before the first Newton step (embedded contact).
+  n.contact_normal_stiffness_only = true;
+  n.min_newton_iterations = s.min_newton_iterations;
   return n;
 }
 }  // namespace
@@ -70,7 +76,7 @@ ModelEntry implicit_model_entry() {
               "meshless Hessian (the real-time default)";
   e.capabilities = {.dynamic = true, .takes_tools = true, .device_driven = true, .releases_regions = false,
                     .quadratic_basis = true, .wall_support_default = true,
-                    .quadratic_stabilizer_default = true};
+                    .quadratic_stabilizer_default = true, .embedded_contact = true};
   e.read_settings = [](JsonReader& block) { return std::any(read_implicit_settings(block)); };
   e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
     return std::make_unique<ImplicitModel>(problem, settings_as<ImplicitSettings>(settings));
@@ -87,7 +93,7 @@ ImplicitModel::ImplicitModel(const Problem& problem, const ImplicitSettings& set
       settings_(settings),
       x_(problem.discretization().rest_positions()),
       free_(problem),
-      contacts_(problem, free_),
+      contacts_(problem, free_, problem.contact_surface() == nullptr),
       tools_(problem.tools()),
       newton_(problem, free_, contacts_, newton_settings(settings)) {
   if (!(settings.frame_s > 0.0) || !(settings.output_interval_s > 0.0) || !(settings.duration_s > 0.0))
@@ -100,8 +106,13 @@ ImplicitModel::ImplicitModel(const Problem& problem, const ImplicitSettings& set
   num_steps_ = static_cast<int>(std::ceil(settings.duration_s / settings.output_interval_s - 1e-9));
   v_.assign(x_.size(), Vec3::Zero());
   spacing_ = problem.discretization().mean_spacing();
+  if (const ContactSurface* surface = problem.contact_surface()) {
+    embedded_.emplace(*surface, problem.discretization().rest_positions(), problem.tools().size());
+    newton_.set_embedded_contact(&*embedded_);
+  }
   loads_.assign(problem.tools().size(), ObstacleLoad{});
-  tools_.set_bounded(settings.max_tool_step > 0.0);
+  // The continuation of contact_substep moves the tools itself (ToolPlacement::advance), as bounded steps do.
+  tools_.set_bounded(settings.max_tool_step > 0.0 || (embedded_ && settings.contact_substep > 0.0));
   place_tools(0.0);
   handoff_points_ = tools_.points(0.0);
   // Candidates within half a node spacing of a tool: more than a tool moves in a frame at hand speed.
@@ -121,6 +132,7 @@ ImplicitModel::ImplicitModel(const Problem& problem, const ImplicitSettings& set
     WallMultigridOptions o;
     o.inv_h2 = 1.0 / (h_ * h_);
     multigrid_ = std::make_unique<WallMultigrid>(problem, free_, contacts_, o);
+    if (embedded_) multigrid_->set_embedded_contact(&*embedded_);
     multigrid_->install(multigrid_->build_level(x_));
     newton_.set_preconditioner(multigrid_.get());
     if (settings.single_precision && SinglePrecisionHessian::supports(problem.energy())) {
@@ -151,7 +163,12 @@ void ImplicitModel::set_realtime(bool realtime) {
 }
 
 void ImplicitModel::place_tools(double s) {
-  for (std::size_t o = 0; o < tools_.size(); ++o) contacts_.place(o, tools_.geometry(o, s));
+  for (std::size_t o = 0; o < tools_.size(); ++o) {
+    if (embedded_)
+      embedded_->place(o, tools_.geometry(o, s));
+    else
+      contacts_.place(o, tools_.geometry(o, s));
+  }
 }
 
 double ImplicitModel::free_travel(std::size_t o) const {
@@ -211,7 +228,8 @@ void ImplicitModel::linearize() {
   linearization_.assign(tools.size(), std::nullopt);
   const EquilibriumPreconditioner* P = factor_ ? static_cast<const EquilibriumPreconditioner*>(factor_->factor.get())
                                                : multigrid_.get();
-  if (P == nullptr || tools.empty()) return;
+  // With the tools on the wall's surface the driver estimates the stiffness (a secant along the normal).
+  if (P == nullptr || tools.empty() || embedded_) return;
   // The multigrid's solves leave the correction alone (it holds the contacts itself): build it for the hand-off.
   if (multigrid_) newton_.update_contact_correction();
   const ContactCorrection& w = newton_.contact_correction();
@@ -304,7 +322,7 @@ void ImplicitModel::refresh_multigrid() {
   if (!multigrid_) return;
   ++frames_since_level_;
   if (realtime_) {
-    if (level_pending_.valid()) return;
+    if (level_pending_.valid() || frames_since_level_ < settings_.level_refresh_frames) return;
     auto job = [this, x = x_, reuse = std::move(level_spare_)]() mutable {
       omp_set_num_threads(1);
       return multigrid_->build_level(x, std::move(reuse));
@@ -318,18 +336,49 @@ void ImplicitModel::refresh_multigrid() {
   }
 }
 
-void ImplicitModel::prepare_frame(double s) {
-  // Warm start at a = x_n + h v_n (the inertial prediction), prescribed nodes at their positions at s, tools
-  // placed; nodes the tools now enter go onto their surfaces.
+void ImplicitModel::approach_tools(double s, const Vec3Array& f_ext) {
+  if (!embedded_ || settings_.max_tool_step > 0.0) return;
+  const double inf = std::numeric_limits<double>::infinity();
+  double total = 0.0;
+  for (std::size_t o = 0; o < tools_.size(); ++o) total = std::max(total, tools_.distance_to_target(o));
+  // At most kMaxSteps steps (the last one the frame's own first Newton step): a frame that came late must not
+  // spend longer on a longer way, or every frame after it comes later still.
+  constexpr double kMaxSteps = 3.0;
+  const double step = std::max(settings_.contact_substep * spacing_, total / kMaxSteps);
+  for (;;) {
+    double far = 0.0;
+    for (std::size_t o = 0; o < tools_.size(); ++o) far = std::max(far, tools_.distance_to_target(o));
+    if (!(settings_.contact_substep > 0.0) || far <= step * (1.0 + 1e-9)) break;
+    // Every tool a step's fraction of its way, so that they arrive together.
+    for (std::size_t o = 0; o < tools_.size(); ++o) tools_.advance(o, step / far * tools_.distance_to_target(o));
+    place_tools(s);
+    embedded_->relinearize_carried(x_);
+    if (multigrid_) multigrid_->prepare_window(x_);
+    const NewtonResult r = newton_.solve(x_, s, f_ext, InertiaTerm{1.0 / (h_ * h_), &anchor_},
+                                         SteadyClock::time_point::max(), true, 1);
+    cg_total_ += r.cg_iterations;
+    ++substeps_;
+  }
+  for (std::size_t o = 0; o < tools_.size(); ++o) tools_.advance(o, inf);
+}
+
+void ImplicitModel::prepare_frame(double s, const Vec3Array& f_ext) {
+  // The inertia's anchor a = x_n + h v_n, prescribed nodes at their positions at s, the tools placed.
   const Index n = problem_.discretization().num_nodes();
+  const std::vector<Vec3> before = tools_.points(s_);
   x_old_ = x_;
   anchor_.resize(x_.size());
   for (Index i = 0; i < n; ++i) {
     anchor_[i] = x_[i] + h_ * v_[i];
-    x_[i] = problem_.constrained()[i] ? problem_.prescribed_position(i, s) : anchor_[i];
+    // Tools on the wall's surface: the frame starts from x_n (the carried first step answers the tools' move); at
+    // the nodes, from the inertial prediction, the nodes the tools entered projected onto their surfaces.
+    x_[i] = problem_.constrained()[i] ? problem_.prescribed_position(i, s) : embedded_ ? x_[i] : anchor_[i];
   }
+  approach_tools(s, f_ext);
   place_tools(s);
   contacts_.project(x_, true);
+  tools_moved_ = tools_.points(s) != before;
+  if (embedded_) embedded_->relinearize_carried(x_);
   if (multigrid_) multigrid_->prepare_window(x_);
 }
 
@@ -342,21 +391,27 @@ StepReport ImplicitModel::step() {
   Vec3Array f_ext;
   problem_.external_forces(s_next, f_ext);
   if (settings_.max_tool_step > 0.0) advance_tools();
-  prepare_frame(s_next);
+  prepare_frame(s_next, f_ext);
   const auto deadline = realtime_ && settings_.time_budget_s > 0.0
                             ? SteadyClock::now() + std::chrono::duration_cast<SteadyClock::duration>(
                                                        std::chrono::duration<double>(settings_.time_budget_s))
                             : SteadyClock::time_point::max();
   Stopwatch phase;
-  const NewtonResult r = newton_.solve(x_, s_next, f_ext, InertiaTerm{1.0 / (h_ * h_), &anchor_}, deadline);
+  const NewtonResult r =
+      newton_.solve(x_, s_next, f_ext, InertiaTerm{1.0 / (h_ * h_), &anchor_}, deadline, tools_moved_);
   split_.solve_s += phase.seconds();
   for (std::size_t i = 0; i < x_.size(); ++i) v_[i] = (x_[i] - x_old_[i]) / h_;
   // The frame's loads are handed on when the frame is near enough its equilibrium, with no contact that pulls
   // (held, such a contact makes the pushing ones carry more: +128 % measured at a residual of 6e-3); otherwise the
   // last one that was keeps serving with its own tool pose (contact reactions far from equilibrium are not a force).
-  const bool handoff = r.converged || (r.residual <= settings_.handoff_max_residual && contacts_.pulling() == 0);
+  const bool handoff = r.converged || (r.residual <= settings_.handoff_max_residual && contacts_.pulling() == 0) ||
+                       (embedded_ && r.force_change <= settings_.handoff_force_change);
   if (handoff) {
     if (!contacts_.empty()) loads_ = contacts_.loads(newton_.last_residual(), x_, tools_.points(s_next));
+    if (embedded_) {
+      embedded_->linearize(x_);
+      loads_ = embedded_->loads(tools_.points(s_next));
+    }
     handoff_points_ = tools_.points(s_next);
   } else {
     ++stale_handoffs_;
@@ -424,6 +479,7 @@ nlohmann::json ImplicitModel::info() const {
                       {"factorisations", factorisations_},
                       {"max_tool_lag_m", max_tool_lag_},
                       {"frames_handing_on_an_older_force", stale_handoffs_},
+                      {"contact_substeps", substeps_},
                       {"handoff_max_residual", settings_.handoff_max_residual},
                       {"time_budget_s", settings_.time_budget_s},
                       {"duration_s", settings_.duration_s},

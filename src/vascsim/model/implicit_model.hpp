@@ -20,6 +20,7 @@
 
 #include <future>
 #include <memory>
+#include <optional>
 
 #include "vascsim/model/contact_active_set.hpp"
 #include "vascsim/model/device_driven_model.hpp"
@@ -50,6 +51,19 @@ struct ImplicitSettings {
   /// force to the haptic thread (its contact reactions are not yet the equilibrium's): the last frame that did keeps
   /// serving, from its own tool pose.
   double handoff_max_residual = 1e-2;
+  /// With the tools on the wall's surface (contact.surface "embedded"): a frame whose tools moved farther than this
+  /// many mean node spacings since the last one gets there in steps of at most this length, each one linear
+  /// response of the wall with the contact set carried from the step before (a few conjugate-gradient iterations
+  /// round the tool), before its Newton iterations (0: in one step). The tools still end every frame at the device's
+  /// pose.
+  double contact_substep = 0.5;
+  /// With the tools on the wall's surface: a frame also hands its force on when its last Newton step changed the
+  /// tools' force by at most this fraction (the force has settled while the far wall is still converging; the
+  /// next frames go on from there).
+  double handoff_force_change = 1e-2;
+  /// Newton steps every frame takes before time_budget_s can end it (with the tools on the wall's surface: the
+  /// step that meets the tools' move and the corrections whose force the hand-off needs).
+  int min_newton_iterations = 0;
   /// "auto": the wall multigrid where the nodes form a wall lattice (wall_multigrid.hpp), else "meshless" (a
   /// factor of the Hessian); "multigrid", "meshless", or "tet" (linear tets, for comparison).
   std::string preconditioner = "auto";
@@ -115,7 +129,8 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   void place_tools(double s);
   void advance_tools();                         // towards the device poses, in bounded steps where they meet tissue
   double free_travel(std::size_t tool) const;   // how far a tool can go towards its pose before it touches a node, m
-  void prepare_frame(double s);                 // prescribed nodes, warm start, tools, contacts
+  void prepare_frame(double s, const Vec3Array& f_ext);  // prescribed nodes, warm start, tools, contacts
+  void approach_tools(double s, const Vec3Array& f_ext);  // contact_substep's continuation to the device poses
   void maybe_refactor(const NewtonResult& r);  // the drift triggers
   /// A factor at x, refilling `reuse` (a factor no frame uses any more) when given.
   std::unique_ptr<Factor> build_factor(const Vec3Array& x, std::unique_ptr<Factor> reuse = nullptr) const;
@@ -132,8 +147,10 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   double t_ = 0.0, s_ = 0.0;
   bool realtime_ = false;
   Vec3Array x_, v_, anchor_, x_old_;
+  bool tools_moved_ = false;  // a tool moved since the last frame (its first Newton step carries the contacts)
   FreeDofs free_;
   ContactActiveSet contacts_;
+  std::optional<EmbeddedContact> embedded_;  // the tools meet the wall's surface (contact.surface "embedded")
   ToolPlacement tools_;
   NewtonEquilibrium newton_;
   std::unique_ptr<EquilibriumPreconditioner> tet_;  // "tet" preconditioner
@@ -148,7 +165,8 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   std::vector<Vec3> factor_tool_points_;  // tool points when the factor in use was built
   std::vector<ObstacleLoad> loads_;               // the handed-on loads (the last frame below handoff_max_residual)
   std::vector<Vec3> handoff_points_;              // the tools' points of that frame
-  long long stale_handoffs_ = 0;                  // frames that kept an older frame's hand-off
+  long long stale_handoffs_ = 0;
+  long long substeps_ = 0;                        // contact_substep's continuation steps, all frames                  // frames that kept an older frame's hand-off
   std::vector<std::optional<ToolLinearization>> linearization_;  // per tool, after the last frame
   std::unique_ptr<HapticCandidates> candidates_;
   double spacing_ = 0.0;

@@ -71,7 +71,7 @@ void NewtonEquilibrium::hessian_product(const PointPrimitiveEnergy::Linearizatio
     single_->product(p, Hp, positive);
   else
     problem_.energy().hessian_product(lin, p, Hp);
-  if (embedded_) embedded_->add_hessian_product(p, Hp);
+  if (embedded_) embedded_->add_hessian_product(p, Hp, positive || settings_.contact_normal_stiffness_only);
   for (std::size_t i = 0; i < Hp.size(); ++i)
     if (problem_.constrained()[i]) Hp[i].setZero();
   if (inertia.active()) {
@@ -90,7 +90,7 @@ int NewtonEquilibrium::conjugate_gradients(const Vec3Array& x, const Vec3Array& 
   Vec3Array r(n, Vec3::Zero()), z, p, Hp;
   const auto lin = single_ ? PointPrimitiveEnergy::Linearization{} : problem_.energy().linearize(x);
   if (single_) single_->linearize(x);
-  if (embedded_) embedded_->linearize(x);
+  if (embedded_ && !carried_) embedded_->linearize(x);
   use_correction_ = preconditioner_ != nullptr && !preconditioner_->handles_contacts() && !contacts_.empty() &&
                     correction_.update(*preconditioner_, compliance_);
   // A multigrid preconditioner smooths with this very matrix (the linearisation above).
@@ -118,6 +118,7 @@ int NewtonEquilibrium::conjugate_gradients(const Vec3Array& x, const Vec3Array& 
     const double pHp = dot(p, Hp);
     if (!(pHp > 0.0)) {
       // Negative curvature (SVK under compression): keep what we have, or the preconditioned gradient.
+      spdlog::debug("equilibrium:   CG met curvature {:.3e} at iteration {} (|p|^2 {:.3e}, r.z {:.3e})", pHp, it, dot(p, p), rz);
       if (it == 0) dx = z;
       break;
     }
@@ -150,7 +151,10 @@ double NewtonEquilibrium::residual(Vec3Array& x, double s, const Vec3Array& f_ex
   problem_.energy().forces(x, f_int);
   double reaction2 = 0.0, ext2 = 0.0, inertial2 = 0.0;
   if (embedded_) {
-    embedded_->linearize(x);
+    if (carried_)
+      embedded_->relinearize_carried(x);
+    else
+      embedded_->linearize(x);
     embedded_->add_forces(f_int);
     reaction2 = embedded_->squared_force();
   }
@@ -197,6 +201,7 @@ bool NewtonEquilibrium::line_search(const Vec3Array& x, const Vec3Array& r, cons
     const double pi = potential(trial, f_ext, inertia);
     if (std::isfinite(pi) && pi <= pi0 + 1e-4 * step * g) {
       accepted_potential_ = pi;
+      if (step < 1.0) spdlog::debug("equilibrium:   line search step {:.3g}", step);
       return true;
     }
     if (ls == 0) {
@@ -226,23 +231,46 @@ bool NewtonEquilibrium::line_search(const Vec3Array& x, const Vec3Array& r, cons
 }
 
 NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f_ext, const InertiaTerm& inertia,
-                                      SteadyClock::time_point deadline) {
+                                      SteadyClock::time_point deadline, bool carry_contacts, int max_iterations) {
+  const int iteration_limit = max_iterations >= 0 ? max_iterations : settings_.max_newton_iterations;
   const Index n = problem_.discretization().num_nodes();
+  struct CarryScope {
+    bool& flag;
+    ~CarryScope() { flag = false; }
+  } carry_scope{carried_};
+  carry_contacts = carry_contacts && embedded_ != nullptr && embedded_->active() > 0;
   NewtonResult out;
   Vec3Array r(n), dx, trial(n);
   accepted_potential_.reset();  // x comes from outside
   double best = INFINITY;
   int stalled = 0;
+  double tool_force = 0.0;
   for (int it = 0;; ++it) {
+    carried_ = carry_contacts && it == 0;
     out.residual = residual(x, s, f_ext, inertia, r);
+    if (embedded_) {
+      // How much the tools' force moved in the last Newton step (not across the carried first step, whose force
+      // is that of the moved tools against the unmoved wall).
+      const double force = std::sqrt(embedded_->squared_force());
+      out.force_change = it > 0 && !(carry_contacts && it == 1) && force > 0.0
+                             ? std::abs(force - tool_force) / force
+                             : std::numeric_limits<double>::infinity();
+      tool_force = force;
+    }
     if (spdlog::should_log(spdlog::level::debug))
       spdlog::debug("equilibrium: s = {:.4g}, Newton {}: relative residual {:.3e}{}", s, it, out.residual,
-                    contacts_.empty() ? std::string()
+                    embedded_ ? fmt::format(" ({} samples in contact, tool force {:.4e} N, changed by {:.2e})",
+                                            embedded_->active(), tool_force, out.force_change)
+                    : contacts_.empty() ? std::string()
                                       : fmt::format(" ({} contacts, {} pulling)", contacts_.active(), contacts_.pulling()));
     // Nearly converged for this active set (1e-3, well before the tolerance, so that Newton does not polish
     // a set that is about to change): release the contacts that pull on a tool and iterate again; done when
     // converged and nothing pulls.
-    if (!contacts_.empty() && out.residual <= std::max(settings_.rel_tolerance, settings_.release_below_residual)) {
+    // The carried step's residual is that of the moved tools against the unmoved wall: it says nothing of
+    // convergence (a carried set whose tools hardly moved leaves the state converged: nothing to answer).
+    const bool moving = it == 0 && carry_contacts && out.residual > settings_.rel_tolerance;
+    if (!moving && !contacts_.empty() &&
+        out.residual <= std::max(settings_.rel_tolerance, settings_.release_below_residual)) {
       const int released = contacts_.release_pulling(r_unfiltered_);
       if (released > 0) {
         spdlog::debug("equilibrium: s = {:.4g}: released {} contacts that pulled", s, released);
@@ -256,7 +284,7 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
         continue;
       }
     }
-    if (out.residual <= settings_.rel_tolerance) {
+    if (!moving && out.residual <= settings_.rel_tolerance) {
       out.loads_measured = true;
       break;
     }
@@ -264,8 +292,11 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
     // less than 10 % there end the solve.
     stalled = out.residual < 0.9 * best || out.residual > settings_.stall_below_residual ? 0 : stalled + 1;
     best = std::min(best, out.residual);
-    const bool out_of_time = SteadyClock::now() >= deadline;
-    if (it == settings_.max_newton_iterations || stalled >= 3 || out_of_time) {
+    // The deadline counts from the settings' minimum of Newton steps on (the steps that make a frame's force).
+    const bool timed = it >= settings_.min_newton_iterations;
+    const bool out_of_time = timed && SteadyClock::now() >= deadline;
+    // (The carried step is taken whatever the time: a frame ends with the wall answering its tools' pose.)
+    if (!moving && (it >= iteration_limit || stalled >= 3 || out_of_time)) {
       spdlog::debug("equilibrium:   stopped ({})",
                     out_of_time ? "out of time" : stalled >= 3 ? "stalled" : "iteration limit");
       out.converged = false;
@@ -277,13 +308,16 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
     // Forcing term: Eisenstat-Walker-style sqrt(res), but no tighter than the step needs to reach the
     // tolerance (the last Newton step would otherwise overshoot it by orders of magnitude).
     const double eta =
-        std::clamp(std::max(std::sqrt(out.residual), 0.3 * settings_.rel_tolerance / out.residual), 1e-6, 0.1);
+        moving ? 1e-2
+               : std::clamp(std::max(std::sqrt(out.residual), 0.3 * settings_.rel_tolerance / out.residual), 1e-6, 0.1);
     double reduction = 1.0;
-    const int cg = conjugate_gradients(x, r, eta, inertia, dx, deadline, &reduction);
+    const int cg =
+        conjugate_gradients(x, r, eta, inertia, dx, timed ? deadline : SteadyClock::time_point::max(), &reduction);
     out.cg_iterations += cg;
     if (cg > 0 && reduction > 0.0) out.cg_rate = std::max(out.cg_rate, std::pow(reduction, 1.0 / cg));
     spdlog::debug("equilibrium:   CG {} iterations (eta {:.1e})", cg, eta);
-    if (settings_.line_search) {
+    // The carried step is taken whole, never searched: its contact forces are not the gradient of Pi.
+    if (settings_.line_search && !moving) {
       if (!line_search(x, r, f_ext, inertia, dx, trial)) {
         spdlog::debug("equilibrium:   the line search found no decrease");
         out.converged = false;
@@ -292,6 +326,7 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
       x.swap(trial);
     } else {
       for (std::size_t i = 0; i < x.size(); ++i) x[i] += dx[i];
+      accepted_potential_.reset();
     }
     // Nodes the step pushed into a tool join the active set on its surface.
     if (const int added = contacts_.project(x, true); added > 0) {

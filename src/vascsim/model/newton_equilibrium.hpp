@@ -40,6 +40,11 @@ struct NewtonSettings {
   /// residual, three Newton steps in a row that gain less than 10 % end the solve (not converged, at the floor).
   /// Above it a slow stretch is progress (a contact settling), not the floor.
   double stall_below_residual = 1e-5;
+  /// Embedded contact's Newton matrix with only the penalty's normal stiffness
+  /// (EmbeddedContact::add_hessian_product): for solves whose tools move a long way between linearisations.
+  bool contact_normal_stiffness_only = false;
+  /// Newton steps a solve takes before its deadline can stop it (the prescribed first step counts).
+  int min_newton_iterations = 0;
 };
 
 /// Backward Euler's inertia term: 1/(2 h^2) sum_i m_i |x_i - a_i|^2 over the free nodes.
@@ -61,6 +66,9 @@ struct NewtonResult {
   /// solve, of the residual reduction per iteration (|r_k| / |r_0|)^(1/k); 0 when CG never ran. About 0.1 or
   /// less with a factor of the current matrix, approaching 1 as the factor goes stale.
   double cg_rate = 0.0;
+  /// Embedded contact: |change of the tools' total force| / that force over the last Newton step (infinity before
+  /// two evaluations): in a Newton iteration that converges the force's own remaining error is about this or less.
+  double force_change = std::numeric_limits<double>::infinity();
 };
 
 class NewtonEquilibrium {
@@ -92,8 +100,16 @@ class NewtonEquilibrium {
 
   /// Newton iterations from x (changed in place) to the equilibrium at load factor s with external forces f_ext
   /// (N per node), stopping at the tolerance, the iteration limits or the deadline.
+  /// `carry_contacts` (embedded contact, tools moved since x): the first Newton step keeps the samples in contact at
+  /// the last linearisation (EmbeddedContact::relinearize_carried), so that the wall answers the move of those
+  /// contacts by its linear response, instead of meeting every sample the moved tools swept through at once (most of
+  /// which that response takes out of contact again: a Newton iteration that starts there stalls for several steps).
+  /// That step is taken whole, whatever the deadline. `max_iterations` (>= 0) overrides the settings' Newton limit
+  /// for this solve: 1 takes the carried step alone and evaluates the residual (and the contacts) where it ends, a
+  /// continuation step of a frame whose tools moved far.
   NewtonResult solve(Vec3Array& x, double s, const Vec3Array& f_ext, const InertiaTerm& inertia,
-                     SteadyClock::time_point deadline = SteadyClock::time_point::max());
+                     SteadyClock::time_point deadline = SteadyClock::time_point::max(), bool carry_contacts = false,
+                     int max_iterations = -1);
 
   /// PCG on the Newton matrix at x (filtered at the contacts): dx with H dx = rhs to |res| <= eta |rhs|.
   /// Returns the iterations. Stops at negative curvature or the deadline.
@@ -129,6 +145,7 @@ class NewtonEquilibrium {
   SinglePrecisionHessian* single_ = nullptr;
   Vec3Array r_unfiltered_;
   double force_floor_ = 0.0;
+  bool carried_ = false;     // this evaluation keeps the embedded contact's carried-over set
   mutable NodeCompliance compliance_;     // P^{-1} E_i per node, per factor (node_compliance.hpp)
   mutable ContactCorrection correction_;  // cached per contact set and factor (contact_correction.hpp)
   mutable bool use_correction_ = false;

@@ -1,5 +1,9 @@
 #include "vascsim/model/wall_multigrid.hpp"
 
+#include <spdlog/spdlog.h>
+
+#include "vascsim/core/stopwatch.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <fmt/format.h>
@@ -90,15 +94,22 @@ std::unique_ptr<WallMultigrid::Level> WallMultigrid::install(std::unique_ptr<Lev
 }
 
 void WallMultigrid::prepare_window(const Vec3Array& x) {
+  const Stopwatch watch;
+  struct Log {
+    const Stopwatch& w;
+    const std::vector<Index>& nodes;
+    ~Log() { spdlog::debug("wall multigrid: window of {} nodes prepared in {:.2f} ms", nodes.size(), w.seconds() * 1e3); }
+  } log{watch, window_};
   const Discretization& disc = problem_.discretization();
   for (Index k : window_) window_slot_[static_cast<std::size_t>(k)] = -1;
   window_.clear();
   window_contacts_.clear();
-  if (!contacts_.empty()) {
+  if (!contacts_.empty() || embedded_ != nullptr) {
     for (Index k : free_.nodes) {
       bool near = contacts_.in_contact(k);
       for (std::size_t o = 0; !near && o < problem_.tools().size(); ++o)
-        near = obstacle_contact(contacts_.geometry(o), x[static_cast<std::size_t>(k)]).value < window_m_;
+        near = obstacle_contact(embedded_ ? embedded_->geometry(o) : contacts_.geometry(o),
+                                x[static_cast<std::size_t>(k)]).value < window_m_;
       if (near) {
         window_slot_[static_cast<std::size_t>(k)] = static_cast<Index>(window_.size());
         window_.push_back(k);
@@ -139,6 +150,19 @@ void WallMultigrid::prepare_window(const Vec3Array& x) {
     for (Eigen::SparseMatrix<double, Eigen::RowMajor, int>::InnerIterator it(stab_rows_, k); it; ++it)
       if (const Index b = window_slot_[static_cast<std::size_t>(it.col())]; b >= 0)
         A.block<3, 3>(3 * a, 3 * b).diagonal().array() += it.value();
+  }
+  if (embedded_) {
+    // The penalty couples the nodes of each penetrating sample: phi_vi phi_vj K_v.
+    const ContactSurface& S = embedded_->surface();
+    embedded_->for_each_stiffness([&](Index v, const Mat3& K) {
+      for (Index p = S.row_start[v]; p < S.row_start[v + 1]; ++p) {
+        const Index a = window_slot_[static_cast<std::size_t>(S.col[static_cast<std::size_t>(p)])];
+        if (a < 0) continue;
+        for (Index q = S.row_start[v]; q < S.row_start[v + 1]; ++q)
+          if (const Index b = window_slot_[static_cast<std::size_t>(S.col[static_cast<std::size_t>(q)])]; b >= 0)
+            A.block<3, 3>(3 * a, 3 * b) += (S.val[static_cast<std::size_t>(p)] * S.val[static_cast<std::size_t>(q)]) * K;
+      }
+    });
   }
   window_factor_.compute(A);
   if (window_factor_.info() != Eigen::Success)

@@ -26,6 +26,7 @@
 
 #include "vascsim/core/sparse_cholesky.hpp"
 #include "vascsim/model/contact_active_set.hpp"
+#include "vascsim/model/embedded_contact.hpp"
 #include "vascsim/model/equilibrium_preconditioner.hpp"
 #include "vascsim/model/galerkin_hessian.hpp"
 
@@ -81,6 +82,9 @@ class WallMultigrid final : public EquilibriumPreconditioner {
   void set_operator(const NewtonOperator* op) const override { op_ = op; }
 
   bool handles_contacts() const override { return true; }
+  /// Tools that meet the wall's surface (embedded_contact.hpp) instead of its nodes: the window forms round them,
+  /// and its block takes their penalty's Hessian at the contact's linearisation when the window is prepared.
+  void set_embedded_contact(const EmbeddedContact* contact) { embedded_ = contact; }
 
  private:
   void smooth(const Vec3Array& b, Vec3Array& z, bool constrained) const;  // window solve + block Jacobi
@@ -91,6 +95,7 @@ class WallMultigrid final : public EquilibriumPreconditioner {
   const Problem& problem_;
   const FreeDofs& free_;
   const ContactActiveSet& contacts_;
+  const EmbeddedContact* embedded_ = nullptr;
   WallMultigridOptions options_;
   std::vector<double> shift_;      // per node m_i / h^2, N/m
   std::vector<double> stab_diag_;  // per node the stabiliser's diagonal, N/m

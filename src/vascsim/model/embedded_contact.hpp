@@ -46,13 +46,13 @@ class EmbeddedContact {
   /// Sum over tools of |force on the tissue|^2 at the linearisation, N^2 (the equilibrium residual's scale).
   double squared_force() const;
   int active() const { return static_cast<int>(active_.size()); }
-  /// Calls f(sample, K) for every penetrating sample at the linearisation, K = k a_v n n^T (N/m): the normal part of
-  /// d^2 U_c / dx_v^2, positive semi-definite (the whole Hessian softens along the surface by depth / distance to
-  /// the tool's core, which a preconditioner need not see). The sample's nodes and weights are row `sample` of
-  /// surface().
+  /// Calls f(sample, k a_v, n) for every penetrating sample at the linearisation: its penalty stiffness (N/m) and
+  /// unit normal out of the tool. k a_v n n^T is the normal part of d^2 U_c / dx_v^2, positive semi-definite (the
+  /// whole Hessian softens along the surface by depth / distance to the tool's core, which a preconditioner need not
+  /// see). The sample's nodes and weights are row `sample` of surface().
   template <class F>
-  void for_each_stiffness(F&& f) const {
-    for (const Contact& c : active_) f(c.sample, Mat3(c.normal.dot(c.stiffness * c.normal) * c.normal * c.normal.transpose()));
+  void for_each_contact(F&& f) const {
+    for (const Contact& c : active_) f(c.sample, c.normal.dot(c.stiffness * c.normal), c.normal);
   }
   const ContactSurface& surface() const { return surface_; }
 

@@ -46,6 +46,7 @@ ImplicitSettings read_implicit_settings(JsonReader& b) {
   s.max_tool_step = b.number("max_tool_step", d.max_tool_step, 0.0, 1e6);
   s.contact_substep = b.number("contact_substep", d.contact_substep, 0.0, 1e6);
   s.handoff_force_change = b.number("handoff_force_change", d.handoff_force_change, 0.0, 1.0);
+  s.handoff_settled_residual = b.number("handoff_settled_residual", d.handoff_settled_residual, 0.0, 1e6);
   s.min_newton_iterations = b.integer("min_newton_iterations", d.min_newton_iterations, 0, 1000);
   b.finish();
   return s;
@@ -405,7 +406,8 @@ StepReport ImplicitModel::step() {
   // (held, such a contact makes the pushing ones carry more: +128 % measured at a residual of 6e-3); otherwise the
   // last one that was keeps serving with its own tool pose (contact reactions far from equilibrium are not a force).
   const bool handoff = r.converged || (r.residual <= settings_.handoff_max_residual && contacts_.pulling() == 0) ||
-                       (embedded_ && r.force_change <= settings_.handoff_force_change);
+                       (embedded_ && r.force_change <= settings_.handoff_force_change &&
+                        r.residual <= settings_.handoff_settled_residual);
   if (handoff) {
     if (!contacts_.empty()) loads_ = contacts_.loads(newton_.last_residual(), x_, tools_.points(s_next));
     if (embedded_) {

@@ -61,6 +61,9 @@ struct ImplicitSettings {
   /// tools' force by at most this fraction (the force has settled while the far wall is still converging; the
   /// next frames go on from there).
   double handoff_force_change = 1e-2;
+  /// ... and only below this relative residual: far from equilibrium a short line-search step changes the force
+  /// little too (one such frame at a residual of 0.34 would have handed on 16 times the force).
+  double handoff_settled_residual = 0.3;
   /// Newton steps every frame takes before time_budget_s can end it (with the tools on the wall's surface: the
   /// step that meets the tools' move and the corrections whose force the hand-off needs).
   int min_newton_iterations = 0;

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "vascsim/model/embedded_contact.hpp"
@@ -132,6 +133,47 @@ TEST(EmbeddedContact, TheToolFeelsWhatTheNodesReceive) {
   contact.linearize(f.X);
   EXPECT_EQ(contact.active(), 0);
   EXPECT_EQ(contact.energy(f.X), 0.0);
+}
+
+// A frame whose tool moved keeps the samples that were in contact (relinearize_carried): the same samples, at the
+// moved tool's depths, and none of the samples the move swept into the tool; a sample the tool left drops out.
+// Checked against linearize at the same tool pose: the carried set's every force equals the full set's at the
+// same sample (to round-off), and the full set is larger.
+TEST(EmbeddedContact, ACarriedSetKeepsOnlyTheSamplesThatWereInContact) {
+  std::mt19937 rng(11);
+  Fixture f = make_fixture(rng);
+  EmbeddedContact carried(f.surface, f.X, 1), full(f.surface, f.X, 1);
+  const constraints::Capsule sphere = pressing_sphere();
+  carried.place(0, sphere);
+  carried.linearize(f.X);
+  const int before = carried.active();
+  ASSERT_GT(before, 5);
+  // 30 um deeper and 0.2 mm along x: the contact patch grows and moves.
+  const Vec3 move(0.2e-3, 0.0, -30e-6);
+  const constraints::Capsule moved{sphere.a + move, sphere.b + move, sphere.radius_m};
+  carried.place(0, moved);
+  carried.relinearize_carried(f.X);
+  full.place(0, moved);
+  full.linearize(f.X);
+  EXPECT_GT(carried.active(), 0);
+  EXPECT_LE(carried.active(), before);
+  EXPECT_GT(full.active(), carried.active());
+  std::vector<std::pair<Index, double>> in_full;
+  full.for_each_contact([&](Index v, double k, const Vec3&) { in_full.push_back({v, k}); });
+  int checked = 0;
+  carried.for_each_contact([&](Index v, double k, const Vec3& n) {
+    const auto it = std::find_if(in_full.begin(), in_full.end(), [&](const auto& p) { return p.first == v; });
+    ASSERT_NE(it, in_full.end()) << "sample " << v << " carried but not in contact at the moved pose";
+    EXPECT_NEAR(k, it->second, 1e-12 * k);
+    EXPECT_NEAR(n.norm(), 1.0, 1e-12);
+    ++checked;
+  });
+  EXPECT_EQ(checked, carried.active());
+  // Lifted clear: every carried sample drops out.
+  const Vec3 up(0.0, 0.0, 0.2e-3);
+  carried.place(0, {sphere.a + up, sphere.b + up, sphere.radius_m});
+  carried.relinearize_carried(f.X);
+  EXPECT_EQ(carried.active(), 0);
 }
 
 }  // namespace

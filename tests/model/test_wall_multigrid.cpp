@@ -16,6 +16,8 @@
 #include "vascsim/model/energy_hessian.hpp"
 #include "vascsim/model/galerkin_hessian.hpp"
 #include "vascsim/model/newton_equilibrium.hpp"
+#include "vascsim/model/implicit_model.hpp"
+#include "vascsim/model/rigid_obstacle.hpp"
 #include "vascsim/model/single_precision_hessian.hpp"
 #include "vascsim/model/wall_coarse_space.hpp"
 #include "vascsim/model/wall_multigrid.hpp"
@@ -284,6 +286,72 @@ TEST(WallMultigrid, TheImplicitModelReachesTheFactorsEquilibrium) {
   }
   ASSERT_GT(force[1].norm(), 1e-4);
   EXPECT_LT((force[0] - force[1]).norm(), 1e-5 * force[1].norm());
+}
+
+// The real-time path with the tools on the wall's surface (contact.surface "embedded": the carried first step of
+// every frame, the penalty in the multigrid's window, single-precision products): the piece pressed 0.8 mm in five
+// frames and held reaches quasi_static's equilibrium with the same contact, within 1e-3 relative (the frames stop at
+// a residual of 1e-6 of the reactions, quasi_static at 1e-8: both forces within a few 1e-6 of the equilibrium's;
+// the bound leaves room for the float products' rounding).
+TEST(WallMultigrid, TheEmbeddedContactFramesReachQuasiStatic) {
+  json settings = piece_settings();
+  settings["rel_tolerance"] = 1e-6;
+  settings["max_newton_iterations"] = 40;
+  settings["max_cg_iterations"] = 400;
+  json imp = test::vein_piece_catheter(settings);
+  imp["contact"] = {{"surface", "embedded"}};
+  json stat = imp;
+  stat["model"] = "quasi_static";
+  stat["quasi_static"] = {{"load_steps", 4}, {"rel_tolerance", 1e-8}};
+  stat["discretization"]["basis"] = "linear";  // the implicit model's discretisation, not quasi_static's default
+  Simulation s_imp(parse_scene(imp, "piece"));
+  const StepRecord a = test::run_to_end(s_imp);
+  Simulation s_stat(parse_scene(stat, "piece"));
+  const StepRecord b = test::run_to_end(s_stat);
+  const Vec3 fa = a.obstacles.at(0).force_n, fb = b.obstacles.at(0).force_n;
+  std::printf("[ multigrid ] embedded contact: implicit %.9g N, quasi_static %.9g N (%d samples)\n", fa.norm(),
+              fb.norm(), a.obstacles.at(0).contacts);
+  EXPECT_EQ(s_imp.model().info()["preconditioner"]["matrix"], "wall multigrid");
+  ASSERT_GT(fb.norm(), 1e-4);
+  EXPECT_LT((fa - fb).norm(), 1e-3 * fb.norm());
+}
+
+// A device pose 0.6 mm into the wall in one frame from the wall's surface (four mean node spacings): the frame
+// reaches it in three carried steps (contact_substep's cap), the model's tool ends the frame exactly at the pose, and the
+// frames held there settle on the force of the same pose approached in 0.05 mm frames, within 1 % (the frames'
+// tolerance of 1e-3 puts each force within about 0.3 % of the equilibrium; the two paths end in the same state).
+TEST(WallMultigrid, AToolThatJumpsIntoTheWallEndsTheFrameAtThePose) {
+  json settings = piece_settings();
+  settings["duration_s"] = 10.0;
+  json doc = test::vein_piece_catheter(settings);
+  doc["contact"] = {{"surface", "embedded"}};
+  doc["obstacles"][0]["motion_m"] = {0.0, 0.0, 0.0};
+  const Vec3 touch(0.0, 1.5e-3, 3e-3);  // the tip on the outer wall
+  const Eigen::Quaterniond q = orientation_pointing(Vec3(0, -1, 0));
+  Vec3 force[2];
+  for (int path = 0; path < 2; ++path) {
+    Simulation sim(parse_scene(doc, "piece"));
+    auto& model = dynamic_cast<ImplicitModel&>(sim.model());
+    const int approach = path == 0 ? 1 : 12;
+    model.set_tool_pose(0, touch, q);
+    model.step();
+    for (int k = 1; k <= approach; ++k) {
+      const Vec3 p = touch - Vec3(0, 0.6e-3 * k / approach, 0);
+      model.set_tool_pose(0, p, q);
+      model.step();
+      EXPECT_EQ((*model.tool_position_solved(0) - p).norm(), 0.0) << "path " << path << ", frame " << k;
+    }
+    if (path == 0) {
+      EXPECT_EQ(model.info()["contact_substeps"].get<long long>(), 2);
+    }
+    StepReport r;
+    for (int k = 0; k < 20 && !(r.converged && k > 1); ++k) r = model.step();
+    EXPECT_TRUE(r.converged);
+    force[path] = model.tool_loads().at(0).force_n;
+  }
+  std::printf("[ multigrid ] jump into the wall: %.6g N, approached: %.6g N\n", force[0].norm(), force[1].norm());
+  ASSERT_GT(force[1].norm(), 1e-3);
+  EXPECT_LT((force[0] - force[1]).norm(), 1e-2 * force[1].norm());
 }
 
 }  // namespace

@@ -45,8 +45,7 @@ ImplicitSettings read_implicit_settings(JsonReader& b) {
   s.refactor_travel = b.number("refactor_travel", d.refactor_travel, 0.0, 1e6);
   s.max_tool_step = b.number("max_tool_step", d.max_tool_step, 0.0, 1e6);
   s.contact_substep = b.number("contact_substep", d.contact_substep, 0.0, 1e6);
-  s.handoff_force_change = b.number("handoff_force_change", d.handoff_force_change, 0.0, 1.0);
-  s.handoff_settled_residual = b.number("handoff_settled_residual", d.handoff_settled_residual, 0.0, 1e6);
+  s.handoff_surface_residual = b.number("handoff_surface_residual", d.handoff_surface_residual, 1e-14, 1e6);
   s.min_newton_iterations = b.integer("min_newton_iterations", d.min_newton_iterations, 0, 1000);
   b.finish();
   return s;
@@ -378,7 +377,10 @@ void ImplicitModel::prepare_frame(double s, const Vec3Array& f_ext) {
   approach_tools(s, f_ext);
   place_tools(s);
   contacts_.project(x_, true);
-  tools_moved_ = tools_.points(s) != before;
+  // (A hundredth of a node spacing is no move: a hand held still jitters by less.)
+  tools_moved_ = false;
+  const std::vector<Vec3> after = tools_.points(s);
+  for (std::size_t o = 0; o < after.size(); ++o) tools_moved_ = tools_moved_ || (after[o] - before[o]).norm() > 1e-2 * spacing_;
   if (embedded_) embedded_->relinearize_carried(x_);
   if (multigrid_) multigrid_->prepare_window(x_);
 }
@@ -406,8 +408,7 @@ StepReport ImplicitModel::step() {
   // (held, such a contact makes the pushing ones carry more: +128 % measured at a residual of 6e-3); otherwise the
   // last one that was keeps serving with its own tool pose (contact reactions far from equilibrium are not a force).
   const bool handoff = r.converged || (r.residual <= settings_.handoff_max_residual && contacts_.pulling() == 0) ||
-                       (embedded_ && r.force_change <= settings_.handoff_force_change &&
-                        r.residual <= settings_.handoff_settled_residual);
+                       (embedded_ && r.residual <= settings_.handoff_surface_residual);
   if (handoff) {
     if (!contacts_.empty()) loads_ = contacts_.loads(newton_.last_residual(), x_, tools_.points(s_next));
     if (embedded_) {

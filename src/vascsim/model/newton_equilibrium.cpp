@@ -244,23 +244,13 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
   accepted_potential_.reset();  // x comes from outside
   double best = INFINITY;
   int stalled = 0;
-  double tool_force = 0.0;
   for (int it = 0;; ++it) {
     carried_ = carry_contacts && it == 0;
     out.residual = residual(x, s, f_ext, inertia, r);
-    if (embedded_) {
-      // How much the tools' force moved in the last Newton step (not across the carried first step, whose force
-      // is that of the moved tools against the unmoved wall).
-      const double force = std::sqrt(embedded_->squared_force());
-      out.force_change = it > 0 && !(carry_contacts && it == 1) && force > 0.0
-                             ? std::abs(force - tool_force) / force
-                             : std::numeric_limits<double>::infinity();
-      tool_force = force;
-    }
     if (spdlog::should_log(spdlog::level::debug))
       spdlog::debug("equilibrium: s = {:.4g}, Newton {}: relative residual {:.3e}{}", s, it, out.residual,
-                    embedded_ ? fmt::format(" ({} samples in contact, tool force {:.4e} N, changed by {:.2e})",
-                                            embedded_->active(), tool_force, out.force_change)
+                    embedded_ ? fmt::format(" ({} samples in contact, tool force {:.4e} N)", embedded_->active(),
+                                            std::sqrt(embedded_->squared_force()))
                     : contacts_.empty() ? std::string()
                                       : fmt::format(" ({} contacts, {} pulling)", contacts_.active(), contacts_.pulling()));
     // Nearly converged for this active set (1e-3, well before the tolerance, so that Newton does not polish

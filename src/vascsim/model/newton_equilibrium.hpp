@@ -66,9 +66,6 @@ struct NewtonResult {
   /// solve, of the residual reduction per iteration (|r_k| / |r_0|)^(1/k); 0 when CG never ran. About 0.1 or
   /// less with a factor of the current matrix, approaching 1 as the factor goes stale.
   double cg_rate = 0.0;
-  /// Embedded contact: |change of the tools' total force| / that force over the last Newton step (infinity before
-  /// two evaluations): in a Newton iteration that converges the force's own remaining error is about this or less.
-  double force_change = std::numeric_limits<double>::infinity();
 };
 
 class NewtonEquilibrium {

@@ -316,9 +316,9 @@ void ImplicitModel::poll_multigrid() {
 }
 
 void ImplicitModel::refresh_multigrid() {
-  // The coarse level carries the wall's global response, which the frames change slowly: a deterministic run
-  // rebuilds it every level_refresh_frames frames; a realtime session builds the next one in the background (one
-  // thread) as soon as the last is in, so it is never older than about two builds.
+  // The coarse level carries the wall's global response, which the frames change slowly: it is rebuilt every
+  // level_refresh_frames frames, in line in a deterministic run, in the background (one thread) in a realtime
+  // session, which leaves the second core to the haptic thread between builds.
   if (!multigrid_) return;
   ++frames_since_level_;
   if (realtime_) {

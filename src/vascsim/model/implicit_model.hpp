@@ -71,8 +71,8 @@ struct ImplicitSettings {
   /// With the multigrid: conjugate gradients and the smoothing on the Hessian product in single precision
   /// (single_precision_hessian.hpp), where the energy allows it.
   bool single_precision = true;
-  /// With the multigrid, a run that is not realtime (deterministic) rebuilds its coarse level every this many
-  /// frames (a realtime session rebuilds it in the background as often as it can).
+  /// With the multigrid, the coarse level is rebuilt every this many frames (in the background in a realtime
+  /// session).
   int level_refresh_frames = 6;
   bool line_search = true;           ///< Armijo line search in every Newton iteration (off: whole steps)
   int haptic_candidates = 24;        ///< contacts and near contacts handed to the haptic thread (0: K only)

@@ -42,7 +42,7 @@ int compare_models(const ForceDisplacementFlags& flags, CliContext& ctx) {
   };
   opt.on_step = [&](const std::string& model, const StepRecord& r, int total) {
     if (!progress || current != model)
-      progress = std::make_unique<Progress>(ctx.err, ctx.err_is_terminal(), scene.name + " " + model), current = model;
+      progress = std::make_unique<Progress>(ctx.err, ctx.err_is_terminal(), scene.name + " " + model, ctx.quiet), current = model;
     progress->update(r.step, total, step_status(model, r));
   };
   const ModelComparisonResult res = run_model_comparison(flags.scene, opt);
@@ -64,7 +64,7 @@ int force_displacement(const ForceDisplacementFlags& flags, CliContext& ctx) {
   opt.plot = !flags.no_plot;
   spdlog::info("force-displacement: scene '{}' ({}), model {}, output {}", scene.name, scene.file, scene.model,
                opt.out_dir.string());
-  Progress progress(ctx.err, ctx.err_is_terminal(), scene.name);
+  Progress progress(ctx.err, ctx.err_is_terminal(), scene.name, ctx.quiet);
   opt.on_step = [&](const StepRecord& r, int total) { progress.update(r.step, total, step_status(scene.model, r)); };
   const ForceDisplacementResult res = run_force_displacement(scene, opt);
   progress.finish();

@@ -1,13 +1,16 @@
 #include "vascsim/app/progress.hpp"
 
+#include <algorithm>
 #include <fmt/format.h>
 
 namespace vascsim {
 
-Progress::Progress(std::ostream& out, bool terminal, std::string label)
-    : out_(out), terminal_(terminal), label_(std::move(label)), start_(std::chrono::steady_clock::now()) {}
+Progress::Progress(std::ostream& out, bool terminal, std::string label, bool quiet)
+    : out_(out), terminal_(terminal), quiet_(quiet), label_(std::move(label)), start_(std::chrono::steady_clock::now()) {}
 
 void Progress::update(int done, int total, const std::string& status) {
+  if (quiet_) return;
+  if (total > 0) done = std::min(done, total);
   const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const double frac = total > 0 ? static_cast<double>(done) / total : 1.0;
   if (terminal_) {

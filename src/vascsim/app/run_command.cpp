@@ -34,7 +34,7 @@ void print_warnings(const nlohmann::json& summary, CliContext& ctx) {
 int run_session(const Scene& scene, const std::filesystem::path& out_dir, const RunFlags& flags, CliContext& ctx) {
   spdlog::info("scene '{}' ({}): haptic session, model {}, output {}", scene.name, scene.file, scene.model,
                out_dir.string());
-  Progress progress(ctx.err, ctx.err_is_terminal(), scene.name);
+  Progress progress(ctx.err, ctx.err_is_terminal(), scene.name, ctx.quiet);
   HapticRunOptions opt;
   opt.out_dir = out_dir;
   opt.mode = flags.mode;
@@ -87,7 +87,7 @@ int run_session(const Scene& scene, const std::filesystem::path& out_dir, const 
 
 int run_headless(const Scene& scene, const std::filesystem::path& out_dir, const RunFlags& flags, CliContext& ctx) {
   spdlog::info("scene '{}' ({}), model {}, output {}", scene.name, scene.file, scene.model, out_dir.string());
-  Progress progress(ctx.err, ctx.err_is_terminal(), scene.name);
+  Progress progress(ctx.err, ctx.err_is_terminal(), scene.name, ctx.quiet);
   RunOptions opt;
   opt.out_dir = out_dir;
   opt.checks = node_limit(scene, flags.yes);

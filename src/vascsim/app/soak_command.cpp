@@ -24,7 +24,7 @@ int soak(SoakFlags& flags, CliContext& ctx) {
   flags.options.out_dir = flags.out.empty() ? std::filesystem::path("out") / "soak" : std::filesystem::path(flags.out);
   spdlog::info("soak of '{}' ({}): {} s realtime, seed {}, output {}", scene.name, scene.file, flags.options.seconds,
                flags.options.bounds.seed, flags.options.out_dir.string());
-  Progress progress(ctx.err, ctx.err_is_terminal(), scene.name);
+  Progress progress(ctx.err, ctx.err_is_terminal(), scene.name, ctx.quiet);
   flags.options.on_progress = [&](double done, double total) {
     progress.update(static_cast<int>(std::lround(1000.0 * done / total)), 1000,
                     fmt::format("soak t = {:.0f} of {:.0f} s", done, total));

@@ -92,7 +92,7 @@ int timing(TimingFlags& f, CliContext& ctx) {
     return 0;
   }
   const int total = static_cast<int>(f.options.models.size() * f.options.target_nodes.size());
-  Progress progress(ctx.err, ctx.err_is_terminal(), "timing");
+  Progress progress(ctx.err, ctx.err_is_terminal(), "timing", ctx.quiet);
   int index = 0;
   for (const auto& model : f.options.models)
     for (int target : f.options.target_nodes) run_point(f, model, target, ctx.quiet ? nullptr : &progress, index++, total, ctx);

@@ -30,7 +30,7 @@ int validate_cantilever(const CantileverFlags& flags, CliContext& ctx) {
   for (std::size_t i = 0; i < flags.sizes.size(); ++i) md += "---|";
   md += "\n";
   const std::vector<CantileverConfiguration> rows = cantilever_table_configurations();
-  Progress progress(ctx.err, ctx.err_is_terminal(), "cantilever");
+  Progress progress(ctx.err, ctx.err_is_terminal(), "cantilever", ctx.quiet);
   const int total = static_cast<int>(rows.size() * flags.sizes.size());
   int done = 0;
   for (const CantileverConfiguration& row : rows) {

@@ -124,6 +124,8 @@ nlohmann::json check_report(const Scene& scene, Built& b, double setup_s) {
     const AccuracyEstimate a = estimate_accuracy(*table, scene, sim.discretization().num_nodes());
     report["expected_force_error"] = {{"text", describe_accuracy(*table, a)}};
     if (a.match) report["expected_force_error"].update({{"error", a.error}, {"case", a.match->name}});
+    else
+      report["expected_force_error"]["estimate_with"] = fmt::format("vascsim converge {}", scene.file);
     report["warnings"] = model_accuracy_warnings(*table, scene, sim);
   }
   nlohmann::json regions = nlohmann::json::array();
@@ -152,8 +154,12 @@ void print_report(const Scene& scene, const nlohmann::json& r, std::ostream& out
                           mib(m["expected_run_peak"]["bytes"].get<double>()), m["expected_run_peak"]["factor"].get<double>());
   out << "  memory    " << memory << "\n";
   out << "  time      " << r["expected_time"]["text"].get<std::string>() << "\n";
-  if (r.contains("expected_force_error"))
+  if (r.contains("expected_force_error")) {
     out << "  accuracy  expected force error " << r["expected_force_error"]["text"].get<std::string>() << "\n";
+    if (r["expected_force_error"].contains("estimate_with"))
+      out << "  accuracy  this scene's own discretisation error, with its bound: "
+          << r["expected_force_error"]["estimate_with"].get<std::string>() << " (docs/convergence.md)\n";
+  }
   if (r.contains("surface_map")) {
     const auto& s = r["surface_map"];
     out << fmt::format("  surface   {} vertices mapped from {:.1f} nodes each (min {}, max {}), max cond {:.3g}, {} "

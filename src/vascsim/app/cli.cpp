@@ -83,6 +83,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   std::vector<Command> commands;
   add_run_command(app, ctx, commands);
   add_check_command(app, ctx, commands);
+  add_converge_command(app, ctx, commands);
   add_validate_commands(app, ctx, commands);
   add_bench_command(app, ctx, commands);
   add_experiment_commands(app, ctx, commands);

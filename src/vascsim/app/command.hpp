@@ -36,6 +36,8 @@ struct Command {
 void add_run_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 /// `check`: build a scene as `run` would, solve nothing, report size, cost, accuracy, regions, tools.
 void add_check_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
+/// `converge`: a scene's discretisation error from coarser (and one finer) spacings (converge_command.cpp).
+void add_converge_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 void add_experiment_commands(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 /// `experiment timing` (timing_experiment.cpp), under the `experiment` node add_experiment_commands makes.
 void add_timing_experiment(CLI::App& experiment, CliContext& ctx, std::vector<Command>& commands);

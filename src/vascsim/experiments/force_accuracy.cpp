@@ -85,7 +85,19 @@ AccuracyEstimate estimate_accuracy(const ForceAccuracyTable& table, const Scene&
     if (c.tool == tool && c.basis == basis && same(c.outer_radius_m, scene.geometry.tube.outer_radius_m) &&
         same(c.wall_thickness_m, scene.geometry.tube.wall_thickness_m))
       e.match = &c;
-  if (e.match == nullptr) return e;
+  if (e.match == nullptr) {
+    double best = 1e300;
+    for (const AccuracyCase& c : table.cases) {
+      const double d = (c.tool == tool ? 0.0 : 10.0) + (c.basis == basis ? 0.0 : 5.0) +
+                       std::abs(std::log(c.outer_radius_m / scene.geometry.tube.outer_radius_m)) +
+                       std::abs(std::log(c.wall_thickness_m / scene.geometry.tube.wall_thickness_m));
+      if (d < best) {
+        best = d;
+        e.nearest = &c;
+      }
+    }
+    return e;
+  }
   const std::vector<AccuracyRow>& rows = e.match->rows;
   if (nodes <= rows.front().nodes) {
     e.above = &rows.front();
@@ -111,14 +123,18 @@ std::string describe_accuracy(const ForceAccuracyTable& table, const AccuracyEst
     return "not covered: the table's rows are uniform lattices, and a graded lattice's node count does not say how "
            "fine it is where the load acts (geometry.refine; docs/validation.md, 'Graded lattices')";
   if (e.match == nullptr) {
-    std::string cases;
-    for (const AccuracyCase& c : table.cases) {
-      const std::string fit =
-          c.basis == "quadratic_cube" ? "quadratic fit with the through-wall cube" : c.basis + " fit";
-      cases += (cases.empty() ? "" : "; ") + c.name + " (" + fit + ")";
-    }
-    return fmt::format("not covered: no case of the accuracy table has this vessel, loading and local-fit basis "
-                       "(cases: {})", cases);
+    if (e.nearest == nullptr)
+      return fmt::format("not covered: the table's {} cases are vessels (tubes and swept vessels)", table.cases.size());
+    const AccuracyCase& c = *e.nearest;
+    std::string line = fmt::format(
+        "not covered: no case of the accuracy table has this vessel, loading and local-fit basis; the nearest is '{}' "
+        "({}, outer radius {:.3g} mm, wall {:.3g} mm, {} fit)",
+        c.name, c.scene, 1e3 * c.outer_radius_m, 1e3 * c.wall_thickness_m,
+        c.basis == "quadratic_cube" ? "quadratic with the through-wall cube" : c.basis);
+    if (c.independent)
+      line += fmt::format(", whose finest row is {:+.1f} % against {}", 100.0 * c.independent->error,
+                          c.independent->reference);
+    return line;
   }
   auto row = [](const AccuracyRow& r) { return fmt::format("{:.3g} mm, {:.0f} nodes: {:+.1f} %", 1e3 * r.spacing_m, r.nodes, 100.0 * r.error); };
   std::string from;

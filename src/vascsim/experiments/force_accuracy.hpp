@@ -73,6 +73,9 @@ struct AccuracyEstimate {
   const AccuracyRow* above = nullptr;
   double nodes = 0.0;                   ///< the node count asked about
   bool graded = false;                  ///< a graded lattice (geometry.refine): the table's uniform rows do not apply
+  /// Without a match, on a vessel: the case closest to it (the same loading and fit first, then the nearest radius
+  /// and wall thickness in log scale), for the user to compare with; null otherwise.
+  const AccuracyCase* nearest = nullptr;
 };
 
 AccuracyEstimate estimate_accuracy(const ForceAccuracyTable& table, const Scene& scene, double nodes);

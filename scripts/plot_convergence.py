@@ -51,7 +51,7 @@ def main():
             xs = [1e3 * v for v in x] if "tool_displacement_m" in est[0] else x
             err = [100.0 * r["error"] for r in est]
             bound = [100.0 * r["error_bound"] for r in est]
-            right.errorbar(xs, err, yerr=bound, fmt="o-", capsize=3, label=q, color=line.get_color())
+            right.errorbar(xs, err, yerr=bound, fmt="o", capsize=3, label=q, color=line.get_color())
     left.set_xlabel("node spacing (mm); square: the scene's, star: extrapolated")
     left.set_ylabel("value (mN or mm)")
     left.set_xlim(left=0.0)

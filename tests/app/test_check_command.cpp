@@ -67,6 +67,11 @@ TEST_P(BundledSceneSlow, CheckBuildsAndReports) {
   for (const auto& region : report["regions"]) EXPECT_GT(region["nodes"].get<int>(), 0) << region;
   ASSERT_EQ(report["tools"].size(), scene_json.value("obstacles", nlohmann::json::array()).size());
   for (const auto& tool : report["tools"]) EXPECT_TRUE(tool["touches"].get<bool>()) << tool;
+  // The bundled scenes are the examples users copy: each runs without a warning, on the model the project
+  // recommends for its purpose (issue 44).
+  EXPECT_TRUE(report["warnings"].empty()) << report["warnings"];
+  EXPECT_FALSE(r.err_has("warning")) << r.err;
+  EXPECT_FALSE(r.out_has("warning")) << r.out;
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -214,6 +219,107 @@ TEST(RunWarnings, XpbdOnAThinStiffWallIsNamedWithTheMeasuredDeficit) {
   // quasi_static on the same scene: no such warning.
   const CliResult qs = cli({"check", test::source_path("tests/data/tiny-catheter.json"), "--set", "output.surface=false"});
   EXPECT_FALSE(qs.out_has("far off")) << qs.out;
+}
+
+// ------------------------------------------------------------------------------------------------------------
+// A user's input mistakes that check names (issue 44).
+
+// The small bent vessel typed in millimetres (a vessel of 1.5 m radius) builds and checks as one a thousand times too
+// large; check names its radius and its centre-line with the fix among its warnings (it said nothing). In metres:
+// no such warning.
+TEST(CheckCommand, AVesselTypedInMillimetresIsNamedWithTheFix) {
+  const std::string tiny = test::source_path("tests/data/tiny-bent-vessel.json");
+  const CliResult mm = cli(with_sets(
+      {"-q", "check", tiny},
+      {"geometry.outer_radius_m=1.5", "geometry.wall_thickness_m=0.4", "geometry.node_spacing_m=0.4",
+       "geometry.centerline.radius_of_curvature_m=5", "geometry.centerline.leg_length_m=1",
+       "regions.2.select.s_half_length_m=0.5", "regions.2.bc.magnitude_m=0.2", "output.surface=false"}));
+  ASSERT_EQ(mm.code, 0) << mm.err;
+  EXPECT_TRUE(mm.out_has("  warning   " + tiny + ": key 'geometry.outer_radius_m': a vessel radius of 1.5 m is "
+                         "implausible (above 0.05 m); if these are millimetres, write them in metres (1.5e-3)"))
+      << mm.out;
+  EXPECT_TRUE(mm.out_has("key 'geometry.centerline.radius_of_curvature_m': a centre-line length of 9.854 m is "
+                         "implausible (above 1 m); if these are millimetres, write them in metres (5e-3)"))
+      << mm.out;
+  const CliResult metres = cli({"-q", "check", tiny, "--set", "output.surface=false"});
+  ASSERT_EQ(metres.code, 0) << metres.err;
+  EXPECT_FALSE(metres.out_has("implausible")) << metres.out;
+}
+
+// The small vessel's 0.4 mm wall at coarser spacings: at 2x it builds, and check warns naming the spacing; at 4x the
+// surface map's guard fails (exit 3), and its message names the spacing before the growths that would make it run
+// (it named only the growths); the support guard, failed at 1.5x, does the same. A guard failing on the scene's own
+// lattice (1x) names only the growths.
+TEST(CheckCommand, ALatticeCoarseForItsWallIsNamedBeforeTheGrowths) {
+  const std::string tiny = test::source_path("tests/data/tiny-bent-vessel.json");
+  const CliResult twice = cli({"-q", "check", tiny, "--set", "geometry.node_spacing_m=0.8e-3", "--set",
+                               "output.surface=false"});
+  ASSERT_EQ(twice.code, 0) << twice.err;
+  EXPECT_TRUE(twice.out_has("  warning   " + tiny + ": key 'geometry.node_spacing_m': the node spacing along the wall, "
+                            "0.0008 m, is 2x the wall thickness (0.0004 m)"))
+      << twice.out;
+  EXPECT_TRUE(twice.out_has("reduce geometry.node_spacing_m to at most 0.0004 m")) << twice.out;
+  const CliResult map = cli({"-q", "check", tiny, "--set", "geometry.node_spacing_m=1.6e-3", "--set",
+                             "regions.2.select.s_half_length_m=3e-3"});
+  ASSERT_EQ(map.code, 3) << map.err;
+  ASSERT_EQ(map.messages.size(), 1u) << map.err;
+  EXPECT_NE(map.messages[0].find("vertices fail): reduce geometry.node_spacing_m (now 4x the wall thickness; forces are "
+                                 "measured accurate up to 1x); or let the support grow further: mapping.max_growths = "),
+            std::string::npos)
+      << map.messages[0];
+  const CliResult support = cli({"-q", "check", tiny, "--set", "geometry.node_spacing_m=0.6e-3", "--set",
+                                 "discretization.max_growths=0", "--set", "discretization.support_radius_factor=1.01"});
+  ASSERT_EQ(support.code, 3) << support.err;
+  EXPECT_TRUE(support.err_has("nodes fail): reduce geometry.node_spacing_m (now 1.5x the wall thickness; forces are "
+                              "measured accurate up to 1x); or let the support grow further: discretization.max_growths "
+                              "= "))
+      << support.err;
+  const CliResult own = cli({"-q", "check", tiny, "--set", "mapping.max_growths=0", "--set",
+                             "mapping.support_radius_factor=1.5"});
+  ASSERT_EQ(own.code, 3) << own.err;
+  EXPECT_FALSE(own.err_has("reduce geometry.node_spacing_m")) << own.err;
+  EXPECT_TRUE(own.err_has("vertices fail): let the support grow further: mapping.max_growths = ")) << own.err;
+}
+
+// A catheter that keeps the nodes off itself (node_radius_m) in a scene that leaves contact.surface to its default
+// (tiny-catheter's contact block emptied): check names the obstacle, the key and what it changes. The scene as
+// bundled chooses the nodes' contact and is not warned.
+TEST(CheckCommand, ANodeRadiusThatMovesTheContactToTheNodesIsNamed) {
+  const std::string tiny = test::source_path("tests/data/tiny-catheter.json");
+  const CliResult by_default = cli({"-q", "check", tiny, "--set", "contact={}", "--set", "output.surface=false"});
+  ASSERT_EQ(by_default.code, 0) << by_default.err;
+  EXPECT_TRUE(by_default.out_has("  warning   " + tiny + ": key 'obstacles.0.node_radius_m': obstacle 'catheter' keeps "
+                                 "the nodes 0.0001 m off the tool, which moves the contact of every tool from the "
+                                 "wall's surface"))
+      << by_default.out;
+  const CliResult chosen = cli({"-q", "check", tiny, "--set", "output.surface=false"});
+  ASSERT_EQ(chosen.code, 0) << chosen.err;
+  EXPECT_FALSE(chosen.out_has("node_radius_m")) << chosen.out;
+}
+
+// The contact-resolution warning of a run is printed once per tool (it was logged and printed again at the end),
+// and what it names from the spacing on is the lattice's and the tool's: the same with 3 load steps and with 6.
+TEST(RunWarnings, TheContactResolutionWarningIsPrintedOncePerToolWhateverTheLoadSteps) {
+  const fs::path dir = test_dir();
+  const std::string tiny = test::source_path("tests/data/tiny-catheter.json");
+  const std::string head = "the contact of the tool 'catheter' was narrower than the lattice resolves";
+  std::vector<std::string> tails;
+  for (const std::string steps : {"3", "6"}) {
+    const CliResult r = cli({"run", tiny, "--out", (dir / steps).string(), "--set", "quasi_static.load_steps=" + steps,
+                             "--set", "output.surface=false"});
+    ASSERT_EQ(r.code, 0) << r.out << r.err;
+    const std::string printed = r.out + r.err;
+    std::size_t count = 0;
+    for (std::size_t at = printed.find(head); at != std::string::npos; at = printed.find(head, at + 1)) ++count;
+    EXPECT_EQ(count, 1u) << printed;
+    const nlohmann::json summary = read_json(dir / steps / "summary.json");
+    for (const auto& w : summary["warnings"]) {
+      const std::string text = w.get<std::string>();
+      if (text.find(head) != std::string::npos) tails.push_back(text.substr(text.find("of the lattice's node spacings")));
+    }
+  }
+  ASSERT_EQ(tails.size(), 2u);
+  EXPECT_EQ(tails[0], tails[1]);
 }
 
 }  // namespace

@@ -4,8 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <nlohmann/json.hpp>
+#include <string>
 
+#include "vascsim/run/body_builder.hpp"
 #include "vascsim/run/contact_resolution.hpp"
+#include "vascsim/scene/scene.hpp"
 
 namespace vascsim {
 namespace {
@@ -40,9 +44,12 @@ TEST(ContactResolution, WarnsUpToTheDeepestUnderResolvedStep) {
   EXPECT_NE(w.find("'probe'"), std::string::npos) << w;
   EXPECT_NE(w.find("up to 0.5 mm"), std::string::npos) << w;
   EXPECT_NE(w.find("1.28 mm"), std::string::npos) << w;
-  // The first step's 2a = 1.01 mm over 1.4 spacings: 0.722 mm resolves every step, and the message says so.
-  EXPECT_NEAR(coarse.resolving_spacing_m(), hertz_contact_diameter_m(force[0], R, E, nu) / 1.4, 1e-15);
-  EXPECT_NE(w.find("at most 0.722 mm"), std::string::npos) << w;
+  // The 1.0 mm lattice resolves the probe's contact from 2a = 1.4 mm on: F = 4 E* (0.7 mm)^3 / (3 R) = 115 mN, the
+  // force the message names (the third step's 126.9 mN is above it).
+  EXPECT_NEAR(coarse.resolving_force_n(), hertz_contact_force_n(1.4e-3, R, E, nu), 1e-15);
+  EXPECT_NEAR(hertz_contact_diameter_m(coarse.resolving_force_n(), R, E, nu), 1.4e-3, 1e-15);
+  EXPECT_NE(w.find("node spacings of 1 mm along the wall under the tool"), std::string::npos) << w;
+  EXPECT_NE(w.find("below a force of 115 mN on this tool"), std::string::npos) << w;
   EXPECT_FALSE(fine.warning().has_value()) << *fine.warning();
   ContactResolution untouched("probe", R, E, nu, 1.0e-3);
   untouched.add(1e-3, 0.0);
@@ -54,6 +61,65 @@ TEST(ContactResolution, WarnsUpToTheDeepestUnderResolvedStep) {
   const std::string f = *fixed.warning();
   EXPECT_EQ(f.find("of its push"), std::string::npos) << f;
   EXPECT_NE(f.find("'wall_probe' was narrower than the lattice resolves: its Hertz"), std::string::npos) << f;
+}
+
+// One lattice and one tool, pressed along one force-depth curve (the probe's, about 170 mN per mm) in 3 or in 6
+// load steps: the warning names the same node spacing and the same force from which that spacing resolves the
+// contact either way; only the depth up to which the steps were under-resolved follows the steps (0.5 and
+// 0.625 mm). (It named the spacing that resolved the first loaded step instead: 0.718 mm with 3 steps, 0.570 mm with 6.)
+TEST(ContactResolution, TheWarningNamesTheSameSpacingWhateverTheLoadSteps) {
+  const double E = 1.0e6, nu = 0.45, R = 5e-3, push = 0.75e-3;
+  auto warning_with = [&](int steps) {
+    ContactResolution r("probe", R, E, nu, 1.0e-3);
+    for (int k = 1; k <= steps; ++k) r.add(push * k / steps, 170.0 * push * k / steps);
+    return r.warning().value_or("");
+  };
+  const std::string three = warning_with(3), six = warning_with(6);
+  EXPECT_NE(three.find("up to 0.5 mm"), std::string::npos) << three;
+  EXPECT_NE(six.find("up to 0.625 mm"), std::string::npos) << six;
+  // Everything from the spacing on is the lattice's and the tool's.
+  const std::size_t a = three.find("of the lattice's node spacings"), b = six.find("of the lattice's node spacings");
+  ASSERT_NE(a, std::string::npos) << three;
+  ASSERT_NE(b, std::string::npos) << six;
+  EXPECT_EQ(three.substr(a), six.substr(b));
+  EXPECT_NE(three.find("below a force of 115 mN"), std::string::npos) << three;
+}
+
+// The spacing a tool's contact sees on a graded lattice (a vein 0.1 mm over +-30 deg x +-0.5 mm facing +y at
+// mid-length, 0.4 mm elsewhere): that of the cell under the tool, the fine one in the window (where the lattice's
+// steps, its finest, say the same) and a coarse one on the far side 3 mm along, where the finest steps would call
+// a contact resolved that is not.
+TEST(ContactResolution, TheSpacingUnderAToolIsTheLatticesThere) {
+  const nlohmann::json doc = nlohmann::json::parse(R"({
+    "name": "graded-vein", "model": "quasi_static",
+    "geometry": { "type": "vessel", "centerline": { "type": "straight", "length_m": 8e-3 },
+                  "outer_radius_m": 1.5e-3, "wall_thickness_m": 0.3e-3, "node_spacing_m": 0.4e-3,
+                  "refine": { "angle_center_deg": 90, "angle_half_width_deg": 30, "s_center_fraction": 0.5,
+                              "s_half_length_m": 0.5e-3, "node_spacing_m": 0.1e-3, "margin_m": 0.2e-3 } },
+    "regions": [ { "name": "end", "select": { "type": "cylinder_end", "end": "start" }, "bc": { "type": "fixed" } } ]
+  })");
+  const Body body = build_body(parse_scene(doc, "graded-vein.json").geometry);
+  ASSERT_FALSE(body.wall->cells.empty());
+  auto sphere_at = [](double y, double dy, double z = 4e-3) {
+    RigidObstacle s;
+    s.name = "probe";
+    s.radius_m = 1e-3;
+    s.a_m = s.b_m = s.tool_point_m = Vec3(0.0, y, z);
+    s.motion_m = Vec3(0.0, dy, 0.0);
+    return s;
+  };
+  const double finest = along_wall_spacing_m(body);
+  const double window = spacing_under_tool_m(sphere_at(2.5e-3, -0.2e-3), body);
+  const double far_side = spacing_under_tool_m(sphere_at(-2.5e-3, 0.2e-3, 7e-3), body);
+  EXPECT_NEAR(window, finest, 0.05 * finest);
+  EXPECT_NEAR(window, 0.1e-3, 0.02e-3);
+  EXPECT_GT(far_side, 3.0 * window);
+  EXPECT_LT(far_side, 0.5e-3);
+  // A uniform lattice has one spacing.
+  nlohmann::json uniform = doc;
+  uniform["geometry"].erase("refine");
+  const Body plain = build_body(parse_scene(uniform, "vein.json").geometry);
+  EXPECT_EQ(spacing_under_tool_m(sphere_at(-2.5e-3, 0.2e-3), plain), along_wall_spacing_m(plain));
 }
 
 }  // namespace

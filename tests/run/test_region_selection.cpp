@@ -10,6 +10,10 @@
 #include <numbers>
 
 #include <memory>
+#include <string>
+#include <vector>
+
+#include "vascsim/core/error.hpp"
 
 #include "vascsim/run/body_builder.hpp"
 #include "vascsim/run/discretization_setup.hpp"
@@ -120,6 +124,64 @@ TEST(RegionSelection, NarrowPatchAndSurfacePatchReportTheirMismatch) {
   EXPECT_NEAR(r["asked"]["area_m2"].get<double>(), asked, 1e-15);
   EXPECT_NEAR(r["selected"]["area_m2"].get<double>() / asked, 1.0, 0.21);  // inside the tolerance: no warning
   EXPECT_TRUE(disc_patch.indenter().warnings.empty());
+}
+
+// The input error of a region that selects nothing (build_regions, after the body is built).
+std::string empty_selection_error(const json& doc) {
+  const Scene scene = parse_scene(doc, "patch-phase");
+  const Body body = build_body(scene.geometry);
+  const Discretization disc(body.cloud, scene.material, discretization_options(scene, body));
+  try {
+    build_regions(scene, disc, body);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "every region selected nodes";
+  return "";
+}
+
+// A region that selects nothing says why (it said only "selects no nodes"): the body's extent in the selector's
+// own coordinates beside the window asked, and "these values look like millimetres" where the window divided by
+// 1000 meets the body.
+TEST(RegionSelection, ARegionThatSelectsNothingNamesTheBodysExtentAndItsWindow) {
+  auto expect_has = [](const std::string& message, const std::vector<std::string>& parts, bool millimetres) {
+    for (const std::string& p : parts) EXPECT_NE(message.find(p), std::string::npos) << "'" << p << "' in " << message;
+    EXPECT_EQ(message.find("these values look like millimetres (divided by 1000 they meet the body): lengths are in "
+                           "metres") != std::string::npos,
+              millimetres)
+        << message;
+  };
+  // The patch's centre and half-length typed in millimetres: s = 2 +- 0.6 m along a 4 mm tube.
+  json doc = vein(90.0);
+  doc["regions"][2]["select"]["s_center_m"] = 2.0;
+  doc["regions"][2]["select"]["s_half_length_m"] = 0.6;
+  expect_has(empty_selection_error(doc),
+             {"patch-phase: key 'regions.2.select': region 'indenter' selects no nodes: its window is 90 +- 15 deg "
+              "round the centre-line (angle_center_deg, angle_half_width_deg) and s = 2 +- 0.6 m along it",
+              "the body's outer surface nodes lie at s = 0 .. 0.004 m"},
+             true);
+  // In metres on the body, but narrower than a column and between two (the plain lattice's 88.4 and 94.7 deg).
+  doc = vein(90.0);
+  doc["geometry"]["lattice_angle_deg"] = 0;
+  doc["regions"][2]["select"]["angle_half_width_deg"] = 1.0;
+  expect_has(empty_selection_error(doc), {"their column nearest 90 deg is 1.579 deg from it (a column every 6.316 deg)"},
+             false);
+  // A box in millimetres, and one that misses the body in either unit.
+  doc = vein(90.0);
+  doc["regions"][2]["select"] = json::parse(R"({ "type": "box", "min_m": [-1, 1, 1.5], "max_m": [1, 2, 2.5] })");
+  doc["regions"][2]["bc"] = {{"type", "fixed"}};
+  expect_has(empty_selection_error(doc),
+             {"its box [-1, 1, 1.5] .. [1, 2, 2.5] m (min_m, max_m) holds none of the body, whose nodes lie within [",
+              ", 0] .. [", ", 0.004] m"},
+             true);
+  doc["regions"][2]["select"] = json::parse(R"({ "type": "box", "min_m": [10, 10, 10] })");
+  expect_has(empty_selection_error(doc), {"its box [10, 10, 10] .. [inf, inf, inf] m"}, false);
+  // A surface patch centred in millimetres.
+  doc["regions"][2]["select"] = json::parse(R"({ "type": "surface_patch", "centre_m": [0, 1.5, 2], "radius_m": 0.6 })");
+  expect_has(empty_selection_error(doc),
+             {"its sphere of radius 0.6 m (radius_m) round [0, 1.5, 2] m (centre_m) holds none of the body's outer "
+              "surface nodes"},
+             true);
 }
 
 double patch_force(const json& doc) {

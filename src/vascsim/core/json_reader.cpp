@@ -5,6 +5,7 @@
 #include <fmt/ranges.h>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/text.hpp"
 
 namespace vascsim {
 
@@ -76,7 +77,7 @@ double JsonReader::number(const std::string& key, double fallback, double lo, do
 }
 
 double JsonReader::required_number(const std::string& key, double lo, double hi) {
-  if (!has(key)) fail(key, fmt::format("missing; a number in [{}, {}] is required", lo, hi));
+  if (!has(key)) missing(key, fmt::format("a number in [{}, {}] is required", lo, hi));
   return number(key, 0.0, lo, hi);
 }
 
@@ -127,8 +128,7 @@ std::string JsonReader::string(const std::string& key, const std::string& fallba
 
 std::string JsonReader::required_string(const std::string& key, const std::vector<std::string>& allowed) {
   if (!has(key))
-    fail(key, allowed.empty() ? "missing; a string is required"
-                              : fmt::format("missing; one of: {}", fmt::join(allowed, ", ")));
+    missing(key, allowed.empty() ? "a string is required" : fmt::format("one of: {}", fmt::join(allowed, ", ")));
   return string(key, "", allowed);
 }
 
@@ -146,7 +146,7 @@ Vec3 JsonReader::vec3(const std::string& key, const Vec3& fallback) {
 }
 
 Vec3 JsonReader::required_vec3(const std::string& key) {
-  if (!has(key)) fail(key, "missing; an array of 3 numbers [x, y, z] is required");
+  if (!has(key)) missing(key, "an array of 3 numbers [x, y, z] is required");
   return vec3(key, Vec3::Zero());
 }
 
@@ -162,7 +162,7 @@ std::vector<JsonReader> JsonReader::array_of_objects(const std::string& key, boo
   const auto* v = find(key);
   std::vector<JsonReader> out;
   if (!v) {
-    if (required) fail(key, "missing; an array of objects is required");
+    if (required) missing(key, "an array of objects is required");
     return out;
   }
   if (!v->is_array()) fail(key, fmt::format("expected an array of objects, found {}", type_name(*v)));
@@ -175,12 +175,35 @@ std::vector<JsonReader> JsonReader::array_of_objects(const std::string& key, boo
   return out;
 }
 
-void JsonReader::finish() const {
-  std::vector<std::string> known(read_.begin(), read_.end());
+void JsonReader::allow(std::initializer_list<const char*> keys) {
+  for (const char* k : keys) allowed_.insert(k);
+}
+
+void JsonReader::missing(const std::string& key, const std::string& what) const {
+  // The keys present that nothing has read or may read: one of them close to `key` is its misspelling, the
+  // user's actual mistake, so it is named first (else the message names only a key the file never held).
+  std::optional<std::string> typo;
   for (const auto& [k, v] : object_.items())
-    if (!read_.count(k))
-      throw InputError(fmt::format("{}: key '{}': unknown key{}", file_, key_path(k),
+    if (k != key && !read_.count(k) && !allowed_.count(k) && nearest_name(k, {key}) &&
+        (!typo || edit_distance(k, key) < edit_distance(*typo, key)))
+      typo = k;
+  if (typo)
+    throw InputError(fmt::format("{}: key '{}': unknown key (did you mean '{}'?); '{}' is missing: {}", file_,
+                                 key_path(*typo), key, key, what));
+  fail(key, "missing; " + what);
+}
+
+void JsonReader::finish() const {
+  std::set<std::string> known_set = read_;
+  known_set.insert(allowed_.begin(), allowed_.end());
+  const std::vector<std::string> known(known_set.begin(), known_set.end());
+  for (const auto& [k, v] : object_.items())
+    if (!read_.count(k)) {  // an allowed key that is present is read, or rejected with its own message before
+      const std::optional<std::string> near = nearest_name(k, known);
+      throw InputError(fmt::format("{}: key '{}': unknown key{}{}", file_, key_path(k),
+                                   near ? fmt::format(" (did you mean '{}'?)", *near) : "",
                                    known.empty() ? "" : fmt::format("; allowed here: {}", fmt::join(known, ", "))));
+    }
 }
 
 }  // namespace vascsim

@@ -1,8 +1,10 @@
 #pragma once
 // Validated reading of one JSON object of a scene file. Every access names the key, its unit and its
-// allowed range; finish() rejects keys that were never read (unknown keys, typos). All problems are
-// InputError messages of the form "<file>: key '<path>': <what is wrong>; <what is allowed>".
+// allowed range; finish() rejects keys that were never read (unknown keys, typos), naming the nearest allowed
+// key. A required key that is missing while a misspelling of it is present is reported as that unknown key.
+// All problems are InputError messages of the form "<file>: key '<path>': <what is wrong>; <what is allowed>".
 
+#include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
@@ -48,7 +50,14 @@ class JsonReader {
   /// The raw value (marks the key as read).
   const nlohmann::json* raw(const std::string& key);
 
-  /// Throws for keys present in the object that were never read.
+  /// Keys this object also accepts on paths not taken (the other of two alternatives, a block read only when
+  /// present): finish() lists them as allowed, and a required key's check never takes them for its misspelling.
+  void allow(std::initializer_list<const char*> keys);
+  /// Throws for a required `key` that is absent: "missing; <what>" (e.g. "a number in [0, 1] is required"), or,
+  /// when the object holds an unread key that is a misspelling of it, that key as unknown with `key` to use.
+  [[noreturn]] void missing(const std::string& key, const std::string& what) const;
+
+  /// Throws for keys present in the object that were never read, naming the nearest allowed key.
   void finish() const;
   /// From now on every number, integer, boolean and string this reader (and the objects it opens) takes is
   /// appended to `fields`, which must outlive them (nullptr: stop).
@@ -64,7 +73,7 @@ class JsonReader {
   void note(const std::string& key, JsonField field);
   const nlohmann::json& object_;
   std::string path_, file_;
-  std::set<std::string> read_;
+  std::set<std::string> read_, allowed_;  // keys read; keys accepted but not read on this path
   std::vector<JsonField>* fields_ = nullptr;
 };
 

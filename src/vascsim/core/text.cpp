@@ -1,5 +1,6 @@
 #include "vascsim/core/text.hpp"
 
+#include <algorithm>
 #include <fmt/format.h>
 
 namespace vascsim {
@@ -55,6 +56,34 @@ std::string one_line(std::string_view s) {
     i += n == 0 ? 1 : n;
   }
   return out;
+}
+
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  // d[i][j]: edits from a's first i characters to b's first j, three rows kept.
+  std::vector<std::size_t> before(b.size() + 1), previous(b.size() + 1), row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) previous[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t replace = a[i - 1] == b[j - 1] ? 0 : 1;
+      row[j] = std::min({previous[j] + 1, row[j - 1] + 1, previous[j - 1] + replace});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) row[j] = std::min(row[j], before[j - 2] + 1);
+    }
+    std::swap(before, previous);
+    std::swap(previous, row);
+  }
+  return previous[b.size()];
+}
+
+std::optional<std::string> nearest_name(std::string_view typed, const std::vector<std::string>& names) {
+  std::optional<std::string> best;
+  std::size_t best_distance = 0;
+  for (const std::string& name : names) {
+    const std::size_t d = edit_distance(typed, name);
+    const bool close = d <= std::max<std::size_t>(2, name.size() / 4) && 2 * d < name.size();
+    if (d > 0 && close && (!best || d < best_distance)) best = name, best_distance = d;
+  }
+  return best;
 }
 
 }  // namespace vascsim

@@ -28,7 +28,7 @@ std::optional<CostEstimate> estimate_run_cost(const CostCalibration& calibration
 }
 
 std::vector<std::string> model_accuracy_warnings(const ForceAccuracyTable& table, const Scene& scene, Simulation& sim) {
-  std::vector<std::string> warnings;
+  std::vector<std::string> warnings = scene.warnings;
   for (const SubstepStiffnessRule& rule : table.substep_rules) {
     if (rule.model != scene.model) continue;
     const nlohmann::json info = sim.model().info();

@@ -22,8 +22,9 @@ double headless_model_steps(const Scene& scene, Simulation& sim, const ModelCost
 std::optional<CostEstimate> estimate_run_cost(const CostCalibration& calibration, const Scene& scene, Simulation& sim,
                                               double steps);
 
-/// One line per rule of the table the scene's model breaks (e.g. xpbd with a large per-substep stiffness ratio), and
-/// linear_fit_layers_warning's line.
+/// The scene's own warnings (Scene::warnings: implausible sizes, a lattice coarse for its wall, node contact by
+/// node_radius_m), then one line per rule of the table the scene's model breaks (e.g. xpbd with a large
+/// per-substep stiffness ratio), and linear_fit_layers_warning's line.
 std::vector<std::string> model_accuracy_warnings(const ForceAccuracyTable& table, const Scene& scene, Simulation& sim);
 
 /// The linear fit with the layers reach on a wall of four or more node layers is stiff (docs/validation.md, "Layers

@@ -136,13 +136,17 @@ SupportSearch search_supports(const Vec3Array& X, const Vec3Array& surface, doub
   const auto n_failed = std::count(found.failed.begin(), found.failed.end(), char{1});
   const Vec3& s = surface[v];
   const int needed = growths_needed(X, surface, found.failed, r0, opt, grid);
-  const std::string fix =
+  const std::string growth =
       needed > 0 ? fmt::format("let the support grow further: mapping.max_growths = {} makes every vertex pass (now {})",
                                needed, opt.max_growths)
                  : fmt::format("even {} growths do not help: the nodes near it are too few or coplanar (a single node "
                                "layer through the wall?): use more node layers or keep the surface within about one "
                                "spacing of the nodes",
                                kMaxGrowthsTried);
+  // A lattice too coarse for its wall is fixed by a finer one: growths would make it run, inaccurately.
+  const std::string fix = opt.coarse_spacing_advice.empty()
+                              ? growth
+                              : fmt::format("{}; {}{}", opt.coarse_spacing_advice, needed > 0 ? "or " : "", growth);
   throw NumericalError(fmt::format(
       "MLS map: surface vertex {} at ({:.6g}, {:.6g}, {:.6g}) m has {} nodes in its support and cond(A^) "
       "{:.3g} at support radius {:.4g} m after {} growths (need >= {} nodes and cond <= {:.3g}; {} of {} vertices "

@@ -6,6 +6,7 @@
 // forces. Rest positions only: the map is never rebuilt during a run (total Lagrangian).
 
 #include <array>
+#include <string>
 #include <vector>
 
 #include "vascsim/core/types.hpp"
@@ -25,6 +26,9 @@ struct MlsMapOptions {
   /// columns can be 4x farther apart (four layers through the vein's 0.3 mm wall at 0.4 mm: 4 growths needed).
   /// Each vertex keeps the smallest radius that passes the guard, so a vertex that passed at fewer is unchanged.
   int max_growths = 6;
+  /// Named before the growths when the guard fails: the fix a caller knows of (a scene whose lattice is coarse
+  /// for its wall: "reduce geometry.node_spacing_m (...)"); empty: none.
+  std::string coarse_spacing_advice;
 };
 
 /// Summary of the precomputation, for logging.

@@ -322,11 +322,15 @@ std::string Discretization::growth_advice(const std::vector<int>& failed, double
       }
     }
   }
+  // A lattice too coarse for its wall is fixed by a finer one: growths would make it run, inaccurately.
+  const std::string first = opt.coarse_spacing_advice.empty() ? "" : opt.coarse_spacing_advice + "; ";
   if (needed <= kMaxGrowthsAllowed)
-    return fmt::format("let the support grow further: discretization.max_growths = {} makes every node pass (now {})",
-                       needed, opt.max_growths);
-  return fmt::format("even discretization.max_growths = {} does not help (now {}): use a finer geometry.node_spacing_m",
-                     kMaxGrowthsAllowed, opt.max_growths);
+    return fmt::format("{}{}let the support grow further: discretization.max_growths = {} makes every node pass (now "
+                       "{})",
+                       first, first.empty() ? "" : "or ", needed, opt.max_growths);
+  return fmt::format(
+      "{}even discretization.max_growths = {} does not help (now {}): use a finer geometry.node_spacing_m", first,
+      kMaxGrowthsAllowed, opt.max_growths);
 }
 
 // The accepted neighbourhoods as the pair tables: d_ij (linear or quadratic fit), w_ij, d_ii and the moments.

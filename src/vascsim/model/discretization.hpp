@@ -27,6 +27,9 @@ struct DiscretizationOptions {
   double min_eigen_ratio = 1e-3;       ///< lambda_min / lambda_max of A_i / tr(A_i) (cond <= 1e3)
   double growth_factor = 1.2;          ///< h_i <- 1.2 h_i when a node fails the guard
   int max_growths = 3;                 ///< then fail loudly
+  /// Named before the growths when the guard fails: the fix a caller knows of (a scene whose lattice is coarse
+  /// for its wall: "reduce geometry.node_spacing_m (...)"); empty: none.
+  std::string coarse_spacing_advice;
   VolumeRule volume = VolumeRule::TetPartition;
   GradientBasis basis = GradientBasis::Linear;  ///< the local fit's polynomial (local_fit.hpp)
   /// Supports that follow a wall (docs/model.md section 3.1): per node the wall's unit normal, and the ratio of the

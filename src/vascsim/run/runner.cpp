@@ -167,10 +167,8 @@ namespace {
 class RunFindings {
  public:
   RunFindings(const Scene& scene, const Body& body) : scene_(scene), touched_(scene.obstacles.size(), false) {
-    const double spacing = along_wall_spacing_m(body);
-    for (const RigidObstacle& tool : scene.obstacles)
-      resolution_.emplace_back(tool.name, tool.radius_m, scene.material.youngs_modulus_pa,
-                               scene.material.poisson_ratio, spacing);
+    // Each tool against the lattice's spacing where it meets the wall (spacing_under_tool_m).
+    for (const RigidObstacle& tool : scene.obstacles) resolution_.emplace_back(tool, scene.material, body);
   }
 
   void add(const StepRecord& r) {
@@ -232,7 +230,9 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   Simulation& sim = *built;
   Model& model = sim.model();
   if (options.after_setup) options.after_setup(sim);
-  std::vector<std::string> warnings = tool_reach_warnings(scene, sim);
+  // The scene's own warnings first (`vascsim run` logged them with the model's accuracy warnings).
+  std::vector<std::string> warnings = scene.warnings;
+  for (std::string& w : tool_reach_warnings(scene, sim)) warnings.push_back(std::move(w));
   CsvTable probes = out.table("probes.csv", probe_columns(scene));
 
   const bool surface = scene.output.surface;
@@ -279,8 +279,10 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
     unconverged += last.report.converged ? 0 : 1;
     record(last);
   }
+  // Found after the last step, where `vascsim run` prints summary.json's warnings: logged as well, each was
+  // printed twice.
   for (const std::string& w : findings.warnings(model.num_steps())) {
-    spdlog::warn("{}", w);
+    spdlog::debug("{}", w);
     warnings.push_back(w);
   }
 

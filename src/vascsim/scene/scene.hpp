@@ -190,6 +190,11 @@ struct Scene {
   HapticsSpec haptics;
   ViewerSpec viewer;
   nlohmann::json resolved;  ///< the JSON after overrides (for summary.json)
+  /// What the scene runs with but probably does not mean, one line each naming the file, the key and the fix: sizes
+  /// no vessel has (a scene typed in millimetres), a lattice too coarse along its wall, an obstacle's node_radius_m
+  /// that moves the contact to the nodes (docs/scene-format.md, "Reading rules"). `vascsim check` and `vascsim run`
+  /// print them with the model's accuracy warnings (experiments/run_assessment.hpp).
+  std::vector<std::string> warnings;
 
   /// The settings of model `name` as its settings struct S (e.g. scene.settings<XpbdSettings>("xpbd")).
   template <class S>

@@ -43,5 +43,18 @@ TEST(CliQuiet, ProgressNeverShowsMoreThanTheWhole) {
   EXPECT_TRUE(none.str().empty()) << none.str();
 }
 
+// A realtime session's last lines say what the hand got beside the model: how old the frames its force came from
+// were, how far the model's tool stayed behind, and the largest force sent to the hand beside the model's own.
+TEST(CliQuiet, ARealtimeSessionSaysWhatTheHandGotRealtime) {
+  const auto dir = test::fresh_test_dir();
+  const auto r = test::run_cli_captured({"-q", "run", test::source_path("tests/data/haptic-block.json"), "--set",
+                                         test::kCoarseHapticBlock[0], "--mode", "realtime", "--out",
+                                         (dir / "rt").string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(r.out_has("the hand: the force it felt came from frames")) << r.out;
+  EXPECT_TRUE(r.out_has("the model's tool stayed at most")) << r.out;
+  EXPECT_TRUE(r.out_has("force sent to the hand at most")) << r.out;
+}
+
 }  // namespace
 }  // namespace vascsim

@@ -61,6 +61,18 @@ int run_session(const Scene& scene, const std::filesystem::path& out_dir, const 
       loop["jitter_p99_ms"].get<double>(), loop["jitter_max_ms"].get<double>(),
       h["simulation_steps"].get<std::size_t>(), h["deformation_rate_hz"].get<double>(),
       h["max_force_on_tool_n"].get<double>(), (out_dir / "force_history.csv").string());
+  if (h["mode"].get<std::string>() == "realtime") {
+    // What the hand got, beside the model: in realtime the frames come at their own pace and the loop extends the
+    // last one's force to the hand's pose, so the model's force and the hand's differ under motion.
+    ctx.out << fmt::format(
+        "the hand: the force it felt came from frames {:.0f} ms old on average ({:.0f} ms at most) at {:.1f} frames/s; "
+        "the model's tool stayed at most {:.3g} mm behind the device; force sent to the hand at most {:.4g} N, the "
+        "model's frames at most {:.4g} N (between frames the loop extends the last frame's force with its stiffness "
+        "to the hand's pose; docs/haptics.md)\n",
+        loop["force_latency_mean_ms"].get<double>(), loop["force_latency_max_ms"].get<double>(),
+        h["deformation_rate_hz"].get<double>(), 1e3 * h["max_tool_lag_m"].get<double>(),
+        loop["max_force_sent_n"].get<double>(), h["max_force_on_tool_n"].get<double>());
+  }
   if (summary["interrupted"].get<bool>())
     ctx.out << "interrupted: summary.json, force_history.csv, session.csv and haptic_ticks.csv hold the ticks done\n";
   if (h.contains("replay"))

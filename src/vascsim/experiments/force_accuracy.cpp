@@ -128,9 +128,9 @@ std::string describe_accuracy(const ForceAccuracyTable& table, const AccuracyEst
     const AccuracyCase& c = *e.nearest;
     std::string line = fmt::format(
         "not covered: no case of the accuracy table has this vessel, loading and local-fit basis; the nearest is '{}' "
-        "({}, outer radius {:.3g} mm, wall {:.3g} mm, {} fit)",
+        "({}, outer radius {:.3g} mm, wall {:.3g} mm, {})",
         c.name, c.scene, 1e3 * c.outer_radius_m, 1e3 * c.wall_thickness_m,
-        c.basis == "quadratic_cube" ? "quadratic with the through-wall cube" : c.basis);
+        c.basis == "quadratic_cube" ? "the quadratic fit with the through-wall cube" : "the " + c.basis + " fit");
     if (c.independent)
       line += fmt::format(", whose finest row is {:+.1f} % against {}", 100.0 * c.independent->error,
                           c.independent->reference);

@@ -469,10 +469,16 @@ void build_wall_surface(const TriangleMesh& mesh, const MeshComponents& comps, b
     return;
   }
   lumen_wall_surface(mesh, t, w);
-  if (w.outer_foldovers > 0)
-    spdlog::warn("{}: {} of {} outer-surface triangles fold over (the lumen curves tighter than the wall "
-                 "thickness {:.4g} m there); the rendering surface self-intersects locally",
-                 name, w.outer_foldovers, mesh.triangles.size(), t);
+  // The fold-overs touch only the drawn outer surface (the nodes and the mechanics are the wall's own). A few
+  // local ones, where a real segmentation's lumen bends tighter than the wall is thick, are information; above 1 %
+  // of the triangles the picture is visibly wrong and the user should know.
+  if (w.outer_foldovers > 0) {
+    const bool many = static_cast<double>(w.outer_foldovers) > 0.01 * static_cast<double>(mesh.triangles.size());
+    spdlog::log(many ? spdlog::level::warn : spdlog::level::info,
+                "{}: {} of {} outer-surface triangles fold over (the lumen curves tighter than the wall "
+                "thickness {:.4g} m there); the rendering surface self-intersects locally",
+                name, w.outer_foldovers, mesh.triangles.size(), t);
+  }
 }
 
 }  // namespace

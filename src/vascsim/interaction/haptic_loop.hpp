@@ -48,6 +48,9 @@ struct HapticLoopOptions {
 
 /// A summary of the loop so far; see docs/haptics.md for how to read it. Times from the tick times, so
 /// a replay through tick() reproduces them.
+/// The ticks a haptic loop counts as its start-up (0.1 s at 1 kHz).
+inline constexpr std::uint64_t kStartupTicks = 100;
+
 struct HapticStats {
   double nominal_rate_hz = 0.0;
   std::uint64_t ticks = 0;
@@ -57,6 +60,9 @@ struct HapticStats {
   double jitter_p50_ms = 0.0, jitter_p99_ms = 0.0, jitter_max_ms = 0.0;
   /// Times the thread fell more than one period behind and skipped ahead instead of bursting.
   std::uint64_t late_restarts = 0;
+  /// Of them, those after the first kStartupTicks ticks (the thread's start, its first page faults and the model's
+  /// first frames are behind it): these are what a loaded machine costs the hand.
+  std::uint64_t late_restarts_after_startup = 0;
   std::uint64_t contact_updates = 0;          ///< new ContactStates taken
   double contact_update_rate_hz = 0.0;        ///< contact_updates / elapsed_s: the deformation rate seen
   /// Age of the contact state used, tick time - ContactState::tool.time_s, ms (ticks with a state only):
@@ -183,7 +189,7 @@ class HapticLoop {
   std::atomic<bool> running_{false}, stop_requested_{false};
 
   // Statistics: written by the ticking thread only.
-  std::atomic<std::uint64_t> ticks_{0}, contact_updates_{0}, late_restarts_{0};
+  std::atomic<std::uint64_t> ticks_{0}, contact_updates_{0}, late_restarts_{0}, late_restarts_after_startup_{0};
   std::atomic<std::uint64_t> proxy_recoveries_{0};  // mirrors coupling_.recoveries() for other threads
   std::atomic<double> first_time_s_{0.0}, latest_time_s_{0.0};
   // What the thread got from the scheduler: -1 not asked yet, then SCHED_FIFO priority or 0, and the refusal.

@@ -374,8 +374,8 @@ ConvergenceResult run_convergence_study(const Scene& scene, const ConvergenceOpt
     if (level.out_dir.empty()) {
       result.levels.resize(0);
       result.refused = fmt::format(
-          "no spacing within {:.0f} % of x{:.3f} the scene's gives the lattice the scene's spacing has under its tools "
-          "and regions ({}); across lattices that differ there the force changes with where the nodes fall, not "
+          "no spacing within {:.0f} % of {:.3f} times the scene's gives the lattice the scene's spacing has under its "
+          "tools and regions ({}); across lattices that differ there the force changes with where the nodes fall, not "
           "with the resolution, and no extrapolation is made. Try another --ratio, or a scene whose regions the "
           "lattice fits (geometry.fit_lattice_to_patch)",
           100.0 * (kSpacingTrials[std::size(kSpacingTrials) - 1] - 1.0), p.nominal, mismatch);

@@ -150,7 +150,11 @@ nlohmann::json replay_comparison(const HapticRunOptions& options, const SessionR
 nlohmann::json session_statistics(const Scene& scene, const HapticRunOptions& options, const SessionInputs& in,
                                   const HapticRig& rig, const FrameLog& history, double run_s) {
   std::vector<double> step_ms;
-  for (const auto& s : history.frames()) step_ms.push_back(s.wall_s * 1e3);
+  double max_lag_m = 0.0;  // how far the model's tool stayed behind the device pose its frame started from
+  for (const auto& s : history.frames()) {
+    step_ms.push_back(s.wall_s * 1e3);
+    max_lag_m = std::max(max_lag_m, s.tool_lag_m);
+  }
   const double max_force = history.max_force_n();
   const HapticsSpec& spec = scene.haptics;
   nlohmann::json haptics = {
@@ -168,6 +172,7 @@ nlohmann::json session_statistics(const Scene& scene, const HapticRunOptions& op
         {"p99", quantile(step_ms, 0.99)},
         {"max", step_ms.empty() ? 0.0 : *std::max_element(step_ms.begin(), step_ms.end())}}},
       {"max_force_on_tool_n", max_force},
+      {"max_tool_lag_m", max_lag_m},
       {"force_scale", spec.force_scale},
       {"force_limit_n", spec.force_limit_n},
       {"loop", rig.loop().stats()}};
@@ -216,9 +221,12 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   if (options.after_setup) options.after_setup(sim, setup.frames());
   const ToolReach reach = tool_reach_on_trajectory(scene.obstacles[in.tool], in.trajectory, in.duration_s,
                                                    sim.discretization().rest_positions());
-  std::vector<std::string> warnings;
-  if (!reach.touches()) warnings.push_back(tool_reach_warning(reach, scene.obstacles[in.tool], in.tool));
-  for (const std::string& w : warnings) spdlog::warn("{}", w);
+  // The scene's own warnings lead summary.json's (`vascsim run` logged them with the model's accuracy warnings).
+  std::vector<std::string> warnings = scene.warnings;
+  if (!reach.touches()) {
+    warnings.push_back(tool_reach_warning(reach, scene.obstacles[in.tool], in.tool));
+    spdlog::warn("{}", warnings.back());
+  }
   const double setup_s = total.seconds();
 
   // Surface series at the model's output interval (every frame for a load-stepped model).

@@ -58,7 +58,7 @@ scene = vascsim.load_scene(vascsim.bundled_file("scenes/hand-dorsal-vein-cathete
 sim = vascsim.Simulation(scene)
 records = sim.solve()
 print(vascsim.__file__, vascsim.__version__, sim.num_nodes, "nodes; force on the catheter",
-      -records[-1]["tools"]["catheter"]["force_n"], "N")'
+      records[-1]["tools"]["catheter"]["force_n"], "N")'
 
 echo "== 5. vascsim-dev and examples/embed"
 in_root apt-get install -y cmake g++ make "/tmp/vascsim-check/$(basename "$dev")"

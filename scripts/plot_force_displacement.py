@@ -7,8 +7,8 @@ Each CSV has a header row and comma-separated rows; lines starting with '#' are 
   step,displacement_m,force_n,force_x_n,force_y_n,force_z_n,torque_x_n_m,torque_y_n_m,torque_z_n_m,
   contacts,converged
   displacement_m  tool (catheter) displacement along its push direction (m)
-  force_n         force the tissue exerts back on the tool, projected on the reversed push
-                  direction: positive = resisting force (N)
+  force_n         force along the push (N), as in summary.json: the tool's force on the tissue,
+                  positive while it presses (the tissue resists the tool with as much)
   converged       1 if the load step converged, 0 if not (optional)
 Columns may come in any order; only displacement_m and force_n are required, others are ignored.
 

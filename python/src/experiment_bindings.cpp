@@ -2,12 +2,20 @@
 // (`vascsim run`), the force-displacement experiment (`vascsim experiment force-displacement`, the paper's
 // Fig. 10), its comparison of several models (`--models`) and the MLS map checks (`vascsim validate mls`). Each
 // writes the same files as the command; the GIL is released while it runs and Ctrl-C stops it between output
-// points.
+// points. What the library logs reaches Python at every output point (log_bridge.hpp): warnings as
+// VascsimWarning, progress as INFO records; the lines of summary.json's "warnings" not logged as warnings come
+// at the end (as `vascsim run` prints them). The package's wrappers (vascsim/__init__.py) call these, so
+// warnings name their caller's line (stacklevel 2).
 
 #include <pybind11/stl.h>
+#include <spdlog/spdlog.h>
+
+#include <set>
+#include <string>
 
 #include "bindings.hpp"
 #include "conversions.hpp"
+#include "log_bridge.hpp"
 #include "vascsim/experiments/force_displacement.hpp"
 #include "vascsim/experiments/mls_validation.hpp"
 #include "vascsim/experiments/model_comparison.hpp"
@@ -17,43 +25,63 @@ namespace vascsim::python {
 
 namespace {
 
-// Called by the experiment after every output point, without the GIL: takes it, passes the record to the
-// user's callback (if any) and stops the experiment (the Python exception propagates) on Ctrl-C. Holds the
+// The wrappers' callers: warnings.warn's stacklevel from inside a wrapper of vascsim/__init__.py.
+constexpr int kCallerOfWrapper = 2;
+
+// Called by the experiment after every output point, without the GIL: takes it, hands the log to Python
+// (adding the warnings to `warned`), passes the record to the user's callback (if any) and stops the
+// experiment (the Python exception propagates) on Ctrl-C or a warning the filter makes an error. Holds the
 // callback by pointer (it outlives the experiment): the experiment may copy the function without the GIL.
-std::function<void(const StepRecord&, int)> step_callback(const Scene& scene, const py::object& on_step) {
+std::function<void(const StepRecord&, int)> step_callback(const Scene& scene, const py::object& on_step,
+                                                          std::set<std::string>& warned) {
   const py::object* callback = &on_step;
-  return [&scene, callback](const StepRecord& r, int total) {
+  return [&scene, callback, &warned](const StepRecord& r, int total) {
     py::gil_scoped_acquire gil;
+    log_step(scene.name, scene.model, r, total);
+    emit_log(kCallerOfWrapper, &warned);
     if (!callback->is_none()) (*callback)(record_to_dict(scene, r), total);
     if (PyErr_CheckSignals() != 0) throw py::error_already_set();
   };
 }
 
+// After a run: what is left of the log, then summary.json's warnings not already issued from it (the run
+// logs some as it finds them, others only into the summary).
+void warn_the_rest(const nlohmann::json& summary, std::set<std::string>& warned) {
+  emit_log(kCallerOfWrapper, &warned);
+  for (const auto& w : summary.value("warnings", nlohmann::json::array()))
+    if (warned.insert(w.get<std::string>()).second) warn(w.get<std::string>(), kCallerOfWrapper);
+}
+
 py::object run(const Scene& scene, const std::string& out_dir, const py::object& on_step) {
+  std::set<std::string> warned;
   RunOptions o;
   o.out_dir = out_dir;
-  o.on_step = step_callback(scene, on_step);
+  o.on_step = step_callback(scene, on_step, warned);
+  o.after_setup = [&scene](Simulation& sim) { log_accuracy_warnings(scene, sim); };  // as `vascsim run`
   nlohmann::json summary;
   {
     py::gil_scoped_release free;
     summary = run_scene(scene, o);
   }
+  warn_the_rest(summary, warned);
   return to_python(summary);
 }
 
 py::dict force_displacement(const Scene& scene, const std::string& out_dir, const std::string& tool, bool plot,
                             const std::string& python, const py::object& on_step) {
+  std::set<std::string> warned;
   ForceDisplacementOptions o;
   o.out_dir = out_dir;
   o.tool = tool;
   o.plot = plot;
   o.python = python;
-  o.on_step = step_callback(scene, on_step);
+  o.on_step = step_callback(scene, on_step, warned);
   ForceDisplacementResult r;
   {
     py::gil_scoped_release free;
     r = run_force_displacement(scene, o);
   }
+  warn_the_rest(r.summary, warned);
   std::vector<double> u, f;
   for (const auto& row : r.summary["force_displacement"]["rows"]) {
     u.push_back(row["displacement_m"].get<double>());
@@ -99,8 +127,11 @@ py::dict compare_models(const std::string& scene_path, const std::vector<std::st
   o.reuse = reuse;
   o.plot = plot;
   o.python = python;
-  o.on_step = [](const std::string&, const StepRecord&, int) {
+  o.progress = [](const std::string& line) { spdlog::info("{}", line); };  // reaches Python with the next step
+  o.on_step = [](const std::string& model, const StepRecord& r, int total) {
     py::gil_scoped_acquire gil;
+    log_step(model, model, r, total);
+    emit_log(kCallerOfWrapper);
     if (PyErr_CheckSignals() != 0) throw py::error_already_set();
   };
   ModelComparisonResult r;
@@ -108,6 +139,7 @@ py::dict compare_models(const std::string& scene_path, const std::vector<std::st
     py::gil_scoped_release free;
     r = run_model_comparison(scene_path, o);
   }
+  emit_log(kCallerOfWrapper);
   py::list curves;
   for (const ModelCurve& c : r.curves) curves.append(curve_dict(c));
   py::dict d;
@@ -138,6 +170,7 @@ void bind_experiments(py::module_& m) {
       py::gil_scoped_release free;
       rows = validate_mls(files, overrides, tight_factor);
     }
+    emit_log(kCallerOfWrapper);
     return to_python(rows);
   }, py::arg("scene_files"), py::arg("overrides") = std::vector<std::string>{}, py::arg("tight_factor") = 1.0);
 }

@@ -4,11 +4,11 @@
 
 #include <omp.h>
 
-#include <spdlog/sinks/stdout_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include "bindings.hpp"
 #include "conversions.hpp"
+#include "log_bridge.hpp"
 #include "vascsim/core/build_info.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/model/registry.hpp"
@@ -48,8 +48,8 @@ py::list models_list() {
   return out;
 }
 
-// The library logs through spdlog's default logger; in Python it writes to stderr, warnings and errors only
-// unless set_log_level says otherwise.
+// The library logs through spdlog's default logger, which in Python hands its lines to Python (log_bridge.hpp);
+// this level drops lines before they get there.
 void set_log_level(const std::string& level) {
   const spdlog::level::level_enum l = spdlog::level::from_str(level);
   if (l == spdlog::level::off && level != "off")
@@ -73,12 +73,9 @@ void bind_library(py::module_& m) {
   }, py::arg("threads"), "OpenMP threads for the following work (as `vascsim -j`).");
   m.def("threads", [] { return omp_get_max_threads(); }, "OpenMP threads a parallel region uses now.");
   m.def("set_log_level", &set_log_level, py::arg("level"),
-        "The library's log level: trace, debug, info, warn (the default in Python), error, critical or off. Logs go "
-        "to stderr.");
-  auto logger = std::make_shared<spdlog::logger>("vascsim", std::make_shared<spdlog::sinks::stderr_sink_mt>());
-  logger->set_pattern("[vascsim %l] %v");
-  spdlog::set_default_logger(logger);
-  spdlog::set_level(spdlog::level::warn);
+        "The lowest level the library passes on: trace, debug, info (the default), warn, error, critical or off. "
+        "Warnings arrive through warnings.warn as VascsimWarning, the other lines through Python's logging (logger "
+        "\"vascsim\"), whose own level then decides what is shown.");
 }
 
 }  // namespace vascsim::python
@@ -88,6 +85,7 @@ PYBIND11_MODULE(_vascsim, m) {
   m.doc() = "vascsim: point-primitive vascular tissue simulation (the compiled module; use the package `vascsim`).";
   pybind11::register_exception<vascsim::InputError>(m, "InputError", PyExc_ValueError);
   pybind11::register_exception<vascsim::NumericalError>(m, "NumericalError", PyExc_RuntimeError);
+  vp::bind_log(m);
   vp::bind_library(m);
   vp::bind_scene(m);
   vp::bind_simulation(m);

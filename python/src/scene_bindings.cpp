@@ -8,6 +8,7 @@
 
 #include "bindings.hpp"
 #include "conversions.hpp"
+#include "log_bridge.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/scene/scene.hpp"
 
@@ -62,9 +63,18 @@ void bind_scene(py::module_& m) {
         return fmt::format("<vascsim.Scene '{}' ({}), model {}, {} regions, {} tools>", s.name, s.file, s.model,
                            s.regions.size(), s.obstacles.size());
       });
-  m.def("_load_scene", &load_scene, py::arg("path"), py::arg("overrides") = std::vector<std::string>{});
-  m.def("_parse_scene", &parse_text, py::arg("text"), py::arg("file"),
-        py::arg("overrides") = std::vector<std::string>{});
+  // Called by the package's wrappers: what the parser logs names their caller's line (stacklevel 2).
+  m.def("_load_scene", [](const std::string& path, const std::vector<std::string>& overrides) {
+    Scene s = load_scene(path, overrides);
+    emit_log(2);
+    return s;
+  }, py::arg("path"), py::arg("overrides") = std::vector<std::string>{});
+  m.def("_parse_scene", [](const std::string& text, const std::string& file,
+                           const std::vector<std::string>& overrides) {
+    Scene s = parse_text(text, file, overrides);
+    emit_log(2);
+    return s;
+  }, py::arg("text"), py::arg("file"), py::arg("overrides") = std::vector<std::string>{});
 }
 
 }  // namespace vascsim::python

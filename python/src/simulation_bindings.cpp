@@ -2,10 +2,13 @@
 // points (advance, solve: load steps or output intervals) or, for a device-driven model, by frames with a tool
 // pose (set_tool_pose, step: model/device_driven_model.hpp). Node positions are read-only NumPy views without
 // a copy per read; every call that moves the model copies its positions into the one buffer those views show
-// (models may swap their own buffers, which would leave a view of them dangling).
+// (models may swap their own buffers, which would leave a view of them dangling). What the library logs reaches
+// Python after every call (log_bridge.hpp): warnings as VascsimWarning, an INFO record per output point.
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+
+#include <spdlog/spdlog.h>
 
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
@@ -17,9 +20,11 @@
 
 #include "bindings.hpp"
 #include "conversions.hpp"
+#include "log_bridge.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/model/device_driven_model.hpp"
 #include "vascsim/model/registry.hpp"
+#include "vascsim/run/tool_reach.hpp"
 
 namespace vascsim::python {
 
@@ -32,10 +37,21 @@ Scene with_model(const Scene& scene, const std::string& model) {
   return parse_scene(doc, scene.file);
 }
 
+// The tools whose scripted motion never reaches the body (as run_scene warns before its first step); not for a
+// device-driven use (set_tool_pose), where the scripted motion is not followed.
+void log_tool_reach_warnings(const Scene& scene, const Simulation& sim) {
+  for (std::size_t o = 0; o < scene.obstacles.size(); ++o) {
+    const ToolReach reach = tool_reach_by_load(scene.obstacles[o], sim.discretization().rest_positions());
+    if (!reach.touches()) spdlog::warn("{}", tool_reach_warning(reach, scene.obstacles[o], o));
+  }
+}
+
 class PySimulation {
  public:
   PySimulation(const Scene& scene, const std::string& model)
-      : sim_(with_model(scene, model)), positions_(sim_.model().positions()), last_(sim_.initial_record()) {}
+      : sim_(with_model(scene, model)), positions_(sim_.model().positions()), last_(sim_.initial_record()) {
+    log_accuracy_warnings(sim_.scene(), sim_);
+  }
 
   const Scene& scene() const { return sim_.scene(); }
   Simulation& sim() { return sim_; }
@@ -52,10 +68,14 @@ class PySimulation {
     StepRecord r;
     {
       py::gil_scoped_release free;
+      if (next_output_ == 1) log_tool_reach_warnings(scene(), sim_);
       r = sim_.advance(next_output_);
     }
     ++next_output_;
-    return keep(std::move(r));
+    keep(r);
+    log_step(scene().name, scene().model, r, total);
+    emit_log();
+    return r;
   }
 
   StepRecord step() {
@@ -69,7 +89,9 @@ class PySimulation {
       r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
     ++frames_;
-    return keep(std::move(r));
+    keep(r);
+    emit_log();
+    return r;
   }
 
   void set_tool_pose(const Vec3& position_m, const std::optional<std::array<double, 4>>& wxyz,
@@ -110,12 +132,11 @@ class PySimulation {
     return o.catheter ? orientation_pointing(o.a_m - o.b_m) : Eigen::Quaterniond::Identity();
   }
 
-  StepRecord keep(StepRecord r) {
+  void keep(const StepRecord& r) {
     const Vec3Array& x = sim_.model().positions();
     std::copy(x.begin(), x.end(), positions_.begin());  // in place: existing views stay valid
     total_wall_s_ += r.wall_s;
     last_ = r;
-    return r;
   }
 
   Simulation sim_;
@@ -139,6 +160,7 @@ py::list solve(PySimulation& s, const py::object& on_step) {
 
 py::dict surface(PySimulation& s, py::handle self) {
   SurfaceFrame f = s.sim().surface_frame();
+  emit_log();  // the surface map logs what it built the first time
   const auto& tris = s.sim().body().surface->triangles;
   py::dict d;
   d["vertices"] = array_of(std::move(f.positions));
@@ -163,8 +185,8 @@ py::list tool_loads(PySimulation& s) {
     const ObstacleLoad l = i < loads.size() ? loads[i] : ObstacleLoad{};
     py::dict t;
     t["name"] = scene.obstacles[i].name;
-    t["force_n"] = vec3(l.force_n);
-    t["torque_n_m"] = vec3(l.torque_n_m);
+    t["force_vector_n"] = vec3(l.force_n);
+    t["torque_vector_n_m"] = vec3(l.torque_n_m);
     t["contacts"] = l.contacts;
     if (d)
       if (const std::optional<Vec3> p = d->tool_position_used(i)) t["position_used_m"] = vec3(*p);
@@ -195,10 +217,31 @@ void bind_simulation(py::module_& m) {
 
 Simulation(scene, model=None): model, when given, replaces the scene's (as --set model=NAME, validated again).
 Not thread-safe: use one Simulation from one thread at a time (different Simulations may run in different
-threads; the GIL is released while the model computes).)")
+threads; the GIL is released while the model computes).
+
+A record (advance, solve, step, last_record) is a dict with the names and meanings of summary.json's steps:
+step, time_s (s), load_factor (1), iterations, inner_iterations, residual (1), converged, wall_s (s, wall
+clock), probes {name: displacement, m}, and
+  regions {name: {displacement_m (m), force_n (N, scalar), force_vector_n ((3,) N)}}: the force the supports
+    exert on the tissue (a fixed or displaced region) or the force applied to it (a force region); force_n is
+    force_vector_n projected on the region's direction, its magnitude for a region without one;
+  tools {name: {displacement_m (m, the tool's travel), force_n (N, scalar), force_vector_n ((3,) N),
+    torque_vector_n_m ((3,) N m, about the tool point), contacts}}: the force the tool exerts on the tissue
+    (the tissue pushes the tool with -force_vector_n); force_n is its component along the tool's motion
+    (positive while the tool presses), its magnitude for a tool that does not move.
+
+Progress: an INFO record per output point on the logger "vascsim" of Python's logging
+(logging.basicConfig(level=logging.INFO) shows them). Warnings (what the command line prints: the scene's and
+the model's accuracy at these settings when built, a tool whose motion never reaches the tissue at the first
+advance, inverted material under a tool) are issued through warnings.warn as vascsim.VascsimWarning.)")
       .def(py::init([](const Scene& scene, const std::optional<std::string>& model) {
-             py::gil_scoped_release free;
-             return std::make_unique<PySimulation>(scene, model.value_or(""));
+             std::unique_ptr<PySimulation> s;
+             {
+               py::gil_scoped_release free;
+               s = std::make_unique<PySimulation>(scene, model.value_or(""));
+             }
+             emit_log();
+             return s;
            }),
            py::arg("scene"), py::arg("model") = py::none())
       .def_property_readonly("scene", &PySimulation::scene, "The scene it runs (with the model chosen).")
@@ -217,12 +260,11 @@ threads; the GIL is released while the model computes).)")
       .def_property_readonly("frame_length_s", [](PySimulation& s) { return s.device_driven("frame_length_s").frame_length_s(); },
                              "Simulated time per step() frame, s (device-driven models).")
       .def("advance", [](PySimulation& s) { return record_to_dict(s.scene(), s.advance()); },
-           "Advances to the next output point and returns its record (a dict: step, time_s, load_factor, "
-           "iterations, inner_iterations, residual, converged, wall_s, regions, probes, tools; forces in N that the "
-           "supports or tools exert on the tissue, displacements in m).")
+           "Advances to the next output point and returns its record (see Simulation: forces in N on the tissue, "
+           "displacements in m).")
       .def("solve", &solve, py::arg("on_step") = py::none(),
            "Advances through every remaining output point; returns their records. on_step(record) is called after "
-           "each.")
+           "each (and an INFO record logged on the logger \"vascsim\"); Ctrl-C stops between output points.")
       .def("step", [](PySimulation& s) { return record_to_dict(s.scene(), s.step()); },
            "One frame of frame_length_s of a device-driven model with the last tool pose; returns its record.")
       .def("set_tool_pose", &PySimulation::set_tool_pose, py::arg("position_m"), py::arg("orientation") = py::none(),
@@ -242,9 +284,9 @@ threads; the GIL is released while the model computes).)")
            "(V, 3) m, normals (V, 3) unit, displacements (V, 3) m and triangles (T, 3) vertex indices (a read-only "
            "view).")
       .def("tool_loads", &tool_loads,
-           "Per tool (scene order): name, force_n (3,) the force it exerts on the tissue (N; the tissue pushes the "
-           "tool with -force_n), torque_n_m (3,) about the tool point (N m), contacts, and for a model that trails "
-           "its device position_used_m (m).")
+           "Per tool (scene order): name, force_vector_n (3,) the force it exerts on the tissue now (N; the tissue "
+           "pushes the tool with -force_vector_n), torque_vector_n_m (3,) about the tool point (N m), contacts, and "
+           "for a model that trails its device position_used_m (m).")
       .def_property_readonly("statistics", &statistics,
                              "The solver's statistics: the last record's report (iterations, inner_iterations, "
                              "residual, converged, wall_s), steps and frames done, total wall time (s), setup time "

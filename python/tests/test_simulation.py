@@ -1,10 +1,17 @@
 """Simulation: advancing output points, device-driven frames with a tool pose, node positions as NumPy views,
-the mapped surface, region and tool forces, the solver's statistics."""
+the mapped surface, region and tool forces, the solver's statistics, its progress and warnings."""
+
+import csv
+import logging
+import warnings
 
 import numpy as np
 import pytest
 
 import vascsim
+
+# The ball of pressed-block.json 7 mm above its path: its motion never reaches the block.
+BALL_AWAY = {"obstacles.0.centre_m": [0.0015, 0.0015, 0.01]}
 
 
 def test_solve_reaches_equilibrium_between_the_tool_and_the_base(block_path):
@@ -14,8 +21,8 @@ def test_solve_reaches_equilibrium_between_the_tool_and_the_base(block_path):
     assert [r["step"] for r in records] == [1, 2, 3, 4]
     assert all(r["converged"] for r in records)
     last = records[-1]
-    tool = last["tools"]["ball"]["force_n"]    # the ball's force on the tissue, N
-    base = last["regions"]["base"]["force_n"]  # the support's reaction on the tissue, N
+    tool = last["tools"]["ball"]["force_vector_n"]    # the ball's force on the tissue, N
+    base = last["regions"]["base"]["force_vector_n"]  # the support's reaction on the tissue, N
     assert tool[2] < 0 and last["tools"]["ball"]["contacts"] > 0
     # Static equilibrium without gravity: the two external forces cancel. The Newton solve stops at a relative
     # residual of 1e-8 (the scene's rel_tolerance); 1e-6 of the force leaves room for the residual's norm.
@@ -51,10 +58,57 @@ def test_the_python_records_equal_the_force_displacement_experiment(block_path, 
     assert result["png"] is None  # plot=False
     # The experiment's curve: the tool's travel and the tissue's force on it along the reversed push (+z here).
     np.testing.assert_allclose(result["displacement_m"], [0, 5e-5, 1e-4, 1.5e-4, 2e-4], rtol=1e-12)
-    expected = [0.0] + [-r["tools"]["ball"]["force_n"][2] for r in records]
+    # force_n is one number with one meaning in both: the ball's force on the tissue along its push (-z).
+    expected = [0.0] + [r["tools"]["ball"]["force_n"] for r in records]
     # The same computation on one thread (OMP_NUM_THREADS=1): equal to rounding.
     np.testing.assert_allclose(result["force_n"], expected, rtol=1e-12, atol=0)
     assert result["summary"]["force_displacement"]["tool"] == "ball"
+
+
+def test_records_have_the_names_and_meanings_of_summary_json(block_path, tmp_path):
+    scene = vascsim.load_scene(block_path)
+    records = vascsim.Simulation(scene).solve()
+    steps = vascsim.run(scene, tmp_path)["steps"][1:]  # summary.json lists the tools with the regions
+    with open(tmp_path / "probes.csv") as f:
+        rows = list(csv.DictReader(f))[1:]
+    for record, step, row in zip(records, steps, rows, strict=True):
+        for kind in ("regions", "tools"):
+            for name, values in record[kind].items():
+                saved = step["regions"][name]
+                # One thread (OMP_NUM_THREADS=1): the same computation, equal to rounding.
+                np.testing.assert_allclose(values["force_n"], saved["force_n"], rtol=1e-12, atol=1e-15)
+                np.testing.assert_allclose(values["force_vector_n"], saved["force_vector_n"], rtol=1e-12, atol=1e-15)
+                np.testing.assert_allclose(values["force_n"], float(row[f"{name}_force_n"]), rtol=1e-8, atol=1e-15)
+        ball = record["tools"]["ball"]
+        np.testing.assert_allclose(ball["torque_vector_n_m"], step["regions"]["ball"]["torque_vector_n_m"],
+                                   rtol=1e-12, atol=1e-18)
+        # On the tissue, along the push (-z): positive while the ball presses.
+        assert ball["force_n"] > 0
+        assert ball["force_n"] == pytest.approx(-ball["force_vector_n"][2], rel=1e-12)
+
+
+def test_solve_logs_a_progress_record_per_load_step(block_path, caplog):
+    caplog.set_level(logging.INFO, logger="vascsim")
+    vascsim.Simulation(vascsim.load_scene(block_path)).solve()
+    progress = [r.getMessage() for r in caplog.records if r.name == "vascsim" and " of 4: " in r.getMessage()]
+    assert [m.split(": ")[1] for m in progress] == ["step 1 of 4", "step 2 of 4", "step 3 of 4", "step 4 of 4"]
+    assert progress[0].startswith("pressed-block: ") and "Newton" in progress[0]
+
+
+def test_a_tool_that_never_reaches_the_tissue_warns_through_python(block_path):
+    sim = vascsim.Simulation(vascsim.load_scene(block_path, overrides=BALL_AWAY))
+    with pytest.warns(vascsim.VascsimWarning, match="'ball'") as caught:
+        sim.solve()
+    assert issubclass(vascsim.VascsimWarning, UserWarning)
+    assert caught[0].filename == __file__  # the warning names the line that called solve()
+
+
+def test_a_warning_the_filter_makes_an_error_stops_solve(block_path):
+    sim = vascsim.Simulation(vascsim.load_scene(block_path, overrides=BALL_AWAY))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", vascsim.VascsimWarning)
+        with pytest.raises(vascsim.VascsimWarning, match="'ball'"):
+            sim.solve()
 
 
 def test_statistics_report_the_solver(block_path):
@@ -89,8 +143,8 @@ def test_a_device_drives_the_tool_into_the_block(haptic_block_path):
         load = sim.tool_loads()[0]
         assert load["name"] == "catheter" and load["contacts"] > 0
         # The record measures the same frame's tool force.
-        np.testing.assert_array_equal(record["tools"]["catheter"]["force_n"], load["force_n"])
-        forces.append(-load["force_n"][2])  # the tissue pushes the tool up (+z)
+        np.testing.assert_array_equal(record["tools"]["catheter"]["force_vector_n"], load["force_vector_n"])
+        forces.append(-load["force_vector_n"][2])  # the tissue pushes the tool up (+z)
     assert sim.frames_done == 121 and sim.time_s == pytest.approx(0.121)
     assert 0 < forces[0] < forces[1]  # deeper, harder
     assert sim.positions[:, 2].min() < 0.003 - 5e-5  # the top surface is pressed in
@@ -152,4 +206,4 @@ def test_two_simulations_run_in_two_threads(block_path, vessel_path):
         assert together["iterations"] == alone["iterations"]
         for kind in ("regions", "tools"):
             for name, values in alone[kind].items():
-                np.testing.assert_array_equal(together[kind][name]["force_n"], values["force_n"])
+                np.testing.assert_array_equal(together[kind][name]["force_vector_n"], values["force_vector_n"])

@@ -4,22 +4,28 @@
     scene = vascsim.load_scene(vascsim.bundled_file("scenes/vein-indent.json"), model="quasi_static")
     sim = vascsim.Simulation(scene)
     for record in sim.solve():
-        print(record["load_factor"], record["regions"]["indenter"]["force_n"])
+        print(record["load_factor"], record["regions"]["indenter"]["force_n"])  # N, along the indenter's push
     x = sim.positions            # (N, 3) node positions, m: a read-only view
 
-Units are SI throughout (m, kg, s, Pa, N). Bad input raises InputError (a ValueError) with the same one-line
-message as the command line; a numerical failure raises NumericalError (a RuntimeError). The reference is
-docs/api.md ("Python module").
+Units are SI throughout (m, kg, s, Pa, N). Records use summary.json's names: force_n is the scalar force (N)
+along a region's direction or a tool's motion, force_vector_n the (3,) vector, both the force on the tissue.
+Bad input raises InputError (a ValueError) with the same one-line message as the command line; a numerical
+failure raises NumericalError (a RuntimeError). What the command line prints as warnings is issued through
+warnings.warn as VascsimWarning (a UserWarning); progress, one record per output point, and the library's other
+log lines go to the logger "vascsim" of Python's logging (logging.basicConfig(level=logging.INFO) shows them).
+The reference is docs/api.md ("Python module").
 """
 
 import json as _json
 import os as _os
+import tempfile as _tempfile
 
 from ._vascsim import (  # noqa: F401  (the compiled module)
     InputError,
     NumericalError,
     Scene,
     Simulation,
+    VascsimWarning,
     build_info,
     models,
     set_log_level,
@@ -32,8 +38,8 @@ from . import _vascsim
 __version__ = version()
 
 __all__ = [
-    "InputError", "NumericalError", "Scene", "Simulation", "build_info", "models", "set_log_level", "set_threads",
-    "threads", "version", "load_scene", "parse_scene", "bundled_file", "run", "force_displacement",
+    "InputError", "NumericalError", "Scene", "Simulation", "VascsimWarning", "build_info", "models", "set_log_level",
+    "set_threads", "threads", "version", "load_scene", "parse_scene", "bundled_file", "run", "force_displacement",
     "compare_models", "validate_mls",
 ]
 
@@ -95,19 +101,30 @@ def bundled_file(relative):
 
 def run(scene, out_dir, on_step=None):
     """Runs a scene headless as `vascsim run` and writes the same files into out_dir (summary.json,
-    probes.csv, VTK if asked). Returns summary.json's content. on_step(record, total) after every output point."""
+    probes.csv, VTK if asked). Returns summary.json's content. on_step(record, total) after every output point.
+    Each line of summary.json's "warnings" is also issued as a VascsimWarning (as the run finds it, or at its end)."""
     return _vascsim._run(scene, _os.fspath(out_dir), on_step)
 
 
-def force_displacement(scene, out_dir, tool=None, plot=False, python="/usr/bin/python3", on_step=None):
+def force_displacement(scene, out_dir=None, tool=None, plot=False, python="/usr/bin/python3", on_step=None):
     """The force-displacement experiment (`vascsim experiment force-displacement`; the paper's Fig. 10 with
     scenes/hand-dorsal-vein-catheter.json): the tool presses the wall step by step.
 
-    Returns a dict: displacement_m (the tool's travel, m) and force_n (the tissue's force on the tool along
-    the reversed push, N) as arrays, csv (force_displacement.csv), png (with plot=True and matplotlib, else
-    None), plot_problem and summary (summary.json's content). Files go to out_dir.
+    Returns a dict: displacement_m (the tool's travel, m) and force_n (N) as arrays, force_n being summary.json's:
+    the force the tool exerts on the tissue along its motion, positive while it presses (the tissue resists the
+    tool with as much); out_dir, csv (force_displacement.csv), png (with plot=True and matplotlib, else None),
+    plot_problem and summary (summary.json's content). on_step(record, total) after every output point; each line
+    of summary.json's "warnings" is also issued as a VascsimWarning.
+
+    The files go to out_dir; without one, to a new folder in the system's temporary folder
+    (tempfile.mkdtemp, "vascsim-force-displacement-*"), which is kept: its path is the result's out_dir.
     """
-    return _vascsim._force_displacement(scene, _os.fspath(out_dir), tool or "", plot, python, on_step)
+    if out_dir is None:
+        out_dir = _tempfile.mkdtemp(prefix="vascsim-force-displacement-")
+    out_dir = _os.fspath(out_dir)
+    result = _vascsim._force_displacement(scene, out_dir, tool or "", plot, python, on_step)
+    result["out_dir"] = out_dir
+    return result
 
 
 def compare_models(scene_path, models, out_dir, reference="quasi_static", overrides=None, tool=None, reuse=False,

@@ -48,7 +48,8 @@ cat "$tmp/embed.txt"
 [ -f "$tmp/fd/force_displacement.png" ] || fail "no force_displacement.png: the installed plot script did not run"
 steps=$(grep -c '^step ' "$tmp/embed.txt")
 [ "$steps" -ge 2 ] || fail "examples/embed printed $steps steps"
-# force_displacement.csv: step, displacement_m, force_n, force_x_n, force_y_n, force_z_n, ... (rows after step 0)
+# force_displacement.csv: step, displacement_m, force_n, force_x_n, force_y_n, force_z_n (on the tool), ... (rows
+# after step 0)
 grep -v '^#' "$tmp/fd/force_displacement.csv" | awk -F, 'NR > 2 { print $1, $4, $5, $6 }' > "$tmp/cli-forces.txt"
 awk '/^step / { split($0, a, "force on tool "); split(a[2], f, " "); sub(":", "", $2); print $2, f[2], f[3], f[4] }' \
   "$tmp/embed.txt" > "$tmp/embed-forces.txt"

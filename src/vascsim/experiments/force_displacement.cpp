@@ -36,14 +36,15 @@ ForceDisplacementResult run_force_displacement(const Scene& scene, const ForceDi
 
   const OutputWriter out(options.out_dir);
   CsvTable csv = out.table("force_displacement.csv", force_displacement_columns(),
-                           fmt::format("{}: tool '{}', model {}; force and torque exerted by the tissue on the tool "
-                                       "(N, N m about the tool point)",
+                           fmt::format("{}: tool '{}', model {}; force_n: the tool's force on the tissue along its "
+                                       "push, N (as in summary.json); force_x_n .. torque_z_n_m: the force and torque "
+                                       "the tissue exerts on the tool (N, N m about the tool point)",
                                        scene.name, ob.name, scene.model));
   result.csv = csv.file();
   nlohmann::json rows = nlohmann::json::array();
   for (const auto& r : records) {
     const ObstacleMeasure& m = r.obstacles.at(tool);
-    // On the tool; + 0.0 turns -0 into 0 in the text.
+    // The vector columns are on the tool (force_n, the scalar, is the same either way); + 0.0 turns -0 into 0.
     const Vec3 f = -m.force_n + Vec3::Zero(), t = -m.torque_n_m + Vec3::Zero();
     csv.add_row(fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{}", r.step,
                             m.displacement_m, m.force_projected_n, f.x(), f.y(), f.z(), t.x(), t.y(), t.z(), m.contacts,

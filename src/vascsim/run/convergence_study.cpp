@@ -51,40 +51,34 @@ struct LevelRecords {
   std::vector<std::vector<double>> tool_depth_m;  // [step][tool]
 };
 
+// One output of probes.csv: its name, unit and where a step record holds it.
 struct Quantity {
   std::string name, unit;
   int tool = -1;  // index into scene.obstacles, for a tool's force
+  std::function<double(const StepRecord&)> value;
 };
 
 std::vector<Quantity> quantities(const Scene& scene) {
   std::vector<Quantity> q;
-  for (const RegionSpec& r : scene.regions) {
+  for (std::size_t i = 0; i < scene.regions.size(); ++i) {
+    const RegionSpec& r = scene.regions[i];
     switch (r.bc) {
-      case RegionBcType::Displacement: q.push_back({r.name + " force_n", "N"}); break;
+      case RegionBcType::Displacement:
+        q.push_back({r.name + " force_n", "N", -1, [i](const StepRecord& s) { return s.regions[i].force_projected_n; }});
+        break;
       case RegionBcType::Force:
-      case RegionBcType::Probe: q.push_back({r.name + " displacement_m", "m"}); break;
+      case RegionBcType::Probe:
+        q.push_back({r.name + " displacement_m", "m", -1, [i](const StepRecord& s) { return s.regions[i].displacement_m; }});
+        break;
       case RegionBcType::Fixed: break;
     }
   }
-  for (const PointProbeSpec& p : scene.probes) q.push_back({p.name + " displacement_m", "m"});
+  for (std::size_t i = 0; i < scene.probes.size(); ++i)
+    q.push_back({scene.probes[i].name + " displacement_m", "m", -1, [i](const StepRecord& s) { return s.probes[i]; }});
   for (std::size_t o = 0; o < scene.obstacles.size(); ++o)
-    q.push_back({scene.obstacles[o].name + " force_n", "N", static_cast<int>(o)});
+    q.push_back({scene.obstacles[o].name + " force_n", "N", static_cast<int>(o),
+                 [o](const StepRecord& s) { return s.obstacles[o].force_projected_n; }});
   return q;
-}
-
-std::vector<double> record_values(const Scene& scene, const StepRecord& r) {
-  std::vector<double> v;
-  for (std::size_t i = 0; i < scene.regions.size() && i < r.regions.size(); ++i) {
-    switch (scene.regions[i].bc) {
-      case RegionBcType::Displacement: v.push_back(r.regions[i].force_projected_n); break;
-      case RegionBcType::Force:
-      case RegionBcType::Probe: v.push_back(r.regions[i].displacement_m); break;
-      case RegionBcType::Fixed: break;
-    }
-  }
-  for (double p : r.probes) v.push_back(p);
-  for (const ObstacleMeasure& m : r.obstacles) v.push_back(m.force_projected_n);
-  return v;
 }
 
 // The extent and centre keys a region report compares (run/region_report.cpp): extents as the share of the
@@ -198,7 +192,8 @@ namespace {
 
 // Runs one level: the first spacing of the trials whose lattice matches `reference` (the scene's own level has
 // no reference and one trial). Empty out_dir in the result when none matched.
-ConvergenceLevel run_level(const Scene& scene, const ConvergenceOptions& options, double nominal, int index,
+ConvergenceLevel run_level(const Scene& scene, const ConvergenceOptions& options, const std::vector<Quantity>& quantities,
+                           double nominal, int index,
                            const LatticeSignature* reference, LevelRecords& records, std::string& mismatch) {
   ConvergenceLevel level;
   level.user = reference == nullptr;
@@ -223,7 +218,9 @@ ConvergenceLevel run_level(const Scene& scene, const ConvergenceOptions& options
     run.on_step = [&](const StepRecord& r, int total) {
       got.load_factor.push_back(r.report.load_factor);
       got.converged.push_back(r.report.converged);
-      got.values.push_back(record_values(level_scene, r));
+      std::vector<double> values;
+      for (const Quantity& q : quantities) values.push_back(q.value(r));
+      got.values.push_back(std::move(values));
       std::vector<double> depth;
       for (const ObstacleMeasure& m : r.obstacles) depth.push_back(m.displacement_m);
       got.tool_depth_m.push_back(depth);
@@ -363,7 +360,7 @@ ConvergenceResult run_convergence_study(const Scene& scene, const ConvergenceOpt
                        p.nominal == 1.0 ? std::string("the scene's spacing") : fmt::format("spacing x{:.3f}", p.nominal));
     const LatticeSignature* reference = r == 0 ? nullptr : &result.levels[static_cast<std::size_t>(user)].signature;
     std::string mismatch;
-    ConvergenceLevel level = run_level(scene, options, p.nominal, p.fine_to_coarse, reference,
+    ConvergenceLevel level = run_level(scene, options, qs, p.nominal, p.fine_to_coarse, reference,
                                        records[static_cast<std::size_t>(p.fine_to_coarse)], mismatch);
     if (level.out_dir.empty() && mismatch == kInterrupted) {
       result.levels.resize(0);

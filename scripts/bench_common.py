@@ -36,3 +36,9 @@ def interpolate(xs, ys, x):
         return ys[-1]
     w = (x - xs[i - 1]) / (xs[i] - xs[i - 1])
     return (1 - w) * ys[i - 1] + w * ys[i]
+
+
+def force_on_tool(row):
+    """|force on the tool| of a force_history.csv row, N (the column was force_n before it was force_magnitude_n:
+    cached references of earlier runs still read)."""
+    return row["force_magnitude_n"] if "force_magnitude_n" in row else row["force_n"]

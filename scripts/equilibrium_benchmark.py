@@ -22,7 +22,7 @@ import os
 import pathlib
 import platform
 
-from bench_common import interpolate, read_csv, sh
+from bench_common import force_on_tool, interpolate, read_csv, sh
 
 
 
@@ -61,7 +61,7 @@ def main():
     summary = json.loads((session / "summary.json").read_text())
     h = summary["haptics"]
     frames = read_csv(session / "force_history.csv")
-    errors = [abs(f["force_n"] / equilibrium(f["tool_y_m"]) - 1) for f in frames if 1.5e-3 - f["tool_y_m"] > 0.1e-3]
+    errors = [abs(force_on_tool(f) / equilibrium(f["tool_y_m"]) - 1) for f in frames if 1.5e-3 - f["tool_y_m"] > 0.1e-3]
     frame_ms = sorted(f["step_wall_ms"] for f in frames)
     rows.append({"what": "deformation rate, vein, 5,712 nodes, realtime session; frame force vs equilibrium (depth > 0.1 mm)",
                  "value": f"{h['deformation_rate_hz']:.1f} frames/s (frame median {frame_ms[len(frame_ms) // 2]:.1f} ms, "
@@ -96,7 +96,7 @@ def main():
     sh([v, "-q", "run", "scenes/realtime/hand-dorsal-vein-catheter.json", "--out", str(lock)])
     lsum = json.loads((lock / "summary.json").read_text())
     lframes = read_csv(lock / "force_history.csv")
-    lerr = [abs(f["force_n"] / equilibrium(f["tool_y_m"]) - 1) for f in lframes if 1.5e-3 - f["tool_y_m"] > 0.1e-3]
+    lerr = [abs(force_on_tool(f) / equilibrium(f["tool_y_m"]) - 1) for f in lframes if 1.5e-3 - f["tool_y_m"] > 0.1e-3]
     lticks = [abs(t["tissue_fy_n"] / equilibrium(t["tool_y_m"]) - 1) for t in read_csv(lock / "haptic_ticks.csv")
               if 1.5e-3 - t["tool_y_m"] > 0.1e-3 and equilibrium(t["tool_y_m"]) > 0]
     split = lsum["solver"]["wall_time_s"]

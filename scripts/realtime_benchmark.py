@@ -28,10 +28,14 @@ import math
 import os
 import pathlib
 import platform
+import shutil
+import subprocess
 import sys
 import time
 
-from bench_common import interpolate, read_csv, sh
+from bench_common import force_on_tool, interpolate, read_csv, sh
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
 
 # The solver variants a run compares, each a list of scene overrides on the scene as bundled: "multigrid" is the
 # scene as bundled with the implicit model's defaults (the tools meet the wall's nodes, an active set; the wall
@@ -171,7 +175,7 @@ def reference(args, case, path, out):
         if ls and l <= ls[-1] + 1e-12:
             continue
         ls.append(l)
-        fs.append(f["force_n"])
+        fs.append(force_on_tool(f))
     with open(cache, "w") as f:
         f.write(f"# {case['reference_scene']} (quasi_static) along the benchmark path; {seconds:.0f} s\n")
         f.write("l_m,force_n\n")
@@ -221,7 +225,7 @@ def session(args, case, path, ref, speed, variant, out):
     for f in wall:
         fr = interpolate(ref_l, ref_f, path.param([f["tool_x_m"], f["tool_y_m"], f["tool_z_m"]]))
         if resolved(case, fr):
-            frame_err.append(abs(f["force_n"] - fr) / fr)
+            frame_err.append(abs(force_on_tool(f) - fr) / fr)
     tick_err, felt_max, ref_max, numb = [], 0.0, 0.0, 0
     for t in ticks:
         p = [t["tool_x_m"], t["tool_y_m"], t["tool_z_m"]]
@@ -258,6 +262,17 @@ def session(args, case, path, ref, speed, variant, out):
         "force_latency_max_ms": loop["force_latency_max_ms"],
         "out": str(run),
     }
+
+
+def machine():
+    """The processor and core count, for the record (platform.processor() is empty on Linux)."""
+    cpu = platform.processor() or "unknown cpu"
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as f:
+            cpu = next((line.split(":", 1)[1].strip() for line in f if line.startswith("model name")), cpu)
+    except OSError:
+        pass
+    return f"{platform.machine()}, {os.cpu_count()} cores ({cpu})"
 
 
 def percent(value, compared):
@@ -298,6 +313,10 @@ def main():
     ap.add_argument("--variants", default="multigrid,multigrid-embedded,factor",
                     help="solver variants to compare, comma-separated: " + ", ".join(VARIANTS))
     ap.add_argument("--set", action="append", default=[], help="a scene override for the sessions (repeatable)")
+    ap.add_argument("--publish", action="store_true",
+                    help="copy benchmark.json to data/benchmarks/realtime-<scene>.json and regenerate the README's "
+                         "\"Real time today\" table from it (scripts/realtime_table.py); only for a run on an idle "
+                         "machine with the default variants and speeds")
     args = ap.parse_args()
     variants = args.variants.split(",")
     for v in variants:
@@ -318,13 +337,18 @@ def main():
             print(f"{v}: session at {float(s):g} mm/s ...", flush=True)
             rows.append(session(args, case, path, ref, speed, v, out))
     meta = {"date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
-            "machine": f"{platform.machine()}, {os.cpu_count()} cores ({platform.processor() or 'unknown cpu'})",
+            "machine": machine(),
             "load_before": round(load_before, 2), "load_after": round(os.getloadavg()[0], 2),
             "command": " ".join(sys.argv), "scene": args.scene, "reference_scene": case["reference_scene"]}
     (out / "benchmark.json").write_text(json.dumps({"meta": meta, "rows": rows}, indent=1))
     md = markdown(rows, meta)
     (out / "benchmark.md").write_text(md)
     print(md)
+    if args.publish:
+        published = ROOT / "data" / "benchmarks" / f"realtime-{pathlib.Path(args.scene).stem}.json"
+        shutil.copyfile(out / "benchmark.json", published)
+        print(f"published {published}")
+        subprocess.run([sys.executable, str(ROOT / "scripts" / "realtime_table.py")], check=True)
 
 
 if __name__ == "__main__":

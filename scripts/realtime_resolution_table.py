@@ -7,7 +7,7 @@ node count, the final force of the pushed region or tool, its error against the 
 discretisation error) and, for the real-time variant, the implicit model's final force against quasi_static at
 the same resolution (the solver error). Every run uses the real-time model's discretisation (the linear fit, the tools
 on the nodes), which quasi_static uses on walls only when asked; with --discretization default the quasi_static rows
-use quasi_static's own defaults instead (on walls the quadratic fit, docs/model.md design decision 8) on each scene's
+use quasi_static's own defaults instead (on walls the quadratic fit, docs/model/00-design-decisions.md, decision 8) on each scene's
 own lattice (fitted to its patch's edges where the scene says so), without the real-time variants.
 
     /usr/bin/python3 scripts/realtime_resolution_table.py --vascsim build/vascsim --out out/realtime-resolution
@@ -100,7 +100,7 @@ def main():
     out.mkdir(parents=True, exist_ok=True)
     rows = []
     # By default every run with the real-time model's discretisation (the linear fit, tools on the nodes):
-    # quasi_static's own default on walls fits curvature (docs/model.md design decision 8), and this table is the
+    # quasi_static's own default on walls fits curvature (docs/model/00-design-decisions.md, decision 8), and this table is the
     # real-time scenes'. On the plain lattices the real-time scenes use (the bundled bonded scenes fit theirs to the
     # patch's edges, which at 0.3 mm leaves the vein fewer than the real-time scenes' 5,000 nodes). With
     # --discretization default, quasi_static's defaults on each scene's own lattice (fitted where the scene fits it).
@@ -156,9 +156,9 @@ def main():
     (out / "table.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
     if args.accuracy_table:
-        # quasi_static's own default on the vessels' walls is the quadratic fit (docs/model.md design decision 8).
+        # quasi_static's own default on the vessels' walls is the quadratic fit (docs/model/00-design-decisions.md, decision 8).
         # quasi_static's own default on the vessels' walls is the quadratic fit with the through-wall cube
-        # (docs/model.md section 5.3); "quadratic" is the same fit without the cube (discretization.wall_cube false).
+        # (docs/model/05-local-fit.md section 5.3); "quadratic" is the same fit without the cube (discretization.wall_cube false).
         basis = {"realtime": "linear", "default": "quadratic_cube", "quadratic": "quadratic"}[args.discretization]
         regenerate = ("/usr/bin/python3 scripts/realtime_resolution_table.py --vascsim build/vascsim --out "
                       "out/realtime-resolution --accuracy-table data/calibration/force_accuracy.json; the same with "

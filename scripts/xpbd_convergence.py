@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""XPBD convergence table (issue 3, docs/model.md section 19 / T13): runs a scene once with `quasi_static` (the
+"""XPBD convergence table (issue 3, docs/model/19-position-based.md / T13): runs a scene once with `quasi_static` (the
 reference: static equilibrium of the same point-primitive energy) and then with `xpbd` for every
 substeps x iterations pair, each to steady state, and tabulates the relative error of one region's
 reaction force and one region's displacement against the reference.

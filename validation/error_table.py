@@ -33,7 +33,7 @@ GROWTHS = "discretization.max_growths=10"
 # The wall scenes have four node layers through the wall; the rows with three show the through-wall error the fourth
 # removes (docs/validation.md, "Layers through the wall").
 THREE_LAYERS = "geometry.min_layers=3"
-# The quadratic fit without the through-wall cube (the default until 2026-11-27, docs/model.md section 5.3): one row per
+# The quadratic fit without the through-wall cube (the default until 2026-11-27, docs/model/05-local-fit.md section 5.3): one row per
 # wall case at the scene's resolution, drawn but not in the last panel.
 NO_CUBE = "discretization.wall_cube=false"
 

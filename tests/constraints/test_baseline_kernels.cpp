@@ -1,4 +1,4 @@
-// The constraint kernels the baselines add (docs/model.md section 25): the dihedral angle of two triangles (the
+// The constraint kernels the baselines add (docs/model/25-baselines.md): the dihedral angle of two triangles (the
 // surface mass-spring's flexion term) and the tet volume (the PBD volume constraint), against central
 // differences.
 

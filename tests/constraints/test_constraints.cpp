@@ -1,6 +1,6 @@
 // docs/validation.md (tests T1-T15), T12 (PBD/XPBD constraint kernels and the shared projection) and the constraint
 // part of T13 (XPBD time-step independence vs the dt-dependent stiffness of literal PBD), plus the
-// kernels of docs/model.md section 19 that T12 does not name: the tet neo-Hookean pair, the meshless strain
+// kernels of docs/model/19-position-based.md that T12 does not name: the tet neo-Hookean pair, the meshless strain
 // constraint (its energy is the point-primitive SVK energy), position and contact constraints.
 //
 // Tolerances: gradients are checked against central differences; the stated bound is far above the
@@ -102,7 +102,7 @@ std::array<double, N> inverse(const std::array<double, N>& m) {
 // Shared projection
 
 // k' = 1 - (1-k)^{1/n}: n PBD iterations of a linear constraint remove exactly the fraction k of the
-// error (docs/model.md section 16, E9). Tolerance 1e-14: pure rounding of a handful of operations.
+// error (docs/model/16-deviations.md, E9). Tolerance 1e-14: pure rounding of a handful of operations.
 TEST(ConstraintProjection, PbdIterationStiffnessRemovesFractionK) {
   for (int n : {1, 3, 10}) {
     const double kp = pbd_iteration_stiffness(0.5, n);
@@ -203,7 +203,7 @@ TEST(T12Constraints, DistanceOneProjectionIsExactAndConservesMomentum) {
   EXPECT_LE(worst_p, 1e-14);
 }
 
-// T12 (b): per-spring barycentre constraint (docs/model.md section 16, E11).
+// T12 (b): per-spring barycentre constraint (docs/model/16-deviations.md, E11).
 //  - FD gradient check, step 1e-6 Delta: truncation ~(1e-6)^2, rounding ~1e-10; bound 1e-6.
 //  - sum_b grad_b C_a = 0 (|grad| = O(1)): bound 1e-14.
 //  - sum m Delta x = 0 relative to max m|Delta x|: bound 1e-14.
@@ -258,7 +258,7 @@ TEST(T12Constraints, BarycentreSpringGradientMomentumAndClosedForm) {
   EXPECT_LE(worst_c, 1e-12);
 }
 
-// T12 (c), negative test pinning the literal energy constraint's defects (docs/model.md section 16, E11). A unit-scale
+// T12 (c), negative test pinning the literal energy constraint's defects (docs/model/16-deviations.md, E11). A unit-scale
 // tet (edge 1 m, masses ~1 kg, k = 1 N/m) so that the J-valued "Delta x" of Eq. 24 is O(C) in metres.
 //  - inward bias: Delta x_b . (x_b - x0) < 0 for all four vertices, for a stretched (1.2) and a
 //    compressed (0.8) tet alike (strict inequality; the measured values are O(1e-2)).
@@ -413,7 +413,7 @@ TEST(T12Constraints, MeshlessStrainJacobianMatchesFiniteDifferences) {
 
 // T12 (e): the constraint's energy 1/2 c^T (V_i C^) c = U_i is the point-primitive SVK energy. Compared
 // (i) summed over all nodes with PointPrimitiveEnergy (SVK, k_v = 0, no stabiliser) and (ii) per node with
-// V_i psi(F_i) of docs/model.md section 7. Bound 1e-10 relative: both are the same sums in a different order
+// V_i psi(F_i) of docs/model/07-strain-stress-energy.md. Bound 1e-10 relative: both are the same sums in a different order
 // (rounding ~1e-15). Also alpha_i V_i C^ = I (closed-form inverse): bound 1e-12.
 TEST(T12Constraints, MeshlessStrainEnergyIsPointPrimitiveSvkEnergy) {
   MeshlessFixture f(41);
@@ -569,7 +569,7 @@ TEST(ConstraintContact, SphereAndCapsuleResolvePenetrationOneSided) {
 
 // ---------------------------------------------------------------------------------------------------
 // T13 (constraint part): a mass m hanging from a fixed point on a compliant distance constraint under
-// gravity. Steps of the XPBD pipeline of docs/model.md section 19 (prediction, lambda reset once per step, projections
+// gravity. Steps of the XPBD pipeline of docs/model/19-position-based.md (prediction, lambda reset once per step, projections
 // iterated to convergence, velocity update), run to steady state (see converged()).
 
 struct HangingResult {
@@ -618,7 +618,7 @@ HangingResult hang_xpbd(double h, double mass, double stiffness, double beta) {
   return r;
 }
 
-// Literal PBD, k' = 1 - (1-k)^{1/n} with n iterations, no compliance (docs/model.md section 19.5 / E9).
+// Literal PBD, k' = 1 - (1-k)^{1/n} with n iterations, no compliance (docs/model/19-position-based.md section 19.5 / E9).
 HangingResult hang_pbd(double h, double k, int iterations) {
   const double g = 9.81, l0 = 1.0;
   Vec3 x(0.0, 0.0, -l0), v = Vec3::Zero();

@@ -60,7 +60,7 @@ TEST(CantileverT9, SmallSupportConvergesMonotonicallySlow) {
 }
 
 // Mueller's kernel volumes overestimate boundary volumes: the documented literal-mode defect, a beam
-// 2-5x too stiff (docs/model.md section 4: ratio in [0.15, 0.55]).
+// 2-5x too stiff (docs/model/04-volumes.md: ratio in [0.15, 0.55]).
 TEST(CantileverT9, MuellerKernelVolumesAreTooStiff) {
   CantileverCase c = make(3, 0.45);
   c.volume = "mueller_kernel";

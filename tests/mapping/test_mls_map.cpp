@@ -1,4 +1,4 @@
-// MLS surface map (docs/model.md section 20; tests T11 and T15 of section 6): partition of unity, affine and
+// MLS surface map (docs/model/20-mls-map.md; tests T11 and T15 of section 6): partition of unity, affine and
 // rigid reproduction, conditioning guards, transpose (force) map and vertex normals.
 
 #include <fmt/format.h>
@@ -57,7 +57,7 @@ SurfaceMesh boundary_surface(const NodeCloud& cloud) {
 }
 
 // Points near the tube's outer and inner walls at random (theta, z), so they are not nodes: radial
-// offsets from 0.1 Delta inside the wall to 0.5 Delta outside it (docs/model.md section 20.2: surface points sit up
+// offsets from 0.1 Delta inside the wall to 0.5 Delta outside it (docs/model/20-mls-map.md section 20.2: surface points sit up
 // to about Delta/2 outside the cloud), z up to Delta/4 beyond the ends.
 Vec3Array tube_offset_points(const TubeShape& tube, double delta, int count, std::uint64_t seed) {
   std::mt19937_64 rng(seed);

@@ -42,7 +42,7 @@ struct TermCase {
   EnergyOptions options;
 };
 
-// SVK, literal strain, Mueller's volume term, stabiliser (docs/model.md sections 7-9), and the material laws of
+// SVK, literal strain, Mueller's volume term, stabiliser (docs/model/ sections 7-9), and the material laws of
 // model/materials through the same assembly (issue 6): neo-Hookean, Mooney-Rivlin and HGO (fibres at
 // +-29 deg from one tilted wall frame at every node; under large_deformation some nodes stretch their
 // fibres and some compress them).
@@ -69,7 +69,7 @@ std::vector<TermCase> term_cases(const Material& m, Index num_nodes) {
             frames}}};
 }
 
-// A local scatter-form assembly of docs/model.md section 8, f_k = -sum_i Ptilde_i d_ik, for formulations the library
+// A local scatter-form assembly of docs/model/08-forces.md, f_k = -sum_i Ptilde_i d_ik, for formulations the library
 // does not implement. `stress` returns Ptilde_i = V_i dpsi/dF (or a wrong variant) and adds the energy.
 using StressFn = std::function<Mat3(double V, const Mat3& F, double& energy)>;
 
@@ -179,7 +179,7 @@ TEST(ForceEnergyT5, LocalAssemblyReproducesLibraryForces) {
 }
 
 TEST(ForceEnergyT5, NegativeGGtStrainVariantIsNotAGradient) {
-  // E2 variant: eps = G + G^T + G G^T = F F^T - I with Mueller's force -2 V F sigma d (docs/model.md section 7).
+  // E2 variant: eps = G + G^T + G G^T = F F^T - I with Mueller's force -2 V F sigma d (docs/model/07-strain-stress-energy.md).
   const Material mat = tissue();
   const Discretization disc(jittered_cloud(), mat);
   const Vec3Array x = large_deformation(disc.rest_positions(), 2);
@@ -200,7 +200,7 @@ TEST(ForceEnergyT5, NegativeGGtStrainVariantIsNotAGradient) {
 }
 
 TEST(ForceEnergyT5, NegativeAdjugateInPlaceOfCofactorIsNotAGradient) {
-  // docs/model.md section 9.1: the OpenCloth port builds cof(F)^T = adj(F); wrong for every non-symmetric F.
+  // docs/model/09-volume-term-and-stabiliser.md section 9.1: the OpenCloth port builds cof(F)^T = adj(F); wrong for every non-symmetric F.
   const Material mat = tissue();
   const Discretization disc(jittered_cloud(), mat);
   const Vec3Array x = large_deformation(disc.rest_positions(), 2);

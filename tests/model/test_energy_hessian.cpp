@@ -198,7 +198,7 @@ TEST(EnergyHessian, PsdProjectionMakesCompressedSvkSemiDefiniteAndLeavesRestAlon
   const Material mat = test::tissue(1e5);
   const Discretization disc(test::lattice(4, 0.2, 16), mat);
   const PointPrimitiveEnergy energy(disc, {StrainMeasure::GreenHalf, 0.0, 0.1, {}, {}});
-  // Uniaxial compression to half the length: SVK's tangent is indefinite there (docs/model.md section 17; the
+  // Uniaxial compression to half the length: SVK's tangent is indefinite there (docs/model/17-limitations.md; the
   // geometric term S_zz ~ -4 mu outweighs the material term mu for shear along z).
   Vec3Array x = disc.rest_positions();
   for (auto& p : x) p.z() *= 0.5;

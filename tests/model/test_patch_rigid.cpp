@@ -103,7 +103,7 @@ TEST(PatchT2, Eq3LiteralSignReturnsMinusTheGradient) {
   record("max_G_literal_plus_G", err_literal);
 }
 
-// The four energy terms of docs/model.md sections 7-9 in the configurations used by T3.
+// The four energy terms of docs/model/ sections 7-9 in the configurations used by T3.
 struct PatchTermCase {
   const char* name;
   EnergyOptions options;

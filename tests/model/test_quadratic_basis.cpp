@@ -1,4 +1,4 @@
-// The quadratic basis of the local fit (discretization.basis = quadratic, docs/model.md section 5.1): the
+// The quadratic basis of the local fit (discretization.basis = quadratic, docs/model/05-local-fit.md section 5.1): the
 // gradient it gives is exact for quadratic fields at every node (the linear basis's is not at a boundary
 // node), and the energy built on it passes the checks the linear one passes (T3 rigid motions, T4 momentum, T5
 // forces = -grad U and Hessian products, T10 the stabiliser on the checkerboard), with the stabiliser now on

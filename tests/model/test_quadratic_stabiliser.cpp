@@ -1,5 +1,5 @@
 // The stabiliser on a quadratic fit's residuals with the linear basis (energy.stabilizer_fit = quadratic,
-// docs/model.md section 9.3): the energy built with it passes T3 (rigid motions cost nothing), T5 (forces =
+// docs/model/09-volume-term-and-stabiliser.md section 9.3): the energy built with it passes T3 (rigid motions cost nothing), T5 (forces =
 // -grad U, Hessian products = the forces' derivative), and the scene gives it to the equilibrium models on walls
 // only, refusing it where the constraints assume the linear fit. T10 (the checkerboard, bending left alone) is in
 // test_stiffness_modes.cpp.

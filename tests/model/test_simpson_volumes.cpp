@@ -1,4 +1,4 @@
-// Simpson volumes (discretization.volume = simpson, geometry/lattice_quadrature, docs/model.md section 4): the
+// Simpson volumes (discretization.volume = simpson, geometry/lattice_quadrature, docs/model/04-volumes.md): the
 // weights integrate cubics along a lattice's layers, and with the quadratic basis the nodal sum gives a bending
 // field the continuum's energy, which the tet partition's trapezoid weights overestimate by half with three
 // layers (the cause of the quadratic basis's stiffness measured in docs/validation.md).

@@ -140,7 +140,7 @@ Vec3Array bent(const Discretization& disc, double kappa) {
   return x;
 }
 
-// energy.stabilizer_fit = quadratic (docs/model.md section 9.2): the stabiliser on the residuals of a quadratic fit
+// energy.stabilizer_fit = quadratic (docs/model/09-volume-term-and-stabiliser.md section 9.3): the stabiliser on the residuals of a quadratic fit
 // over the same neighbourhood. It must still penalise the checkerboard (which no quadratic reproduces), and it must
 // leave a quadratic field, such as bending, to the strain energy, where the linear fit's residuals penalise it.
 TEST(ZeroModesT10, QuadraticResidualStabiliserLeavesBendingToTheStrain) {

@@ -1,4 +1,4 @@
-// The through-wall cube (discretization.wall_cube, docs/model.md section 5.3): the quadratic fit on a wall
+// The through-wall cube (discretization.wall_cube, docs/model/05-local-fit.md section 5.3): the quadratic fit on a wall
 // also fits the cube of the through-wall coordinate, so the gradients at a node and at its Gauss points are
 // exact for a displacement cubic across the wall (transverse shear's profile), on top of every quadratic
 // field; the energy keeps the checks every fit passes (T3-T5), a wall of three layers keeps the quadratic

@@ -1,4 +1,4 @@
-// Gauss points in the wall (discretization.wall_quadrature, docs/model.md section 4.4). With 'gauss' each
+// Gauss points in the wall (discretization.wall_quadrature, docs/model/04-volumes.md section 4.4). With 'gauss' each
 // node's strain energy is evaluated at two Gauss points across its slab of the wall, with the gradient its
 // fit gives there; with 'gauss_cell' at 2 x 2 x 2 points over its whole cell (the slab across, the column and
 // cross-section steps along). A bending field's energy is then exact over the tet partition's volumes (the

@@ -1,4 +1,4 @@
-// The wall-quadratic basis of the local fit (discretization.basis = wall_quadratic, docs/model.md section 5.2): the
+// The wall-quadratic basis of the local fit (discretization.basis = wall_quadratic, docs/model/05-local-fit.md section 5.2): the
 // quadratic fit without the through-wall square, in the frame of the wall's normal. Its gradient is exact at every
 // node for every quadratic field without that square (bending of the wall and the in-plane curvature among them),
 // with the two layers a wall node's support holds; the energy built on it passes the checks the other bases pass

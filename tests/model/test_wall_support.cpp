@@ -1,4 +1,4 @@
-// Supports that follow the wall (discretization.support = wall, docs/model.md section 3.1): on a vessel lattice whose
+// Supports that follow the wall (discretization.support = wall, docs/model/03-neighbourhoods.md section 3.1): on a vessel lattice whose
 // spacing along the wall is twice its layer spacing, each node's support is an ellipsoid, twice as long along the
 // wall as through it, instead of a sphere grown until it holds enough in-plane neighbours.
 
@@ -116,7 +116,7 @@ TEST(WallSupport, FollowsTheLayersOfACurvedWall) {
   EXPECT_GT(tangent, 0);
 }
 
-// discretization.wall_reach = thickness (docs/model.md section 3.2): every node's support holds every layer of the
+// discretization.wall_reach = thickness (docs/model/03-neighbourhoods.md section 3.2): every node's support holds every layer of the
 // wall, so the quadratic basis fits the through-wall square at the surfaces without growing any support inside the
 // tube (the default reach puts the far layer on the support's edge, where the weight is zero: a surface node sees two
 // layers, and its quadratic guard grows the support); the gradient stays exact for affine fields (1e-10, as

@@ -1,4 +1,4 @@
-// The real-time `xpbd` model with elastic option (B), tet neo-Hookean (docs/model.md section 19 (B), T13 in spirit): steady state approaches the quasi-static
+// The real-time `xpbd` model with elastic option (B), tet neo-Hookean (docs/model/19-position-based.md (B), T13 in spirit): steady state approaches the quasi-static
 // solution as the substep shrinks, stays bounded under a fast large prescribed motion, and is selectable
 // by name from a scene.
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Every link and file reference in README.md and docs/*.md resolves inside the repository.
+"""Every link and file reference in README.md and docs/**/*.md resolves inside the repository.
 
 Usage: /usr/bin/python3 tests/python/check_doc_links.py [--root REPO] [--allow FILE]
 
@@ -183,7 +183,8 @@ def main():
     ap.add_argument("--allow", default=DEFAULT_ALLOW, help="allow-list of references outside the repository")
     args = ap.parse_args()
     root = os.path.abspath(args.root)
-    docs = [os.path.join(root, "README.md")] + sorted(glob.glob(os.path.join(root, "docs", "*.md")))
+    docs = [os.path.join(root, "README.md")]
+    docs += sorted(glob.glob(os.path.join(root, "docs", "**", "*.md"), recursive=True))  # docs/model/ too
     checker = Checker(root, read_allow(args.allow))
     for doc in docs:
         checker.document(doc)

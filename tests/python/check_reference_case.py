@@ -28,7 +28,7 @@ THREE_LAYERS = "geometry.min_layers=3"
 # The bounds are |measured error| + 2 points, measured when set. The references' extrapolation uncertainty at these
 # loads is below 2 % and the solver's tolerance 1e-6 relative; 2 points leave room for compilers and BLAS without
 # hiding a loss of accuracy of the kind docs/validation.md tracks (3-30 points).
-# The cases without a suffix run quasi_static's defaults on walls (docs/model.md sections 3.2, 4.4, 5.1 and 5.3: the
+# The cases without a suffix run quasi_static's defaults on walls (docs/model/ sections 3.2, 4.4, 5.1 and 5.3: the
 # quadratic basis with the through-wall cube, supports that reach through the wall, Gauss points over each node's
 # cell of the wall, the tools against the wall's surface), within 5 % of the references from a few thousand nodes (docs/validation.md, "Gauss
 # points over the wall's cells"), so they run at coarse, cheap resolutions; "-linear" the linear basis with contact
@@ -63,7 +63,7 @@ CASES = {
                        "obstacles.0.push_m=0.3e-3", "output.surface=false", "output.vtk=false"], 3,
                       [0.047, 0.021, 0.034]),
     # The quadratic fit without the through-wall cube (discretization.wall_cube false, the default until 2026-11-27,
-    # docs/model.md section 5.3) at 0.3 mm: measured -0.07, -2.42 and -3.93 % when set (-0.1..-4.7 % to 1.2 mm at
+    # docs/model/05-local-fit.md section 5.3) at 0.3 mm: measured -0.07, -2.42 and -3.93 % when set (-0.1..-4.7 % to 1.2 mm at
     # this spacing, -1.9..-3.3 % at the default 0.15 mm): soft under a contact a few lattice steps wide.
     "vein-catheter-quadratic": ("scenes/hand-dorsal-vein-catheter.json", "catheter",
                                 ["geometry.node_spacing_m=0.3e-3", GROWTHS, "quasi_static.load_steps=3",
@@ -90,7 +90,7 @@ CASES = {
                              ["geometry.node_spacing_m=0.3e-3", GROWTHS, THREE_LAYERS, "quasi_static.load_steps=3",
                               "obstacles.0.push_m=0.3e-3", "output.surface=false", "output.vtk=false", LINEAR,
                               "contact.surface=nodes"], 3, [0.025, 0.043, 0.042]),
-    # The linear basis against the wall's surface (contact.surface "embedded", docs/model.md section 22.5): measured
+    # The linear basis against the wall's surface (contact.surface "embedded", docs/model/22-contact.md section 22.5): measured
     # +10.91, +7.83 and +6.11 % when set (+0.1 % at 1.2 mm). Conforming contact is stiff while the contact patch is
     # only a few lattice steps wide, as a coarse finite element mesh is (CalculiX's level 1, 796 nodes of the quarter
     # model: +10.5 / +9.9 / +9.6 %); contact at the nodes is nearer here only because the wall between the nodes
@@ -99,14 +99,14 @@ CASES = {
                                ["geometry.node_spacing_m=0.3e-3", GROWTHS, THREE_LAYERS, "quasi_static.load_steps=3",
                                 "obstacles.0.push_m=0.3e-3", "contact.surface=embedded", "output.surface=false",
                                 "output.vtk=false", LINEAR], 3, [0.129, 0.098, 0.081]),
-    # The same surface contact with the wall-quadratic basis (docs/model.md section 5.2; Simpson volumes): measured
+    # The same surface contact with the wall-quadratic basis (docs/model/05-local-fit.md section 5.2; Simpson volumes): measured
     # -5.47, -6.11 and -5.47 % when set (+0.2 % at 1.2 mm; at 0.25 mm within -0.4..+0.2 % at every depth).
     "vein-catheter-wall-quadratic": ("scenes/hand-dorsal-vein-catheter.json", "catheter",
                                      ["geometry.node_spacing_m=0.3e-3", GROWTHS, THREE_LAYERS, "quasi_static.load_steps=3",
                                       "obstacles.0.push_m=0.3e-3", "contact.surface=embedded",
                                       "discretization.basis=wall_quadratic", "output.surface=false",
                                       "output.vtk=false"], 3, [0.075, 0.081, 0.075]),
-    # The default's basis and reach with Simpson volumes at the nodes instead of Gauss points (docs/model.md section
+    # The default's basis and reach with Simpson volumes at the nodes instead of Gauss points (docs/model/04-volumes.md section
     # 4.3), at 0.3 mm: measured -6.65, -7.46 and -5.32 % when set (at 0.2 mm -1.37, -0.90 and -1.41 %).
     "vein-catheter-thickness-reach": ("scenes/hand-dorsal-vein-catheter.json", "catheter",
                                       ["geometry.node_spacing_m=0.3e-3", GROWTHS, THREE_LAYERS, "quasi_static.load_steps=3",

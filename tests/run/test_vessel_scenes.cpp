@@ -187,7 +187,7 @@ TEST(VesselScene, RunWritesTheMappedSurfaceSeries) {
   for (const char* f : {"surface_0000.vtu", "surface_0001.vtu", "surface_0002.vtu"})
     EXPECT_TRUE(std::filesystem::exists(dir / "vtk" / f)) << f;
   const auto& map = summary["surface_map"];
-  EXPECT_LE(map["max_cond"].get<double>(), 1e3);  // docs/model.md section 20.2 guard
+  EXPECT_LE(map["max_cond"].get<double>(), 1e3);  // docs/model/20-mls-map.md section 20.2 guard
   EXPECT_GE(map["min_support"].get<int>(), 8);
   EXPECT_EQ(summary["unconverged_steps"], 0);
 }

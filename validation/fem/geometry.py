@@ -91,7 +91,7 @@ def power_wall_breaks(r_in, r_out, patch_theta, half_width, s_patch_start, s_cen
     ~ d^-1/2 at a distance d from the edge): with uniform elements the force converges like h^1, with
     beta = 2 in both directions across the edge like h^2 (quadratic elements). Measured on the vein's bonded
     patch: level 2 (elements of 0.016 mm at the edge) stops at 0.71 mm, where St Venant-Kirchhoff's
-    compressive collapse (docs/model.md section 17) sets in at the edge; the catheter, whose contact edge carries no
+    compressive collapse (docs/model/17-limitations.md) sets in at the edge; the catheter, whose contact edge carries no
     singularity, uses it with uniform elements over the contact zone."""
     arc = math.radians(half_width) * r_out
     n_patch_t = max(1, round(arc / base_size))

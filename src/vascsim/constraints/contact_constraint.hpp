@@ -1,10 +1,10 @@
 #pragma once
-// One-sided contact of a node sphere against a rigid body given as a signed distance phi (docs/model.md section 19,
+// One-sided contact of a node sphere against a rigid body given as a signed distance phi (docs/model/19-position-based.md,
 // "contact constraints (alpha = 0, only if C < 0)"):
 //   C(p) = phi(p) - r_node >= 0,   grad C = grad phi = n (outward unit normal of the body at p)   (m)
 // The constraint is active only while C < 0; project it with XpbdParameters::unilateral = true so the
 // accumulated lambda stays >= 0. The tissue node is pushed along +n with force lambda n / h^2; the tool
-// feels the reaction -lambda n / h^2 (docs/model.md section 19, f_tool = -sum_c lambda_c n_c / h^2).
+// feels the reaction -lambda n / h^2 (docs/model/19-position-based.md, f_tool = -sum_c lambda_c n_c / h^2).
 // Sphere and capsule now; the catheter (a chain of capsules) reuses the capsule.
 
 #include "vascsim/core/types.hpp"

@@ -87,7 +87,7 @@ void meshless_strain_constraint(Index i, std::span<const Index> neighbours, std:
                                 const Vec3& d_self, const Vec3Array& x, MeshlessStrainEval& out) {
   if (neighbours.size() != d.size())
     throw std::invalid_argument("meshless_strain_constraint: neighbours and d must have the same length");
-  // F_i = sum_j (x_j - x_i) d_ij^T (docs/model.md section 6); differences keep the rounding small far from the origin.
+  // F_i = sum_j (x_j - x_i) d_ij^T (docs/model/06-gradients.md); differences keep the rounding small far from the origin.
   const Vec3& xi = x[static_cast<std::size_t>(i)];
   Mat3 F = Mat3::Zero();
   for (std::size_t s = 0; s < neighbours.size(); ++s)

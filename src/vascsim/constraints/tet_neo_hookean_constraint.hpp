@@ -1,5 +1,5 @@
 #pragma once
-// XPBD stable neo-Hookean constraints of a virtual tetrahedron (docs/model.md section 19 (B) and E11):
+// XPBD stable neo-Hookean constraints of a virtual tetrahedron (docs/model/19-position-based.md (B) and E11):
 // Macklin & Mueller 2021, "A Constraint-based Formulation of Stable Neo-Hookean Materials", MIG 2021
 // (the hydrostatic/deviatoric constraint pair). With F = D_s D_m^{-1} (Sifakis & Barbic 2012,
 // "FEM simulation of 3D deformable solids", SIGGRAPH 2012 course notes):

@@ -1,14 +1,14 @@
 #pragma once
 // Smoothing kernels of the paper.
 //  - poly6 (Eq. 1, Mueller et al. 2004): weights of the point-primitive gradient operator.
-//  - cubic spline (Eq. 37): the MLS surface-map weight, W_cs(s) of docs/model.md section 20.
+//  - cubic spline (Eq. 37): the MLS surface-map weight, W_cs(s) of docs/model/20-mls-map.md.
 
 #include <numbers>
 
 namespace vascsim::kernels {
 
 /// Eq. 1: W(r,h) = 315/(64 pi h^9) (h^2 - r^2)^3 for 0 <= r < h, else 0. Units 1/m^3;
-/// integrates to one over R^3 (docs/model.md section 2.1).
+/// integrates to one over R^3 (docs/model/02-kernels.md section 2.1).
 inline double poly6(double r, double h) {
   if (r < 0.0 || r >= h) return 0.0;
   const double h2 = h * h;
@@ -29,7 +29,7 @@ inline double cubic_spline(double s) {
   return 0.0;
 }
 
-/// Derivative dW_cs/ds of Eq. 37 (docs/model.md section 20).
+/// Derivative dW_cs/ds of Eq. 37 (docs/model/20-mls-map.md).
 inline double cubic_spline_derivative(double s) {
   if (s < 0.0) return -cubic_spline_derivative(-s);
   if (s <= 0.5) return -8.0 * s + 12.0 * s * s;
@@ -41,7 +41,7 @@ inline double cubic_spline_derivative(double s) {
 }
 
 /// Eq. 37 normalised in 3-D: (12/pi) / r_support^3 * W_cs(r / r_support) integrates to one, since
-/// int_0^1 W_cs(s) s^2 ds = 1/48 [derived in docs/model.md].
+/// int_0^1 W_cs(s) s^2 ds = 1/48 [derived in docs/model/02-kernels.md section 2.2].
 inline double cubic_spline_3d(double r, double support) {
   const double c = 12.0 / std::numbers::pi / (support * support * support);
   return c * cubic_spline(r / support);

@@ -37,7 +37,7 @@ struct AccuracyCase {
   /// The local fit's basis the rows were measured with ("linear", "quadratic", "quadratic_cube": the
   /// quadratic fit with the through-wall cube; the key "basis", "linear" when absent): a scene is compared
   /// with the cases of its own basis only (quasi_static fits curvature on walls, implicit does not;
-  /// docs/model.md design decision 8).
+  /// docs/model/00-design-decisions.md, decision 8).
   std::string basis = "linear";
   bool tool = false;  ///< loaded by a tool (obstacle) rather than a bonded region
   double outer_radius_m = 0.0, wall_thickness_m = 0.0;

@@ -24,7 +24,7 @@ struct TubeSpec {
   double wall_thickness_m = 0.3e-3;
   double length_m = 20e-3;
   double node_spacing_m = 0.15e-3;  ///< target spacing Delta along all three directions
-  int min_layers = 3;               ///< minimum node layers through the wall (docs/model.md design decision 2)
+  int min_layers = 3;               ///< minimum node layers through the wall (docs/model/00-design-decisions.md, decision 2)
   /// A lattice line (a column of nodes along the axis) runs at this angle, deg (theta from +x towards +y):
   /// the lattice is turned by less than half a column so that a patch centred here is symmetric.
   double lattice_angle_deg = 0.0;

@@ -1,5 +1,5 @@
 #pragma once
-// Nodal quadrature weights that follow a lattice's layers (docs/model.md section 4, "Simpson volumes"): the
+// Nodal quadrature weights that follow a lattice's layers (docs/model/04-volumes.md, "Simpson volumes"): the
 // tet partition gives the nodes of a layered lattice the trapezoid's weights (half a layer at either surface),
 // which integrate what varies linearly across the layers exactly but overestimate the energy of a bending field
 // (quadratic through the layers) by half with three layers. These factors turn them into weights that integrate

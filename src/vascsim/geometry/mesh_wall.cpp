@@ -213,7 +213,7 @@ void check_spec(const MeshWallSpec& spec) {
   const std::string& name = spec.source;
   if (spec.kind != "lumen" && spec.kind != "closed_wall")
     fail(name, fmt::format("mesh wall kind '{}' is unknown; use \"lumen\" or \"closed_wall\"", spec.kind));
-  if (spec.min_layers < 2) fail(name, "min_layers must be >= 2 (3 or more recommended, docs/model.md)");
+  if (spec.min_layers < 2) fail(name, "min_layers must be >= 2 (3 or more recommended, docs/model/00-design-decisions.md, decision 2)");
   if (!(std::isfinite(spec.node_spacing_m) && spec.node_spacing_m > 0.0))
     fail(name, "node_spacing_m must be finite and > 0");
   if (spec.kind == "lumen" && !(std::isfinite(spec.wall_thickness_m) && spec.wall_thickness_m > 0.0))

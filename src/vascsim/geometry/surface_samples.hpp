@@ -1,6 +1,6 @@
 #pragma once
 // Quadrature points on a closed triangle surface, for contact on the wall's surface rather than at the nodes
-// (docs/model.md section 22.5). Each triangle is split into m x m congruent sub-triangles (m = ceil(longest
+// (docs/model/22-contact.md section 22.5). Each triangle is split into m x m congruent sub-triangles (m = ceil(longest
 // edge / spacing)); a sample sits at each sub-triangle's centroid and carries its area. Where the three vertex
 // normals agree with the face (a smooth wall), the sample is lifted off the flat triangle onto the curved
 // surface the normals describe: Phong tessellation with shape factor 1/2, which puts a chord's points on the

@@ -22,7 +22,7 @@ void check_spec(const Centerline& cl, const SweptVesselSpec& s) {
   if (!(std::isfinite(s.wall_thickness_m) && s.wall_thickness_m > 0.0 && s.wall_thickness_m < s.outer_radius_m))
     fail("wall thickness must be > 0 and < outer radius");
   if (!(std::isfinite(s.node_spacing_m) && s.node_spacing_m > 0.0)) fail("node spacing must be finite and > 0");
-  if (s.min_layers < 3) fail("at least 3 node layers through the wall are needed (docs/model.md, hollow vessels)");
+  if (s.min_layers < 3) fail("at least 3 node layers through the wall are needed (docs/model/00-design-decisions.md, hollow vessels)");
   if (!std::isfinite(s.lattice_angle_deg)) fail("lattice angle must be finite");
   if (s.refine.enabled) {
     const WallRefinement& r = s.refine;

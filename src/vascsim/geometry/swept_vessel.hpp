@@ -27,7 +27,7 @@ struct SweptVesselSpec {
   double outer_radius_m = 1.5e-3;
   double wall_thickness_m = 0.3e-3;
   double node_spacing_m = 0.15e-3;  ///< target spacing Delta along all three directions
-  int min_layers = 3;               ///< minimum node layers through the wall (docs/model.md design decision 2), >= 3
+  int min_layers = 3;               ///< minimum node layers through the wall (docs/model/00-design-decisions.md, decision 2), >= 3
   /// A lattice line runs at this angle around the centre-line, deg (from N towards B); see TubeSpec.
   double lattice_angle_deg = 0.0;
   /// Lattice counts around and along the centre-line when > 0 (see TubeSpec); 0: from node_spacing_m.

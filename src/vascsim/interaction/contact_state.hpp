@@ -4,7 +4,7 @@
 //   haptic -> simulation: ToolPose, the tool (proxy) pose at a haptic tick;
 //   simulation -> haptic: ContactState, the contact result of one simulation step together with a
 //   local linearisation, so the 1 kHz loop can extrapolate the force between the slower simulation
-//   updates (docs/model.md section 19.6, "a linearised local stiffness around the contact").
+//   updates (docs/model/24-implicit.md section 24.3).
 // Both are trivially copyable (plain arrays, not Eigen types, whose copies are user-defined) so the
 // hand-off is a memcpy. Accessors convert to Eigen.
 
@@ -53,7 +53,7 @@ struct ContactState {
   /// The tool pose the step used (copied from the ToolPose it read). Its time_s is on the haptic clock,
   /// so (tick time - tool.time_s) is the age of this force: the force latency.
   ToolPose tool;
-  /// Force on the tool from the contact constraints, N (e.g. -sum lambda_c n_c / h^2, docs/model.md section 19).
+  /// Force on the tool from the contact constraints, N (e.g. -sum lambda_c n_c / h^2, docs/model/19-position-based.md).
   std::array<double, 3> force_n{};
   /// dF/d(-p): contact stiffness, N/m, row-major 3x3, symmetric positive semi-definite. For one
   /// contact of stiffness k along the unit normal n: k n n^T (normal_stiffness()).

@@ -30,7 +30,7 @@ struct Trial {
   double cond = std::numeric_limits<double>::infinity();
 };
 
-// Scaled, shifted linear basis p^(Y) = [1, (Y - S)/r] (docs/model.md section 20): p^(S) = e1 and every entry of
+// Scaled, shifted linear basis p^(Y) = [1, (Y - S)/r] (docs/model/20-mls-map.md): p^(S) = e1 and every entry of
 // p^(X_i) is in [-1, 1], so A^ is O(1) whatever the coordinates' offset and unit.
 Vec4 basis(const Vec3& y, const Vec3& s, double r) {
   Vec4 p;

@@ -1,5 +1,5 @@
 #pragma once
-// The curvature correction of a surface's linear interpolation (docs/model.md section 22.5, "quadratic"):
+// The curvature correction of a surface's linear interpolation (docs/model/22-contact.md section 22.5, "quadratic"):
 // shape functions that, added to a point's barycentric weights on its triangle, make the interpolation exact
 // for every displacement quadratic along the surface, and still pass through the nodes.
 //

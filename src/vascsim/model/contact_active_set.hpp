@@ -1,6 +1,6 @@
 #pragma once
 // Frictionless one-sided contact between the problem's tools and the free nodes, by an active set (the
-// equilibrium solvers, docs/model.md section 22.3): a node that enters a tool is put on its surface and its
+// equilibrium solvers, docs/model/22-contact.md section 22.3): a node that enters a tool is put on its surface and its
 // normal degree of freedom is held there; residuals, search directions and preconditioned vectors are
 // filtered by I - n n^T (the "modified PCG" of Baraff & Witkin 1998), so it can still slide along the tool.
 // A contact whose normal reaction lambda = -r.n pulls on the tool is released. The tool force is

@@ -1,5 +1,5 @@
 #pragma once
-// The contacts seen through the preconditioner's factor P (docs/model.md section 24.2-24.3).
+// The contacts seen through the preconditioner's factor P (docs/model/24-implicit.md section 24.2-24.3).
 //
 // Z = P^{-1} E (E: the unit vectors of the contact nodes' 3 m degrees of freedom; per node from the shared
 // NodeCompliance cache, which solves only nodes it has not seen with this P) gives the contact-node compliance

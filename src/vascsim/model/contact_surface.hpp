@@ -1,5 +1,5 @@
 #pragma once
-// The wall's surface as the tools meet it in embedded contact (docs/model.md section 22.5): quadrature points
+// The wall's surface as the tools meet it in embedded contact (docs/model/22-contact.md section 22.5): quadrature points
 // on the rest surface, each with the area it stands for and its shape functions over the nodes, so that a
 // point moves with the nodes, x_v = S_v + sum_i phi_vi (x_i - X_i), and a force on it reaches the nodes as
 // phi_vi f_v (virtual work). Built once at rest (run/contact_surface_builder.cpp).

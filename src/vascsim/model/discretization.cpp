@@ -148,7 +148,7 @@ NeighbourhoodTrial evaluate(const Vec3Array& X, Index i, double h, const Spatial
   }
   const double tr = t.A.trace();
   if (tr > 0.0) {
-    // Dimensionless A / tr(A): eigenvalues in (0, 1]; never test det(A) != 0 (docs/model.md section 5).
+    // Dimensionless A / tr(A): eigenvalues in (0, 1]; never test det(A) != 0 (docs/model/05-local-fit.md).
     Eigen::SelfAdjointEigenSolver<Mat3> es(t.A / tr, Eigen::EigenvaluesOnly);
     const Vec3 ev = es.eigenvalues();
     t.eigen_ratio = ev.maxCoeff() > 0.0 ? ev.minCoeff() / ev.maxCoeff() : 0.0;
@@ -181,7 +181,7 @@ PairTable transpose(const PairTable& p, Index n) {
 }
 
 // The neighbours a support needs: the linear basis's minimum, or the quadratic fit's when that is larger. The
-// wall-quadratic fit keeps the linear minimum (docs/model.md section 5.2: asking it 18 grew a third of the vein's
+// wall-quadratic fit keeps the linear minimum (docs/model/05-local-fit.md section 5.2: asking it 18 grew a third of the vein's
 // supports and changed its force by 0.3 %); its conditioning test alone guards its 8 unknowns.
 int needed_neighbours(const DiscretizationOptions& opt) {
   return opt.basis == GradientBasis::Quadratic ? std::max(opt.min_neighbours, opt.quadratic_min_neighbours)
@@ -415,7 +415,7 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
   cube_nodes_ = cubes;
 }
 
-// DiscretizationOptions::wall_cube for node i (docs/model.md section 5.3): the least-squares fit over the
+// DiscretizationOptions::wall_cube for node i (docs/model/05-local-fit.md section 5.3): the least-squares fit over the
 // quadratic monomials p and the cube m = (z / h)^3 of the through-wall coordinate z = X_ij . n, by
 // eliminating m's coefficient. With m~ the residual of m after the quadratic fit (orthogonal to p in the
 // weights w), the cube's coefficient is c(y) = sum_j beta_j (y_j - y_i) with
@@ -491,7 +491,7 @@ int square_index(const Exponents& e) {
 }
 }  // namespace
 
-// DiscretizationOptions::WallCubics::ThroughWall for node i (docs/model.md section 5.4): add_wall_cube's
+// DiscretizationOptions::WallCubics::ThroughWall for node i (docs/model/05-local-fit.md section 5.4): add_wall_cube's
 // elimination with R monomials m_r at once. With M~ the residuals of the m_r after the quadratic fit, the cubics'
 // coefficients are c_r(y) = sum_j beta_rj (y_j - y_i) with beta = S^-1 (w M~)^T, S = M~^T W M~ (R x R); every
 // quadratic coefficient loses sum_r c_r(y) times the quadratic fit's of m_r. A cubic's gradient is zero at the node
@@ -665,7 +665,7 @@ void Discretization::compute_volumes(const DiscretizationOptions& opt) {
         throw InputError(fmt::format(
             "discretization: node {} belongs to no virtual tetrahedron, so it has no volume (tet-partition rule)", i));
   } else {
-    // Mueller et al. 2004 (docs/model.md section 4): rbar_i = mean distance to the 10 nearest neighbours,
+    // Mueller et al. 2004 (docs/model/04-volumes.md): rbar_i = mean distance to the 10 nearest neighbours,
     // m_i = s rbar_i^3 rho with s normalising the density estimate, V_i = m_i / rho_i.
     std::vector<double> rbar3(n);
     for (Index i = 0; i < n; ++i) {

@@ -1,5 +1,5 @@
 #pragma once
-// Rest-state discretisation of the point-primitive model (docs/model.md sections 3-5): per-node support radii,
+// Rest-state discretisation of the point-primitive model (docs/model/ sections 3-5): per-node support radii,
 // neighbour lists, the precomputed gradient vectors d_ij in CSR form with a transposed copy for
 // gather-form assembly, nodal volumes and masses. Immutable during a run (total Lagrangian).
 
@@ -14,7 +14,7 @@
 namespace vascsim {
 
 enum class VolumeRule {
-  TetPartition,  ///< V_i = 1/4 sum_{T containing i} |T| (sound default, docs/model.md design decision 3)
+  TetPartition,  ///< V_i = 1/4 sum_{T containing i} |T| (sound default, docs/model/00-design-decisions.md, decision 3)
   MuellerKernel,  ///< Mueller 2004 kernel density estimate V_i = m_i / rho_i (paper-literal option)
   /// The tet partition times volume_factors: Simpson weights across a lattice's layers, so that the nodal sum
   /// integrates a bending field's energy exactly (geometry/lattice_quadrature.hpp; the quadratic basis's partner)
@@ -22,7 +22,7 @@ enum class VolumeRule {
 };
 
 struct DiscretizationOptions {
-  double support_radius_factor = 2.0;  ///< h = factor * mean nearest spacing (docs/model.md design decision 7)
+  double support_radius_factor = 2.0;  ///< h = factor * mean nearest spacing (docs/model/00-design-decisions.md, decision 7)
   int min_neighbours = 12;             ///< K_min
   double min_eigen_ratio = 1e-3;       ///< lambda_min / lambda_max of A_i / tr(A_i) (cond <= 1e3)
   double growth_factor = 1.2;          ///< h_i <- 1.2 h_i when a node fails the guard
@@ -32,7 +32,7 @@ struct DiscretizationOptions {
   std::string coarse_spacing_advice;
   VolumeRule volume = VolumeRule::TetPartition;
   GradientBasis basis = GradientBasis::Linear;  ///< the local fit's polynomial (local_fit.hpp)
-  /// Supports that follow a wall (docs/model.md section 3.1): per node the wall's unit normal, and the ratio of the
+  /// Supports that follow a wall (docs/model/03-neighbourhoods.md section 3.1): per node the wall's unit normal, and the ratio of the
   /// lattice spacing along the wall to the spacing of its node layers (>= 1). A node's support is then an ellipsoid:
   /// radius h_i along the normal and wall_stretch h_i in the wall's tangent plane, with the weights
   /// w_ij = W(|M_i X_ij|, h_i), M_i = n n^T + (I - n n^T) / wall_stretch. Empty normals: isotropic supports.
@@ -43,7 +43,7 @@ struct DiscretizationOptions {
   /// Optional with wall_stretches, per node: a unit direction in the wall's plane (a swept vessel's centre-line
   /// tangent) and the stretch along it; wall_stretches is then the stretch across it (around the vessel). A graded
   /// lattice's cells can be four times longer one way than the other, and one stretch from their mean side reaches
-  /// only one step along the long side, where a quadratic fit needs two (docs/model.md section 21.1).
+  /// only one step along the long side, where a quadratic fit needs two (docs/model/21-vessel-geometry.md section 21.1).
   std::vector<Vec3> wall_axes;
   std::vector<double> wall_axial_stretches;
   /// Optional, per node: its depth in the wall, m. Given, the through-wall part of X_ij is the depth difference,
@@ -55,13 +55,13 @@ struct DiscretizationOptions {
   /// The scene's choice (discretization.support): Wall asks the simulation to fill wall_normals and wall_stretch
   /// from the body's wall coordinates.
   enum class Support { Isotropic, Wall } support = Support::Isotropic;
-  /// How far a wall support reaches through the wall (docs/model.md section 3.2): Layers, radius h_i as the
+  /// How far a wall support reaches through the wall (docs/model/03-neighbourhoods.md section 3.2): Layers, radius h_i as the
   /// support's own rule gives it; Thickness, the through-wall distance scaled so that the wall's far surface lies at
   /// kThicknessReach h_0 from the near one (never shortened below h_i), so that every node's fit sees every layer.
   enum class WallReach { Layers, Thickness } wall_reach = WallReach::Layers;
   /// The wall's thickness (outer to inner layer), m: WallReach::Thickness and WallQuadrature::Gauss need it.
   double wall_thickness_m = 0.0;
-  /// Where a node's strain energy is evaluated (docs/model.md section 4.4): Nodes, at the node (V_i psi(F_i));
+  /// Where a node's strain energy is evaluated (docs/model/04-volumes.md section 4.4): Nodes, at the node (V_i psi(F_i));
   /// Gauss, at two Gauss points across the node's slab of the wall (the depths within half a layer step of its own,
   /// clipped to the wall), each with the gradient the node's fit gives there, F_i + s_q dF_i/dn: a bending field's
   /// energy is then integrated exactly whatever the nodal volumes; GaussCell, at 2 x 2 x 2 Gauss points over the
@@ -71,10 +71,10 @@ struct DiscretizationOptions {
   enum class WallQuadrature { Nodes, Gauss, GaussCell } wall_quadrature = WallQuadrature::Nodes;
   /// The quadratic basis on a wall (wall_normals given): also fit the cube of the through-wall coordinate,
   /// (X_ij . n_i)^3, so that a node's gradient and its points' gradients are exact for a displacement cubic
-  /// across the wall, as transverse shear makes it (docs/model.md section 5.3). Nodes whose neighbourhood
+  /// across the wall, as transverse shear makes it (docs/model/05-local-fit.md section 5.3). Nodes whose neighbourhood
   /// cannot tell the cube from the quadratic monomials (a wall of three layers) keep the quadratic fit.
   bool wall_cube = false;
-  /// Which cubic monomials the wall fit adds to the quadratic basis with wall_cube (docs/model.md section 5.4), in
+  /// Which cubic monomials the wall fit adds to the quadratic basis with wall_cube (docs/model/05-local-fit.md section 5.4), in
   /// the node's wall frame (z through the wall, s1 s2 along the cell's edges): Cube, z^3 alone; ThroughWall, the six
   /// cubics with a through-wall factor (z^3, z^2 s, z s s'), which a plate's bending under a varying moment and its
   /// transverse shear are made of. ThroughWall needs WallQuadrature::GaussCell (the cubics' gradients at the points
@@ -90,7 +90,7 @@ struct DiscretizationOptions {
   double wall_layer_spacing_m = 0.0;
   /// The quadratic fit's guard, on top of the linear one: at least this many neighbours (9 unknowns per
   /// component; twice that for a least-squares fit that averages), and lambda_min / lambda_max of B_i / tr(B_i)
-  /// at least quadratic_min_eigen_ratio (docs/model.md section 5.1 for how these were chosen).
+  /// at least quadratic_min_eigen_ratio (docs/model/05-local-fit.md section 5.1 for how these were chosen).
   int quadratic_min_neighbours = 18;
   double quadratic_min_eigen_ratio = 1e-6;
 };
@@ -148,15 +148,15 @@ class Discretization {
   int grown_nodes() const { return grown_nodes_; }      ///< nodes whose h_i had to grow
   /// DiscretizationOptions::wall_cube: the nodes whose fit holds the through-wall cube (0 without it).
   int wall_cube_nodes() const { return cube_nodes_; }
-  /// Supports that follow the wall: their reach along the wall over their reach through it (docs/model.md section
+  /// Supports that follow the wall: their reach along the wall over their reach through it (docs/model/03-neighbourhoods.md section
   /// 3.1); 0 with isotropic supports.
   double wall_stretch() const { return wall_stretch_; }
-  /// The factor on the through-wall distance of a wall support (1 with WallReach::Layers; docs/model.md section 3.2).
+  /// The factor on the through-wall distance of a wall support (1 with WallReach::Layers; docs/model/03-neighbourhoods.md section 3.2).
   double wall_across_scale() const { return wall_across_scale_; }
   const Material& material() const { return material_; }
   const NodeCloud& cloud() const { return cloud_; }
 
-  /// G_i = sum_j (u_j - u_i) d_ij^T (Eq. 2-3, docs/model.md section 6). With eq3_literal_sign the paper's printed
+  /// G_i = sum_j (u_j - u_i) d_ij^T (Eq. 2-3, docs/model/06-gradients.md). With eq3_literal_sign the paper's printed
   /// x_ij = x_i - x_j is used, which returns -G (negative test E1 only).
   Mat3 displacement_gradient(Index i, const Vec3Array& u, bool eq3_literal_sign = false) const;
   /// F_i = sum_j (x_j - x_i) d_ij^T.

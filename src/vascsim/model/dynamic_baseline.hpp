@@ -1,6 +1,6 @@
 #pragma once
 // What the five comparison baselines of the paper's section 3.3 (mass_spring, fem_quasi_newton, tensor_mass,
-// filling, pbd_viscoelastic; docs/model.md section 25) have in common, so that each baseline file holds only its
+// filling, pbd_viscoelastic; docs/model/25-baselines.md) have in common, so that each baseline file holds only its
 // method: a time-stepping Model and DeviceDrivenModel over the problem's nodes with
 //   - frames of length frame_s (the haptic tick, 1 ms by default), each advanced by the baseline's frame();
 //   - loads, prescribed displacements and tool motion ramped in by the load factor as in xpbd and implicit
@@ -11,7 +11,7 @@
 //
 // Contact helper for the position-based and explicit baselines: project_tool_contacts() puts a free node that
 // entered a tool back on its surface and books the impulse m dx / h^2 as the tool's force on the tissue (the
-// xpbd contact with alpha = 0, docs/model.md section 16). The implicit baselines hold contacts inside their
+// xpbd contact with alpha = 0, docs/model/22-contact.md section 22.2). The implicit baselines hold contacts inside their
 // solve (ContactActiveSet) instead.
 
 #include <nlohmann/json.hpp>

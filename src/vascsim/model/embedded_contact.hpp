@@ -1,5 +1,5 @@
 #pragma once
-// Frictionless contact between the tools and the wall's surface, not its nodes (docs/model.md section 22.5):
+// Frictionless contact between the tools and the wall's surface, not its nodes (docs/model/22-contact.md section 22.5):
 // a penalty on the penetration of the surface's quadrature points (contact_surface.hpp),
 //   U_c(x) = sum_v (k a_v / 2) max(0, -C(x_v))^2,   x_v = S_v + sum_i phi_vi (x_i - X_i),
 // C the tool's signed distance, k the contact stiffness (Pa/m) and a_v the sample's area. The tool's force is

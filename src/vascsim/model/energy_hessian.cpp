@@ -216,7 +216,7 @@ void EnergyHessian::build_pattern() {
 }
 
 void EnergyHessian::add_stabilizer_blocks() {
-  // docs/model.md section 9.2: U_hg,i = c_i/2 sum_j w_ij |r_ij|^2 with r_ij the residual of node i's fit (affine or
+  // docs/model/09-volume-term-and-stabiliser.md section 9.2: U_hg,i = c_i/2 sum_j w_ij |r_ij|^2 with r_ij the residual of node i's fit (affine or
   // quadratic). Over the stencil (i, N_i) the residuals are r = R x (Discretization::fit_residual_operator), so
   // the Hessian is c_i R^T W R (times I_3): constant.
   const Discretization& disc = energy_.discretization();

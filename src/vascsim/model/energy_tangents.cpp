@@ -31,7 +31,7 @@ Mat9 point_tangent(const PointPrimitiveEnergy& energy, Index i, const Mat3& F, i
   const Discretization& disc = energy.discretization();
   const EnergyOptions& eo = energy.options();
   const double lambda = energy.strain_lambda(), mu = energy.shear_modulus(), kv = eo.volume_stiffness_pa;
-  // Literal strain (docs/model.md section 7): eps = 2E and sigma = 2S, so U_lit = 4 U_SVK and its tangent is 4x.
+  // Literal strain (docs/model/07-strain-stress-energy.md): eps = 2E and sigma = 2S, so U_lit = 4 U_SVK and its tangent is 4x.
   const double svk_scale = eo.strain == StrainMeasure::GreenHalf ? 1.0 : 4.0;
   const Mat3 I = Mat3::Identity();
   Mat9 C;
@@ -48,7 +48,7 @@ Mat9 point_tangent(const PointPrimitiveEnergy& energy, Index i, const Mat3& F, i
         });
   }
   if (kv > 0.0) {
-    // docs/model.md section 9.1: P_v = k_v (J - 1) cof(F), dP_v = k_v [(cof : dF) cof + (J - 1) dcof[dF]].
+    // docs/model/09-volume-term-and-stabiliser.md section 9.1: P_v = k_v (J - 1) cof(F), dP_v = k_v [(cof : dF) cof + (J - 1) dcof[dF]].
     const double J = F.determinant();
     const Mat3 cof = cofactor(F);
     C += tangent_of([&](const Mat3& dF) {

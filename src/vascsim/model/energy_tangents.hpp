@@ -1,5 +1,5 @@
 #pragma once
-// The per-node material tangents of the point-primitive energy (docs/model.md section 10): for node i (and each
+// The per-node material tangents of the point-primitive energy (docs/model/10-hessian-product.md): for node i (and each
 // of its energy points q), the 9 x 9 matrix
 //     C_iq = (V_i / points) d^2 psi / dF^2 (F_iq)   [+ the volume term k_v],   N m,
 // the second derivative of the point's strain energy with respect to its deformation gradient. Every assembled

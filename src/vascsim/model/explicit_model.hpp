@@ -1,6 +1,6 @@
 #pragma once
-// `explicit`: symplectic Euler on the point-primitive forces (docs/model.md section 12), the verification
-// reference. The substep is chosen automatically below the stability limit of docs/model.md section 12:
+// `explicit`: symplectic Euler on the point-primitive forces (docs/model/12-equation-of-motion.md), the verification
+// reference. The substep is chosen automatically below the stability limit of docs/model/12-equation-of-motion.md:
 // dt = min(safety * 2 / (1.05 omega_max), C * Delta_min / c_p), with mass-proportional damping
 // v <- v exp(-c dt). Paper Eq. 10 with the sign fixed (E6): a = (f_ext + f_int) / m.
 
@@ -13,9 +13,9 @@ struct ExplicitSettings {
   double duration_s = 0.02;         ///< simulated time, s
   double ramp_time_s = 0.01;        ///< loads ramp linearly to full over this time, then hold (0: at once), s
   double output_interval_s = 1e-3;  ///< time between output points, s
-  double damping_per_s = 10.0;      ///< mass-proportional damping c, 1/s (docs/model.md section 12: 5-20)
+  double damping_per_s = 10.0;      ///< mass-proportional damping c, 1/s (docs/model/12-equation-of-motion.md: 5-20)
   double dt_s = 0.0;                ///< substep; 0 = automatic. Must not exceed 2/(1.05 omega_max)
-  double safety = 0.5;              ///< automatic dt = safety * 2/omega_max (docs/model.md section 12 rule)
+  double safety = 0.5;              ///< automatic dt = safety * 2/omega_max (docs/model/12-equation-of-motion.md rule)
   double cfl_coefficient = 0.4;     ///< and dt <= C Delta_min / c_p (halved with the literal strain)
   int power_iterations = 60;        ///< power iterations for omega_max
   bool eq10_literal_sign = false;   ///< a = (f_ext - f_int)/m as printed (negative test E6 only)

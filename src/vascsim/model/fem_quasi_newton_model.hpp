@@ -6,7 +6,7 @@
 // with the method of
 //   T. Liu, S. Bouaziz, L. Kavan, "Quasi-Newton methods for real-time simulation of hyperelastic materials",
 //   ACM Transactions on Graphics 36(3), 23, 2017.
-// INTERPRETATION where [23] is silent (docs/model.md section 25.3). On the virtual tetrahedra (P1, rest D_m^{-1},
+// INTERPRETATION where [23] is silent (docs/model/25-baselines.md section 25.3). On the virtual tetrahedra (P1, rest D_m^{-1},
 // volume V_T), the compressible neo-Hookean energy
 //   psi(F) = mu/2 (tr F^T F - 3) - mu ln J + lambda/2 (ln J)^2     (lambda, mu from the scene's E and nu),
 // backward Euler as a minimisation per frame h:

@@ -2,7 +2,7 @@
 // `filling`: the "filling model" of
 //   X. F. Ye, X. K. Mei, S. G. Xiao, "Filling model based soft tissue deformation model", Proc. ICMA 2018,
 //   Changchun, China, pp. 1655-1659 (the paper's baseline [27]).
-// INTERPRETATION (docs/model.md section 25.5): nothing of that paper could be retrieved beyond its citation;
+// INTERPRETATION (docs/model/25-baselines.md section 25.5): nothing of that paper could be retrieved beyond its citation;
 // the same group's vessel model uses PBD with a volume-conservation constraint. We read "filling" as a closed
 // surface filled with a lattice of particles, held by springs and by the volume they enclose:
 //   particles: the point-primitive nodes, which fill the body (the wall) on a lattice; the surface vertices are

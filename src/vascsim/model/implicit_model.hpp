@@ -1,5 +1,5 @@
 #pragma once
-// `implicit`: the real-time equilibrium model (docs/model.md section 24). Every frame of length h it minimises
+// `implicit`: the real-time equilibrium model (docs/model/24-implicit.md). Every frame of length h it minimises
 // the backward-Euler energy of the point-primitive model,
 //     x_{n+1} = argmin  1/(2 h^2) |x - a|^2_M + U(x) - f_ext . x,      a = x_n + h v_n,
 // with the prescribed boundary conditions and the tools' frictionless contact, by Newton-PCG

@@ -1,5 +1,5 @@
 #pragma once
-// The local fit behind the point-primitive gradient (Eqs. 2-4, docs/model.md sections 5 and 5.1): node i's
+// The local fit behind the point-primitive gradient (Eqs. 2-4, docs/model/05-local-fit.md sections 5 and 5.1): node i's
 // neighbour differences y_j - y_i are fitted, weighted by w_ij, by a polynomial in X_ij = X_j - X_i without a
 // constant term, and the fitted first derivatives are the gradient at the node.
 //
@@ -13,7 +13,7 @@
 //   by the support radius s so that every entry is O(1)), moment matrix B_i = sum_j w_ij p_ij p_ij^T (9 x 9), and
 //   d_ij = the first three entries of w_ij B_i^{-1} p_ij, divided by s. Exact for quadratic fields, so the
 //   gradient is the one at the node itself: bending is right on every layer of a thin wall.
-// - Wall-quadratic basis (docs/model.md section 5.2): the quadratic fit without the through-wall square, in the frame
+// - Wall-quadratic basis (docs/model/05-local-fit.md section 5.2): the quadratic fit without the through-wall square, in the frame
 //   of the wall's normal (8 monomials), so that it needs only the two layers a surface node's support holds.
 //
 // Every way F_i = sum_j (x_j - x_i) d_ij^T, so the energy, its forces and its Hessian are the same code for all.
@@ -27,8 +27,8 @@ namespace vascsim {
 
 enum class GradientBasis {
   Linear,        ///< Eq. 4 as in the paper (default)
-  Quadratic,     ///< second-order consistent fit (docs/model.md section 5.1)
-  WallQuadratic  ///< the quadratic fit without the through-wall square (docs/model.md section 5.2)
+  Quadratic,     ///< second-order consistent fit (docs/model/05-local-fit.md section 5.1)
+  WallQuadratic  ///< the quadratic fit without the through-wall square (docs/model/05-local-fit.md section 5.2)
 };
 
 /// Whether a basis fits second derivatives (and so keeps the fit's coefficients per pair).
@@ -42,7 +42,7 @@ inline Vec9 quadratic_monomials(const Vec3& X, double s) {
   return p;
 }
 
-/// The wall-quadratic basis's monomials of X / s (docs/model.md section 5.2): the linear ones in the global frame,
+/// The wall-quadratic basis's monomials of X / s (docs/model/05-local-fit.md section 5.2): the linear ones in the global frame,
 /// then, in the frame (t1, t2, n) of the wall's unit normal n, t1^2, t1 t2, t2^2, t1 n, t2 n; the last entry is 0
 /// (the through-wall square n^2 is left out). The choice of t1, t2 in the tangent plane does not change the fit:
 /// either set of monomials spans the same functions.

@@ -3,7 +3,7 @@
 //   C. Q. Li, J. J. Ding, Z. C. Hong, Y. C. Pan, P. X. Liu, "A surface mass-spring model with new flexion springs
 //   and collision detection algorithms based on volume structure for real-time soft-tissue deformation
 //   interaction", IEEE Access 6, pp. 75572-75597, 2018 (the paper's baseline [8]),
-// as far as it could be established (docs/model.md section 25.2; the flexion-spring stiffness is our
+// as far as it could be established (docs/model/25-baselines.md section 25.2; the flexion-spring stiffness is our
 // interpretation).
 //
 // The nodes are the vertices of the body's closed surface, the boundary triangles of the virtual tetrahedra (on

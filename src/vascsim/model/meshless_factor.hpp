@@ -1,5 +1,5 @@
 #pragma once
-// The preconditioner of the real-time equilibrium solver (docs/model.md section 24): a supernodal sparse
+// The preconditioner of the real-time equilibrium solver (docs/model/24-implicit.md): a supernodal sparse
 // Cholesky factor (CHOLMOD) of the assembled point-primitive Hessian plus the inertia shift, restricted to the
 // free nodes,
 //     P = K(x_f) + M/h^2,      K = d^2U/dx^2 with every node's 9x9 tangent projected to PSD,

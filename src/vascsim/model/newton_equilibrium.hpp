@@ -1,5 +1,5 @@
 #pragma once
-// The equilibrium solve shared by `quasi_static` and `implicit` (docs/model.md sections 13 and 24): minimise
+// The equilibrium solve shared by `quasi_static` and `implicit` (docs/model/13-quasi-static-solver.md and docs/model/24-implicit.md): minimise
 //   Pi(x) = U(x) - f_ext . (x - X) [+ 1/(2 h^2) sum_i m_i |x_i - a_i|^2]      over the free nodes,
 // the bracket being backward Euler's inertia around a = x_n + h v_n (the implicit model; absent for a static
 // solve), with the tools' frictionless contact by an active set (contact_active_set.hpp).

@@ -20,7 +20,7 @@ namespace {
 
 constexpr int kPowerIterations = 60;        // as ExplicitModel
 
-// The paper's pipeline: literal strain, no stabiliser, no volume term (docs/model.md section 19.5 step 1).
+// The paper's pipeline: literal strain, no stabiliser, no volume term (docs/model/19-position-based.md section 19.5 step 1).
 EnergyOptions literal_energy_options() {
   EnergyOptions o;
   o.strain = StrainMeasure::MuellerNoHalf;
@@ -161,7 +161,7 @@ PaperLiteralModel::PaperLiteralModel(const Problem& problem, const PaperLiteralS
   dt_ = s.output_interval_s / static_cast<double>(per_output);
   num_steps_ = output_count(schedule);
 
-  // docs/model.md section 19.5: report the explicit limit of the literal forces; above it only PBD keeps the run bounded.
+  // docs/model/19-position-based.md section 19.5: report the explicit limit of the literal forces; above it only PBD keeps the run bounded.
   int power_its = 0;
   const double omega = max_angular_frequency(impl_->literal_problem, x_, kPowerIterations, 1e-4, &power_its);
   dt_explicit_ = omega > 0.0 ? 2.0 / (1.05 * omega) : INFINITY;
@@ -180,7 +180,7 @@ PaperLiteralModel::PaperLiteralModel(const Problem& problem, const PaperLiteralS
     spdlog::warn(
         "paper_literal: dt = {:.3g} s is {:.3g}x the explicit stability limit {:.3g} s of the literal "
         "forces; only the PBD constraints can keep the run bounded, and their stiffness depends on dt, "
-        "n and k (docs/model.md section 19.5)",
+        "n and k (docs/model/19-position-based.md section 19.5)",
         dt_, dt_ / dt_explicit_, dt_explicit_);
 }
 

@@ -3,7 +3,7 @@
 //   L. Xu, Y. H. Lu, Q. Liu, "Integrating viscoelastic mass spring dampers into position-based dynamics to simulate
 //   soft tissue deformation in real time", Royal Society Open Science 5(2), 171587, 2018 (the paper's
 //   baseline [16]).
-// INTERPRETATION (docs/model.md section 25.6): only the paper's abstract could be established (the MSD force is
+// INTERPRETATION (docs/model/25-baselines.md section 25.6): only the paper's abstract could be established (the MSD force is
 // made nonlinear and viscoelastic, used with the PBD projection, nodes driven by "spring force + constraint
 // force" through Newton's second law, incompressibility enforced); the equations below are ours.
 //

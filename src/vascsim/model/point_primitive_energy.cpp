@@ -46,7 +46,7 @@ PointPrimitiveEnergy::PointPrimitiveEnergy(const Discretization& disc, const Ene
   stab_c_.resize(n);
   for (Index i = 0; i < n; ++i)
     stab_c_[i] = opt_.stabilizer_alpha * mu_ * disc.volumes()[i] / disc.moment_trace()[i];
-  // The stabiliser folded into the stress gather (docs/model.md section 9.2): c_i A_i per node, c_i w_ik per
+  // The stabiliser folded into the stress gather (docs/model/09-volume-term-and-stabiliser.md section 9.2): c_i A_i per node, c_i w_ik per
   // transposed pair.
   stab_cA_.resize(n);
   for (Index i = 0; i < n; ++i) stab_cA_[i] = stab_c_[i] * disc.moment_matrices()[i];
@@ -80,7 +80,7 @@ Mat3 PointPrimitiveEnergy::weighted_stress(Index i, const Mat3& F, double V, Ene
     const Mat3 eps = F.transpose() * F - I;  // Eq. 5 as printed (no 1/2)
     const double tr = eps.trace();
     const Mat3 sigma = lambda_ * tr * I + 2.0 * mu_ * eps;
-    Pt = 2.0 * V * (F * sigma);  // Mueller's F_e = -2 v J sigma (docs/model.md section 8)
+    Pt = 2.0 * V * (F * sigma);  // Mueller's F_e = -2 v J sigma (docs/model/08-forces.md)
     if (e) e->strain += 0.5 * V * (eps.cwiseProduct(sigma)).sum();
   }
   if (opt_.volume_stiffness_pa > 0.0) {

@@ -1,8 +1,8 @@
 #pragma once
 // Elastic energy, forces and Hessian-vector products of the point-primitive (meshless) model,
-// docs/model.md sections 6-9: SVK strain energy per node (sound) or Mueller's no-1/2 strain (paper literal),
+// docs/model/ sections 6-9: SVK strain energy per node (sound) or Mueller's no-1/2 strain (paper literal),
 // Mueller's volume term k_v and the zero-energy-mode stabiliser alpha_hg. Forces are assembled in the
-// gather form of docs/model.md section 8 (two passes over nodes, no atomics), parallel over nodes with OpenMP.
+// gather form of docs/model/08-forces.md (two passes over nodes, no atomics), parallel over nodes with OpenMP.
 
 #include <memory>
 #include <vector>
@@ -27,15 +27,15 @@ enum class StabilizerFit {
 
 struct EnergyOptions {
   StrainMeasure strain = StrainMeasure::GreenHalf;
-  double volume_stiffness_pa = 0.0;  ///< k_v of docs/model.md section 9.1 (0 <= k_v; lambda is reduced by k_v to keep E, nu)
-  double stabilizer_alpha = 0.1;     ///< alpha_hg of docs/model.md section 9.2 (0 disables)
+  double volume_stiffness_pa = 0.0;  ///< k_v of docs/model/09-volume-term-and-stabiliser.md section 9.1 (0 <= k_v; lambda is reduced by k_v to keep E, nu)
+  double stabilizer_alpha = 0.1;     ///< alpha_hg of docs/model/09-volume-term-and-stabiliser.md section 9.2 (0 disables)
   /// The strain-energy law psi(F) (model/materials/). Null: the built-in SVK of the Material's E and nu
   /// (the default, and the only one the literal strain applies to). With a law, the small-strain moduli of
   /// the law set lambda and mu for the stabiliser and the preconditioner.
   std::shared_ptr<const materials::HyperelasticLaw> law;
   /// Per node, for laws that need one (hgo): the wall's axial/circumferential/radial frame at rest.
   std::vector<materials::MaterialFrame> frames;
-  /// Whose residuals the stabiliser penalises (docs/model.md section 9.3): the gradient's own fit (Basis), or a
+  /// Whose residuals the stabiliser penalises (docs/model/09-volume-term-and-stabiliser.md section 9.3): the gradient's own fit (Basis), or a
   /// quadratic fit over the same neighbourhood (Quadratic), which leaves every quadratic field, bending among
   /// them, to the strain energy.
   StabilizerFit stabilizer_fit = StabilizerFit::Basis;
@@ -59,7 +59,7 @@ class PointPrimitiveEnergy {
   double strain_lambda() const { return lambda_; }
   double shear_modulus() const { return mu_; }
   /// Stabiliser coefficient per node, c_i = alpha_hg mu V_i / tr(A_i), N m^2 (c_i w_ij is a pair stiffness in N/m;
-  /// docs/model.md section 9.2): node i's
+  /// docs/model/09-volume-term-and-stabiliser.md section 9.2): node i's
   /// stabiliser energy is c_i/2 sum_j w_ij |r_ij|^2. All zero when alpha_hg = 0.
   const std::vector<double>& stabilizer_coefficients() const { return stab_c_; }
 
@@ -93,7 +93,7 @@ class PointPrimitiveEnergy {
   void hessian_product(const Linearization& lin, const Vec3Array& v, Vec3Array& out) const;
 
  private:
-  // Pass 1 of docs/model.md section 8 for one node (or one of its points, volume V): V P (+ volume term), and the
+  // Pass 1 of docs/model/08-forces.md for one node (or one of its points, volume V): V P (+ volume term), and the
   // energy.
   Mat3 weighted_stress(Index i, const Mat3& F, double V, EnergyBreakdown* e) const;
   // Stress S (SVK) or sigma (literal) of F, Pa.

@@ -1,6 +1,6 @@
 #pragma once
 // `quasi_static`: static equilibrium at each load step by minimising the total potential
-// Pi(x) = U(x) - f_ext . x over the free nodes (docs/model.md design decision 4; docs/model.md section 13). Truncated Newton:
+// Pi(x) = U(x) - f_ext . x over the free nodes (docs/model/00-design-decisions.md, decision 4; docs/model/13-quasi-static-solver.md). Truncated Newton:
 // the Newton system H dx = r is solved by preconditioned conjugate gradients on analytic Hessian-vector
 // products, with the linear-elastic stiffness of the virtual tetrahedra (incomplete or exact Cholesky,
 // factorised once) as the preconditioner; negative curvature stops CG early; a backtracking Armijo line

@@ -32,7 +32,7 @@ struct ModelCapabilities {
   /// models, whose forces docs/validation.md measures against the FEM references with either support. The others
   /// keep the isotropic support they were tuned and tested with (xpbd inverts a coarse tube with the wall's).
   bool wall_support_default = false;
-  /// On such a wall its default energy.stabilizer_fit is "quadratic" (docs/model.md section 9.3): the same models,
+  /// On such a wall its default energy.stabilizer_fit is "quadratic" (docs/model/09-volume-term-and-stabiliser.md section 9.3): the same models,
   /// for the same reason; the others keep the stabiliser they were tuned with.
   bool quadratic_stabilizer_default = false;
   /// On such a wall its defaults are the configuration docs/validation.md finds within about 2 % of the FEM

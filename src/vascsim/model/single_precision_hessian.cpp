@@ -89,7 +89,7 @@ void SinglePrecisionHessian::product(const Vec3Array& v, Vec3Array& out, bool po
   {
 #pragma omp for schedule(static)
     for (Index i = 0; i < n; ++i) v_[static_cast<std::size_t>(i)] = v[static_cast<std::size_t>(i)].cast<float>();
-    // Pass 1: dF_i = sum_j (v_j - v_i) d_ij^T, and dP_i = V_i (dF S + F dS) (docs/model.md section 10).
+    // Pass 1: dF_i = sum_j (v_j - v_i) d_ij^T, and dP_i = V_i (dF S + F dS) (docs/model/10-hessian-product.md).
 #pragma omp for schedule(static)
     for (Index i = 0; i < n; ++i) {
       const Eigen::Vector3f vi = v_[static_cast<std::size_t>(i)];

@@ -1,6 +1,6 @@
 #pragma once
 // The point-primitive Hessian-vector product in single precision, for the real-time solver's conjugate gradients
-// and its preconditioner's smoothing (docs/model.md section 24.1), where a frame's linear solves need a relative
+// and its preconditioner's smoothing (docs/model/24-implicit.md section 24.1), where a frame's linear solves need a relative
 // accuracy of 1e-1 to 1e-3, far above float's 1e-7.
 //
 // Why: the product is the unit of a frame's cost (each conjugate-gradient iteration with the wall multigrid
@@ -9,7 +9,7 @@
 // stabiliser's 2-hop matrix (12 bytes per entry). Here the pairs take 16 bytes and the stabiliser 8, and the
 // per-node linearisation F_i, S_i 72 bytes instead of 144.
 //
-// Same mathematics as PointPrimitiveEnergy::hessian_product (docs/model.md section 10), for the energies it
+// Same mathematics as PointPrimitiveEnergy::hessian_product (docs/model/10-hessian-product.md), for the energies it
 // supports: the built-in St Venant-Kirchhoff law with the Green strain (no material law, no volume term), one
 // energy point per node, and a stabiliser that is off or applied as its matrix (StabilizerMatrix; the folded
 // linear-fit stabiliser is applied through its matrix here). Parallel over nodes with OpenMP.

@@ -1,12 +1,12 @@
 #pragma once
-// Damped springs between node pairs, the force law of the mass-spring baselines (docs/model.md section 25):
+// Damped springs between node pairs, the force law of the mass-spring baselines (docs/model/25-baselines.md):
 //   f_a = -[k(l) (l - l0) + c dl/dt] n,  f_b = -f_a,  n = (x_a - x_b)/l,  l = |x_a - x_b|,
 //   k(l) = k0 (1 + a ((l - l0)/l0)^2)   (a = 0: the linear spring; a > 0: the stiffening Kelvin-Voigt element),
 // with the stiffness rules that tie k0 to the material: Van Gelder's for a triangulated shell of thickness t,
 // k_e = E t sum_{T contains e} A_T / |e|^2 (A. Van Gelder, "Approximate simulation of elastic membranes by
 // triangulated spring meshes", J. Graphics Tools 3(2), 1998), and its volume analogue for a tetrahedral
 // network, k_e = E sum_{T contains e} V_T / |e|^2. Both give an isotropic network exactly the Young's modulus
-// E (docs/model.md 25.1 derives it), with the network's own Poisson ratio (1/3 in a sheet, 1/4 in a solid).
+// E (docs/model/25-baselines.md §25.1 derives it), with the network's own Poisson ratio (1/3 in a sheet, 1/4 in a solid).
 
 #include <vector>
 

@@ -1,5 +1,5 @@
 #pragma once
-// Explicit stability limit (docs/model.md section 12): dt_crit = 2 / omega_max with omega_max^2 = lambda_max(M^-1 K)
+// Explicit stability limit (docs/model/12-equation-of-motion.md): dt_crit = 2 / omega_max with omega_max^2 = lambda_max(M^-1 K)
 // of the free degrees of freedom, and the CFL-type rule dt <= C * Delta_min / c_p.
 
 #include "vascsim/model/problem.hpp"

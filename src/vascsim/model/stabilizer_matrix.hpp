@@ -1,5 +1,5 @@
 #pragma once
-// The zero-energy-mode stabiliser as one constant matrix (docs/model.md section 9.2):
+// The zero-energy-mode stabiliser as one constant matrix (docs/model/09-volume-term-and-stabiliser.md section 9.2):
 //   U_hg = 1/2 sum over the three coordinates c of u_c^T K u_c,   K = sum_i c_i R_i^T W_i R_i,
 // with R_i node i's fit residuals over its stencil (Discretization::fit_residual_operator), W_i = diag(w_ij) and
 // u = x - X (K X = 0: the stabiliser vanishes on every field the fit reproduces). With the linear basis the energy

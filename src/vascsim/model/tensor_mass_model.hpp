@@ -6,7 +6,7 @@
 // which is linear (small-strain) P1 finite elements with the stiffness stored on the mesh's vertices and edges
 // (S. Cotin, H. Delingette, N. Ayache, "A hybrid elastic model for real-time cutting, deformations, and force
 // feedback for surgery training and simulation", The Visual Computer 16(8), 2000), integrated by implicit Euler
-// with conjugate gradients as in the group's earlier triangular model. docs/model.md section 25.4.
+// with conjugate gradients as in the group's earlier triangular model. docs/model/25-baselines.md section 25.4.
 //
 // Per tet T (rest volume V_T, shape gradients g_a): K^T_ab = V_T (lambda g_a g_b^T + mu g_b g_a^T + mu (g_a.g_b) I)
 // (tet_stiffness.hpp), summed into a vertex tensor K_ii per node and an edge tensor K_ij per edge (the 3x3 blocks

@@ -1,5 +1,5 @@
 #pragma once
-// Linear-elastic P1 stiffness of the virtual tetrahedra (docs/model.md section 25, tensor-mass row):
+// Linear-elastic P1 stiffness of the virtual tetrahedra (docs/model/25-baselines.md, tensor-mass row):
 // K^T_jk = V_T (lambda g_j g_k^T + mu g_k g_j^T + mu (g_j . g_k) I). Used as the preconditioner of the
 // quasi-static Newton-CG solver: it discretises the same elasticity operator as the meshless model,
 // so (factorised exactly) it is spectrally close to the meshless Hessian at small strain.

@@ -1,5 +1,5 @@
 #pragma once
-// The real-time model's preconditioner on a wall lattice (docs/model.md section 24.1): a two-level method whose
+// The real-time model's preconditioner on a wall lattice (docs/model/24-implicit.md section 24.1): a two-level method whose
 // application costs about two Hessian products and whose parts are refreshed at the rates their accuracy needs,
 // instead of a sparse Cholesky factor of the whole Hessian (nnz(L) 1.9e7 on the 0.3 mm vein: 7-9 ms per solve,
 // about a second per refactorisation, and stale a few tenths of a millimetre after the tool moves).

@@ -1,5 +1,5 @@
 #pragma once
-// `xpbd`: the real-time pipeline of docs/model.md section 19. Per step of length step_s (the haptic tick), n_sub
+// `xpbd`: the real-time pipeline of docs/model/19-position-based.md. Per step of length step_s (the haptic tick), n_sub
 // substeps of length h = step_s / n_sub (Macklin et al. 2019, "Small Steps in Physics Simulation"), each:
 //   free nodes:        v <- v + h f_ext/m ;  x_prev <- x ;  p <- x + h v
 //   constrained nodes: p <- prescribed position (w = 0)
@@ -9,13 +9,13 @@
 //     elastic constraints, one of
 //       (A) meshless_strain (default): the point-primitive SVK energy of every node as one 6-component
 //           constraint c_i = Mandel(E_i) with compliance (V_i C^)^{-1} (constraints/meshless_strain_constraint.hpp),
-//           solved as a 6x6 block, followed by the zero-energy-mode stabiliser of node i (docs/model.md section 9.2) as
+//           solved as a 6x6 block, followed by the zero-energy-mode stabiliser of node i (docs/model/09-volume-term-and-stabiliser.md section 9.2) as
 //           K pair constraints r_ij = x_j - x_i - F_i X_ij with compliance 1/(c_i w_ij). The real-time model is
 //           then the same energy as quasi_static and explicit, so its steady state converges to theirs.
 //       (B) tet_neo_hookean: the stable neo-Hookean pair (C_H, C_D) of every virtual tetrahedron (Macklin &
-//           Mueller 2021), converging to the P1 tet solution instead (see docs/model.md).
+//           Mueller 2021), converging to the P1 tet solution instead (see docs/model/19-position-based.md section 19.3).
 //     optional, with physical compliance: tet-edge stretching constraints (paper Eqs. 13-17, stiffness
-//       k_e = E_s l0) and per-spring barycentre energy constraints (docs/model.md section 16, E11, calibrated to a bulk modulus
+//       k_e = E_s l0) and per-spring barycentre energy constraints (docs/model/16-deviations.md, E11, calibrated to a bulk modulus
 //       kappa_e). Both add stiffness on top of the elastic energy; off by default.
 //   v <- (p - x_prev)/h, v <- v exp(-c h) (mass-proportional damping), x <- p.
 // External loads (gravity, region forces) and prescribed displacements scale with the load factor,
@@ -23,7 +23,7 @@
 // then: its nodes become free and keep the velocity of their prescribed motion.
 //
 // The force every constraint exerted over the last substep, sum_c lambda_c grad C_c / h^2 (N per node,
-// docs/model.md section 19), is kept per node (constraint_forces()), so supports and tools feel what the solver applied.
+// docs/model/19-position-based.md), is kept per node (constraint_forces()), so supports and tools feel what the solver applied.
 
 #include <array>
 #include <string>
@@ -37,8 +37,8 @@
 namespace vascsim {
 
 enum class XpbdElastic {
-  MeshlessStrain,  ///< docs/model.md section 19 (A): the point-primitive energy (default)
-  TetNeoHookean    ///< docs/model.md section 19 (B): the virtual tetrahedra's neo-Hookean pair
+  MeshlessStrain,  ///< docs/model/19-position-based.md (A): the point-primitive energy (default)
+  TetNeoHookean    ///< docs/model/19-position-based.md (B): the virtual tetrahedra's neo-Hookean pair
 };
 
 struct XpbdSettings {
@@ -48,7 +48,7 @@ struct XpbdSettings {
   double step_s = 1e-3;             ///< step (haptic tick), s; split into `substeps`
   int substeps = 8;                 ///< n_sub per step
   int iterations = 2;               ///< n_it Gauss-Seidel sweeps per substep (docs/validation.md, xpbd table)
-  double damping_per_s = 10.0;      ///< mass-proportional damping c, 1/s (docs/model.md section 19.6: 5-20)
+  double damping_per_s = 10.0;      ///< mass-proportional damping c, 1/s (docs/model/12-equation-of-motion.md: 5-20)
   XpbdElastic elastic = XpbdElastic::MeshlessStrain;
   double stretch_modulus_pa = 0.0;  ///< E_s of the tet-edge stretching constraints, k_e = E_s l0 (0: off), Pa
   double energy_modulus_pa = 0.0;   ///< kappa_e of the per-spring barycentre constraints (0: off), Pa
@@ -77,7 +77,7 @@ class XpbdModel final : public Model, public DeviceDrivenModel {
   DeviceDrivenModel* device_driven() override { return this; }
 
   /// Places tool o by a device pose (rigid_obstacle.hpp obstacle_posed) for the end of the next step;
-  /// the substeps move it linearly from its previous pose (docs/model.md section 19, "interpolate between ticks"). From
+  /// the substeps move it linearly from its previous pose (docs/model/22-contact.md section 22.1). From
   /// the first call on, the tool ignores its load-factor motion. Throws std::out_of_range for a bad o.
   void set_tool_pose(std::size_t o, const Vec3& position_m, const Eigen::Quaterniond& orientation) override;
   /// The geometry tool o had in the last substep.

@@ -92,7 +92,7 @@ std::shared_ptr<const ContactSurface> build_contact_surface(const Scene& scene, 
   auto out = std::make_shared<ContactSurface>();
   // The default: a third of the surface's mean edge, and on each triangle no coarser than a third of its own
   // mean edge, so that a graded lattice's fine window, under the tool, is sampled as densely as a uniform
-  // lattice (docs/model.md 22.5).
+  // lattice (docs/model/22-contact.md §22.5).
   constexpr double kEdgeFraction = 1.0 / 3.0;
   const bool asked = spec.sample_spacing_m > 0.0;
   out->sample_spacing_m = asked ? spec.sample_spacing_m : kEdgeFraction * mean_edge(surf);

@@ -1,5 +1,5 @@
 #pragma once
-// Builds the wall's contact surface for embedded contact (model/contact_surface.hpp, docs/model.md section
+// Builds the wall's contact surface for embedded contact (model/contact_surface.hpp, docs/model/22-contact.md section
 // 22.5) from the body's render surface: samples between the vertices (geometry/surface_samples.hpp) and their
 // shape functions over the nodes, either
 //   "interpolated": the barycentric weights of the triangle's vertices, where each vertex is a node (the

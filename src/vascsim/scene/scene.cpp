@@ -139,7 +139,7 @@ GeometrySpec read_geometry(JsonReader g) {
     s.tube.length_m = g.required_number("length_m", 1e-7, 100.0);
   } else if (s.type == "vessel") {
     read_wall_section(g, s.tube);
-    if (s.tube.min_layers < 3) g.fail("min_layers", "a swept vessel needs at least 3 layers (docs/model.md design decision 2)");
+    if (s.tube.min_layers < 3) g.fail("min_layers", "a swept vessel needs at least 3 layers (docs/model/00-design-decisions.md, decision 2)");
     if (!g.has("centerline")) g.missing("centerline", "a centre-line object is required");
     s.centerline = read_centerline(g.object("centerline"));
     g.allow({"refine"});  // listed as allowed whether or not the scene has the block
@@ -332,7 +332,7 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
   sc.discretization.min_neighbours = disc.integer("min_neighbours", 12, 4, 200);
   sc.discretization.min_eigen_ratio = disc.number("min_eigen_ratio", 1e-3, 1e-12, 1.0);
   sc.discretization.max_growths = disc.integer("max_growths", 3, 0, 10);
-  // Supports that follow the wall wherever a lattice has node layers through one (docs/model.md section 3.1), for
+  // Supports that follow the wall wherever a lattice has node layers through one (docs/model/03-neighbourhoods.md section 3.1), for
   // the models that ask for it: against the FEM references they converge to the same answer as isotropic ones
   // and halve the error at coarse resolutions. The paper's kernel is isotropic.
   const bool wall_support = wall_default(sc, literal, &ModelCapabilities::wall_support_default);
@@ -344,7 +344,7 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
   // The models that ask for it get, on such a wall, the configuration docs/validation.md ("Gauss points over the
   // wall's cells") finds within about 2 % of the FEM references at the default resolutions and within 5 % at a few
   // thousand nodes: the quadratic basis, supports that reach through the wall's thickness and 2 x 2 x 2 Gauss
-  // points over each node's cell of the wall (docs/model.md sections 3.2, 4.4, 5.1).
+  // points over each node's cell of the wall (docs/model/ sections 3.2, 4.4, 5.1).
   const bool accurate = on_wall && wall_default(sc, literal, &ModelCapabilities::accurate_wall_default);
   const std::string basis =
       disc.string("basis", accurate ? "quadratic" : "linear", {"linear", "quadratic", "wall_quadratic"});
@@ -371,7 +371,7 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
   if (gauss && !on_wall)
     disc.fail("wall_quadrature", fmt::format("'{}' places points in the wall and needs discretization.support 'wall' "
                                              "(a geometry of type 'tube' or 'vessel')", quadrature));
-  // The quadratic basis's partner is the Simpson rule wherever the lattice has layers (docs/model.md section 4):
+  // The quadratic basis's partner is the Simpson rule wherever the lattice has layers (docs/model/04-volumes.md):
   // with the tet partition's trapezoid weights it overestimates a bending field's energy by half. Through-wall
   // Gauss points integrate bending exactly themselves, over the tet partition's volumes.
   const bool layered = sc.geometry.type != "mesh";
@@ -393,7 +393,7 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
       sc.discretization.support != DiscretizationOptions::Support::Wall)
     disc.fail("basis", "'wall_quadratic' fits in the frame of the wall and needs discretization.support 'wall' (a "
                        "geometry of type 'tube' or 'vessel'); use 'linear' or 'quadratic'");
-  // The through-wall cube (docs/model.md section 5.3): part of the quadratic fit's default on walls, where
+  // The through-wall cube (docs/model/05-local-fit.md section 5.3): part of the quadratic fit's default on walls, where
   // the two contact cases with converged FEM references ask for it; it changes nothing on a wall of three
   // layers.
   sc.discretization.wall_cube = disc.boolean("wall_cube", accurate_fit);
@@ -401,7 +401,7 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
     disc.fail("wall_cube",
               "the through-wall cube extends the quadratic fit on a wall and needs discretization.basis "
               "'quadratic' and support 'wall' (a geometry of type 'tube' or 'vessel')");
-  // The cubics with a through-wall factor beside the cube (docs/model.md section 5.4): more accurate at the default
+  // The cubics with a through-wall factor beside the cube (docs/model/05-local-fit.md section 5.4): more accurate at the default
   // resolutions, less at coarse ones, so not the default.
   const bool cell_points = quadrature == "gauss_cell";
   const std::string cubics = disc.string("wall_cubics", "cube", {"cube", "through_wall"});
@@ -425,7 +425,7 @@ void read_energy(JsonReader& root, bool literal, Scene& sc) {
                          ? StrainMeasure::GreenHalf
                          : StrainMeasure::MuellerNoHalf;
   sc.energy.stabilizer_alpha = en.number("stabilizer_alpha", literal ? 0.0 : 0.1, 0.0, 10.0);
-  // On a wall with node layers the equilibrium models' stabiliser leaves bending to the strain energy (docs/model.md
+  // On a wall with node layers the equilibrium models' stabiliser leaves bending to the strain energy (docs/model/09-volume-term-and-stabiliser.md
   // section 9.3): the linear fit's residuals of a bending field are not zero-energy modes, and penalising them
   // stiffened the vein at its real-time resolution by 2.4-5 % against the FEM references.
   const bool quadratic_default = wall_default(sc, literal, &ModelCapabilities::quadratic_stabilizer_default);
@@ -796,7 +796,7 @@ void warn_implausible_sizes(Scene& sc) {
 }
 
 // The coarsest node spacing along a wall, in wall thicknesses, at which the forces are measured within a few
-// percent (docs/validation.md, "Real-time resolutions"; docs/model.md section 17 item 3 says why coarser is
+// percent (docs/validation.md, "Real-time resolutions"; docs/model/17-limitations.md item 3 says why coarser is
 // worse: the supports grow and smooth the strain through the wall):
 // - the quadratic fit (quasi_static's default on walls): at 1x the vein (0.3 mm), the aorta (1.5 mm), the retina
 //   (20 um) and the catheter are within 2.6 % of their fine lattices, the aorta at 1.47x (2.2 mm) is 16.5 % off;

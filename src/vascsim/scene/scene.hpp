@@ -140,7 +140,7 @@ struct ViewerSpec {
   Vec3 anterior = Vec3::UnitY();
 };
 
-/// Where the tools meet the tissue (docs/model.md section 22; the top-level `contact` block).
+/// Where the tools meet the tissue (docs/model/22-contact.md; the top-level `contact` block).
 struct ContactSpec {
   /// "nodes": the nodes are points the tools push (an active set); "embedded": the tools meet the wall's
   /// MLS-mapped surface, sampled between the nodes, through a penalty (section 22.5).

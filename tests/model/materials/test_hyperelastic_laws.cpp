@@ -36,10 +36,10 @@ using namespace vascsim;
 using namespace vascsim::materials;
 using test::record;
 
-constexpr double kE = 0.5e6;  // Pa, hand dorsal vein default (docs/model.md "Design decisions")
+constexpr double kE = 0.5e6;  // Pa, hand dorsal vein default (docs/model/00-design-decisions.md)
 constexpr double kNu = 0.45;
 
-// Isotropic linear elasticity of (E, nu), docs/model.md section 1.
+// Isotropic linear elasticity of (E, nu), docs/model/01-notation.md.
 double lame_lambda(double E, double nu) {
   return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
 }
@@ -550,7 +550,7 @@ TEST(HyperelasticLawFactory, RoundTripAndSummaryJson) {
 
 TEST(HyperelasticLawSvk, MatchesPointPrimitiveEnergy) {
   // PointPrimitiveEnergy (SVK, k_v = 0, no stabiliser) on a 5^3 lattice under the affine map x = F X:
-  // the patch test gives F_i = F at every node (docs/model.md section 6, to ~1e-15), so its strain energy is
+  // the patch test gives F_i = F at every node (docs/model/06-gradients.md, to ~1e-15), so its strain energy is
   // psi_SVK(F) sum_i V_i. Tolerance 1e-10 relative (per-node F errors ~1e-14 enter psi linearly).
   const Material m = test::tissue(kE, kNu);
   const Discretization disc(test::lattice(4), m);

@@ -25,7 +25,7 @@
 // Linear elasticity is psi_lin = mu eps:eps + lambda/2 (tr eps)^2, so the law matches (E, nu) at small
 // strain with the same shear modulus mu and
 //   lambda' = lambda + mu = E / (2 (1 + nu)(1 - 2 nu))     (> 0 for every admissible nu),
-// where lambda = E nu / ((1 + nu)(1 - 2 nu)) and mu = E / (2 (1 + nu)) (docs/model.md section 1).
+// where lambda = E nu / ((1 + nu)(1 - 2 nu)) and mu = E / (2 (1 + nu)) (docs/model/01-notation.md).
 //
 // Inversion (det F <= 0): psi is a polynomial, so it is finite for every F, and P is continuous. The
 // volumetric term pulls J towards alpha > 0: for F = diag(1, 1, s),

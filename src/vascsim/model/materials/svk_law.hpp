@@ -1,5 +1,5 @@
 #pragma once
-// St Venant-Kirchhoff (SVK) law, the sound-mode strain energy of docs/model.md section 7:
+// St Venant-Kirchhoff (SVK) law, the sound-mode strain energy of docs/model/07-strain-stress-energy.md:
 //
 //   E   = 1/2 (F^T F - I)                       Green-Lagrange strain
 //   psi = lambda/2 (tr E)^2 + mu tr(E^2)        J/m^3
@@ -7,13 +7,13 @@
 //   P   = F S                                   1st Piola-Kirchhoff stress, Pa
 //   dP  = dF S + F (lambda tr(dE) I + 2 mu dE),  dE = sym(F^T dF)
 //
-// lambda = E nu / ((1 + nu)(1 - 2 nu)), mu = E / (2 (1 + nu)) (docs/model.md section 1). This is exactly
+// lambda = E nu / ((1 + nu)(1 - 2 nu)), mu = E / (2 (1 + nu)) (docs/model/01-notation.md). This is exactly
 // PointPrimitiveEnergy's StrainMeasure::GreenHalf term with k_v = 0 (point_primitive_energy.cpp,
 // weighted_stress()/stress()); the unit test HyperelasticLawSvk.MatchesPointPrimitiveEnergy checks it.
 //
 // Parameters: youngs_modulus_pa E > 0 (Pa); poisson_ratio nu in (-1, 0.5).
 // Validity: any F. The small-strain response is linear elasticity with (E, nu). Known weaknesses
-// (docs/model.md section 17): blind to reflections (psi(QF) = psi(F) for det Q = -1: an inverted node costs no
+// (docs/model/17-limitations.md): blind to reflections (psi(QF) = psi(F) for det Q = -1: an inverted node costs no
 // energy) and softening in compression below a stretch of 1/sqrt(3).
 // Reference: e.g. Bonet & Wood, "Nonlinear Continuum Mechanics for Finite Element Analysis", 2nd ed.,
 // Cambridge University Press 2008, Ch. 6; Holzapfel, "Nonlinear Solid Mechanics", Wiley 2000, Ch. 6.

@@ -486,6 +486,37 @@ TEST(SceneValidation, BadMeshFilesExitTwoWithOneLineNamingTheFile) {
   }
 }
 
+// An OBJ vertex line that is not three finite numbers (io/obj_check.cpp): `check` exits 2 with one line
+// naming the mesh file and its line. Before the check, a NaN vertex no face uses and "1,5" (read as 1) were
+// meshed and the check passed (exit 0), and a NaN vertex a face uses was named as "vertex 1 ... (nan, nan,
+// nan)", not where it is.
+TEST(SceneValidation, BadObjVertexExitsTwoNamingTheLine) {
+  const fs::path dir = test_dir();
+  const std::string faces = "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {"unused-nan.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0 nan 0\n" + faces},  // line 5
+      {"used-nan.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 nan 1\n" + faces},             // line 4
+      {"comma.obj", "v 0 0 0\nv 1 0 0\nv 0 1,5 0\nv 0 0 1\n" + faces},                // line 3
+  };
+  const std::string lines[] = {"line 5: vertex 5", "line 4: vertex 4", "line 3: vertex 3"};
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const auto& [name, text] = files[i];
+    SCOPED_TRACE(name);
+    const fs::path mesh = dir / name;
+    write_text(mesh, text);
+    json s = tiny_box();
+    s["geometry"] = {
+        {"type", "mesh"}, {"file", mesh.string()}, {"wall_thickness_m", 0.1}, {"node_spacing_m", 0.1}};
+    s["regions"] = json::parse(R"([{"name": "base", "select": {"type": "box", "max_m": [2, 0.2, 2]},
+                                    "bc": {"type": "fixed"}}])");
+    const std::string path = write_scene(dir / ("scene-" + name + ".json"), s);
+    const CliResult r = cli({"-q", "check", path});
+    EXPECT_EQ(r.code, 2) << r.err;
+    ASSERT_EQ(r.messages.size(), 1u) << r.err;
+    EXPECT_NE(r.messages[0].find(mesh.string() + ": OBJ: " + lines[i]), std::string::npos) << r.messages[0];
+  }
+}
+
 TEST(SceneValidation, MessagesAreSingleLineFromParseScene) {
   json s = tiny_box();
   s["energy"] = {{"volume_stiffness_pa", -1.0}};

@@ -2,11 +2,15 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <fmt/format.h>
 #include <iostream>
+#include <latch>
 #include <omp.h>
 #include <spdlog/sinks/ostream_sink.h>
 #include <spdlog/spdlog.h>
+#include <thread>
 #include <unistd.h>
+#include <vector>
 
 #include "vascsim/app/command.hpp"
 #include "vascsim/core/build_info.hpp"
@@ -38,9 +42,39 @@ void fall_through(CLI::App& app) {
   }
 }
 
+// The largest -j. Beyond the cores, threads only wait for one another (docs/performance.md, section 6), and
+// 256 is as many as the largest common machines have hardware threads (a two-socket server of 2 x 64 cores
+// with SMT); a fixed bound rather than a multiple of this machine's cores, so that a command line valid on one
+// machine is valid on another. It also keeps an absurd -j (1024, 100000) away from OpenMP, which ends the
+// process when it cannot create a team's threads (below).
+constexpr int kMaxThreads = 256;
+
+// libgomp ends the process (exit code 1, "libgomp: Thread creation failed") when it cannot create a thread of a
+// team, at the first parallel region. So the threads -j asks for are started here first, all alive at once as
+// OpenMP's team would be, and ended again: a limit on processes (ulimit -u) or on the address space for their
+// stacks (ulimit -v) is then one line and exit code 2, before any work.
+void check_threads_can_start(int threads) {
+  std::latch release(1);
+  std::vector<std::thread> started;
+  std::string failure;
+  try {
+    started.reserve(static_cast<std::size_t>(threads - 1));
+    while (static_cast<int>(started.size()) < threads - 1) started.emplace_back([&release] { release.wait(); });
+  } catch (const std::exception& e) {
+    failure = e.what();
+  }
+  release.count_down();
+  for (std::thread& t : started) t.join();
+  if (!failure.empty())
+    throw InputError(fmt::format("-j {}: only {} threads could be started ({}): a limit on processes (ulimit -u) or "
+                                 "on memory (ulimit -v) allows fewer; choose a smaller -j",
+                                 threads, started.size() + 1, failure));
+}
+
 // -j, else OMP_NUM_THREADS (read by OpenMP itself), else the cores other work leaves idle (thread_default.hpp).
 void apply_thread_count(int requested) {
   if (requested > 0) {
+    if (requested > 1) check_threads_can_start(requested);
     omp_set_num_threads(requested);
     return;
   }
@@ -77,9 +111,10 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   app.add_flag("-q,--quiet", ctx.quiet, "Only warnings and errors on stderr");
   app.add_flag("-v,--verbose", ctx.verbose, "Debug logging");
   app.add_option("-j,--threads", ctx.threads,
-                 "OpenMP threads (default: OMP_NUM_THREADS if set, else the cores the load average leaves idle, at "
-                 "least 1)")
-      ->check(CLI::Range(1, 1024));
+                 fmt::format("OpenMP threads, 1 to {} (default: OMP_NUM_THREADS if set, else the cores the load "
+                             "average leaves idle, at least 1)",
+                             kMaxThreads))
+      ->check(CLI::Range(1, kMaxThreads));
   std::vector<Command> commands;
   add_run_command(app, ctx, commands);
   add_check_command(app, ctx, commands);
@@ -122,9 +157,9 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
     ~RestoreLogger() { spdlog::set_default_logger(previous); }
   } restore_logger;
   setup_logging(err, ctx.quiet, ctx.verbose);
-  apply_thread_count(ctx.threads);
   const InterruptGuard interrupt_guard;
   try {
+    apply_thread_count(ctx.threads);
     for (const Command& c : commands)
       if (c.app->parsed()) {
         const int code = c.run();

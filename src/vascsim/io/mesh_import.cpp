@@ -16,6 +16,7 @@
 #include <string>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/io/obj_check.hpp"
 #include "vascsim/io/ply_check.hpp"
 #include "vascsim/io/stl_check.hpp"
 
@@ -106,9 +107,11 @@ TriangleMesh import_triangle_mesh(const std::filesystem::path& file, double scal
   if (ec) fail("cannot read the file size: " + ec.message());
   if (size == 0) fail("the file is empty");
   // What assimp does not check or hides: the PLY structure (its loader trusts the header), STL numbers (its
-  // vertex joining merges a NaN corner into another vertex).
+  // vertex joining merges a NaN corner into another vertex), OBJ vertex lines (it reads what it can of a
+  // number: "nan", "1,5").
   if (ext == ".ply") check_ply(read_bytes(file, name), name);
   if (ext == ".stl") check_stl_numbers(read_bytes(file, name), name);
+  if (ext == ".obj") check_obj_vertices(read_bytes(file, name), name);
 
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(name, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);

@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
       for (std::size_t i = 0; i < x.size(); ++i) max_displacement_m = std::max(max_displacement_m, (x[i] - rest[i]).norm());
       std::printf("step %d: load factor %.3f, max displacement %.6g m", k, record.report.load_factor, max_displacement_m);
       if (!record.obstacles.empty()) {
-        const vascsim::Vec3 on_tool = -record.obstacles[0].force_n;  // the tissue's force on the first tool, N
+        const vascsim::Vec3 on_tool = -record.obstacles[0].force_vector_n;  // the tissue's force on the first tool, N
         std::printf(", force on tool '%s' %.9g %.9g %.9g N", scene.obstacles[0].name.c_str(), on_tool.x(), on_tool.y(),
                     on_tool.z());
       }

@@ -51,16 +51,16 @@ py::dict record_to_dict(const Scene& scene, const StepRecord& r) {
   for (std::size_t i = 0; i < r.regions.size() && i < scene.regions.size(); ++i) {
     const RegionMeasure& m = r.regions[i];
     regions[py::str(scene.regions[i].name)] =
-        py::dict(py::arg("displacement_m") = m.displacement_m, py::arg("force_n") = m.force_projected_n,
-                 py::arg("force_vector_n") = vec3(m.force_n));
+        py::dict(py::arg("displacement_m") = m.displacement_m, py::arg("force_n") = m.force_n,
+                 py::arg("force_vector_n") = vec3(m.force_vector_n));
   }
   for (std::size_t i = 0; i < r.probes.size() && i < scene.probes.size(); ++i)
     probes[py::str(scene.probes[i].name)] = r.probes[i];
   for (std::size_t i = 0; i < r.obstacles.size() && i < scene.obstacles.size(); ++i) {
     const ObstacleMeasure& m = r.obstacles[i];
     tools[py::str(scene.obstacles[i].name)] =
-        py::dict(py::arg("displacement_m") = m.displacement_m, py::arg("force_n") = m.force_projected_n,
-                 py::arg("force_vector_n") = vec3(m.force_n), py::arg("torque_vector_n_m") = vec3(m.torque_n_m),
+        py::dict(py::arg("displacement_m") = m.displacement_m, py::arg("force_n") = m.force_n,
+                 py::arg("force_vector_n") = vec3(m.force_vector_n), py::arg("torque_vector_n_m") = vec3(m.torque_vector_n_m),
                  py::arg("contacts") = m.contacts);
   }
   // The names and meanings of summary.json's steps (run/runner.cpp, step_json): force_n the scalar, force_vector_n

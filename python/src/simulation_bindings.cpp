@@ -24,6 +24,7 @@
 #include "vascsim/core/error.hpp"
 #include "vascsim/model/device_driven_model.hpp"
 #include "vascsim/model/registry.hpp"
+#include "vascsim/run/run_findings.hpp"
 #include "vascsim/run/tool_reach.hpp"
 
 namespace vascsim::python {
@@ -49,8 +50,10 @@ void log_tool_reach_warnings(const Scene& scene, const Simulation& sim) {
 class PySimulation {
  public:
   PySimulation(const Scene& scene, const std::string& model)
-      : sim_(with_model(scene, model)), positions_(sim_.model().positions()), last_(sim_.initial_record()) {
+      : sim_(with_model(scene, model)), positions_(sim_.model().positions()), last_(sim_.initial_record()),
+        findings_(sim_.scene(), sim_.body()) {
     log_accuracy_warnings(sim_.scene(), sim_);
+    findings_.add(last_);
   }
 
   const Scene& scene() const { return sim_.scene(); }
@@ -73,7 +76,11 @@ class PySimulation {
     }
     ++next_output_;
     keep(r);
+    findings_.add(r);
     log_step(scene().name, scene().model, r, total);
+    // After the last output point, what `vascsim run` finds in a finished run (summary.json's warnings).
+    if (next_output_ > total)
+      for (const std::string& w : findings_.warnings(total)) spdlog::warn("{}", w);
     emit_log();
     return r;
   }
@@ -142,6 +149,7 @@ class PySimulation {
   Simulation sim_;
   Vec3Array positions_;
   StepRecord last_;
+  RunFindings findings_;  // of the output points (advance), not of device frames (step)
   int next_output_ = 1;
   int frames_ = 0;
   double total_wall_s_ = 0.0;
@@ -185,8 +193,8 @@ py::list tool_loads(PySimulation& s) {
     const ObstacleLoad l = i < loads.size() ? loads[i] : ObstacleLoad{};
     py::dict t;
     t["name"] = scene.obstacles[i].name;
-    t["force_vector_n"] = vec3(l.force_n);
-    t["torque_vector_n_m"] = vec3(l.torque_n_m);
+    t["force_vector_n"] = vec3(l.force_vector_n);
+    t["torque_vector_n_m"] = vec3(l.torque_vector_n_m);
     t["contacts"] = l.contacts;
     if (d)
       if (const std::optional<Vec3> p = d->tool_position_used(i)) t["position_used_m"] = vec3(*p);

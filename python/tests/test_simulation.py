@@ -2,6 +2,7 @@
 the mapped surface, region and tool forces, the solver's statistics, its progress and warnings."""
 
 import csv
+import json
 import logging
 import warnings
 
@@ -9,6 +10,7 @@ import numpy as np
 import pytest
 
 import vascsim
+from conftest import run_cli
 
 # The ball of pressed-block.json 7 mm above its path: its motion never reaches the block.
 BALL_AWAY = {"obstacles.0.centre_m": [0.0015, 0.0015, 0.01]}
@@ -207,3 +209,22 @@ def test_two_simulations_run_in_two_threads(block_path, vessel_path):
         for kind in ("regions", "tools"):
             for name, values in alone[kind].items():
                 np.testing.assert_array_equal(together[kind][name]["force_vector_n"], values["force_vector_n"])
+
+
+def test_solve_warns_what_a_finished_run_finds_as_the_command_line_does(block_path, tmp_path):
+    # The ball's Hertz contact spans 1.3 spacings of the 0.5 mm lattice at its first 0.1 mm: `vascsim run` ends
+    # with that warning in summary.json, and solve() issues the same text once its last load step is solved.
+    code, _, _ = run_cli("-q", "run", block_path, "--out", tmp_path)
+    assert code == 0
+    expected = json.loads((tmp_path / "summary.json").read_text())["warnings"]
+    ending = [w for w in expected if "narrower than the lattice resolves" in w]
+    assert len(ending) == 1
+    sim = vascsim.Simulation(vascsim.load_scene(block_path))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        for _ in range(3):
+            sim.advance()
+        before_last = [str(w.message) for w in caught]
+        sim.advance()
+    assert ending[0] not in before_last  # said once the run is finished, not before
+    assert [str(w.message) for w in caught if issubclass(w.category, vascsim.VascsimWarning)][-1] == ending[0]

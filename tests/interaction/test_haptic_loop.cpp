@@ -286,6 +286,22 @@ TEST(ForceOutputFilter, ClampsToTheContinuousLimitAfterARamp) {
   EXPECT_LE(f.max_force_sent_n(), 0.88);
 }
 
+// The HUD shows the last force sent beside the model's (viewer/frame_presenter): the magnitude actually sent,
+// after the clamp, and zero after a non-finite request.
+TEST(ForceOutputFilter, RemembersTheLastForceSent) {
+  ForceOutputFilter f = ForceOutputFilter::for_device(DeviceLimits{});
+  EXPECT_EQ(f.last_force_sent_n(), 0.0);
+  f.apply(Vec3(0.0, 0.03, 0.04));
+  EXPECT_NEAR(f.last_force_sent_n(), 0.05, 1e-15);
+  f.apply(Vec3(0.02, 0.0, 0.0));
+  EXPECT_NEAR(f.last_force_sent_n(), 0.02, 1e-15);
+  EXPECT_NEAR(f.max_force_sent_n(), 0.05, 1e-15);
+  for (int i = 0; i < 20; ++i) f.apply(Vec3(5.0, 0.0, 0.0));
+  EXPECT_NEAR(f.last_force_sent_n(), 0.88, 1e-12);  // the clamp's, not the request's
+  f.apply(Vec3(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0));
+  EXPECT_EQ(f.last_force_sent_n(), 0.0);
+}
+
 TEST(ForceOutputFilter, StepLimitRampsAStep) {
   ForceOutputSettings s;
   s.max_force_n = 3.0;

@@ -1,4 +1,4 @@
-// The five comparison baselines of the paper's section 3.3 (docs/model.md section 25): each one's small-strain
+// The five comparison baselines of the paper's section 3.3 (docs/model/25-baselines.md): each one's small-strain
 // stiffness against quasi_static (or the documented bias where the method cannot match), the balance of a tool
 // press against the supports, and the stability of the explicit ones at their documented time step.
 
@@ -101,7 +101,7 @@ TEST(Baselines, FemQuasiNewtonSmallStrainIsTheLinearTetSolution) {
 }
 
 // Against quasi_static (the point-primitive model): every baseline's tip deflection ratio lies in its documented
-// band (docs/model.md section 25.7, measured 2 cells across at nu = 0.45; "Slow": about 1-6 s each on the
+// band (docs/model/25-baselines.md section 25.7, measured 2 cells across at nu = 0.45; "Slow": about 1-6 s each on the
 // shared machine, Release only). P1 tets lock in bending at
 // nu = 0.45 on 2 cells (too stiff), the spring networks cannot represent nu = 0.45 (their lattice has nu = 1/4,
 // with volume constraints making up the bulk modulus), and the surface model carries the beam's mass and
@@ -160,7 +160,7 @@ class BaselinePress : public ::testing::TestWithParam<const char*> {};
 TEST_P(BaselinePress, ToolForceBalancesTheSupport) {
   Simulation sim(parse_scene(baseline_press_scene(GetParam()), "pressed-block"));
   const StepRecord last = test::run_to_end(sim);
-  const Vec3 tool = last.obstacles.at(0).force_n, support = last.regions.at(0).force_n;
+  const Vec3 tool = last.obstacles.at(0).force_vector_n, support = last.regions.at(0).force_vector_n;
   std::printf("[ baselines ] %s press: tool z %.6g N (%d contacts), support z %.6g N\n", GetParam(), tool.z(),
               last.obstacles.at(0).contacts, support.z());
   EXPECT_GT(last.obstacles.at(0).contacts, 0);
@@ -185,7 +185,7 @@ TEST_P(BaselinePress, DevicePoseDrivesTheTool) {
   EXPECT_NEAR(dd->time(), 10 * dd->frame_length_s(), 1e-12);  // ten sums of the frame length: round-off only
   const ObstacleLoad load = dd->tool_loads().at(0);
   EXPECT_GT(load.contacts, 0);
-  EXPECT_LT(load.force_n.z(), 0.0);
+  EXPECT_LT(load.force_vector_n.z(), 0.0);
 }
 
 // The explicit baselines' step, safety * 2 / (omega + gamma) from Gershgorin bounds, is the stability limit of

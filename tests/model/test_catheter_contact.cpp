@@ -98,8 +98,8 @@ Balance run_to_balance(Simulation& sim) {
   for (int k = 1; k <= sim.model().num_steps(); ++k) rec = sim.advance(k);
   EXPECT_TRUE(rec.report.converged);
   Balance b;
-  b.tool_force = rec.obstacles.at(0).force_n;
-  b.tool_moment = rec.obstacles.at(0).torque_n_m;
+  b.tool_force = rec.obstacles.at(0).force_vector_n;
+  b.tool_moment = rec.obstacles.at(0).torque_vector_n_m;
   b.contacts = rec.obstacles[0].contacts;
   const RigidObstacle& ob = sim.scene().obstacles[0];
   const Vec3 point = tool_point_at(ob, rec.report.load_factor);
@@ -228,7 +228,7 @@ TEST(Catheter, XpbdFollowsTheDevicePose) {
     const double depth = std::min(k, 100) * 1e-5;  // 1 mm over 100 ms, then hold
     model.set_tool_pose(0, tip0 - Vec3(0, 0, depth), q);
     model.step();
-    const double fz = -model.obstacle_loads()[0].force_n.z();
+    const double fz = -model.obstacle_loads()[0].force_vector_n.z();
     largest_jump = std::max(largest_jump, std::abs(fz - previous));
     previous = fz;
   }
@@ -248,7 +248,7 @@ TEST(Catheter, QuasiStaticDrivenByTheDevicePoseMatchesTheLoadSteps) {
   Simulation stepped(parse_scene(catheter_press_scene("quasi_static"), "catheter-block"));
   StepRecord last;
   for (int k = 1; k <= stepped.model().num_steps(); ++k) last = stepped.advance(k);
-  const Vec3 f_stepped = last.obstacles.at(0).force_n;
+  const Vec3 f_stepped = last.obstacles.at(0).force_vector_n;
 
   json doc = catheter_press_scene("quasi_static");
   doc["obstacles"][0]["motion_m"] = {0.0, 0.0, 0.0};
@@ -264,14 +264,14 @@ TEST(Catheter, QuasiStaticDrivenByTheDevicePoseMatchesTheLoadSteps) {
     EXPECT_TRUE(r.converged);
     EXPECT_NEAR(model->time(), 0.002 * k, 1e-15);
   }
-  const Vec3 f_posed = model->tool_loads().at(0).force_n;
+  const Vec3 f_posed = model->tool_loads().at(0).force_vector_n;
   std::printf("[ catheter ] quasi_static posed: (%.6g, %.6g, %.6g) N, load-stepped (%.6g, %.6g, %.6g) N\n",
               f_posed.x(), f_posed.y(), f_posed.z(), f_stepped.x(), f_stepped.y(), f_stepped.z());
   EXPECT_LT((f_posed - f_stepped).norm(), 1e-5 * f_stepped.norm());
   // The same pose again is the same equilibrium.
   model->set_tool_pose(0, tip0 - Vec3(0, 0, 1e-3), q);
   model->step();
-  EXPECT_LT((model->tool_loads().at(0).force_n - f_posed).norm(), 1e-5 * f_posed.norm());
+  EXPECT_LT((model->tool_loads().at(0).force_vector_n - f_posed).norm(), 1e-5 * f_posed.norm());
 }
 
 }  // namespace

@@ -124,10 +124,10 @@ TEST(EmbeddedContact, TheToolFeelsWhatTheNodesReceive) {
   for (const Vec3& g : force) total += g;
   const ObstacleLoad load = contact.loads({sphere.a}).at(0);
   EXPECT_EQ(load.contacts, contact.active());
-  EXPECT_LT(load.force_n.z(), 0.0);
-  EXPECT_NEAR((load.force_n - total).norm(), 0.0, 1e-12 * load.force_n.norm());
-  EXPECT_NEAR(load.torque_n_m.norm(), 0.0, 1e-12 * load.force_n.norm() * sphere.radius_m);
-  EXPECT_NEAR(contact.squared_force(), load.force_n.squaredNorm(), 1e-12 * load.force_n.squaredNorm());
+  EXPECT_LT(load.force_vector_n.z(), 0.0);
+  EXPECT_NEAR((load.force_vector_n - total).norm(), 0.0, 1e-12 * load.force_vector_n.norm());
+  EXPECT_NEAR(load.torque_vector_n_m.norm(), 0.0, 1e-12 * load.force_vector_n.norm() * sphere.radius_m);
+  EXPECT_NEAR(contact.squared_force(), load.force_vector_n.squaredNorm(), 1e-12 * load.force_vector_n.squaredNorm());
   // Nothing penetrates once the sphere is lifted clear.
   contact.place(0, {sphere.a + Vec3(0, 0, 0.1e-3), sphere.a + Vec3(0, 0, 0.1e-3), sphere.radius_m});
   contact.linearize(f.X);

@@ -131,9 +131,9 @@ TEST(QuasiStatic, ReactionsBalanceOnAnIndentedTube) {
   for (int k = 1; k <= 2; ++k) r = sim.advance(k);
   ASSERT_TRUE(r.report.converged);
   const double weight = 9.81 * sim.discretization().total_volume() * 1060.0;
-  const Vec3 total = r.regions[0].force_n + r.regions[1].force_n + r.regions[2].force_n + Vec3(0, 0, -weight);
-  const double scale = r.regions[2].force_n.norm();
-  EXPECT_GT(r.regions[2].force_projected_n, 0.0);  // the tissue resists the indenter
+  const Vec3 total = r.regions[0].force_vector_n + r.regions[1].force_vector_n + r.regions[2].force_vector_n + Vec3(0, 0, -weight);
+  const double scale = r.regions[2].force_vector_n.norm();
+  EXPECT_GT(r.regions[2].force_n, 0.0);  // the tissue resists the indenter
   EXPECT_LT(total.norm(), 1e-6 * scale);
   EXPECT_NEAR(r.regions[2].displacement_m, 0.3e-3, 1e-15);
 }

@@ -1,4 +1,4 @@
-// The real-time equilibrium model `implicit` (docs/model.md section 24): its steady state is the static
+// The real-time equilibrium model `implicit` (docs/model/24-implicit.md): its steady state is the static
 // equilibrium of quasi_static, its tool force balances the supports (T14), and the tool stiffness it hands to
 // the haptic thread is the derivative of the equilibrium force.
 
@@ -61,11 +61,11 @@ json implicit_press_scene(const std::string& model) {
 // quasi_static's equilibrium force (1e-4 relative: the held frames converge to round-off, see the cantilever).
 TEST(ImplicitModel, CatheterPressBalancesAndMatchesQuasiStatic) {
   Simulation stat(parse_scene(implicit_press_scene("quasi_static"), "catheter-block"));
-  const Vec3 f_static = test::run_to_end(stat).obstacles.at(0).force_n;
+  const Vec3 f_static = test::run_to_end(stat).obstacles.at(0).force_vector_n;
   Simulation imp(parse_scene(implicit_press_scene("implicit"), "catheter-block"));
   const StepRecord last = test::run_to_end(imp);
-  const Vec3 tool = last.obstacles.at(0).force_n;
-  const Vec3 support = last.regions.at(0).force_n;  // the force the base exerts on the tissue
+  const Vec3 tool = last.obstacles.at(0).force_vector_n;
+  const Vec3 support = last.regions.at(0).force_vector_n;  // the force the base exerts on the tissue
   std::printf("[ implicit ] press: tool (%.6g, %.6g, %.6g) N, support (%.6g, %.6g, %.6g) N, quasi_static z %.6g N\n",
               tool.x(), tool.y(), tool.z(), support.x(), support.y(), support.z(), f_static.z());
   EXPECT_GT(last.obstacles.at(0).contacts, 3);
@@ -103,7 +103,7 @@ TEST(ImplicitModel, ToolStiffnessMatchesAFiniteDifference) {
       model.set_tool_pose(0, tip0 - Vec3(0, 0, depth), q);
       model.step();
     }
-    return model.tool_loads().at(0).force_n;
+    return model.tool_loads().at(0).force_vector_n;
   };
   // Reach 0.5 mm gradually (the active set follows), then settle there.
   for (int k = 1; k <= 10; ++k) settle(0.05e-3 * k);
@@ -154,7 +154,7 @@ TEST(ImplicitModel, ADeviceJumpIsFollowedInBoundedSteps) {
     const Vec3 used = *model.tool_position_used(0);
     EXPECT_LE((used - previous).norm(), step * (1 + 1e-12)) << "frame " << frames;
     EXPECT_TRUE(r.converged) << "frame " << frames << ": residual " << r.residual;
-    EXPECT_GE(model.tool_loads().at(0).force_n.dot(Vec3(0, 0, -1)), 0.0) << "a pulling tool at frame " << frames;
+    EXPECT_GE(model.tool_loads().at(0).force_vector_n.dot(Vec3(0, 0, -1)), 0.0) << "a pulling tool at frame " << frames;
     previous = used;
   }
   EXPECT_GE(frames, 8);  // 1 mm in steps of 0.125 mm
@@ -163,12 +163,12 @@ TEST(ImplicitModel, ADeviceJumpIsFollowedInBoundedSteps) {
     model.set_tool_pose(0, target, q);
     model.step();
   }
-  const Vec3 f_followed = model.tool_loads().at(0).force_n;
+  const Vec3 f_followed = model.tool_loads().at(0).force_vector_n;
 
   json stat_doc = implicit_press_scene("quasi_static");  // the same press to 1 mm by load steps
   stat_doc["quasi_static"]["rel_tolerance"] = 1e-6;
   Simulation stat(parse_scene(stat_doc, "catheter-block"));
-  const Vec3 f_static = test::run_to_end(stat).obstacles.at(0).force_n;
+  const Vec3 f_static = test::run_to_end(stat).obstacles.at(0).force_vector_n;
   std::printf("[ implicit ] device jump of 1 mm: followed in %d frames, force z %.6g N; quasi_static %.6g N\n", frames,
               f_followed.z(), f_static.z());
   EXPECT_LT((f_followed - f_static).norm(), 1e-2 * f_static.norm());

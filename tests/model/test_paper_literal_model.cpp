@@ -1,6 +1,6 @@
-// The `paper_literal` model (docs/model.md section 19.5): selectable by name, runs a small beam bounded, uses the literal
+// The `paper_literal` model (docs/model/19-position-based.md section 19.5): selectable by name, runs a small beam bounded, uses the literal
 // strain whatever the scene's energy block says, uses Mueller's per-iteration stiffness k' = 1 - (1-k)^{1/n}
-// and therefore has the documented dt^2-dependent PBD steady state (docs/model.md section 16, E9, T13), and its
+// and therefore has the documented dt^2-dependent PBD steady state (docs/model/16-deviations.md, E9, T13), and its
 // constraint_forces() give support reactions that balance the applied load at steady state.
 #include <gtest/gtest.h>
 
@@ -88,7 +88,7 @@ CornerResult run_corner(double k, int n, double dt) {
   Vec3Array f_ext;
   c.problem->external_forces(1.0, f_ext);
   const auto m = c.problem->measure(1.0, model.positions(), *model.constraint_forces(), f_ext);
-  r.reaction = m[0].force_n;
+  r.reaction = m[0].force_vector_n;
   double mass = 0.0;
   for (double mi : c.disc->masses()) mass += mi;
   r.weight_n = mass * kGravity.norm();
@@ -121,7 +121,7 @@ TEST(PaperLiteralModel, SteadySagGrowsWithDtSquared) {
   ::testing::Test::RecordProperty("sag_ratio_16ms_1ms", std::to_string(ratio));
   EXPECT_GE(ratio, 200.0);
   EXPECT_LE(ratio, 300.0);
-  // The supports carry the whole weight through the PBD constraint forces (docs/model.md section 19 force
+  // The supports carry the whole weight through the PBD constraint forces (docs/model/19-position-based.md force
   // s grad C / dt^2): only the single free node is in motion and it is at rest, so 1e-9 relative.
   for (const CornerResult* r : {&fine, &coarse})
     EXPECT_LT((r->reaction + r->weight_n * kGravity.normalized()).norm(), 1e-9 * r->weight_n);
@@ -217,9 +217,9 @@ TEST(PaperLiteralModel, UsesTheLiteralStrainWhateverTheEnergyBlockSays) {
 // Reaction forces through constraint_forces(): at steady state the clamp's summed reaction balances the
 // tip load. The stretching constraints and the meshless forces conserve momentum exactly, so with k_e = 0
 // the imbalance is only the leftover motion (measured 9e-9 after 0.15 s with damping 300/s; tolerance
-// 1e-6). The literal energy constraints do not conserve momentum (docs/model.md section 16, E11: sum_b grad_b C != 0) and
+// 1e-6). The literal energy constraints do not conserve momentum (docs/model/16-deviations.md, E11: sum_b grad_b C != 0) and
 // their net force stays in the balance: measured 6.9e-4 of the load at this strain (1e-3); tolerance 5e-3,
-// and it must stay above 1e-5 so that a "fixed" energy constraint shows up here (docs/model.md design decision 1).
+// and it must stay above 1e-5 so that a "fixed" energy constraint shows up here (docs/model/00-design-decisions.md, decision 1).
 TEST(PaperLiteralModel, SupportReactionBalancesTheTipLoadAtSteadyState) {
   for (const double ke : {0.0, 1.0}) {
     json doc = literal_cantilever(1e-4, 10, 0.15, 300.0);
@@ -227,8 +227,8 @@ TEST(PaperLiteralModel, SupportReactionBalancesTheTipLoadAtSteadyState) {
     Simulation sim(parse_scene(doc, "literal-reaction (generated)"));
     StepRecord rec;
     for (int k = 1; k <= sim.model().num_steps(); ++k) rec = sim.advance(k);
-    const Vec3 reaction = rec.regions[region_index(sim, "clamp")].force_n;
-    const Vec3 load = rec.regions[region_index(sim, "tip")].force_n;
+    const Vec3 reaction = rec.regions[region_index(sim, "clamp")].force_vector_n;
+    const Vec3 load = rec.regions[region_index(sim, "tip")].force_vector_n;
     const double imbalance = (reaction + load).norm() / load.norm();
     std::printf("k_e = %.1f: load %.5g N, reaction (%.5g, %.5g, %.5g) N, imbalance %.3e\n", ke, load.norm(),
                 reaction.x(), reaction.y(), reaction.z(), imbalance);

@@ -47,7 +47,7 @@ std::vector<double> press_forces(const nlohmann::json& doc) {
   for (int k = 1; k <= sim.model().num_steps(); ++k) {
     const StepRecord rec = sim.advance(k);
     EXPECT_TRUE(rec.report.converged);
-    f.push_back(rec.obstacles.at(0).force_n.norm());
+    f.push_back(rec.obstacles.at(0).force_vector_n.norm());
   }
   return f;
 }
@@ -78,7 +78,7 @@ TEST(ToolOffset, TheCatheterForceDoesNotDependOnWhereTheNodesFallSlow) {
 }
 
 // The same presses with quasi_static's defaults on walls: the catheter against the wall's surface (contact.surface
-// "embedded", docs/model.md section 22.5), whose force no longer depends on which nodes the tool meets, and the
+// "embedded", docs/model/22-contact.md section 22.5), whose force no longer depends on which nodes the tool meets, and the
 // quadratic basis with the thickness reach and Gauss points over each node's cell. Measured: +1.38 / +3.48 % at 0.2
 // mm, +0.44 / -0.83 % at 0.4 mm and -0.59 / -1.03 % at 0.6 mm (with the slab's two points only +4.11 / +4.12 %,
 // -0.59 / -1.45 %, -0.16 / -1.60 %; with the linear basis -1.70 / +2.54 %, +0.61 / +0.90 %, +1.01 / -0.32 %: what

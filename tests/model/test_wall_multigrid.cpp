@@ -278,9 +278,9 @@ TEST(WallMultigrid, TheImplicitModelReachesTheFactorsEquilibrium) {
     settings["single_precision"] = false;
     Simulation sim(parse_scene(test::vein_piece_catheter(settings), "piece"));
     const StepRecord last = test::run_to_end(sim);
-    force[i++] = last.obstacles.at(0).force_n;
+    force[i++] = last.obstacles.at(0).force_vector_n;
     std::printf("[ multigrid ] %s: tool force (%.9g, %.9g, %.9g) N, %d contacts, residual %.2g\n", kind,
-                last.obstacles.at(0).force_n.x(), last.obstacles.at(0).force_n.y(), last.obstacles.at(0).force_n.z(),
+                last.obstacles.at(0).force_vector_n.x(), last.obstacles.at(0).force_vector_n.y(), last.obstacles.at(0).force_vector_n.z(),
                 last.obstacles.at(0).contacts, last.report.residual);
     EXPECT_GT(last.obstacles.at(0).contacts, 0);
   }
@@ -308,7 +308,7 @@ TEST(WallMultigrid, TheEmbeddedContactFramesReachQuasiStatic) {
   const StepRecord a = test::run_to_end(s_imp);
   Simulation s_stat(parse_scene(stat, "piece"));
   const StepRecord b = test::run_to_end(s_stat);
-  const Vec3 fa = a.obstacles.at(0).force_n, fb = b.obstacles.at(0).force_n;
+  const Vec3 fa = a.obstacles.at(0).force_vector_n, fb = b.obstacles.at(0).force_vector_n;
   std::printf("[ multigrid ] embedded contact: implicit %.9g N, quasi_static %.9g N (%d samples)\n", fa.norm(),
               fb.norm(), a.obstacles.at(0).contacts);
   EXPECT_EQ(s_imp.model().info()["preconditioner"]["matrix"], "wall multigrid");
@@ -347,7 +347,7 @@ TEST(WallMultigrid, AToolThatJumpsIntoTheWallEndsTheFrameAtThePose) {
     StepReport r;
     for (int k = 0; k < 20 && !(r.converged && k > 1); ++k) r = model.step();
     EXPECT_TRUE(r.converged);
-    force[path] = model.tool_loads().at(0).force_n;
+    force[path] = model.tool_loads().at(0).force_vector_n;
   }
   std::printf("[ multigrid ] jump into the wall: %.6g N, approached: %.6g N\n", force[0].norm(), force[1].norm());
   ASSERT_GT(force[1].norm(), 1e-3);

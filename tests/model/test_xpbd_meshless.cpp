@@ -1,5 +1,5 @@
 // The real-time `xpbd` model with its default elastic option (A), the meshless strain constraint
-// (docs/model.md section 19 (A)): the closed-form block, the colouring, rest stability at any substep, convergence of
+// (docs/model/19-position-based.md (A)): the closed-form block, the colouring, rest stability at any substep, convergence of
 // the steady state to quasi_static (the same energy) as sweeps grow, reaction forces from lambda/h^2, and
 // the issue-3 stability test (a patch pushed 50 % of the radius in 10 ms, released, 10 s simulated).
 #include <gtest/gtest.h>
@@ -33,7 +33,7 @@ double region_displacement(const Simulation& sim, const StepRecord& rec, const s
 
 Vec3 region_force(const Simulation& sim, const StepRecord& rec, const std::string& name) {
   for (std::size_t r = 0; r < sim.problem().regions().size(); ++r)
-    if (sim.problem().regions()[r].name == name) return rec.regions[r].force_n;
+    if (sim.problem().regions()[r].name == name) return rec.regions[r].force_vector_n;
   ADD_FAILURE() << "no region " << name;
   return Vec3::Zero();
 }
@@ -298,14 +298,14 @@ TEST(XpbdMeshless, SphereContactForceBalancesTheSupports) {
     rec = sim.advance(k);
   }
   ASSERT_EQ(rec.obstacles.size(), 1u);
-  const Vec3 tool = rec.obstacles[0].force_n, base = region_force(sim, rec, "base");
+  const Vec3 tool = rec.obstacles[0].force_vector_n, base = region_force(sim, rec, "base");
   std::printf("[ xpbd     ] sphere 1.5 mm into a block: tool force on tissue (%.4g, %.4g, %.4g) N, base reaction "
               "(%.4g, %.4g, %.4g) N\n",
               tool.x(), tool.y(), tool.z(), base.x(), base.y(), base.z());
-  EXPECT_GT(rec.obstacles[0].force_projected_n, 0.0);  // pushes along its motion
+  EXPECT_GT(rec.obstacles[0].force_n, 0.0);  // pushes along its motion
   EXPECT_NEAR(rec.obstacles[0].displacement_m, 0.0015, 1e-12);
   EXPECT_LT((tool + base).norm(), 1e-2 * tool.norm());
-  EXPECT_LT(std::abs(rec.obstacles[0].force_projected_n - previous.obstacles[0].force_projected_n),
+  EXPECT_LT(std::abs(rec.obstacles[0].force_n - previous.obstacles[0].force_n),
             2e-3 * tool.norm());  // steady
   const Vec3 centre(0.005, 0.005, 0.014 - 0.0015);
   double deepest = 0.0;

@@ -140,7 +140,7 @@ TEST(HapticSession, QuasiStaticModelDrivesALockstepSession) {
   while (std::getline(in, line)) {
     std::stringstream row(line);
     std::string cell;
-    for (int c = 0; c <= 8; ++c) std::getline(row, cell, ',');  // column 8: force_n
+    for (int c = 0; c <= 8; ++c) std::getline(row, cell, ',');  // column 8: force_magnitude_n
     forces.push_back(std::stod(cell));
   }
   ASSERT_EQ(forces.size(), 6u);

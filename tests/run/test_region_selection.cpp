@@ -188,7 +188,7 @@ double patch_force(const json& doc) {
   Simulation sim(parse_scene(doc, "patch-phase"));
   const StepRecord rec = sim.advance(1);
   EXPECT_TRUE(rec.report.converged);
-  return rec.regions.at(2).force_projected_n;
+  return rec.regions.at(2).force_n;
 }
 
 // The force a +-15 deg patch drives does not depend on where its centre falls relative to the plain lattice:

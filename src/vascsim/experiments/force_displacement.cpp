@@ -45,11 +45,11 @@ ForceDisplacementResult run_force_displacement(const Scene& scene, const ForceDi
   for (const auto& r : records) {
     const ObstacleMeasure& m = r.obstacles.at(tool);
     // The vector columns are on the tool (force_n, the scalar, is the same either way); + 0.0 turns -0 into 0.
-    const Vec3 f = -m.force_n + Vec3::Zero(), t = -m.torque_n_m + Vec3::Zero();
+    const Vec3 f = -m.force_vector_n + Vec3::Zero(), t = -m.torque_vector_n_m + Vec3::Zero();
     csv.add_row(fmt::format("{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{},{}", r.step,
-                            m.displacement_m, m.force_projected_n, f.x(), f.y(), f.z(), t.x(), t.y(), t.z(), m.contacts,
+                            m.displacement_m, m.force_n, f.x(), f.y(), f.z(), t.x(), t.y(), t.z(), m.contacts,
                             r.report.converged ? 1 : 0));
-    rows.push_back({{"displacement_m", m.displacement_m}, {"force_n", m.force_projected_n}});
+    rows.push_back({{"displacement_m", m.displacement_m}, {"force_n", m.force_n}});
   }
   result.summary["force_displacement"] = {{"tool", ob.name}, {"csv", result.csv.filename().string()}, {"rows", rows}};
 

@@ -30,7 +30,8 @@ ForceOutputFilter::ForceOutputFilter(const ForceOutputFilter& other)
       nan_events_(other.nan_events()),
       clamp_events_(other.clamp_events()),
       step_events_(other.step_limit_events()),
-      max_sent_(other.max_force_sent_n()) {}
+      max_sent_(other.max_force_sent_n()),
+      last_sent_(other.last_force_sent_n()) {}
 
 ForceOutputFilter& ForceOutputFilter::operator=(const ForceOutputFilter& other) {
   settings_ = other.settings_;
@@ -39,6 +40,7 @@ ForceOutputFilter& ForceOutputFilter::operator=(const ForceOutputFilter& other) 
   clamp_events_.store(other.clamp_events(), std::memory_order_relaxed);
   step_events_.store(other.step_limit_events(), std::memory_order_relaxed);
   max_sent_.store(other.max_force_sent_n(), std::memory_order_relaxed);
+  last_sent_.store(other.last_force_sent_n(), std::memory_order_relaxed);
   return *this;
 }
 
@@ -46,6 +48,7 @@ Vec3 ForceOutputFilter::apply(const Vec3& force_n) {
   if (!force_n.allFinite()) {
     bump(nan_events_);
     previous_.setZero();
+    last_sent_.store(0.0, std::memory_order_relaxed);
     return previous_;
   }
   Vec3 f = force_n;
@@ -67,6 +70,7 @@ Vec3 ForceOutputFilter::apply(const Vec3& force_n) {
     sent = f.norm();
   }
   previous_ = f;
+  last_sent_.store(sent, std::memory_order_relaxed);
   if (sent > max_sent_.load(std::memory_order_relaxed)) max_sent_.store(sent, std::memory_order_relaxed);
   return f;
 }

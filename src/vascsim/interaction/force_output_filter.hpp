@@ -53,6 +53,8 @@ class ForceOutputFilter {
   std::uint64_t step_limit_events() const { return step_events_.load(std::memory_order_relaxed); }
   /// The largest magnitude sent so far.
   double max_force_sent_n() const { return max_sent_.load(std::memory_order_relaxed); }
+  /// The magnitude of the last force sent (0 before the first).
+  double last_force_sent_n() const { return last_sent_.load(std::memory_order_relaxed); }
 
  private:
   // Single writer: a relaxed load and store is enough (and cheaper than a locked read-modify-write).
@@ -63,7 +65,7 @@ class ForceOutputFilter {
   ForceOutputSettings settings_;
   Vec3 previous_ = Vec3::Zero();
   std::atomic<std::uint64_t> nan_events_{0}, clamp_events_{0}, step_events_{0};
-  std::atomic<double> max_sent_{0.0};
+  std::atomic<double> max_sent_{0.0}, last_sent_{0.0};
 };
 
 }  // namespace vascsim

@@ -186,6 +186,7 @@ HapticStats HapticLoop::stats() const {
   s.step_limit_events = filter_.step_limit_events();
   s.proxy_recoveries = proxy_recoveries_.load(std::memory_order_relaxed);
   s.max_force_sent_n = filter_.max_force_sent_n();
+  s.last_force_sent_n = filter_.last_force_sent_n();
   if (const int priority = sched_priority_.load(std::memory_order_acquire); priority >= 0) {
     RealtimeSchedulingResult r;
     r.fifo = priority > 0;

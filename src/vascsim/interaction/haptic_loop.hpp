@@ -73,6 +73,7 @@ struct HapticStats {
   std::uint64_t step_limit_events = 0;  ///< ticks whose force change was limited
   std::uint64_t proxy_recoveries = 0;   ///< ticks with a non-finite contact force or proxy state
   double max_force_sent_n = 0.0;
+  double last_force_sent_n = 0.0;  ///< the magnitude of the last tick's force (not in to_json: a moment's value)
   /// What the haptic thread got from the scheduler (realtime_thread.hpp); "" before the thread ran.
   std::string scheduling;
 };

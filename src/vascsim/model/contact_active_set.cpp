@@ -95,8 +95,8 @@ std::vector<ObstacleLoad> ContactActiveSet::loads(const Vec3Array& r, const Vec3
     // carries no load rather than a glue force.
     const Vec3 f = std::max(0.0, -r[i].dot(normal_[i])) * normal_[i];
     ObstacleLoad& load = out[static_cast<std::size_t>(o)];
-    load.force_n += f;
-    load.torque_n_m += (x[i] - tool_points[static_cast<std::size_t>(o)]).cross(f);
+    load.force_vector_n += f;
+    load.torque_vector_n_m += (x[i] - tool_points[static_cast<std::size_t>(o)]).cross(f);
     ++load.contacts;
   }
   return out;

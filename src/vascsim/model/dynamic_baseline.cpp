@@ -22,7 +22,7 @@ ModelEntry baseline_entry(const std::string& name, const std::string& summary,
   e.summary = summary;
   e.capabilities = {.dynamic = true, .takes_tools = true, .device_driven = true, .releases_regions = false, .quadratic_basis = true};
   e.schedule = [frames_of](const std::any& settings) { return frames_of(settings).schedule; };
-  // Every baseline has its own material rule from E and nu (docs/model.md section 25): the scene's law is the
+  // Every baseline has its own material rule from E and nu (docs/model/25-baselines.md): the scene's law is the
   // point-primitive model's, which they do not use.
   e.law_restriction = [name](const std::any&, const std::string& law) -> std::string {
     if (law == "svk") return "";
@@ -91,8 +91,8 @@ void DynamicBaseline::project_tool_contacts(Vec3Array& x, const std::vector<doub
     const Vec3 f = (mass[i] / (dt * dt)) * dx;
     f_int_[i] += weight * f;
     ObstacleLoad& load = loads_[static_cast<std::size_t>(deepest)];
-    load.force_n += weight * f;
-    load.torque_n_m += weight * (x[i] - points[static_cast<std::size_t>(deepest)]).cross(f);
+    load.force_vector_n += weight * f;
+    load.torque_vector_n_m += weight * (x[i] - points[static_cast<std::size_t>(deepest)]).cross(f);
     ++count[static_cast<std::size_t>(deepest)];
   }
   for (std::size_t o = 0; o < no; ++o) loads_[o].contacts = count[o];

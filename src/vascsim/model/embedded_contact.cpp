@@ -117,8 +117,8 @@ std::vector<ObstacleLoad> EmbeddedContact::loads(const std::vector<Vec3>& tool_p
   std::vector<ObstacleLoad> out(geometry_.size());
   for (const Contact& c : active_) {
     ObstacleLoad& l = out[static_cast<std::size_t>(c.tool)];
-    l.force_n += c.force;
-    l.torque_n_m += (c.position - tool_points.at(static_cast<std::size_t>(c.tool))).cross(c.force);
+    l.force_vector_n += c.force;
+    l.torque_vector_n_m += (c.position - tool_points.at(static_cast<std::size_t>(c.tool))).cross(c.force);
     ++l.contacts;
   }
   return out;

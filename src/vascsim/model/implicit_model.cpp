@@ -222,7 +222,7 @@ std::unique_ptr<ImplicitModel::Factor> ImplicitModel::build_factor(const Vec3Arr
 void ImplicitModel::linearize() {
   // With the contact compliance W = N P^{-1} N^T of the last frame's contacts (contact_correction.hpp), a
   // translation dp of tool o closes its contacts' gaps by n_c . dp; they answer with d lambda = W^{-1} N_o dp
-  // while the other contacts hold, so the tissue's force changes by K dp, K = N_o^T W^{-1} N_o (docs/model.md
+  // while the other contacts hold, so the tissue's force changes by K dp, K = N_o^T W^{-1} N_o (docs/model/24-implicit.md
   // 24.3). P is the factor in use: exact when it was built at this state, otherwise off by its drift.
   const auto& tools = problem_.tools();
   linearization_.assign(tools.size(), std::nullopt);
@@ -242,7 +242,7 @@ void ImplicitModel::linearize() {
       lin.stiffness_n_per_m = w.tool_stiffness(mask, x_);
     }
     // The direction the tissue pushes the tool: against the force the tool exerts on it.
-    if (loads_[o].force_n.norm() > 0.0) lin.normal = -loads_[o].force_n.normalized();
+    if (loads_[o].force_vector_n.norm() > 0.0) lin.normal = -loads_[o].force_vector_n.normalized();
     if (candidates_) candidates_->fill(o, contacts_, x_, *P, newton_.node_compliance(), lin);
     linearization_[o] = lin;
   }

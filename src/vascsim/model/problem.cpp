@@ -66,13 +66,13 @@ std::vector<RegionMeasure> Problem::measure(double s, const Vec3Array& x, const 
       // Constrained nodes: the support force that balances the tissue, -(f_int + f_ext) (static
       // equilibrium; inertia of the driven nodes is neglected). Force regions: the applied load.
       if (reg.bc == RegionBcType::Fixed || reg.bc == RegionBcType::Displacement)
-        m.force_n -= f_int[i] + f_ext[i];
+        m.force_vector_n -= f_int[i] + f_ext[i];
     }
-    if (reg.bc == RegionBcType::Force) m.force_n = s * reg.force_n;
+    if (reg.bc == RegionBcType::Force) m.force_vector_n = s * reg.force_n;
     if (!reg.nodes.empty()) mean_u /= static_cast<double>(reg.nodes.size());
     const bool has_dir = reg.direction.squaredNorm() > 0.0;
     m.displacement_m = has_dir ? mean_u.dot(reg.direction) : mean_u.norm();
-    m.force_projected_n = has_dir ? m.force_n.dot(reg.direction) : m.force_n.norm();
+    m.force_n = has_dir ? m.force_vector_n.dot(reg.direction) : m.force_vector_n.norm();
   }
   return out;
 }

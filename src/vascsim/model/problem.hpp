@@ -39,9 +39,10 @@ struct Region {
 /// What a region reports at one output point.
 struct RegionMeasure {
   double displacement_m = 0.0;  ///< mean displacement projected on the direction (or its magnitude)
-  Vec3 force_n = Vec3::Zero();  ///< reaction: force the supports exert on the tissue (constrained) or
-                                ///< the applied force (Force), summed over the region, N
-  double force_projected_n = 0.0;  ///< force_n projected on the direction (or its magnitude)
+  /// Reaction: the force the supports exert on the tissue (constrained) or the applied force (Force), summed over
+  /// the region, N. The names and meanings of summary.json's: force_vector_n the vector, force_n the scalar.
+  Vec3 force_vector_n = Vec3::Zero();
+  double force_n = 0.0;  ///< force_vector_n projected on the direction (or its magnitude), N
 };
 
 class Problem {
@@ -58,7 +59,7 @@ class Problem {
   /// Rigid tools in frictionless one-sided contact with the nodes, in scene order (moved by the load factor,
   /// or posed by a device through DeviceDrivenModel).
   const std::vector<RigidObstacle>& tools() const { return tools_; }
-  /// The wall's surface the tools meet when contact is embedded (docs/model.md section 22.5); null: the tools
+  /// The wall's surface the tools meet when contact is embedded (docs/model/22-contact.md section 22.5); null: the tools
   /// meet the nodes.
   const ContactSurface* contact_surface() const { return contact_surface_.get(); }
   void set_contact_surface(std::shared_ptr<const ContactSurface> surface) { contact_surface_ = std::move(surface); }

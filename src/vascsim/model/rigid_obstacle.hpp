@@ -1,5 +1,5 @@
 #pragma once
-// Rigid tools in contact with the tissue (docs/model.md section 19 contact): spheres, capsules and the catheter, a
+// Rigid tools in contact with the tissue (docs/model/22-contact.md): spheres, capsules and the catheter, a
 // capsule with a rounded tip on a short shaft. A tool is placed either by the load factor s (translated by
 // s * motion_m: quasi-static indentation, scripted pushes) or by a device pose (the haptic session), and
 // both models that support contact (xpbd, quasi_static) see the same geometry through obstacle_contact().
@@ -71,8 +71,8 @@ inline constraints::ContactConstraint obstacle_contact(const constraints::Capsul
 
 /// The load a tool exchanges with the tissue at one output point.
 struct ObstacleLoad {
-  Vec3 force_n = Vec3::Zero();     ///< force the tool exerts on the tissue, N
-  Vec3 torque_n_m = Vec3::Zero();  ///< moment of that force about the tool point, N m
+  Vec3 force_vector_n = Vec3::Zero();     ///< force the tool exerts on the tissue, N
+  Vec3 torque_vector_n_m = Vec3::Zero();  ///< moment of that force about the tool point, N m
   int contacts = 0;                ///< nodes in contact
 };
 

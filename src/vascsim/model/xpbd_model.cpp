@@ -270,7 +270,7 @@ void XpbdModel::project_node(Index i) {
   const PairTable& P = disc.pairs();
   const Index begin = P.row_start[i], end = P.row_start[i + 1];
   const Vec3& d_self = disc.self_d()[i];
-  // Strain block: c = s Mandel(E), E = 1/2 (F^T F - I), F = sum_j (p_j - p_i) d_ij^T (docs/model.md section 6).
+  // Strain block: c = s Mandel(E), E = 1/2 (F^T F - I), F = sum_j (p_j - p_i) d_ij^T (docs/model/06-gradients.md).
   Mat3 F = Mat3::Zero();
   for (Index e = begin; e < end; ++e) F.noalias() += (p_[P.col[e]] - p_[i]) * P.d[e].transpose();
   Mat3 G;
@@ -337,7 +337,7 @@ Mat3 XpbdModel::svk_strain_correction(Index i, const Mat3& F) {
 }
 
 void XpbdModel::project_stabiliser(Index i, const Mat3& F) {
-  // Stabiliser (docs/model.md section 9.2): U_i = c_i/2 sum_j w_ij |r_ij|^2, r_ij = p_j - p_i - F_i X_ij. F_i is the
+  // Stabiliser (docs/model/09-volume-term-and-stabiliser.md section 9.2): U_i = c_i/2 sum_j w_ij |r_ij|^2, r_ij = p_j - p_i - F_i X_ij. F_i is the
   // weighted least-squares fit of the neighbourhood, so dU_i/dF_i = (sum_j w_ij r_ij X_ij^T) A_i^{-1} = 0 and
   // the gradients with F_i frozen are exact: each pair is a 3-vector constraint with grad_j = I,
   // grad_i = -I and compliance 1/(c_i w_ij). F is the fit after the elastic correction, obtained without a
@@ -542,8 +542,8 @@ void XpbdModel::substep(double s_next) {
         const double lambda = contact_lambda_[static_cast<std::size_t>(i) * no + o];
         if (lambda == 0.0) continue;
         const Vec3 f = (lambda * inv_h2_) * obstacle_contact(obstacle_now_[o], p_[i]).normal;
-        load.force_n += f;
-        load.torque_n_m += (p_[i] - tool_now_[o]).cross(f);
+        load.force_vector_n += f;
+        load.torque_vector_n_m += (p_[i] - tool_now_[o]).cross(f);
         ++load.contacts;
       }
       obstacle_load_[o] = load;

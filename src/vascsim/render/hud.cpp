@@ -86,7 +86,7 @@ void draw_stats(const HudStats& s) {
   text(fmt::format("tool force {:.4g} N{}", s.tool_force_n,
                    s.force_threshold_n > 0.0 ? fmt::format(" (threshold {:.3g} N)", s.force_threshold_n) : ""));
   ImGui::PopStyleColor();
-  if (!std::isnan(s.device_force_n)) text(fmt::format("device force {:.4g} N", s.device_force_n));
+  if (const std::string hand = hand_line(s); !hand.empty()) text(hand);
   if (!s.force_history_n.empty()) {
     const float top = std::max({*std::max_element(s.force_history_n.begin(), s.force_history_n.end()),
                                 static_cast<float>(s.force_threshold_n), 1e-9f});
@@ -193,6 +193,14 @@ void draw_session(HudControls& c, HudRequests& r) {
 }
 
 }  // namespace
+
+std::string hand_line(const HudStats& s) {
+  if (s.device.empty() || std::isnan(s.device_force_n)) return {};
+  std::string line = fmt::format("hand: {:.4g} N sent (tool {:.4g} N)", s.device_force_n, s.tool_force_n);
+  if (!std::isnan(s.tool_lag_m)) line += fmt::format(", tool {:.2f} mm behind", 1e3 * s.tool_lag_m);
+  if (!std::isnan(s.force_age_ms) && s.force_age_ms > 0.0) line += fmt::format(", force {:.0f} ms old", s.force_age_ms);
+  return line;
+}
 
 bool HudRequests::any() const {
   return toggle_pause || step || reset_simulation || reset_camera || screenshot || load_scene || change_model ||

@@ -29,6 +29,10 @@ struct HudStats {
   double haptic_p99_jitter_us = 0.0;
   double tool_force_n = 0.0;              ///< |force on the tool|
   double device_force_n = std::numeric_limits<double>::quiet_NaN();  ///< |force sent to the device|; NaN: unknown
+  /// How far the model's tool was from the device pose its last frame was given, m; NaN: unknown.
+  double tool_lag_m = std::numeric_limits<double>::quiet_NaN();
+  /// Mean age of the frames the device's force came from (device pose to the tick that used it), ms; NaN: unknown.
+  double force_age_ms = std::numeric_limits<double>::quiet_NaN();
   double force_threshold_n = 0.0;         ///< safety threshold (0: none); the force turns red above it
   std::vector<float> force_history_n;     ///< oldest first, plotted
   std::size_t nodes = 0, triangles = 0;
@@ -40,6 +44,10 @@ struct HudStats {
   std::string message;  ///< the latest notice or error ("" : none)
   std::string gl_renderer;
 };
+
+/// The HUD's line on what the hand gets: the force sent to the device beside the model's tool force, how far
+/// the model's tool is behind the hand and how old the force is ("" without a device or a known sent force).
+std::string hand_line(const HudStats& stats);
 
 enum class ColourField { none, displacement, stress };
 

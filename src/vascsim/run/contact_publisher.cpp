@@ -25,8 +25,8 @@ FrameSample ContactPublisher::step(const ToolPose& pose) {
   s.tool_position_m = used.position();
   s.pose_position_m = pose.position();
   if (const auto p = model_.tool_position_solved(tool_)) s.tool_lag_m = (*p - pose.position()).norm();
-  s.force_n = -load.force_n;  // the tissue's force on the tool
-  s.torque_n_m = -load.torque_n_m;
+  s.force_n = -load.force_vector_n;  // the tissue's force on the tool
+  s.torque_n_m = -load.torque_vector_n_m;
   s.contacts = load.contacts;
   s.residual = report.residual;
   s.converged = report.converged;

@@ -64,7 +64,7 @@ std::vector<Quantity> quantities(const Scene& scene) {
     const RegionSpec& r = scene.regions[i];
     switch (r.bc) {
       case RegionBcType::Displacement:
-        q.push_back({r.name + " force_n", "N", -1, [i](const StepRecord& s) { return s.regions[i].force_projected_n; }});
+        q.push_back({r.name + " force_n", "N", -1, [i](const StepRecord& s) { return s.regions[i].force_n; }});
         break;
       case RegionBcType::Force:
       case RegionBcType::Probe:
@@ -77,7 +77,7 @@ std::vector<Quantity> quantities(const Scene& scene) {
     q.push_back({scene.probes[i].name + " displacement_m", "m", -1, [i](const StepRecord& s) { return s.probes[i]; }});
   for (std::size_t o = 0; o < scene.obstacles.size(); ++o)
     q.push_back({scene.obstacles[o].name + " force_n", "N", static_cast<int>(o),
-                 [o](const StepRecord& s) { return s.obstacles[o].force_projected_n; }});
+                 [o](const StepRecord& s) { return s.obstacles[o].force_n; }});
   return q;
 }
 

@@ -203,7 +203,7 @@ std::vector<std::string> session_warnings(const Scene& scene, const SessionInput
 
 std::vector<std::string> force_history_columns() {
   return {"sim_time_s",   "pose_time_s",  "tool_x_m",     "tool_y_m", "tool_z_m", "force_x_n",
-          "force_y_n",    "force_z_n",    "force_n",      "torque_x_n_m", "torque_y_n_m", "torque_z_n_m",
+          "force_y_n",    "force_z_n",    "force_magnitude_n", "torque_x_n_m", "torque_y_n_m", "torque_z_n_m",
           "contacts",     "residual",     "converged",    "pose_x_m",     "pose_y_m",     "pose_z_m",
           "tool_lag_m",   "step_wall_ms"};
 }

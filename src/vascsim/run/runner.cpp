@@ -11,8 +11,8 @@
 #include "vascsim/core/stopwatch.hpp"
 #include "vascsim/model/integration_constraint.hpp"
 #include "vascsim/model/registry.hpp"
-#include "vascsim/run/contact_resolution.hpp"
 #include "vascsim/run/output_writer.hpp"
+#include "vascsim/run/run_findings.hpp"
 #include "vascsim/run/tool_reach.hpp"
 #include "vascsim/run/tool_series.hpp"
 
@@ -25,9 +25,9 @@ double clean(double x) { return x == 0.0 ? 0.0 : x; }
 
 std::string csv_row(const StepRecord& r) {
   std::string s = fmt::format("{},{:.9g},{:.9g}", r.step, r.report.time_s, r.report.load_factor);
-  for (const auto& m : r.regions) s += fmt::format(",{:.9g},{:.9g}", clean(m.displacement_m), clean(m.force_projected_n));
+  for (const auto& m : r.regions) s += fmt::format(",{:.9g},{:.9g}", clean(m.displacement_m), clean(m.force_n));
   for (double p : r.probes) s += fmt::format(",{:.9g}", clean(p));
-  for (const auto& m : r.obstacles) s += fmt::format(",{:.9g},{:.9g}", clean(m.displacement_m), clean(m.force_projected_n));
+  for (const auto& m : r.obstacles) s += fmt::format(",{:.9g},{:.9g}", clean(m.displacement_m), clean(m.force_n));
   s += fmt::format(",{},{},{:.3g},{}", r.report.iterations, r.report.inner_iterations, r.report.residual,
                    r.report.converged ? 1 : 0);
   return s;
@@ -37,18 +37,18 @@ nlohmann::json step_json(const Scene& scene, const StepRecord& r) {
   nlohmann::json regions = nlohmann::json::object();
   for (std::size_t i = 0; i < r.regions.size(); ++i)
     regions[scene.regions[i].name] = {{"displacement_m", r.regions[i].displacement_m},
-                                      {"force_n", r.regions[i].force_projected_n},
-                                      {"force_vector_n", {r.regions[i].force_n.x(), r.regions[i].force_n.y(),
-                                                          r.regions[i].force_n.z()}}};
+                                      {"force_n", r.regions[i].force_n},
+                                      {"force_vector_n", {r.regions[i].force_vector_n.x(), r.regions[i].force_vector_n.y(),
+                                                          r.regions[i].force_vector_n.z()}}};
   nlohmann::json probes = nlohmann::json::object();
   for (std::size_t i = 0; i < r.probes.size(); ++i) probes[scene.probes[i].name + "_displacement_m"] = r.probes[i];
   for (std::size_t i = 0; i < r.obstacles.size(); ++i)
     regions[scene.obstacles[i].name] = {
         {"displacement_m", r.obstacles[i].displacement_m},
-        {"force_n", r.obstacles[i].force_projected_n},
-        {"force_vector_n", {r.obstacles[i].force_n.x(), r.obstacles[i].force_n.y(), r.obstacles[i].force_n.z()}},
+        {"force_n", r.obstacles[i].force_n},
+        {"force_vector_n", {r.obstacles[i].force_vector_n.x(), r.obstacles[i].force_vector_n.y(), r.obstacles[i].force_vector_n.z()}},
         {"torque_vector_n_m",
-         {r.obstacles[i].torque_n_m.x(), r.obstacles[i].torque_n_m.y(), r.obstacles[i].torque_n_m.z()}},
+         {r.obstacles[i].torque_vector_n_m.x(), r.obstacles[i].torque_vector_n_m.y(), r.obstacles[i].torque_vector_n_m.z()}},
         {"contacts", r.obstacles[i].contacts}};
   return {{"step", r.step},
           {"time_s", r.report.time_s},
@@ -162,53 +162,6 @@ std::unique_ptr<Simulation> build_run(const Scene& scene, const BuildChecks& che
 }
 
 namespace {
-
-// What a run finds suspicious, gathered step by step (records are not kept: a dynamic run may have 10^6).
-class RunFindings {
- public:
-  RunFindings(const Scene& scene, const Body& body) : scene_(scene), touched_(scene.obstacles.size(), false) {
-    // Each tool against the lattice's spacing where it meets the wall (spacing_under_tool_m).
-    for (const RigidObstacle& tool : scene.obstacles) resolution_.emplace_back(tool, scene.material, body);
-  }
-
-  void add(const StepRecord& r) {
-    bool contact = false;
-    for (std::size_t o = 0; o < r.obstacles.size() && o < touched_.size(); ++o) {
-      contact = contact || r.obstacles[o].contacts > 0;
-      touched_[o] = touched_[o] || r.obstacles[o].contacts > 0 || r.obstacles[o].force_n.norm() > 0.0;
-      resolution_[o].add(r.obstacles[o].displacement_m, r.obstacles[o].force_n.norm());
-    }
-    unconverged_in_contact_ += !r.report.converged && contact ? 1 : 0;
-    ++records_;
-  }
-
-  /// One line each: a tool that never touched the tissue, a tool whose contact the lattice did not resolve
-  /// (run/contact_resolution.hpp), load steps that did not converge while a tool was in contact (with the
-  /// load_steps value to try).
-  std::vector<std::string> warnings(int load_steps) const {
-    std::vector<std::string> out;
-    for (const ContactResolution& r : resolution_)
-      if (auto w = r.warning()) out.push_back(*w);
-    for (std::size_t o = 0; o < touched_.size(); ++o)
-      if (!touched_[o] && records_ > 1)
-        out.push_back(fmt::format("the tool '{}' never touched the tissue (no contact and zero force at all {} "
-                                  "output points): check obstacles.{} (m)",
-                                  scene_.obstacles[o].name, records_ - 1, o));
-    if (unconverged_in_contact_ > 0 && !find_model(scene_.model).capabilities.dynamic)
-      out.push_back(fmt::format("{} of {} load steps did not converge with a tool in contact: the contact changes "
-                                "too much in one step; use more load steps ({}.load_steps, now {}; try {})",
-                                unconverged_in_contact_, load_steps, scene_.model, load_steps,
-                                std::max(2 * load_steps, 12)));
-    return out;
-  }
-
- private:
-  const Scene& scene_;
-  std::vector<bool> touched_;
-  std::vector<ContactResolution> resolution_;  // per tool
-  int unconverged_in_contact_ = 0;
-  std::size_t records_ = 0;
-};
 
 // Before the first step: the tools whose motion never reaches the body, one warning each (also logged).
 std::vector<std::string> tool_reach_warnings(const Scene& scene, const Simulation& sim) {

@@ -118,11 +118,11 @@ StepRecord Simulation::measure(int step, const StepReport& report) const {
     const double travel = ob.motion_m.norm();
     m.displacement_m = report.load_factor * travel;
     if (o < loads.size()) {
-      m.force_n = loads[o].force_n;
-      m.torque_n_m = loads[o].torque_n_m;
+      m.force_vector_n = loads[o].force_vector_n;
+      m.torque_vector_n_m = loads[o].torque_vector_n_m;
       m.contacts = loads[o].contacts;
     }
-    m.force_projected_n = travel > 0.0 ? m.force_n.dot(ob.motion_m / travel) : m.force_n.norm();
+    m.force_n = travel > 0.0 ? m.force_vector_n.dot(ob.motion_m / travel) : m.force_vector_n.norm();
     rec.obstacles.push_back(m);
   }
   for (std::size_t p = 0; p < probe_nodes_.size(); ++p) {

@@ -19,12 +19,12 @@
 
 namespace vascsim {
 
-/// A rigid obstacle at one output point.
+/// A rigid obstacle at one output point, with the names and meanings of summary.json's tools.
 struct ObstacleMeasure {
-  double displacement_m = 0.0;     ///< s |motion|, m
-  Vec3 force_n = Vec3::Zero();     ///< force the obstacle exerts on the tissue, N
-  double force_projected_n = 0.0;  ///< force_n along the motion (its magnitude for a fixed obstacle), N
-  Vec3 torque_n_m = Vec3::Zero();  ///< moment of force_n about the tool point (the catheter tip), N m
+  double displacement_m = 0.0;            ///< s |motion|, m
+  Vec3 force_vector_n = Vec3::Zero();     ///< force the obstacle exerts on the tissue, N
+  double force_n = 0.0;                   ///< force_vector_n along the motion (its magnitude for a fixed obstacle), N
+  Vec3 torque_vector_n_m = Vec3::Zero();  ///< moment of force_vector_n about the tool point (the catheter tip), N m
   int contacts = 0;                ///< nodes in contact
 };
 

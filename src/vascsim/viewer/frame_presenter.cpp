@@ -43,6 +43,12 @@ render::HudStats FramePresenter::hud_stats(double visual_fps) const {
   s.haptic_rate_hz = i.haptics.achieved_rate_hz;
   s.haptic_p99_jitter_us = 1e3 * i.haptics.jitter_p99_ms;
   s.tool_force_n = f.tool_force_n;
+  if (i.has_tool && i.haptics.ticks > 0) {
+    // What the hand gets, beside the model's force (the final line of a realtime run says the same).
+    s.device_force_n = i.haptics.last_force_sent_n;
+    s.tool_lag_m = i.sample.tool_lag_m;
+    s.force_age_ms = i.haptics.force_latency_mean_ms;
+  }
   s.force_threshold_n = f.force_threshold_n;
   s.force_history_n.assign(force_history_.begin(), force_history_.end());
   s.nodes = f.nodes;

@@ -17,17 +17,18 @@
 // Also: one hessian_product, the CHOLMOD orderings, and the refill on 1 vs 2 OpenMP threads.
 //
 // Run (Release build), e.g.:
-//   OMP_NUM_THREADS=1 nice build/bench/bench_equilibrium_linear_algebra --spacings 0.35e-3,0.3e-3,0.2e-3,0.15e-3
+//   OMP_NUM_THREADS=1 nice build/bench/bench_equilibrium_linear_algebra --spacings
+//   0.35e-3,0.3e-3,0.2e-3,0.15e-3
 // The deformed states are cached in --cache (default: bench-cache/ in the working folder).
 
 #include <omp.h>
 #include <spdlog/spdlog.h>
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <fmt/format.h>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -48,7 +49,9 @@ namespace {
 using namespace vascsim;
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -88,18 +91,26 @@ Args parse(int argc, char** argv) {
       if (i + 1 >= argc) throw std::invalid_argument("missing value after " + k);
       return argv[++i];
     };
-    if (k == "--scene") a.scene = next();
+    if (k == "--scene")
+      a.scene = next();
     else if (k == "--spacings") {
       a.spacings.clear();
       std::stringstream ss(next());
       for (std::string t; std::getline(ss, t, ',');) a.spacings.push_back(std::stod(t));
-    } else if (k == "--repeats") a.repeats = std::stoi(next());
-    else if (k == "--drift-max-nodes") a.drift_max_nodes = std::stoi(next());
-    else if (k == "--cache") a.cache = next();
-    else if (k == "--no-orderings") a.orderings = false;
-    else if (k == "--no-threads") a.threads = false;
-    else if (k == "--max-iterations") a.max_iterations = std::stoi(next());
-    else throw std::invalid_argument("unknown argument " + k);
+    } else if (k == "--repeats")
+      a.repeats = std::stoi(next());
+    else if (k == "--drift-max-nodes")
+      a.drift_max_nodes = std::stoi(next());
+    else if (k == "--cache")
+      a.cache = next();
+    else if (k == "--no-orderings")
+      a.orderings = false;
+    else if (k == "--no-threads")
+      a.threads = false;
+    else if (k == "--max-iterations")
+      a.max_iterations = std::stoi(next());
+    else
+      throw std::invalid_argument("unknown argument " + k);
   }
   return a;
 }
@@ -121,16 +132,18 @@ class Reduced {
   Eigen::Index size() const { return 3 * static_cast<Eigen::Index>(free_.size()); }
   Eigen::VectorXd gather(const Vec3Array& v) const {
     Eigen::VectorXd out(size());
-    for (std::size_t a = 0; a < free_.size(); ++a) out.segment<3>(3 * static_cast<Eigen::Index>(a)) = v[static_cast<std::size_t>(free_[a])];
+    for (std::size_t a = 0; a < free_.size(); ++a)
+      out.segment<3>(3 * static_cast<Eigen::Index>(a)) = v[static_cast<std::size_t>(free_[a])];
     return out;
   }
   void scatter(const Eigen::VectorXd& v, Vec3Array& out) const {
     out.assign(p_.discretization().rest_positions().size(), Vec3::Zero());
-    for (std::size_t a = 0; a < free_.size(); ++a) out[static_cast<std::size_t>(free_[a])] = v.segment<3>(3 * static_cast<Eigen::Index>(a));
+    for (std::size_t a = 0; a < free_.size(); ++a)
+      out[static_cast<std::size_t>(free_[a])] = v.segment<3>(3 * static_cast<Eigen::Index>(a));
   }
   // out = (K(lin) v)_f + shift .* v
-  void apply(const PointPrimitiveEnergy::Linearization& lin, const Eigen::VectorXd& shift, const Eigen::VectorXd& v,
-             Eigen::VectorXd& out) {
+  void apply(const PointPrimitiveEnergy::Linearization& lin, const Eigen::VectorXd& shift,
+             const Eigen::VectorXd& v, Eigen::VectorXd& out) {
     scatter(v, full_);
     p_.energy().hessian_product(lin, full_, Kv_);
     out = gather(Kv_);
@@ -152,7 +165,8 @@ struct PcgResult {
 };
 
 PcgResult pcg(Reduced& red, const PointPrimitiveEnergy::Linearization& lin, const Eigen::VectorXd& shift,
-              SparseCholesky& pre, const Eigen::VectorXd& b, double tol, int max_it, Eigen::VectorXd* solution = nullptr) {
+              SparseCholesky& pre, const Eigen::VectorXd& b, double tol, int max_it,
+              Eigen::VectorXd* solution = nullptr) {
   const auto t0 = Clock::now();
   PcgResult res;
   Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size()), r = b, z, p, Ap;
@@ -188,7 +202,10 @@ PcgResult pcg(Reduced& red, const PointPrimitiveEnergy::Linearization& lin, cons
 
 std::string fmt_pcg(const PcgResult& r) {
   if (r.iterations == 0 && !r.converged && !r.negative_curvature) return "-";
-  return fmt::format("{}{}", r.iterations, r.negative_curvature ? " (neg. curv.)" : r.converged ? "" : " (no conv.)");
+  return fmt::format("{}{}", r.iterations,
+                     r.negative_curvature ? " (neg. curv.)"
+                     : r.converged        ? ""
+                                          : " (no conv.)");
 }
 
 // The drifted state: quasi_static to s = 1, cached.
@@ -229,17 +246,20 @@ Drift drifted_state(Simulation& sim, const std::string& cache_file) {
 }
 
 // The tet stiffness restricted to the free nodes, lower triangle, plus the shift (N/m per dof).
-Eigen::SparseMatrix<double> tet_matrix(const Problem& p, const std::vector<Index>& slot, const Eigen::VectorXd& shift) {
+Eigen::SparseMatrix<double> tet_matrix(const Problem& p, const std::vector<Index>& slot,
+                                       const Eigen::VectorXd& shift) {
   const auto& disc = p.discretization();
   const auto& E = p.energy();
   // As quasi_static: lambda of the strain term plus k_v (the small-strain lambda of the energy).
   const Eigen::SparseMatrix<double> K =
-      linear_tet_stiffness(disc.rest_positions(), disc.tets(), E.strain_lambda() + E.options().volume_stiffness_pa, E.shear_modulus());
+      linear_tet_stiffness(disc.rest_positions(), disc.tets(),
+                           E.strain_lambda() + E.options().volume_stiffness_pa, E.shear_modulus());
   std::vector<Eigen::Triplet<double>> trip;
   trip.reserve(static_cast<std::size_t>(K.nonZeros()) / 2 + static_cast<std::size_t>(shift.size()));
   for (int c = 0; c < K.outerSize(); ++c)
     for (Eigen::SparseMatrix<double>::InnerIterator it(K, c); it; ++it) {
-      const Index a = slot[static_cast<std::size_t>(it.row() / 3)], b = slot[static_cast<std::size_t>(it.col() / 3)];
+      const Index a = slot[static_cast<std::size_t>(it.row() / 3)],
+                  b = slot[static_cast<std::size_t>(it.col() / 3)];
       if (a < 0 || b < 0) continue;
       const Eigen::Index r = 3 * a + it.row() % 3, cc = 3 * b + it.col() % 3;
       if (r >= cc) trip.emplace_back(r, cc, it.value());
@@ -257,24 +277,29 @@ struct Row {
   bool shifted = false;
   double nnz_a = 0, nnz_l = 0, stored_l = 0, flops = 0;
   std::string ordering;
-  double symbolic_ms = NAN, assemble_ms = NAN, assemble_psd_ms = NAN, analyse_ms = NAN, factor_ms = NAN, solve_ms = NAN,
-         solve32_ms = NAN;
+  double symbolic_ms = NAN, assemble_ms = NAN, assemble_psd_ms = NAN, analyse_ms = NAN, factor_ms = NAN,
+         solve_ms = NAN, solve32_ms = NAN;
   PcgResult a, a1, b, c;
   std::string failure;
 };
 
 void print_row(const Row& r) {
-  fmt::print("| {:>6} | {:<8} | {:>5} | {:>9.3g} | {:>9.3g} | {:>8} | {:>7.1f} | {:>7.1f} | {:>7.1f} | {:>8.1f} | {:>8.1f} | {:>7.2f} | "
-             "{:>7.2f} | {:>6} | {:>6} | {:>12} | {:>9.0f} | {:>12} | {:>9.0f} | {:>6.0f} |{}\n",
-             r.nodes, r.candidate, r.shifted ? "M/h2" : "-", r.nnz_a, r.nnz_l, r.ordering, r.symbolic_ms, r.assemble_ms,
-             r.assemble_psd_ms, r.analyse_ms, r.factor_ms, r.solve_ms, r.solve32_ms, fmt_pcg(r.a), fmt_pcg(r.a1), fmt_pcg(r.b),
-             r.b.seconds * 1e3, fmt_pcg(r.c), r.c.seconds * 1e3, r.stored_l * 8e-6, r.failure.empty() ? "" : " " + r.failure);
+  fmt::print(
+      "| {:>6} | {:<8} | {:>5} | {:>9.3g} | {:>9.3g} | {:>8} | {:>7.1f} | {:>7.1f} | {:>7.1f} | {:>8.1f} | "
+      "{:>8.1f} | {:>7.2f} | "
+      "{:>7.2f} | {:>6} | {:>6} | {:>12} | {:>9.0f} | {:>12} | {:>9.0f} | {:>6.0f} |{}\n",
+      r.nodes, r.candidate, r.shifted ? "M/h2" : "-", r.nnz_a, r.nnz_l, r.ordering, r.symbolic_ms,
+      r.assemble_ms, r.assemble_psd_ms, r.analyse_ms, r.factor_ms, r.solve_ms, r.solve32_ms, fmt_pcg(r.a),
+      fmt_pcg(r.a1), fmt_pcg(r.b), r.b.seconds * 1e3, fmt_pcg(r.c), r.c.seconds * 1e3, r.stored_l * 8e-6,
+      r.failure.empty() ? "" : " " + r.failure);
   std::fflush(stdout);
 }
 
 void print_header() {
-  fmt::print("| nodes  | cand.    | shift | nnz(A)    | nnz(L)    | ordering | sym ms  | asm ms  | asm+psd | analyse  | factor   | solve   "
-             "| solve32 | it(a)  | it(a1) | it(b)        | pcg(b) ms | it(c)        | pcg(c) ms | L MB   |\n");
+  fmt::print(
+      "| nodes  | cand.    | shift | nnz(A)    | nnz(L)    | ordering | sym ms  | asm ms  | asm+psd | "
+      "analyse  | factor   | solve   "
+      "| solve32 | it(a)  | it(a1) | it(b)        | pcg(b) ms | it(c)        | pcg(c) ms | L MB   |\n");
   fmt::print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
 }
 
@@ -296,8 +321,14 @@ struct SizeCase {
   Drift drift;
 
   SizeCase(const Args& a, double h, const Simulation& sim)
-      : args(a), spacing(h), problem(sim.problem()), energy(sim.energy()), X(sim.discretization().rest_positions()),
-        red(sim.problem()), n(sim.discretization().num_nodes()), dim(red.size()) {}
+      : args(a),
+        spacing(h),
+        problem(sim.problem()),
+        energy(sim.energy()),
+        X(sim.discretization().rest_positions()),
+        red(sim.problem()),
+        n(sim.discretization().num_nodes()),
+        dim(red.size()) {}
   std::size_t at(Index i) const { return static_cast<std::size_t>(i); }
 };
 
@@ -306,17 +337,21 @@ void set_mass_shift(SizeCase& c, const Discretization& disc) {
   for (Index i = 0; i < c.n; ++i) c.shift_node[c.at(i)] = disc.masses()[c.at(i)] / (c.args.dt * c.args.dt);
   c.shift.resize(c.dim);
   for (Index i = 0; i < c.n; ++i)
-    if (c.red.slot()[c.at(i)] >= 0) c.shift.segment<3>(3 * c.red.slot()[c.at(i)]).setConstant(c.shift_node[c.at(i)]);
+    if (c.red.slot()[c.at(i)] >= 0)
+      c.shift.segment<3>(3 * c.red.slot()[c.at(i)]).setConstant(c.shift_node[c.at(i)]);
 }
 
 // Reference: one Hessian-vector product at rest (with and without the per-state linearisation).
 void print_hessian_product_time(const SizeCase& c) {
   Vec3Array v(c.at(c.n), Vec3(1e-6, -2e-6, 0.5e-6)), out;
   const auto lin = c.energy.linearize(c.X);
-  const double hv_lin = time_median(std::max(c.args.repeats, 11), [&] { c.energy.hessian_product(lin, v, out); });
-  const double hv_full = time_median(std::max(c.args.repeats, 11), [&] { c.energy.hessian_product(c.X, v, out); });
-  fmt::print("hessian_product: {:.2f} ms with a stored linearisation (per CG iteration), {:.2f} ms including it\n",
-             hv_lin * 1e3, hv_full * 1e3);
+  const double hv_lin =
+      time_median(std::max(c.args.repeats, 11), [&] { c.energy.hessian_product(lin, v, out); });
+  const double hv_full =
+      time_median(std::max(c.args.repeats, 11), [&] { c.energy.hessian_product(c.X, v, out); });
+  fmt::print(
+      "hessian_product: {:.2f} ms with a stored linearisation (per CG iteration), {:.2f} ms including it\n",
+      hv_lin * 1e3, hv_full * 1e3);
 }
 
 // (a) at rest: rhs = -(K dp)_f, dp the prescribed increment of load step 1 (s1 = 1/steps); returns dp.
@@ -340,8 +375,9 @@ void set_drifted_case(SizeCase& c, const Scene& scene, double s1) {
   Simulation qs(scene);  // a fresh model for the run
   c.drift = drifted_state(qs, file);
   if (!std::isnan(c.drift.quasi_static_s))
-    fmt::print("quasi_static to s = 1 (tet preconditioner, its default): {:.1f} s, {} Newton, {} CG iterations\n",
-               c.drift.quasi_static_s, c.drift.newton, c.drift.cg);
+    fmt::print(
+        "quasi_static to s = 1 (tet preconditioner, its default): {:.1f} s, {} Newton, {} CG iterations\n",
+        c.drift.quasi_static_s, c.drift.newton, c.drift.cg);
   if (!c.drift.available) return;
   Vec3Array dp2(c.at(c.n), Vec3::Zero()), K2;
   for (Index i = 0; i < c.n; ++i)
@@ -381,18 +417,20 @@ struct Candidate {
 };
 
 // The candidate's matrix at rest: assembly times into r; A_tet or H holds it.
-const Eigen::SparseMatrix<double>* assemble_candidate(const SizeCase& c, const Candidate& cd, bool shifted, Row& r,
-                                                      Eigen::SparseMatrix<double>& A_tet,
+const Eigen::SparseMatrix<double>* assemble_candidate(const SizeCase& c, const Candidate& cd, bool shifted,
+                                                      Row& r, Eigen::SparseMatrix<double>& A_tet,
                                                       std::unique_ptr<EnergyHessian>& H) {
   const std::vector<double> sh_node = shifted ? c.shift_node : std::vector<double>{};
   if (cd.name == "tet") {
-    r.assemble_ms = 1e3 * time_median(c.args.repeats, [&] {
-      A_tet = tet_matrix(c.problem, c.red.slot(), shifted ? c.shift : Eigen::VectorXd::Zero(c.dim));
-    });
+    r.assemble_ms =
+        1e3 * time_median(c.args.repeats, [&] {
+          A_tet = tet_matrix(c.problem, c.red.slot(), shifted ? c.shift : Eigen::VectorXd::Zero(c.dim));
+        });
     return &A_tet;
   }
   auto t0 = Clock::now();
-  H = std::make_unique<EnergyHessian>(c.energy, EnergyHessianOptions{cd.stencil, true, true, cd.lumping}, c.red.slot());
+  H = std::make_unique<EnergyHessian>(c.energy, EnergyHessianOptions{cd.stencil, true, true, cd.lumping},
+                                      c.red.slot());
   r.symbolic_ms = 1e3 * seconds_since(t0);
   r.assemble_psd_ms = 1e3 * time_median(c.args.repeats, [&] { H->assemble(c.X, sh_node); });
   // The exact refill (no projection) on a second object of the same pattern.
@@ -401,8 +439,8 @@ const Eigen::SparseMatrix<double>* assemble_candidate(const SizeCase& c, const C
   return &H->matrix();
 }
 
-// One row of the table: a candidate matrix (with or without the mass shift) as the preconditioner of the three
-// situations, and for the meshless candidates (c): refactored at the drifted state.
+// One row of the table: a candidate matrix (with or without the mass shift) as the preconditioner of the
+// three situations, and for the meshless candidates (c): refactored at the drifted state.
 Row measure_candidate(SizeCase& c, const Candidate& cd, bool shifted) {
   Row r;
   r.spacing_m = c.spacing;
@@ -443,7 +481,8 @@ Row measure_candidate(SizeCase& c, const Candidate& cd, bool shifted) {
   if (!c.drift.available) return r;
   r.b = pcg(c.red, c.lin_drift, sh, chol, c.b_b, a.tol, a.max_iterations);
   if (!H) return r;
-  H->assemble(c.drift.x, shifted ? c.shift_node : std::vector<double>{});  // PSD-projected refill, drifted state
+  H->assemble(c.drift.x,
+              shifted ? c.shift_node : std::vector<double>{});  // PSD-projected refill, drifted state
   try {
     chol.factorize(H->matrix());
     r.c = pcg(c.red, c.lin_drift, sh, chol, c.b_b, a.tol, a.max_iterations);
@@ -456,7 +495,9 @@ Row measure_candidate(SizeCase& c, const Candidate& cd, bool shifted) {
 // CHOLMOD's orderings on the matrices at rest (no shift): nnz(L), analyse and factorize times.
 void compare_orderings(const SizeCase& c) {
   fmt::print("\nCHOLMOD orderings (no shift, matrix at rest): nnz(L), analyse ms, factorize ms\n");
-  fmt::print("| nodes | cand. | ordering | nnz(L) | flops | analyse ms | factor ms |\n|---|---|---|---|---|---|---|\n");
+  fmt::print(
+      "| nodes | cand. | ordering | nnz(L) | flops | analyse ms | factor ms "
+      "|\n|---|---|---|---|---|---|---|\n");
   for (const std::string cand : {"tet", "compact", "full"}) {
     Eigen::SparseMatrix<double> A_tet;
     std::unique_ptr<EnergyHessian> H;
@@ -466,12 +507,13 @@ void compare_orderings(const SizeCase& c) {
       A = &A_tet;
     } else {
       const HessianStencil stencil = cand == "full" ? HessianStencil::Full : HessianStencil::Compact;
-      H = std::make_unique<EnergyHessian>(c.energy, EnergyHessianOptions{stencil, false, true, CompactLumping::Polar},
-                                          c.red.slot());
+      H = std::make_unique<EnergyHessian>(
+          c.energy, EnergyHessianOptions{stencil, false, true, CompactLumping::Polar}, c.red.slot());
       H->assemble(c.X);
       A = &H->matrix();
     }
-    for (CholeskyOrdering o : {CholeskyOrdering::Default, CholeskyOrdering::Amd, CholeskyOrdering::Metis, CholeskyOrdering::Nesdis}) {
+    for (CholeskyOrdering o : {CholeskyOrdering::Default, CholeskyOrdering::Amd, CholeskyOrdering::Metis,
+                               CholeskyOrdering::Nesdis}) {
       SparseCholesky chol({o, true});
       const double an = time_median(1, [&] { chol.analyse(*A); });
       double fa = NAN;
@@ -479,14 +521,14 @@ void compare_orderings(const SizeCase& c) {
         fa = time_median(1, [&] { chol.factorize(*A); });
       } catch (const NumericalError&) {
       }
-      fmt::print("| {} | {} | {} -> {} | {:.3g} | {:.3g} | {:.1f} | {:.1f} |\n", c.n, cand, to_string(o), chol.stats().ordering,
-                 chol.stats().nnz_l, chol.stats().flops, an * 1e3, fa * 1e3);
+      fmt::print("| {} | {} | {} -> {} | {:.3g} | {:.3g} | {:.1f} | {:.1f} |\n", c.n, cand, to_string(o),
+                 chol.stats().ordering, chol.stats().nnz_l, chol.stats().flops, an * 1e3, fa * 1e3);
     }
   }
 }
 
-// The numeric refill of the full Hessian on 1 and 2 OpenMP threads (gather per block row, no atomics), and its
-// factorisation on 1 and 2 BLAS threads (OpenBLAS only; the reference BLAS has one).
+// The numeric refill of the full Hessian on 1 and 2 OpenMP threads (gather per block row, no atomics), and
+// its factorisation on 1 and 2 BLAS threads (OpenBLAS only; the reference BLAS has one).
 void compare_threads(const SizeCase& c) {
   EnergyHessian H(c.energy, {HessianStencil::Full, true, true, CompactLumping::Polar}, c.red.slot());
   const int saved = omp_get_max_threads();
@@ -496,8 +538,9 @@ void compare_threads(const SizeCase& c) {
     t.emplace_back(th, time_median(c.args.repeats, [&] { H.assemble(c.X); }));
   }
   omp_set_num_threads(saved);
-  fmt::print("\nfull Hessian refill (PSD-projected): 1 thread {:.1f} ms, 2 threads {:.1f} ms (speed-up {:.2f})\n",
-             t[0].second * 1e3, t[1].second * 1e3, t[0].second / t[1].second);
+  fmt::print(
+      "\nfull Hessian refill (PSD-projected): 1 thread {:.1f} ms, 2 threads {:.1f} ms (speed-up {:.2f})\n",
+      t[0].second * 1e3, t[1].second * 1e3, t[0].second / t[1].second);
   const int blas_saved = blas_threads();
   SparseCholesky chol;
   chol.analyse(H.matrix());
@@ -510,13 +553,14 @@ void compare_threads(const SizeCase& c) {
 }
 
 void run_size(const Args& args, double spacing, std::vector<Row>& rows) {
-  const std::vector<std::string> overrides{fmt::format("geometry.node_spacing_m={}", spacing), "discretization.max_growths=10"};
+  const std::vector<std::string> overrides{fmt::format("geometry.node_spacing_m={}", spacing),
+                                           "discretization.max_growths=10"};
   Scene scene = load_scene(args.scene, overrides);
   Simulation sim(scene);
   const Discretization& disc = sim.discretization();
   SizeCase c(args, spacing, sim);
-  fmt::print("\n## spacing {:.3g} mm: {} nodes, {} free, mean K {:.1f}, {} tets, nodes with grown h: {}\n", spacing * 1e3, c.n,
-             c.dim / 3, disc.mean_neighbours(), disc.tets().size(), disc.grown_nodes());
+  fmt::print("\n## spacing {:.3g} mm: {} nodes, {} free, mean K {:.1f}, {} tets, nodes with grown h: {}\n",
+             spacing * 1e3, c.n, c.dim / 3, disc.mean_neighbours(), disc.tets().size(), disc.grown_nodes());
   set_mass_shift(c, disc);
   print_hessian_product_time(c);
   const double s1 = 1.0 / scene.settings<QuasiStaticSettings>("quasi_static").load_steps;
@@ -545,10 +589,13 @@ int main(int argc, char** argv) {
   try {
     const Args args = parse(argc, argv);
     spdlog::set_level(spdlog::level::warn);
-    fmt::print("# bench_equilibrium_linear_algebra\nscene {}\nBLAS: {} (threads {}){}\nOpenMP max threads {}\n", args.scene,
-               blas_library(), blas_threads(), blas_config().empty() ? "" : ", " + blas_config(), omp_get_max_threads());
-    fmt::print("PCG: relative residual {:.0e}, at most {} iterations; mass shift dt = {} s; medians of {} repeats\n", args.tol,
-               args.max_iterations, args.dt, args.repeats);
+    fmt::print(
+        "# bench_equilibrium_linear_algebra\nscene {}\nBLAS: {} (threads {}){}\nOpenMP max threads {}\n",
+        args.scene, blas_library(), blas_threads(), blas_config().empty() ? "" : ", " + blas_config(),
+        omp_get_max_threads());
+    fmt::print(
+        "PCG: relative residual {:.0e}, at most {} iterations; mass shift dt = {} s; medians of {} repeats\n",
+        args.tol, args.max_iterations, args.dt, args.repeats);
     std::vector<Row> rows;
     for (double s : args.spacings) run_size(args, s, rows);
     fmt::print("\n# summary\n");

@@ -1,6 +1,7 @@
 // Throughput of the point-primitive force kernels (docs/performance.md): PointPrimitiveEnergy::forces,
-// PointPrimitiveEnergy::hessian_product, one ExplicitIntegrator::substep and one EnergyHessian refill, on jittered
-// box lattices of about 1k, 10k and 100k nodes (h = 2 Delta, SVK, stabiliser alpha 0.1: the library defaults).
+// PointPrimitiveEnergy::hessian_product, one ExplicitIntegrator::substep and one EnergyHessian refill, on
+// jittered box lattices of about 1k, 10k and 100k nodes (h = 2 Delta, SVK, stabiliser alpha 0.1: the library
+// defaults).
 //
 // Arguments: {nodes per axis, OpenMP threads}. Counters:
 //   N            nodes
@@ -96,8 +97,10 @@ void set_counters(benchmark::State& state, const Case& c) {
   state.counters["threads"] = static_cast<double>(state.range(1));
   // Rate counters divide by the elapsed time; kInvert turns items/s into s/item, and the 1e-9 scale
   // turns seconds into nanoseconds.
-  state.counters["ns_per_node"] = Counter(c.nodes * 1e-9, Counter::kIsIterationInvariantRate | Counter::kInvert);
-  state.counters["ns_per_pair"] = Counter(c.pairs * 1e-9, Counter::kIsIterationInvariantRate | Counter::kInvert);
+  state.counters["ns_per_node"] =
+      Counter(c.nodes * 1e-9, Counter::kIsIterationInvariantRate | Counter::kInvert);
+  state.counters["ns_per_pair"] =
+      Counter(c.pairs * 1e-9, Counter::kIsIterationInvariantRate | Counter::kInvert);
 }
 
 void BM_Forces(benchmark::State& state) {
@@ -142,9 +145,10 @@ void BM_HessianProductLinearized(benchmark::State& state) {
   set_counters(state, c);
 }
 
-// One numeric refill of the assembled Hessian (model/energy_hessian.hpp), the preconditioner quasi_static refactors:
-// the full matrix, and the block lower triangle a Cholesky factorisation reads, which computes only its blocks. Third
-// argument: 1 lower triangle only, 0 full. The 46^3 size is left out (its full Hessian takes several GB).
+// One numeric refill of the assembled Hessian (model/energy_hessian.hpp), the preconditioner quasi_static
+// refactors: the full matrix, and the block lower triangle a Cholesky factorisation reads, which computes
+// only its blocks. Third argument: 1 lower triangle only, 0 full. The 46^3 size is left out (its full Hessian
+// takes several GB).
 void BM_HessianRefill(benchmark::State& state) {
   const Case& c = get_case(static_cast<int>(state.range(0)));
   omp_set_num_threads(static_cast<int>(state.range(1)));

@@ -1,16 +1,21 @@
 // The pieces of a real-time frame of the implicit model on the real-time vein (scenes/realtime/
-// hand-dorsal-vein-catheter.json: 0.3 mm along the wall, 3 layers, 5,712 nodes), each against the one it replaces
-// (docs/performance.md, "Real time at hand speed"):
-//   BM_RealtimeHessianProduct       the Newton operator's product K v: double precision (the energy's matrix-free
-//                                   product) against SinglePrecisionHessian (assembled per-node tangents, floats);
-//   BM_RealtimePreconditionerApply  one application: the meshless factor's float solves against one V-cycle of the
-//                                   wall multigrid (smoothing with the float operator, coarse solve, smoothing);
-//   BM_RealtimePreconditionerRefresh its refresh at a new state: the factor's numeric refactorisation against the
-//                                   multigrid's level build (tangents, smoother blocks, Galerkin coarse matrix and
-//                                   its factor).
-// Arguments {variant, OpenMP threads}: variant 0 is the one replaced, 1 the one in use. Counter ns_per_pair: wall
-// time per call over the neighbour pairs (the product's figure of merit; docs/performance.md). The state is the
-// rest configuration with a 10 um smooth perturbation (the costs do not depend on the deformation).
+// hand-dorsal-vein-catheter.json: 0.3 mm along the wall, 3 layers, 5,712 nodes), each against the one it
+// replaces (docs/performance.md, "Real time at hand speed"):
+//   BM_RealtimeHessianProduct       the Newton operator's product K v: double precision (the energy's
+//   matrix-free
+//                                   product) against SinglePrecisionHessian (assembled per-node tangents,
+//                                   floats);
+//   BM_RealtimePreconditionerApply  one application: the meshless factor's float solves against one V-cycle
+//   of the
+//                                   wall multigrid (smoothing with the float operator, coarse solve,
+//                                   smoothing);
+//   BM_RealtimePreconditionerRefresh its refresh at a new state: the factor's numeric refactorisation against
+//   the
+//                                   multigrid's level build (tangents, smoother blocks, Galerkin coarse
+//                                   matrix and its factor).
+// Arguments {variant, OpenMP threads}: variant 0 is the one replaced, 1 the one in use. Counter ns_per_pair:
+// wall time per call over the neighbour pairs (the product's figure of merit; docs/performance.md). The state
+// is the rest configuration with a 10 um smooth perturbation (the costs do not depend on the deformation).
 //
 // Run: build/bench/vascsim_bench --benchmark_filter=Realtime --benchmark_repetitions=5
 //        --benchmark_report_aggregates_only=true
@@ -64,8 +69,8 @@ const RealtimeCase& realtime_case() {
 void set_counters(benchmark::State& state, const RealtimeCase& c) {
   state.counters["N"] = static_cast<double>(c.x.size());
   state.counters["threads"] = static_cast<double>(state.range(1));
-  state.counters["ns_per_pair"] =
-      benchmark::Counter(c.pairs * 1e-9, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["ns_per_pair"] = benchmark::Counter(
+      c.pairs * 1e-9, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 void BM_RealtimeHessianProduct(benchmark::State& state) {
@@ -140,7 +145,10 @@ void BM_RealtimePreconditionerRefresh(benchmark::State& state) {
 }
 
 void variants(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"variant", "threads"})->ArgsProduct({{0, 1}, {1, 2}})->UseRealTime()->Unit(benchmark::kMillisecond);
+  b->ArgNames({"variant", "threads"})
+      ->ArgsProduct({{0, 1}, {1, 2}})
+      ->UseRealTime()
+      ->Unit(benchmark::kMillisecond);
 }
 
 BENCHMARK(BM_RealtimeHessianProduct)->Apply(variants);

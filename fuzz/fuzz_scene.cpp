@@ -19,8 +19,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       start = end + 1;
     }
   }
-  const auto file = vascsim::fuzz::write_input(reinterpret_cast<const std::uint8_t*>(scene.data()), scene.size(),
-                                               ".json");
+  const auto file =
+      vascsim::fuzz::write_input(reinterpret_cast<const std::uint8_t*>(scene.data()), scene.size(), ".json");
   vascsim::fuzz::expect_clean([&] { vascsim::load_scene(file.string(), overrides); });
   return 0;
 }

@@ -2,22 +2,24 @@
 // Shared by the fuzz targets: the input goes to a file (the readers under test take paths, as the CLI gives
 // them), and every error a reader may report is an InputError; anything else escaping is a finding.
 
+#include <unistd.h>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <string>
-#include <unistd.h>
 
 #include "vascsim/core/error.hpp"
 
 namespace vascsim::fuzz {
 
 /// Writes `size` bytes to a file of this process under /dev/shm (or the temp folder) with `extension`.
-inline std::filesystem::path write_input(const std::uint8_t* data, std::size_t size, const std::string& extension) {
-  static const std::filesystem::path dir =
-      std::filesystem::exists("/dev/shm") ? std::filesystem::path("/dev/shm") : std::filesystem::temp_directory_path();
+inline std::filesystem::path write_input(const std::uint8_t* data, std::size_t size,
+                                         const std::string& extension) {
+  static const std::filesystem::path dir = std::filesystem::exists("/dev/shm")
+                                               ? std::filesystem::path("/dev/shm")
+                                               : std::filesystem::temp_directory_path();
   const std::filesystem::path file = dir / ("vascsim-fuzz-" + std::to_string(getpid()) + extension);
   // Removed when the process ends.
   static struct Cleanup {

@@ -1,7 +1,7 @@
-// A fuzz target without libFuzzer, for the test suite (`make test`, ctest label "fuzz"): runs every file of the
-// folders given, then `-mutations=N` deterministic variants of each (a byte changed, the input cut short, a byte
-// inserted, a slice repeated), so that the harness and the readers run under the suite's sanitizers in seconds.
-// A crash ends the process as it would under libFuzzer; `make fuzz` does the real search.
+// A fuzz target without libFuzzer, for the test suite (`make test`, ctest label "fuzz"): runs every file of
+// the folders given, then `-mutations=N` deterministic variants of each (a byte changed, the input cut short,
+// a byte inserted, a slice repeated), so that the harness and the readers run under the suite's sanitizers in
+// seconds. A crash ends the process as it would under libFuzzer; `make fuzz` does the real search.
 
 #include <cstdint>
 #include <cstdio>
@@ -24,7 +24,9 @@ std::uint64_t next_random(std::uint64_t& state) {  // SplitMix64
 }
 
 std::string mutate(std::string s, std::uint64_t& state) {
-  const auto pick = [&](std::size_t n) { return n == 0 ? 0 : static_cast<std::size_t>(next_random(state) % n); };
+  const auto pick = [&](std::size_t n) {
+    return n == 0 ? 0 : static_cast<std::size_t>(next_random(state) % n);
+  };
   switch (next_random(state) % 4) {
     case 0:
       if (!s.empty()) s[pick(s.size())] = static_cast<char>(next_random(state));
@@ -33,7 +35,8 @@ std::string mutate(std::string s, std::uint64_t& state) {
       s.resize(pick(s.size() + 1));
       break;
     case 2:
-      s.insert(s.begin() + static_cast<std::ptrdiff_t>(pick(s.size() + 1)), static_cast<char>(next_random(state)));
+      s.insert(s.begin() + static_cast<std::ptrdiff_t>(pick(s.size() + 1)),
+               static_cast<char>(next_random(state)));
       break;
     default: {
       const std::size_t at = pick(s.size() + 1), length = pick(s.size() - at + 1);
@@ -79,6 +82,7 @@ int main(int argc, char** argv) {
       run(variant);
     }
   }
-  std::printf("fuzz smoke: %llu inputs from %zu seeds, no crash\n", static_cast<unsigned long long>(runs), files.size());
+  std::printf("fuzz smoke: %llu inputs from %zu seeds, no crash\n", static_cast<unsigned long long>(runs),
+              files.size());
   return files.empty() ? 1 : 0;
 }

@@ -6,8 +6,8 @@
 //   vascsim_render_demo --triangles 100000 --frames 60 --measure      (timing split per frame)
 //   vascsim_render_demo                                                 (a window, if there is a display)
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <atomic>
@@ -23,9 +23,9 @@
 #include <GLFW/glfw3.h>
 
 #include "vascsim/core/error.hpp"
+#include "vascsim/core/frame_exchange.hpp"
 #include "vascsim/render/camera_controller.hpp"
 #include "vascsim/render/demo_vessel.hpp"
-#include "vascsim/core/frame_exchange.hpp"
 #include "vascsim/render/gl_context.hpp"
 #include "vascsim/render/hud.hpp"
 #include "vascsim/render/renderer.hpp"
@@ -67,7 +67,8 @@ void install_callbacks(GLFWwindow* window, WindowInput* input) {
     const vr::MouseButton b = button == GLFW_MOUSE_BUTTON_LEFT    ? vr::MouseButton::left
                               : button == GLFW_MOUSE_BUTTON_RIGHT ? vr::MouseButton::right
                                                                   : vr::MouseButton::middle;
-    in->controller->button(b, action == GLFW_PRESS, (mods & GLFW_MOD_SHIFT) != 0, (mods & GLFW_MOD_CONTROL) != 0);
+    in->controller->button(b, action == GLFW_PRESS, (mods & GLFW_MOD_SHIFT) != 0,
+                           (mods & GLFW_MOD_CONTROL) != 0);
   });
   glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
     auto* in = static_cast<WindowInput*>(glfwGetWindowUserPointer(w));
@@ -95,7 +96,9 @@ double mean(std::vector<double> v) {
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
   return v[v.size() / 2];
 }
-double minimum(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::min_element(v.begin(), v.end()); }
+double minimum(const std::vector<double>& v) {
+  return v.empty() ? 0.0 : *std::min_element(v.begin(), v.end());
+}
 
 vr::ContextOptions context_options(const Options& o) {
   vr::ContextOptions co;
@@ -133,7 +136,9 @@ vr::HudControls demo_controls(const Options& o) {
   return c;
 }
 
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 
 // The demo: the vessel, a context, the renderer and the frame hand-off the viewer uses. Headless, frames are
 // filled on this thread before each render (deterministic); in a window a producer thread publishes at about
@@ -141,9 +146,16 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 class Demo {
  public:
   explicit Demo(const Options& o)
-      : o_(o), co_(context_options(o)), build_start_(Clock::now()), demo_(demo_spec(o)), build_ms_(ms_since(build_start_)),
-        context_(vr::create_context(co_)), headless_(context_->kind() == vr::ContextKind::headless),
-        frames_(o.frames > 0 ? o.frames : (headless_ ? 1 : 0)), controls_(demo_controls(o)), controller_(camera_) {
+      : o_(o),
+        co_(context_options(o)),
+        build_start_(Clock::now()),
+        demo_(demo_spec(o)),
+        build_ms_(ms_since(build_start_)),
+        context_(vr::create_context(co_)),
+        headless_(context_->kind() == vr::ContextKind::headless),
+        frames_(o.frames > 0 ? o.frames : (headless_ ? 1 : 0)),
+        controls_(demo_controls(o)),
+        controller_(camera_) {
     renderer_ = std::make_unique<vr::Renderer>();
     if (!o.texture.empty()) renderer_->set_wall_texture(o.texture);
     settings_.measure = o.measure;
@@ -266,14 +278,18 @@ class Demo {
       return v;
     };
     std::cout << fmt::format(
-        "{} {}x{} {} | {} triangles, {} vertices | build {:.0f} ms | frames {} | median: upload {:.2f} ms, draw "
+        "{} {}x{} {} | {} triangles, {} vertices | build {:.0f} ms | frames {} | median: upload {:.2f} ms, "
+        "draw "
         "{:.2f} ms (min {:.2f}){}, frame {:.2f} ms ({:.1f} fps){}{}\n",
         headless_ ? "headless" : "window", co_.width, co_.height, o_.mode, renderer_->triangle_count(),
         renderer_->vertex_count(), build_ms_, frame_ms_.size(), mean(tail(upload_ms_)), mean(tail(draw_ms_)),
-        minimum(tail(draw_ms_)), hud_ms_.empty() ? std::string() : fmt::format(", hud {:.2f} ms", mean(tail(hud_ms_))),
-        mean(tail(frame_ms_)), 1000.0 / std::max(mean(tail(frame_ms_)), 1e-9), o_.measure ? " [glFinish per phase]" : "",
-        produce_ms_.empty() ? std::string()
-                            : fmt::format(" | surface prepared in {:.2f} ms (producer)", mean(tail(produce_ms_))));
+        minimum(tail(draw_ms_)),
+        hud_ms_.empty() ? std::string() : fmt::format(", hud {:.2f} ms", mean(tail(hud_ms_))),
+        mean(tail(frame_ms_)), 1000.0 / std::max(mean(tail(frame_ms_)), 1e-9),
+        o_.measure ? " [glFinish per phase]" : "",
+        produce_ms_.empty()
+            ? std::string()
+            : fmt::format(" | surface prepared in {:.2f} ms (producer)", mean(tail(produce_ms_))));
   }
 
   const Options& o_;
@@ -323,7 +339,8 @@ int main(int argc, char** argv) {
   app.add_flag("--no-contrast", o.no_contrast, "Fluoroscopy without contrast in the lumen");
   app.add_flag("--no-force", o.no_force, "Hide the force arrow");
   app.add_flag("--no-surface", o.no_surface, "Do not draw the wall (to check the tests catch it)");
-  app.add_option("--force-scale", o.force_scale, "Scale of the indentation and force (1: 0.4 N, threshold 0.5 N)");
+  app.add_option("--force-scale", o.force_scale,
+                 "Scale of the indentation and force (1: 0.4 N, threshold 0.5 N)");
   app.add_option("--texture", o.texture, "Wall texture image instead of the procedural one");
   app.add_option("--msaa", o.msaa, "Multisampling: 0, 2, 4, 8");
   app.add_option("--yaw", o.yaw, "Lit view: camera yaw, degrees (0: from the front)");

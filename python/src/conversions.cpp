@@ -60,11 +60,11 @@ py::dict record_to_dict(const Scene& scene, const StepRecord& r) {
     const ObstacleMeasure& m = r.obstacles[i];
     tools[py::str(scene.obstacles[i].name)] =
         py::dict(py::arg("displacement_m") = m.displacement_m, py::arg("force_n") = m.force_n,
-                 py::arg("force_vector_n") = vec3(m.force_vector_n), py::arg("torque_vector_n_m") = vec3(m.torque_vector_n_m),
-                 py::arg("contacts") = m.contacts);
+                 py::arg("force_vector_n") = vec3(m.force_vector_n),
+                 py::arg("torque_vector_n_m") = vec3(m.torque_vector_n_m), py::arg("contacts") = m.contacts);
   }
-  // The names and meanings of summary.json's steps (run/runner.cpp, step_json): force_n the scalar, force_vector_n
-  // the vector, both on the tissue.
+  // The names and meanings of summary.json's steps (run/runner.cpp, step_json): force_n the scalar,
+  // force_vector_n the vector, both on the tissue.
   d["regions"] = regions;
   d["probes"] = probes;
   d["tools"] = tools;

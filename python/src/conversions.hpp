@@ -28,8 +28,8 @@ py::array vec3(const Vec3& v);
 /// One output point of `scene` as a dict with summary.json's names: step, time_s, load_factor, iterations,
 /// inner_iterations, residual, converged, wall_s, regions {name: {displacement_m, force_n, force_vector_n}},
 /// probes {name: m} and tools {name: {displacement_m, force_n, force_vector_n, torque_vector_n_m, contacts}}.
-/// Forces are those the supports or tools exert on the tissue, N: force_n the scalar along the region's direction
-/// or the tool's motion (RegionMeasure/ObstacleMeasure::force_n), force_vector_n the (3,) vector.
+/// Forces are those the supports or tools exert on the tissue, N: force_n the scalar along the region's
+/// direction or the tool's motion (RegionMeasure/ObstacleMeasure::force_n), force_vector_n the (3,) vector.
 py::dict record_to_dict(const Scene& scene, const StepRecord& record);
 
 }  // namespace vascsim::python

@@ -1,10 +1,10 @@
 // The experiments from Python, as the command line runs them (experiments/): a headless run of a scene
 // (`vascsim run`), the force-displacement experiment (`vascsim experiment force-displacement`, the paper's
-// Fig. 10), its comparison of several models (`--models`) and the MLS map checks (`vascsim validate mls`). Each
-// writes the same files as the command; the GIL is released while it runs and Ctrl-C stops it between output
-// points. What the library logs reaches Python at every output point (log_bridge.hpp): warnings as
-// VascsimWarning, progress as INFO records; the lines of summary.json's "warnings" not logged as warnings come
-// at the end (as `vascsim run` prints them). The package's wrappers (vascsim/__init__.py) call these, so
+// Fig. 10), its comparison of several models (`--models`) and the MLS map checks (`vascsim validate mls`).
+// Each writes the same files as the command; the GIL is released while it runs and Ctrl-C stops it between
+// output points. What the library logs reaches Python at every output point (log_bridge.hpp): warnings as
+// VascsimWarning, progress as INFO records; the lines of summary.json's "warnings" not logged as warnings
+// come at the end (as `vascsim run` prints them). The package's wrappers (vascsim/__init__.py) call these, so
 // warnings name their caller's line (stacklevel 2).
 
 #include <pybind11/stl.h>
@@ -67,8 +67,8 @@ py::object run(const Scene& scene, const std::string& out_dir, const py::object&
   return to_python(summary);
 }
 
-py::dict force_displacement(const Scene& scene, const std::string& out_dir, const std::string& tool, bool plot,
-                            const std::string& python, const py::object& on_step) {
+py::dict force_displacement(const Scene& scene, const std::string& out_dir, const std::string& tool,
+                            bool plot, const std::string& python, const py::object& on_step) {
   std::set<std::string> warned;
   ForceDisplacementOptions o;
   o.out_dir = out_dir;
@@ -100,7 +100,8 @@ py::dict force_displacement(const Scene& scene, const std::string& out_dir, cons
 py::dict curve_dict(const ModelCurve& c) {
   py::dict d;
   d["model"] = c.model;
-  d["displacement_m"] = py::array_t<double>(static_cast<py::ssize_t>(c.displacement_m.size()), c.displacement_m.data());
+  d["displacement_m"] =
+      py::array_t<double>(static_cast<py::ssize_t>(c.displacement_m.size()), c.displacement_m.data());
   d["force_n"] = py::array_t<double>(static_cast<py::ssize_t>(c.force_n.size()), c.force_n.data());
   d["rms_error_n"] = c.rms_error_n;
   d["rms_relative"] = c.rms_relative;
@@ -116,8 +117,8 @@ py::dict curve_dict(const ModelCurve& c) {
 
 py::dict compare_models(const std::string& scene_path, const std::vector<std::string>& models,
                         const std::string& out_dir, const std::string& reference,
-                        const std::vector<std::string>& overrides, const std::string& tool, bool reuse, bool plot,
-                        const std::string& python) {
+                        const std::vector<std::string>& overrides, const std::string& tool, bool reuse,
+                        bool plot, const std::string& python) {
   ModelComparisonOptions o;
   o.out_dir = out_dir;
   o.models = models;
@@ -127,7 +128,9 @@ py::dict compare_models(const std::string& scene_path, const std::vector<std::st
   o.reuse = reuse;
   o.plot = plot;
   o.python = python;
-  o.progress = [](const std::string& line) { spdlog::info("{}", line); };  // reaches Python with the next step
+  o.progress = [](const std::string& line) {
+    spdlog::info("{}", line);
+  };  // reaches Python with the next step
   o.on_step = [](const std::string& model, const StepRecord& r, int total) {
     py::gil_scoped_acquire gil;
     log_step(model, model, r, total);
@@ -157,22 +160,27 @@ py::dict compare_models(const std::string& scene_path, const std::vector<std::st
 
 void bind_experiments(py::module_& m) {
   m.def("_run", &run, py::arg("scene"), py::arg("out_dir"), py::arg("on_step") = py::none());
-  m.def("_force_displacement", &force_displacement, py::arg("scene"), py::arg("out_dir"), py::arg("tool") = "",
-        py::arg("plot") = false, py::arg("python") = "/usr/bin/python3", py::arg("on_step") = py::none());
+  m.def("_force_displacement", &force_displacement, py::arg("scene"), py::arg("out_dir"),
+        py::arg("tool") = "", py::arg("plot") = false, py::arg("python") = "/usr/bin/python3",
+        py::arg("on_step") = py::none());
   m.def("_compare_models", &compare_models, py::arg("scene_path"), py::arg("models"), py::arg("out_dir"),
         py::arg("reference") = "quasi_static", py::arg("overrides") = std::vector<std::string>{},
         py::arg("tool") = "", py::arg("reuse") = false, py::arg("plot") = false,
         py::arg("python") = "/usr/bin/python3");
-  m.def("_validate_mls", [](const std::vector<std::string>& files, const std::vector<std::string>& overrides,
-                            double tight_factor) {
-    nlohmann::json rows;
-    {
-      py::gil_scoped_release free;
-      rows = validate_mls(files, overrides, tight_factor);
-    }
-    emit_log(kCallerOfWrapper);
-    return to_python(rows);
-  }, py::arg("scene_files"), py::arg("overrides") = std::vector<std::string>{}, py::arg("tight_factor") = 1.0);
+  m.def(
+      "_validate_mls",
+      [](const std::vector<std::string>& files, const std::vector<std::string>& overrides,
+         double tight_factor) {
+        nlohmann::json rows;
+        {
+          py::gil_scoped_release free;
+          rows = validate_mls(files, overrides, tight_factor);
+        }
+        emit_log(kCallerOfWrapper);
+        return to_python(rows);
+      },
+      py::arg("scene_files"), py::arg("overrides") = std::vector<std::string>{},
+      py::arg("tight_factor") = 1.0);
 }
 
 }  // namespace vascsim::python

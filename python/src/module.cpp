@@ -1,6 +1,6 @@
 // The compiled part of the Python package `vascsim` (python/vascsim/__init__.py wraps it; docs/api.md,
-// "Python module"). Errors: InputError (bad input: a ValueError) and NumericalError (a RuntimeError) carry the
-// same one-line messages as the command line.
+// "Python module"). Errors: InputError (bad input: a ValueError) and NumericalError (a RuntimeError) carry
+// the same one-line messages as the command line.
 
 #include <omp.h>
 
@@ -48,12 +48,13 @@ py::list models_list() {
   return out;
 }
 
-// The library logs through spdlog's default logger, which in Python hands its lines to Python (log_bridge.hpp);
-// this level drops lines before they get there.
+// The library logs through spdlog's default logger, which in Python hands its lines to Python
+// (log_bridge.hpp); this level drops lines before they get there.
 void set_log_level(const std::string& level) {
   const spdlog::level::level_enum l = spdlog::level::from_str(level);
   if (l == spdlog::level::off && level != "off")
-    throw InputError("set_log_level: '" + level + "' is not one of trace, debug, info, warn, error, critical, off");
+    throw InputError("set_log_level: '" + level +
+                     "' is not one of trace, debug, info, warn, error, critical, off");
   spdlog::set_level(l);
 }
 
@@ -62,19 +63,26 @@ void set_log_level(const std::string& level) {
 void bind_library(py::module_& m) {
   m.def("version", &version, "The library's version, MAJOR.MINOR.PATCH.");
   m.def("build_info", &build_info_dict,
-        "How the library was built (build type, compiler, shared or static, OpenMP) and the run-time libraries it "
+        "How the library was built (build type, compiler, shared or static, OpenMP) and the run-time "
+        "libraries it "
         "found (BLAS, CHOLMOD), as `vascsim --version` prints them.");
   m.def("models", &models_list,
         "The registered models in registry order: name, summary and capabilities (dynamic, takes_tools, "
         "device_driven, releases_regions).");
-  m.def("set_threads", [](int n) {
-    if (n < 1 || n > 1024) throw InputError("set_threads: " + std::to_string(n) + " is outside 1..1024");
-    omp_set_num_threads(n);
-  }, py::arg("threads"), "OpenMP threads for the following work (as `vascsim -j`).");
-  m.def("threads", [] { return omp_get_max_threads(); }, "OpenMP threads a parallel region uses now.");
+  m.def(
+      "set_threads",
+      [](int n) {
+        if (n < 1 || n > 1024) throw InputError("set_threads: " + std::to_string(n) + " is outside 1..1024");
+        omp_set_num_threads(n);
+      },
+      py::arg("threads"), "OpenMP threads for the following work (as `vascsim -j`).");
+  m.def(
+      "threads", [] { return omp_get_max_threads(); }, "OpenMP threads a parallel region uses now.");
   m.def("set_log_level", &set_log_level, py::arg("level"),
-        "The lowest level the library passes on: trace, debug, info (the default), warn, error, critical or off. "
-        "Warnings arrive through warnings.warn as VascsimWarning, the other lines through Python's logging (logger "
+        "The lowest level the library passes on: trace, debug, info (the default), warn, error, critical or "
+        "off. "
+        "Warnings arrive through warnings.warn as VascsimWarning, the other lines through Python's logging "
+        "(logger "
         "\"vascsim\"), whose own level then decides what is shown.");
 }
 
@@ -82,7 +90,8 @@ void bind_library(py::module_& m) {
 
 PYBIND11_MODULE(_vascsim, m) {
   namespace vp = vascsim::python;
-  m.doc() = "vascsim: point-primitive vascular tissue simulation (the compiled module; use the package `vascsim`).";
+  m.doc() =
+      "vascsim: point-primitive vascular tissue simulation (the compiled module; use the package `vascsim`).";
   pybind11::register_exception<vascsim::InputError>(m, "InputError", PyExc_ValueError);
   pybind11::register_exception<vascsim::NumericalError>(m, "NumericalError", PyExc_RuntimeError);
   vp::bind_log(m);

@@ -1,9 +1,10 @@
 // vascsim.Simulation: a scene assembled into its model (run/simulation.hpp), driven from Python by output
-// points (advance, solve: load steps or output intervals) or, for a device-driven model, by frames with a tool
-// pose (set_tool_pose, step: model/device_driven_model.hpp). Node positions are read-only NumPy views without
-// a copy per read; every call that moves the model copies its positions into the one buffer those views show
-// (models may swap their own buffers, which would leave a view of them dangling). What the library logs reaches
-// Python after every call (log_bridge.hpp): warnings as VascsimWarning, an INFO record per output point.
+// points (advance, solve: load steps or output intervals) or, for a device-driven model, by frames with a
+// tool pose (set_tool_pose, step: model/device_driven_model.hpp). Node positions are read-only NumPy views
+// without a copy per read; every call that moves the model copies its positions into the one buffer those
+// views show (models may swap their own buffers, which would leave a view of them dangling). What the library
+// logs reaches Python after every call (log_bridge.hpp): warnings as VascsimWarning, an INFO record per
+// output point.
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -38,8 +39,8 @@ Scene with_model(const Scene& scene, const std::string& model) {
   return parse_scene(doc, scene.file);
 }
 
-// The tools whose scripted motion never reaches the body (as run_scene warns before its first step); not for a
-// device-driven use (set_tool_pose), where the scripted motion is not followed.
+// The tools whose scripted motion never reaches the body (as run_scene warns before its first step); not for
+// a device-driven use (set_tool_pose), where the scripted motion is not followed.
 void log_tool_reach_warnings(const Scene& scene, const Simulation& sim) {
   for (std::size_t o = 0; o < scene.obstacles.size(); ++o) {
     const ToolReach reach = tool_reach_by_load(scene.obstacles[o], sim.discretization().rest_positions());
@@ -50,7 +51,9 @@ void log_tool_reach_warnings(const Scene& scene, const Simulation& sim) {
 class PySimulation {
  public:
   PySimulation(const Scene& scene, const std::string& model)
-      : sim_(with_model(scene, model)), positions_(sim_.model().positions()), last_(sim_.initial_record()),
+      : sim_(with_model(scene, model)),
+        positions_(sim_.model().positions()),
+        last_(sim_.initial_record()),
         findings_(sim_.scene(), sim_.body()) {
     log_accuracy_warnings(sim_.scene(), sim_);
     findings_.add(last_);
@@ -120,7 +123,8 @@ class PySimulation {
     DeviceDrivenModel* d = sim_.model().device_driven();
     if (!d)
       throw InputError(fmt::format("{}: model '{}' cannot be driven by a device; use one of: {}", what,
-                                   scene().model, fmt::join(model_names_with(&ModelCapabilities::device_driven), ", ")));
+                                   scene().model,
+                                   fmt::join(model_names_with(&ModelCapabilities::device_driven), ", ")));
     return *d;
   }
 
@@ -175,9 +179,10 @@ py::dict surface(PySimulation& s, py::handle self) {
   d["normals"] = array_of(std::move(f.normals));
   d["displacements"] = array_of(std::move(f.displacements));
   static_assert(sizeof(std::array<Index, 3>) == 3 * sizeof(Index), "triangles must be packed to be viewed");
-  py::array t(py::dtype::of<Index>(), {static_cast<py::ssize_t>(tris.size()), py::ssize_t{3}},
-              {static_cast<py::ssize_t>(sizeof(std::array<Index, 3>)), static_cast<py::ssize_t>(sizeof(Index))},
-              tris.empty() ? nullptr : tris.front().data(), self);
+  py::array t(
+      py::dtype::of<Index>(), {static_cast<py::ssize_t>(tris.size()), py::ssize_t{3}},
+      {static_cast<py::ssize_t>(sizeof(std::array<Index, 3>)), static_cast<py::ssize_t>(sizeof(Index))},
+      tris.empty() ? nullptr : tris.front().data(), self);
   t.attr("setflags")(py::arg("write") = false);
   d["triangles"] = t;
   return d;
@@ -253,54 +258,80 @@ advance, inverted material under a tool) are issued through warnings.warn as vas
            }),
            py::arg("scene"), py::arg("model") = py::none())
       .def_property_readonly("scene", &PySimulation::scene, "The scene it runs (with the model chosen).")
-      .def_property_readonly("model", [](PySimulation& s) { return s.scene().model; }, "The model's registry name.")
-      .def_property_readonly("num_nodes", [](PySimulation& s) { return s.sim().discretization().num_nodes(); })
-      .def_property_readonly("num_steps", [](PySimulation& s) { return s.sim().model().num_steps(); },
-                             "Output points of the scene (load steps, or output intervals of a dynamic model).")
+      .def_property_readonly(
+          "model", [](PySimulation& s) { return s.scene().model; }, "The model's registry name.")
+      .def_property_readonly("num_nodes",
+                             [](PySimulation& s) { return s.sim().discretization().num_nodes(); })
+      .def_property_readonly(
+          "num_steps", [](PySimulation& s) { return s.sim().model().num_steps(); },
+          "Output points of the scene (load steps, or output intervals of a dynamic model).")
       .def_property_readonly("steps_done", &PySimulation::steps_done, "Output points advanced so far.")
-      .def_property_readonly("frames_done", &PySimulation::frames_done, "Device-driven frames stepped so far.")
-      .def_property_readonly("device_driven", [](PySimulation& s) { return s.sim().model().device_driven() != nullptr; },
-                             "True when set_tool_pose and step work (the model's registry capability).")
-      .def_property_readonly("time_s", [](PySimulation& s) {
-        DeviceDrivenModel* d = s.sim().model().device_driven();
-        return d && s.frames_done() > 0 ? d->time() : s.last().report.time_s;
-      }, "Simulated time at the last output point or frame, s.")
-      .def_property_readonly("frame_length_s", [](PySimulation& s) { return s.device_driven("frame_length_s").frame_length_s(); },
-                             "Simulated time per step() frame, s (device-driven models).")
-      .def("advance", [](PySimulation& s) { return record_to_dict(s.scene(), s.advance()); },
-           "Advances to the next output point and returns its record (see Simulation: forces in N on the tissue, "
-           "displacements in m).")
+      .def_property_readonly("frames_done", &PySimulation::frames_done,
+                             "Device-driven frames stepped so far.")
+      .def_property_readonly(
+          "device_driven", [](PySimulation& s) { return s.sim().model().device_driven() != nullptr; },
+          "True when set_tool_pose and step work (the model's registry capability).")
+      .def_property_readonly(
+          "time_s",
+          [](PySimulation& s) {
+            DeviceDrivenModel* d = s.sim().model().device_driven();
+            return d && s.frames_done() > 0 ? d->time() : s.last().report.time_s;
+          },
+          "Simulated time at the last output point or frame, s.")
+      .def_property_readonly(
+          "frame_length_s",
+          [](PySimulation& s) { return s.device_driven("frame_length_s").frame_length_s(); },
+          "Simulated time per step() frame, s (device-driven models).")
+      .def(
+          "advance", [](PySimulation& s) { return record_to_dict(s.scene(), s.advance()); },
+          "Advances to the next output point and returns its record (see Simulation: forces in N on the "
+          "tissue, "
+          "displacements in m).")
       .def("solve", &solve, py::arg("on_step") = py::none(),
-           "Advances through every remaining output point; returns their records. on_step(record) is called after "
+           "Advances through every remaining output point; returns their records. on_step(record) is called "
+           "after "
            "each (and an INFO record logged on the logger \"vascsim\"); Ctrl-C stops between output points.")
-      .def("step", [](PySimulation& s) { return record_to_dict(s.scene(), s.step()); },
-           "One frame of frame_length_s of a device-driven model with the last tool pose; returns its record.")
-      .def("set_tool_pose", &PySimulation::set_tool_pose, py::arg("position_m"), py::arg("orientation") = py::none(),
-           py::arg("tool") = py::none(),
-           "Poses a tool for the next step(): its tool point (a catheter's tip) at position_m (m, scene frame), "
-           "rotated by orientation (a unit quaternion w, x, y, z mapping the tool frame, whose -z the tool points "
-           "along, to the scene; default: the tool's rest orientation). tool: name or index (default: the only "
+      .def(
+          "step", [](PySimulation& s) { return record_to_dict(s.scene(), s.step()); },
+          "One frame of frame_length_s of a device-driven model with the last tool pose; returns its record.")
+      .def("set_tool_pose", &PySimulation::set_tool_pose, py::arg("position_m"),
+           py::arg("orientation") = py::none(), py::arg("tool") = py::none(),
+           "Poses a tool for the next step(): its tool point (a catheter's tip) at position_m (m, scene "
+           "frame), "
+           "rotated by orientation (a unit quaternion w, x, y, z mapping the tool frame, whose -z the tool "
+           "points "
+           "along, to the scene; default: the tool's rest orientation). tool: name or index (default: the "
+           "only "
            "tool). From the first call on, the tool ignores its scripted motion.")
-      .def_property_readonly("positions", [](py::object self) {
-        return view_of(self.cast<PySimulation&>().positions(), self);
-      }, "Node positions (N, 3), m: a read-only view, updated in place by every advance() and step().")
-      .def_property_readonly("rest_positions", [](py::object self) {
-        return view_of(self.cast<PySimulation&>().sim().discretization().rest_positions(), self);
-      }, "Node rest positions (N, 3), m: a read-only view.")
-      .def("surface", [](py::object self) { return surface(self.cast<PySimulation&>(), self); },
-           "The render surface mapped from the nodes by the MLS map (built on first call): a dict of vertices "
-           "(V, 3) m, normals (V, 3) unit, displacements (V, 3) m and triangles (T, 3) vertex indices (a read-only "
-           "view).")
+      .def_property_readonly(
+          "positions", [](py::object self) { return view_of(self.cast<PySimulation&>().positions(), self); },
+          "Node positions (N, 3), m: a read-only view, updated in place by every advance() and step().")
+      .def_property_readonly(
+          "rest_positions",
+          [](py::object self) {
+            return view_of(self.cast<PySimulation&>().sim().discretization().rest_positions(), self);
+          },
+          "Node rest positions (N, 3), m: a read-only view.")
+      .def(
+          "surface", [](py::object self) { return surface(self.cast<PySimulation&>(), self); },
+          "The render surface mapped from the nodes by the MLS map (built on first call): a dict of vertices "
+          "(V, 3) m, normals (V, 3) unit, displacements (V, 3) m and triangles (T, 3) vertex indices (a "
+          "read-only "
+          "view).")
       .def("tool_loads", &tool_loads,
-           "Per tool (scene order): name, force_vector_n (3,) the force it exerts on the tissue now (N; the tissue "
-           "pushes the tool with -force_vector_n), torque_vector_n_m (3,) about the tool point (N m), contacts, and "
+           "Per tool (scene order): name, force_vector_n (3,) the force it exerts on the tissue now (N; the "
+           "tissue "
+           "pushes the tool with -force_vector_n), torque_vector_n_m (3,) about the tool point (N m), "
+           "contacts, and "
            "for a model that trails its device position_used_m (m).")
-      .def_property_readonly("statistics", &statistics,
-                             "The solver's statistics: the last record's report (iterations, inner_iterations, "
-                             "residual, converged, wall_s), steps and frames done, total wall time (s), setup time "
-                             "(s), node count and the model's info() (its parameters and running totals).")
-      .def_property_readonly("last_record", [](PySimulation& s) { return record_to_dict(s.scene(), s.last()); },
-                             "The record of the last output point or frame (the rest state before any).");
+      .def_property_readonly(
+          "statistics", &statistics,
+          "The solver's statistics: the last record's report (iterations, inner_iterations, "
+          "residual, converged, wall_s), steps and frames done, total wall time (s), setup time "
+          "(s), node count and the model's info() (its parameters and running totals).")
+      .def_property_readonly(
+          "last_record", [](PySimulation& s) { return record_to_dict(s.scene(), s.last()); },
+          "The record of the last output point or frame (the rest state before any).");
 }
 
 }  // namespace vascsim::python

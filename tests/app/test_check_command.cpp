@@ -1,8 +1,8 @@
-// `vascsim check` (a dry run) against `vascsim run`, and what a run says when something is wrong: check builds
-// every bundled scene and reports it; where `run` fails on input or in its set-up, `check` fails with the same
-// exit code and the same message; a run with unconverged steps exits with 4 and says so; a tool that never
-// touches the tissue, load steps too large for the contact and xpbd far from its accurate range are each
-// named in one warning line. In-process through run_cli.
+// `vascsim check` (a dry run) against `vascsim run`, and what a run says when something is wrong: check
+// builds every bundled scene and reports it; where `run` fails on input or in its set-up, `check` fails with
+// the same exit code and the same message; a run with unconverged steps exits with 4 and says so; a tool that
+// never touches the tissue, load steps too large for the contact and xpbd far from its accurate range are
+// each named in one warning line. In-process through run_cli.
 
 #include <gtest/gtest.h>
 #include <spdlog/spdlog.h>
@@ -16,8 +16,8 @@
 #include <vector>
 
 #include "support/cli_capture.hpp"
-#include "vascsim/app/cli.hpp"
 #include "support/run_helpers.hpp"
+#include "vascsim/app/cli.hpp"
 
 namespace vascsim {
 namespace {
@@ -26,10 +26,13 @@ namespace fs = std::filesystem;
 
 using CliResult = test::CliCapture;
 
-CliResult cli(const std::vector<std::string>& args) { return test::run_cli_captured(args); }
+CliResult cli(const std::vector<std::string>& args) {
+  return test::run_cli_captured(args);
+}
 
-
-fs::path test_dir() { return test::fresh_test_dir(); }
+fs::path test_dir() {
+  return test::fresh_test_dir();
+}
 
 std::vector<std::string> with_sets(std::vector<std::string> args, const std::vector<std::string>& sets) {
   for (const auto& s : sets) {
@@ -104,19 +107,37 @@ TEST(CheckCommand, FailsWhereRunFailsWithTheSameMessage) {
   const std::string tiny = test::source_path("tests/data/tiny-bent-vessel.json");
   const std::vector<Broken> cases = {
       {"unknown key", tiny, {"geometry.bogus=1"}, 2, "bogus"},
-      {"a region that selects nothing", tiny, {"regions.2.select={\"type\":\"box\",\"min_m\":[1,1,1],\"max_m\":[2,2,2]}",
-        "regions.2.bc={\"type\":\"fixed\"}"}, 2,
+      {"a region that selects nothing",
+       tiny,
+       {"regions.2.select={\"type\":\"box\",\"min_m\":[1,1,1],\"max_m\":[2,2,2]}",
+        "regions.2.bc={\"type\":\"fixed\"}"},
+       2,
        "selects no nodes"},
-      {"a vessel selector on a beam", test::source_path("scenes/cantilever.json"),
-       {"regions.1.select={\"type\":\"cylinder_end\",\"end\":\"start\"}"}, 2, "needs a vessel geometry"},
-      {"the discretisation guard", tiny, {"discretization.max_growths=0", "discretization.support_radius_factor=1.01"}, 3,
+      {"a vessel selector on a beam",
+       test::source_path("scenes/cantilever.json"),
+       {"regions.1.select={\"type\":\"cylinder_end\",\"end\":\"start\"}"},
+       2,
+       "needs a vessel geometry"},
+      {"the discretisation guard",
+       tiny,
+       {"discretization.max_growths=0", "discretization.support_radius_factor=1.01"},
+       3,
        "discretization.max_growths = "},
-      {"the surface map's guard", tiny, {"mapping.max_growths=0", "mapping.support_radius_factor=1.5"}, 3,
+      {"the surface map's guard",
+       tiny,
+       {"mapping.max_growths=0", "mapping.support_radius_factor=1.5"},
+       3,
        "mapping.max_growths = "},
-      {"a body above the node limit without --yes", test::source_path("scenes/vein-indent.json"),
-       {"geometry.outer_radius_m=0.015"}, 2, "--yes"},
-      {"a missing trajectory", test::source_path("scenes/realtime/hand-dorsal-vein-catheter.json"),
-       {"haptics.device.trajectory=no-such-trajectory.csv"}, 2, "no-such-trajectory.csv"},
+      {"a body above the node limit without --yes",
+       test::source_path("scenes/vein-indent.json"),
+       {"geometry.outer_radius_m=0.015"},
+       2,
+       "--yes"},
+      {"a missing trajectory",
+       test::source_path("scenes/realtime/hand-dorsal-vein-catheter.json"),
+       {"haptics.device.trajectory=no-such-trajectory.csv"},
+       2,
+       "no-such-trajectory.csv"},
   };
   const fs::path dir = test_dir();
   for (const Broken& c : cases) {
@@ -132,7 +153,8 @@ TEST(CheckCommand, FailsWhereRunFailsWithTheSameMessage) {
   }
 }
 
-// A failed guard names the smallest value of its max_growths key that works: that value passes, one less fails.
+// A failed guard names the smallest value of its max_growths key that works: that value passes, one less
+// fails.
 void expect_guard_names_a_growth_that_works(const std::string& section, const std::string& factor) {
   const std::string tiny = test::source_path("tests/data/tiny-bent-vessel.json");
   auto check_with = [&](int growths) {
@@ -151,7 +173,9 @@ void expect_guard_names_a_growth_that_works(const std::string& section, const st
   EXPECT_EQ(check_with(growths - 1).code, 3) << "the smallest value that works is named";
 }
 
-TEST(CheckCommand, TheSurfaceMapGuardNamesAGrowthThatWorks) { expect_guard_names_a_growth_that_works("mapping", "1.5"); }
+TEST(CheckCommand, TheSurfaceMapGuardNamesAGrowthThatWorks) {
+  expect_guard_names_a_growth_that_works("mapping", "1.5");
+}
 
 TEST(CheckCommand, TheSupportGuardNamesAGrowthThatWorks) {
   expect_guard_names_a_growth_that_works("discretization", "1.01");
@@ -163,16 +187,17 @@ TEST(CheckCommand, TheSupportGuardNamesAGrowthThatWorks) {
 TEST(RunExitCode, UnconvergedStepsEndOnASummaryLineAndExitCode4) {
   const fs::path dir = test_dir();
   // One Newton iteration per load step cannot reach 1e-6 on a 0.2 mm push.
-  const CliResult r = cli({"-q", "run", test::source_path("tests/data/tiny-bent-vessel.json"), "--out", (dir / "out").string(),
-                           "--set", "quasi_static.max_newton_iterations=1", "--set", "output.vtk=false", "--set",
-                           "output.surface=false"});
+  const CliResult r = cli({"-q", "run", test::source_path("tests/data/tiny-bent-vessel.json"), "--out",
+                           (dir / "out").string(), "--set", "quasi_static.max_newton_iterations=1", "--set",
+                           "output.vtk=false", "--set", "output.surface=false"});
   EXPECT_EQ(r.code, 4) << r.out << r.err;
   EXPECT_TRUE(r.out_has("NOT CONVERGED: 2 of 2 steps")) << r.out;
   const nlohmann::json summary = read_json(dir / "out" / "summary.json");
   EXPECT_EQ(summary["unconverged_steps"].get<int>(), 2);
   // The same scene with its own settings converges and exits 0.
-  const CliResult ok = cli({"-q", "run", test::source_path("tests/data/tiny-bent-vessel.json"), "--out", (dir / "ok").string(),
-                            "--set", "output.vtk=false", "--set", "output.surface=false"});
+  const CliResult ok =
+      cli({"-q", "run", test::source_path("tests/data/tiny-bent-vessel.json"), "--out", (dir / "ok").string(),
+           "--set", "output.vtk=false", "--set", "output.surface=false"});
   EXPECT_EQ(ok.code, 0) << ok.out << ok.err;
   EXPECT_FALSE(ok.out_has("NOT CONVERGED")) << ok.out;
 }
@@ -188,8 +213,8 @@ TEST(RunWarnings, AToolThatNeverTouchesIsNamedUpFrontAndAtTheEnd) {
   const CliResult run = cli(with_sets({"run", tiny, "--out", (dir / "out").string()}, sets));
   EXPECT_TRUE(run.err_has("[warning] tool 'catheter' will never touch the tissue")) << run.err;
   EXPECT_TRUE(run.out_has("warning: the tool 'catheter' never touched the tissue")) << run.out;
-  // Nothing loads the vessel, so every step is the rest state: converged at once, not iterated on the rounding of
-  // the rest state's forces until Newton gives up (NewtonEquilibrium's force floor).
+  // Nothing loads the vessel, so every step is the rest state: converged at once, not iterated on the
+  // rounding of the rest state's forces until Newton gives up (NewtonEquilibrium's force floor).
   EXPECT_EQ(run.code, 0) << run.out << run.err;
   EXPECT_FALSE(run.out_has("NOT CONVERGED")) << run.out;
   // Where it does reach the tissue, neither warning.
@@ -201,9 +226,9 @@ TEST(RunWarnings, AToolThatNeverTouchesIsNamedUpFrontAndAtTheEnd) {
 TEST(RunWarnings, ContactLoadStepsThatDoNotConvergeNameTheKey) {
   const fs::path dir = test_dir();
   // One load step for the whole 0.6 mm press with few Newton iterations: the contact set changes too much.
-  const CliResult r = cli({"-q", "run", test::source_path("tests/data/tiny-catheter.json"), "--out", (dir / "out").string(),
-                           "--set", "quasi_static.load_steps=1", "--set", "quasi_static.max_newton_iterations=3",
-                           "--set", "output.surface=false"});
+  const CliResult r = cli({"-q", "run", test::source_path("tests/data/tiny-catheter.json"), "--out",
+                           (dir / "out").string(), "--set", "quasi_static.load_steps=1", "--set",
+                           "quasi_static.max_newton_iterations=3", "--set", "output.surface=false"});
   EXPECT_EQ(r.code, 4) << r.out << r.err;
   EXPECT_TRUE(r.out_has("did not converge with a tool in contact")) << r.out;
   EXPECT_TRUE(r.out_has("quasi_static.load_steps, now 1")) << r.out;
@@ -211,22 +236,23 @@ TEST(RunWarnings, ContactLoadStepsThatDoNotConvergeNameTheKey) {
 
 TEST(RunWarnings, XpbdOnAThinStiffWallIsNamedWithTheMeasuredDeficit) {
   // The vein wall at 0.3 mm spacing with xpbd's 8 substeps of 1/8 ms: q = (h c_p / spacing)^2 is about 310.
-  const CliResult check =
-      cli({"check", test::source_path("tests/data/tiny-catheter.json"), "--set", "model=xpbd", "--set", "output.surface=false"});
+  const CliResult check = cli({"check", test::source_path("tests/data/tiny-catheter.json"), "--set",
+                               "model=xpbd", "--set", "output.surface=false"});
   EXPECT_EQ(check.code, 0) << check.err;
   EXPECT_TRUE(check.out_has("xpbd is far off at these settings")) << check.out;
   EXPECT_TRUE(check.out_has("96.6 % too low")) << check.out;
   // quasi_static on the same scene: no such warning.
-  const CliResult qs = cli({"check", test::source_path("tests/data/tiny-catheter.json"), "--set", "output.surface=false"});
+  const CliResult qs =
+      cli({"check", test::source_path("tests/data/tiny-catheter.json"), "--set", "output.surface=false"});
   EXPECT_FALSE(qs.out_has("far off")) << qs.out;
 }
 
 // ------------------------------------------------------------------------------------------------------------
 // A user's input mistakes that check names (issue 44).
 
-// The small bent vessel typed in millimetres (a vessel of 1.5 m radius) builds and checks as one a thousand times too
-// large; check names its radius and its centre-line with the fix among its warnings (it said nothing). In metres:
-// no such warning.
+// The small bent vessel typed in millimetres (a vessel of 1.5 m radius) builds and checks as one a thousand
+// times too large; check names its radius and its centre-line with the fix among its warnings (it said
+// nothing). In metres: no such warning.
 TEST(CheckCommand, AVesselTypedInMillimetresIsNamedWithTheFix) {
   const std::string tiny = test::source_path("tests/data/tiny-bent-vessel.json");
   const CliResult mm = cli(with_sets(
@@ -235,27 +261,31 @@ TEST(CheckCommand, AVesselTypedInMillimetresIsNamedWithTheFix) {
        "geometry.centerline.radius_of_curvature_m=5", "geometry.centerline.leg_length_m=1",
        "regions.2.select.s_half_length_m=0.5", "regions.2.bc.magnitude_m=0.2", "output.surface=false"}));
   ASSERT_EQ(mm.code, 0) << mm.err;
-  EXPECT_TRUE(mm.out_has("  warning   " + tiny + ": key 'geometry.outer_radius_m': a vessel radius of 1.5 m is "
-                         "implausible (above 0.05 m); if these are millimetres, write them in metres (1.5e-3)"))
+  EXPECT_TRUE(
+      mm.out_has("  warning   " + tiny +
+                 ": key 'geometry.outer_radius_m': a vessel radius of 1.5 m is "
+                 "implausible (above 0.05 m); if these are millimetres, write them in metres (1.5e-3)"))
       << mm.out;
-  EXPECT_TRUE(mm.out_has("key 'geometry.centerline.radius_of_curvature_m': a centre-line length of 9.854 m is "
-                         "implausible (above 1 m); if these are millimetres, write them in metres (5e-3)"))
+  EXPECT_TRUE(
+      mm.out_has("key 'geometry.centerline.radius_of_curvature_m': a centre-line length of 9.854 m is "
+                 "implausible (above 1 m); if these are millimetres, write them in metres (5e-3)"))
       << mm.out;
   const CliResult metres = cli({"-q", "check", tiny, "--set", "output.surface=false"});
   ASSERT_EQ(metres.code, 0) << metres.err;
   EXPECT_FALSE(metres.out_has("implausible")) << metres.out;
 }
 
-// The small vessel's 0.4 mm wall at coarser spacings: at 2x it builds, and check warns naming the spacing; at 4x the
-// surface map's guard fails (exit 3), and its message names the spacing before the growths that would make it run
-// (it named only the growths); the support guard, failed at 1.5x, does the same. A guard failing on the scene's own
-// lattice (1x) names only the growths.
+// The small vessel's 0.4 mm wall at coarser spacings: at 2x it builds, and check warns naming the spacing; at
+// 4x the surface map's guard fails (exit 3), and its message names the spacing before the growths that would
+// make it run (it named only the growths); the support guard, failed at 1.5x, does the same. A guard failing
+// on the scene's own lattice (1x) names only the growths.
 TEST(CheckCommand, ALatticeCoarseForItsWallIsNamedBeforeTheGrowths) {
   const std::string tiny = test::source_path("tests/data/tiny-bent-vessel.json");
-  const CliResult twice = cli({"-q", "check", tiny, "--set", "geometry.node_spacing_m=0.8e-3", "--set",
-                               "output.surface=false"});
+  const CliResult twice =
+      cli({"-q", "check", tiny, "--set", "geometry.node_spacing_m=0.8e-3", "--set", "output.surface=false"});
   ASSERT_EQ(twice.code, 0) << twice.err;
-  EXPECT_TRUE(twice.out_has("  warning   " + tiny + ": key 'geometry.node_spacing_m': the node spacing along the wall, "
+  EXPECT_TRUE(twice.out_has("  warning   " + tiny +
+                            ": key 'geometry.node_spacing_m': the node spacing along the wall, "
                             "0.0008 m, is 2x the wall thickness (0.0004 m)"))
       << twice.out;
   EXPECT_TRUE(twice.out_has("reduce geometry.node_spacing_m to at most 0.0004 m")) << twice.out;
@@ -263,59 +293,68 @@ TEST(CheckCommand, ALatticeCoarseForItsWallIsNamedBeforeTheGrowths) {
                              "regions.2.select.s_half_length_m=3e-3"});
   ASSERT_EQ(map.code, 3) << map.err;
   ASSERT_EQ(map.messages.size(), 1u) << map.err;
-  EXPECT_NE(map.messages[0].find("vertices fail): reduce geometry.node_spacing_m (now 4x the wall thickness; forces are "
-                                 "measured accurate up to 1x); or let the support grow further: mapping.max_growths = "),
+  EXPECT_NE(map.messages[0].find(
+                "vertices fail): reduce geometry.node_spacing_m (now 4x the wall thickness; forces are "
+                "measured accurate up to 1x); or let the support grow further: mapping.max_growths = "),
             std::string::npos)
       << map.messages[0];
-  const CliResult support = cli({"-q", "check", tiny, "--set", "geometry.node_spacing_m=0.6e-3", "--set",
-                                 "discretization.max_growths=0", "--set", "discretization.support_radius_factor=1.01"});
+  const CliResult support =
+      cli({"-q", "check", tiny, "--set", "geometry.node_spacing_m=0.6e-3", "--set",
+           "discretization.max_growths=0", "--set", "discretization.support_radius_factor=1.01"});
   ASSERT_EQ(support.code, 3) << support.err;
-  EXPECT_TRUE(support.err_has("nodes fail): reduce geometry.node_spacing_m (now 1.5x the wall thickness; forces are "
-                              "measured accurate up to 1x); or let the support grow further: discretization.max_growths "
-                              "= "))
+  EXPECT_TRUE(support.err_has(
+      "nodes fail): reduce geometry.node_spacing_m (now 1.5x the wall thickness; forces are "
+      "measured accurate up to 1x); or let the support grow further: discretization.max_growths "
+      "= "))
       << support.err;
-  const CliResult own = cli({"-q", "check", tiny, "--set", "mapping.max_growths=0", "--set",
-                             "mapping.support_radius_factor=1.5"});
+  const CliResult own = cli(
+      {"-q", "check", tiny, "--set", "mapping.max_growths=0", "--set", "mapping.support_radius_factor=1.5"});
   ASSERT_EQ(own.code, 3) << own.err;
   EXPECT_FALSE(own.err_has("reduce geometry.node_spacing_m")) << own.err;
   EXPECT_TRUE(own.err_has("vertices fail): let the support grow further: mapping.max_growths = ")) << own.err;
 }
 
-// A catheter that keeps the nodes off itself (node_radius_m) in a scene that leaves contact.surface to its default
-// (tiny-catheter's contact block emptied): check names the obstacle, the key and what it changes. The scene as
-// bundled chooses the nodes' contact and is not warned.
+// A catheter that keeps the nodes off itself (node_radius_m) in a scene that leaves contact.surface to its
+// default (tiny-catheter's contact block emptied): check names the obstacle, the key and what it changes. The
+// scene as bundled chooses the nodes' contact and is not warned.
 TEST(CheckCommand, ANodeRadiusThatMovesTheContactToTheNodesIsNamed) {
   const std::string tiny = test::source_path("tests/data/tiny-catheter.json");
-  const CliResult by_default = cli({"-q", "check", tiny, "--set", "contact={}", "--set", "output.surface=false"});
+  const CliResult by_default =
+      cli({"-q", "check", tiny, "--set", "contact={}", "--set", "output.surface=false"});
   ASSERT_EQ(by_default.code, 0) << by_default.err;
-  EXPECT_TRUE(by_default.out_has("  warning   " + tiny + ": key 'obstacles.0.node_radius_m': obstacle 'catheter' keeps "
-                                 "the nodes 0.0001 m off the tool, which moves the contact of every tool from the "
-                                 "wall's surface"))
+  EXPECT_TRUE(
+      by_default.out_has("  warning   " + tiny +
+                         ": key 'obstacles.0.node_radius_m': obstacle 'catheter' keeps "
+                         "the nodes 0.0001 m off the tool, which moves the contact of every tool from the "
+                         "wall's surface"))
       << by_default.out;
   const CliResult chosen = cli({"-q", "check", tiny, "--set", "output.surface=false"});
   ASSERT_EQ(chosen.code, 0) << chosen.err;
   EXPECT_FALSE(chosen.out_has("node_radius_m")) << chosen.out;
 }
 
-// The contact-resolution warning of a run is printed once per tool (it was logged and printed again at the end),
-// and what it names from the spacing on is the lattice's and the tool's: the same with 3 load steps and with 6.
+// The contact-resolution warning of a run is printed once per tool (it was logged and printed again at the
+// end), and what it names from the spacing on is the lattice's and the tool's: the same with 3 load steps and
+// with 6.
 TEST(RunWarnings, TheContactResolutionWarningIsPrintedOncePerToolWhateverTheLoadSteps) {
   const fs::path dir = test_dir();
   const std::string tiny = test::source_path("tests/data/tiny-catheter.json");
   const std::string head = "the contact of the tool 'catheter' was narrower than the lattice resolves";
   std::vector<std::string> tails;
   for (const std::string steps : {"3", "6"}) {
-    const CliResult r = cli({"run", tiny, "--out", (dir / steps).string(), "--set", "quasi_static.load_steps=" + steps,
-                             "--set", "output.surface=false"});
+    const CliResult r = cli({"run", tiny, "--out", (dir / steps).string(), "--set",
+                             "quasi_static.load_steps=" + steps, "--set", "output.surface=false"});
     ASSERT_EQ(r.code, 0) << r.out << r.err;
     const std::string printed = r.out + r.err;
     std::size_t count = 0;
-    for (std::size_t at = printed.find(head); at != std::string::npos; at = printed.find(head, at + 1)) ++count;
+    for (std::size_t at = printed.find(head); at != std::string::npos; at = printed.find(head, at + 1))
+      ++count;
     EXPECT_EQ(count, 1u) << printed;
     const nlohmann::json summary = read_json(dir / steps / "summary.json");
     for (const auto& w : summary["warnings"]) {
       const std::string text = w.get<std::string>();
-      if (text.find(head) != std::string::npos) tails.push_back(text.substr(text.find("of the lattice's node spacings")));
+      if (text.find(head) != std::string::npos)
+        tails.push_back(text.substr(text.find("of the lattice's node spacings")));
     }
   }
   ASSERT_EQ(tails.size(), 2u);

@@ -25,8 +25,8 @@ TEST(CliQuiet, QuietPrintsNoProgressAndNoInformation) {
   EXPECT_FALSE(quiet.err_has("[info]")) << quiet.err;
   EXPECT_TRUE(quiet.out_has("tip deflection")) << quiet.out;  // the result still goes to stdout
   // Without -q the same run shows its progress (so the check above can fail).
-  const auto loud =
-      test::run_cli_captured({"run", test::source_path("scenes/cantilever.json"), "--out", (dir / "l").string(), "--yes"});
+  const auto loud = test::run_cli_captured(
+      {"run", test::source_path("scenes/cantilever.json"), "--out", (dir / "l").string(), "--yes"});
   ASSERT_EQ(loud.code, 0) << loud.err;
   EXPECT_TRUE(std::regex_search(loud.err, kProgressLine)) << loud.err;
 }
@@ -43,12 +43,13 @@ TEST(CliQuiet, ProgressNeverShowsMoreThanTheWhole) {
   EXPECT_TRUE(none.str().empty()) << none.str();
 }
 
-// A realtime session's last lines say what the hand got beside the model: how old the frames its force came from
-// were, how far the model's tool stayed behind, and the largest force sent to the hand beside the model's own.
+// A realtime session's last lines say what the hand got beside the model: how old the frames its force came
+// from were, how far the model's tool stayed behind, and the largest force sent to the hand beside the
+// model's own.
 TEST(CliQuiet, ARealtimeSessionSaysWhatTheHandGotRealtime) {
   const auto dir = test::fresh_test_dir();
-  const auto r = test::run_cli_captured({"-q", "run", test::source_path("tests/data/haptic-block.json"), "--set",
-                                         test::kCoarseHapticBlock[0], "--mode", "realtime", "--out",
+  const auto r = test::run_cli_captured({"-q", "run", test::source_path("tests/data/haptic-block.json"),
+                                         "--set", test::kCoarseHapticBlock[0], "--mode", "realtime", "--out",
                                          (dir / "rt").string()});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(r.out_has("the hand: the force it felt came from frames")) << r.out;

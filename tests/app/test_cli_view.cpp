@@ -12,9 +12,9 @@ namespace {
 
 TEST(CliView, WithoutTheViewerSaysSoInOneLineWithExitCode2) {
   std::ostringstream out, err;
-  const int rc = run_cli({"view", "scenes/realtime/hand-dorsal-vein-catheter.json", "--frames", "3", "--set",
-                          "model=xpbd"},
-                         out, err);
+  const int rc = run_cli(
+      {"view", "scenes/realtime/hand-dorsal-vein-catheter.json", "--frames", "3", "--set", "model=xpbd"}, out,
+      err);
   EXPECT_EQ(rc, 2);
   const std::string e = err.str();
   EXPECT_EQ(std::count(e.begin(), e.end(), '\n'), 1) << e;

@@ -22,7 +22,6 @@ using namespace vascsim::test;
 
 const std::string kData = std::string(VASCSIM_SOURCE_DIR) + "/tests/data/";
 
-
 std::string box_scene(const fs::path& dir, const json& changes = json::object()) {
   json scene = tiny_box();
   scene.merge_patch(changes);
@@ -33,7 +32,8 @@ std::string box_scene(const fs::path& dir, const json& changes = json::object())
 void expect_input_error(const CliCapture& r, const std::vector<std::string>& parts) {
   EXPECT_EQ(r.code, 2) << r.err;
   ASSERT_EQ(r.messages.size(), 1u) << r.err;
-  for (const auto& p : parts) EXPECT_NE(r.messages[0].find(p), std::string::npos) << "'" << p << "' in " << r.messages[0];
+  for (const auto& p : parts)
+    EXPECT_NE(r.messages[0].find(p), std::string::npos) << "'" << p << "' in " << r.messages[0];
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -43,7 +43,8 @@ TEST(FailureClasses, SceneNestedTwoHundredThousandLevelsIsAnInputError) {
   const fs::path dir = fresh_test_dir();
   const std::string deep = std::string(200000, '[') + std::string(200000, ']');
   const std::string file = write_file(dir / "deep.json", R"({"name": "deep", "description": )" + deep + "}");
-  expect_input_error(run_cli_captured({"run", file, "--out", (dir / "out").string()}), {file, "nest deeper than 64"});
+  expect_input_error(run_cli_captured({"run", file, "--out", (dir / "out").string()}),
+                     {file, "nest deeper than 64"});
   // The same depth as a --set value: not JSON within the limit, so a bare word, and a string is no number.
   const std::string box = box_scene(dir);
   expect_input_error(run_cli_captured({"run", box, "--set", "material.youngs_modulus_pa=" + deep}),
@@ -56,8 +57,10 @@ TEST(FailureClasses, VtkFrameThatCannotBeWrittenIsAnInputErrorNotAnAbort) {
   fs::create_directories(out / "vtk");
   // Frames go through "<name>.tmp" and a rename; a temporary file on a full disk fails the run (exit 2).
   fs::create_symlink("/dev/full", out / "vtk" / "nodes_0001.vtu.tmp");
-  expect_input_error(run_cli_captured({"run", box, "--out", out.string()}), {"nodes_0001.vtu", "cannot write"});
-  // The issue's reproducer, the frame itself a link to /dev/full: the rename replaces the link with the frame.
+  expect_input_error(run_cli_captured({"run", box, "--out", out.string()}),
+                     {"nodes_0001.vtu", "cannot write"});
+  // The issue's reproducer, the frame itself a link to /dev/full: the rename replaces the link with the
+  // frame.
   fs::remove_all(out);
   fs::create_directories(out / "vtk");
   fs::create_symlink("/dev/full", out / "vtk" / "nodes_0001.vtu");
@@ -83,9 +86,10 @@ TEST(FailureClasses, OutputCountOverflowIsAnInputErrorForEveryDynamicModel) {
   const fs::path dir = fresh_test_dir();
   const std::string box = box_scene(dir);
   for (const std::string model : {"explicit", "xpbd", "paper_literal", "implicit", "mass_spring"})
-    expect_input_error(run_cli_captured({"run", box, "--set", "model=" + model, "--set", model + ".duration_s=1e4",
-                                         "--set", model + ".output_interval_s=1e-9"}),
-                       {box, model + ".output_interval_s", "output points"});
+    expect_input_error(
+        run_cli_captured({"run", box, "--set", "model=" + model, "--set", model + ".duration_s=1e4", "--set",
+                          model + ".output_interval_s=1e-9"}),
+        {box, model + ".output_interval_s", "output points"});
 }
 
 TEST(FailureClasses, ReplayFromADeviceFileReturnsAtOnce) {
@@ -100,8 +104,8 @@ TEST(FailureClasses, TrajectoryLongerThanTheTickLimitIsAnInputError) {
   const fs::path dir = fresh_test_dir();
   for (const char* end : {"1e300", "3e5"}) {
     const std::string trajectory =
-        write_file(dir / "long.csv", std::string("time_s,x_m,y_m,z_m\n0,0.003,0.003,0.0032\n") + end +
-                                         ",0.003,0.003,0.0032\n");
+        write_file(dir / "long.csv",
+                   std::string("time_s,x_m,y_m,z_m\n0,0.003,0.003,0.0032\n") + end + ",0.003,0.003,0.0032\n");
     json scene = json::parse(read_file(kData + "haptic-block.json"));
     scene["haptics"]["device"]["trajectory"] = trajectory;
     const std::string file = write_file(dir / "long.json", scene.dump());
@@ -123,7 +127,8 @@ TEST(FailureClasses, ProbesCsvOnAFullDiskFailsTheRun) {
   const fs::path dir = fresh_test_dir(), out = dir / "out";
   fs::create_directories(out);
   fs::create_symlink("/dev/full", out / "probes.csv");
-  expect_input_error(run_cli_captured({"run", box_scene(dir), "--out", out.string()}), {"probes.csv", "cannot write"});
+  expect_input_error(run_cli_captured({"run", box_scene(dir), "--out", out.string()}),
+                     {"probes.csv", "cannot write"});
 }
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -176,14 +181,16 @@ TEST(FailureClasses, JsonSyntaxErrorsAreOursOnOneLine) {
   expect_input_error(r, {file, "not valid JSON: line 3, column 1"});
   EXPECT_EQ(r.err.find("json.exception"), std::string::npos) << r.err;
   // A string with a newline in it stays on the one line, escaped.
-  expect_input_error(run_cli_captured({"run", box_scene(dir), "--set", R"(name="two\nlines")"}), {"two\\nlines"});
+  expect_input_error(run_cli_captured({"run", box_scene(dir), "--set", R"(name="two\nlines")"}),
+                     {"two\\nlines"});
 }
 
 TEST(FailureClasses, XpbdOutputIntervalShorterThanTheStepWarns) {
   const fs::path dir = fresh_test_dir();
-  const CliCapture r = run_cli_captured({"run", box_scene(dir), "--out", (dir / "out").string(), "--set", "model=xpbd",
-                                         "--set", "xpbd.step_s=1e-3", "--set", "xpbd.output_interval_s=5e-4", "--set",
-                                         "xpbd.duration_s=1e-3", "--set", "xpbd.ramp_time_s=0"});
+  const CliCapture r =
+      run_cli_captured({"run", box_scene(dir), "--out", (dir / "out").string(), "--set", "model=xpbd",
+                        "--set", "xpbd.step_s=1e-3", "--set", "xpbd.output_interval_s=5e-4", "--set",
+                        "xpbd.duration_s=1e-3", "--set", "xpbd.ramp_time_s=0"});
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("[warning] key 'xpbd.step_s': output_interval_s = 0.0005 s is shorter than the step"),
             std::string::npos)
@@ -206,7 +213,8 @@ TEST(FailureClasses, EmptyOutputPathsAreRejected) {
 TEST(FailureClasses, InterruptedRunExits130WithCompleteFiles) {
   const fs::path dir = fresh_test_dir(), out = dir / "out";
   vascsim::request_interrupt();  // as the SIGINT handler does; the run stops at its first step boundary
-  const CliCapture r = run_cli_captured({"run", box_scene(dir, {{"output", {{"vtk", true}}}}), "--out", out.string()});
+  const CliCapture r =
+      run_cli_captured({"run", box_scene(dir, {{"output", {{"vtk", true}}}}), "--out", out.string()});
   EXPECT_FALSE(vascsim::interrupt_requested()) << "run_cli lowers the flag after reporting it";
   vascsim::clear_interrupt();
   EXPECT_EQ(r.code, vascsim::kInterruptedExitCode) << r.err;

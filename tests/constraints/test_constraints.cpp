@@ -1,7 +1,7 @@
-// docs/validation.md (tests T1-T15), T12 (PBD/XPBD constraint kernels and the shared projection) and the constraint
-// part of T13 (XPBD time-step independence vs the dt-dependent stiffness of literal PBD), plus the
-// kernels of docs/model/19-position-based.md that T12 does not name: the tet neo-Hookean pair, the meshless strain
-// constraint (its energy is the point-primitive SVK energy), position and contact constraints.
+// docs/validation.md (tests T1-T15), T12 (PBD/XPBD constraint kernels and the shared projection) and the
+// constraint part of T13 (XPBD time-step independence vs the dt-dependent stiffness of literal PBD), plus the
+// kernels of docs/model/19-position-based.md that T12 does not name: the tet neo-Hookean pair, the meshless
+// strain constraint (its energy is the point-primitive SVK energy), position and contact constraints.
 //
 // Tolerances: gradients are checked against central differences; the stated bound is far above the
 // rounding and truncation error of the chosen step and far below any real error (a wrong factor, sign or
@@ -258,8 +258,9 @@ TEST(T12Constraints, BarycentreSpringGradientMomentumAndClosedForm) {
   EXPECT_LE(worst_c, 1e-12);
 }
 
-// T12 (c), negative test pinning the literal energy constraint's defects (docs/model/16-deviations.md, E11). A unit-scale
-// tet (edge 1 m, masses ~1 kg, k = 1 N/m) so that the J-valued "Delta x" of Eq. 24 is O(C) in metres.
+// T12 (c), negative test pinning the literal energy constraint's defects (docs/model/16-deviations.md, E11).
+// A unit-scale tet (edge 1 m, masses ~1 kg, k = 1 N/m) so that the J-valued "Delta x" of Eq. 24 is O(C) in
+// metres.
 //  - inward bias: Delta x_b . (x_b - x0) < 0 for all four vertices, for a stretched (1.2) and a
 //    compressed (0.8) tet alike (strict inequality; the measured values are O(1e-2)).
 //  - momentum: |sum m Delta x| > 1e-3 max m|Delta x| (a conserving projection gives ~1e-16).
@@ -413,8 +414,8 @@ TEST(T12Constraints, MeshlessStrainJacobianMatchesFiniteDifferences) {
 
 // T12 (e): the constraint's energy 1/2 c^T (V_i C^) c = U_i is the point-primitive SVK energy. Compared
 // (i) summed over all nodes with PointPrimitiveEnergy (SVK, k_v = 0, no stabiliser) and (ii) per node with
-// V_i psi(F_i) of docs/model/07-strain-stress-energy.md. Bound 1e-10 relative: both are the same sums in a different order
-// (rounding ~1e-15). Also alpha_i V_i C^ = I (closed-form inverse): bound 1e-12.
+// V_i psi(F_i) of docs/model/07-strain-stress-energy.md. Bound 1e-10 relative: both are the same sums in a
+// different order (rounding ~1e-15). Also alpha_i V_i C^ = I (closed-form inverse): bound 1e-12.
 TEST(T12Constraints, MeshlessStrainEnergyIsPointPrimitiveSvkEnergy) {
   MeshlessFixture f(41);
   EnergyOptions opt;
@@ -569,8 +570,8 @@ TEST(ConstraintContact, SphereAndCapsuleResolvePenetrationOneSided) {
 
 // ---------------------------------------------------------------------------------------------------
 // T13 (constraint part): a mass m hanging from a fixed point on a compliant distance constraint under
-// gravity. Steps of the XPBD pipeline of docs/model/19-position-based.md (prediction, lambda reset once per step, projections
-// iterated to convergence, velocity update), run to steady state (see converged()).
+// gravity. Steps of the XPBD pipeline of docs/model/19-position-based.md (prediction, lambda reset once per
+// step, projections iterated to convergence, velocity update), run to steady state (see converged()).
 
 struct HangingResult {
   double stretch = 0.0;
@@ -618,7 +619,8 @@ HangingResult hang_xpbd(double h, double mass, double stiffness, double beta) {
   return r;
 }
 
-// Literal PBD, k' = 1 - (1-k)^{1/n} with n iterations, no compliance (docs/model/19-position-based.md section 19.5 / E9).
+// Literal PBD, k' = 1 - (1-k)^{1/n} with n iterations, no compliance (docs/model/19-position-based.md
+// section 19.5 / E9).
 HangingResult hang_pbd(double h, double k, int iterations) {
   const double g = 9.81, l0 = 1.0;
   Vec3 x(0.0, 0.0, -l0), v = Vec3::Zero();
@@ -656,8 +658,8 @@ TEST(T13XpbdTimeStep, HangingMassStretchIsMgAlphaAtAnyStep) {
   }
 }
 
-// Literal PBD, k = 0.5: steady-state sag (1-k) g dt^2 / k (docs/validation.md T13 derivation), so the 16 ms / 1 ms
-// ratio is 256; assert [200, 300] (documents the defect E9) and each sag within 1 % of the formula.
+// Literal PBD, k = 0.5: steady-state sag (1-k) g dt^2 / k (docs/validation.md T13 derivation), so the 16 ms /
+// 1 ms ratio is 256; assert [200, 300] (documents the defect E9) and each sag within 1 % of the formula.
 TEST(T13XpbdTimeStep, LiteralPbdSagDependsOnTimeStep) {
   const double k = 0.5;
   const int n = 4;

@@ -5,11 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 #include "vascsim/core/bundled_files.hpp"
 
@@ -42,7 +42,8 @@ TEST(BundledFiles, TheBuildTreeReadsTheSourceTree) {
   if (std::getenv("VASCSIM_DATA_DIR")) GTEST_SKIP() << "VASCSIM_DATA_DIR is set";
   EXPECT_TRUE(fs::equivalent(bundled_root(), VASCSIM_SOURCE_DIR));
   const fs::path script = bundled_file("scripts/plot_force_displacement.py");
-  EXPECT_TRUE(fs::equivalent(script, fs::path(VASCSIM_SOURCE_DIR) / "scripts/plot_force_displacement.py")) << script;
+  EXPECT_TRUE(fs::equivalent(script, fs::path(VASCSIM_SOURCE_DIR) / "scripts/plot_force_displacement.py"))
+      << script;
   EXPECT_TRUE(fs::is_directory(bundled_file("data/ahp")));
 }
 
@@ -58,7 +59,8 @@ TEST(BundledFiles, TheEnvironmentComesFirstAndMissingFilesFallThrough) {
     EXPECT_EQ(bundled_root(), dir);
     EXPECT_EQ(bundled_file("scripts/plot_force_displacement.py"), dir / "scripts/plot_force_displacement.py");
     // Not in the override: the next root that has it (the source tree here).
-    EXPECT_TRUE(fs::equivalent(bundled_file("scripts/plot_ahp.py"), fs::path(VASCSIM_SOURCE_DIR) / "scripts/plot_ahp.py"));
+    EXPECT_TRUE(fs::equivalent(bundled_file("scripts/plot_ahp.py"),
+                               fs::path(VASCSIM_SOURCE_DIR) / "scripts/plot_ahp.py"));
     // Nowhere: named under the root in use, so a message points where the user would look.
     EXPECT_EQ(bundled_file("scripts/no-such-script.py"), dir / "scripts/no-such-script.py");
   }

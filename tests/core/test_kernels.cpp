@@ -1,4 +1,5 @@
-// docs/validation.md (tests T1-T15), T1: kernel normalisation and shape (poly6 of Eq. 1, cubic spline of Eq. 37).
+// docs/validation.md (tests T1-T15), T1: kernel normalisation and shape (poly6 of Eq. 1, cubic spline of Eq.
+// 37).
 
 #include <gtest/gtest.h>
 

@@ -10,9 +10,9 @@
 namespace vascsim {
 namespace {
 
-// f = f0 + C h^p on unequal ratios (r21 = 1.5, r32 = 1.6; h in mm, differences of 1e-4 to 1e-2 of f0): the fixed-point
-// iteration for p must recover p and f0 to rounding (1e-8 relative: the iteration stops at 1e-12 in p, and the
-// differences carry about 1e-12 of relative rounding).
+// f = f0 + C h^p on unequal ratios (r21 = 1.5, r32 = 1.6; h in mm, differences of 1e-4 to 1e-2 of f0): the
+// fixed-point iteration for p must recover p and f0 to rounding (1e-8 relative: the iteration stops at 1e-12
+// in p, and the differences carry about 1e-12 of relative rounding).
 TEST(Richardson, RecoversTheOrderAndTheLimitOfAnExactPowerLaw) {
   for (double p : {1.0, 1.7, 2.0, 3.0}) {
     const double f0 = 0.0101, c = 1e-3, h[3] = {0.15, 0.225, 0.36};
@@ -24,14 +24,14 @@ TEST(Richardson, RecoversTheOrderAndTheLimitOfAnExactPowerLaw) {
     EXPECT_NEAR(r.fine_error, (f[0] - f0) / f0, 1e-7) << p;
     // The GCI bound is the factor of safety times the distance to the limit, relative to f1.
     EXPECT_NEAR(r.fine_gci, kGciSafetyFactor * std::abs(f[0] - f0) / f[0], 1e-7) << p;
-    EXPECT_NEAR(resolution_for_error(h[0], r.fine_error, r.order, 0.5 * r.fine_error), h[0] * std::pow(0.5, 1.0 / p),
-                1e-9);
+    EXPECT_NEAR(resolution_for_error(h[0], r.fine_error, r.order, 0.5 * r.fine_error),
+                h[0] * std::pow(0.5, 1.0 / p), 1e-9);
   }
 }
 
-// Celik et al. 2008, Table 1 (their first example: N = 18000, 8000, 4500 cells in 2-D, so r21 = 1.5, r32 = 4/3):
-// phi = 6.063, 5.972, 5.863 give p = 1.53, phi_ext = 6.1685, e_ext = 1.7 %, GCI_fine = 2.2 %. Tolerances are half
-// a unit of the digits they print.
+// Celik et al. 2008, Table 1 (their first example: N = 18000, 8000, 4500 cells in 2-D, so r21 = 1.5, r32 =
+// 4/3): phi = 6.063, 5.972, 5.863 give p = 1.53, phi_ext = 6.1685, e_ext = 1.7 %, GCI_fine = 2.2 %.
+// Tolerances are half a unit of the digits they print.
 TEST(Richardson, ReproducesCeliksWorkedExample) {
   const double h[3] = {1.0, 1.5, 2.0}, f[3] = {6.063, 5.972, 5.863};
   const Richardson r = richardson_extrapolate(h, f);

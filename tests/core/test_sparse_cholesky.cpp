@@ -14,8 +14,8 @@
 namespace vascsim {
 namespace {
 
-// 7-point Laplacian on an n^3 grid plus `shift` on the diagonal (symmetric; positive definite for shift > -the
-// smallest Laplacian eigenvalue, 6 - 6 cos(pi/(n+1)) ~ 0.18 for n = 12).
+// 7-point Laplacian on an n^3 grid plus `shift` on the diagonal (symmetric; positive definite for shift >
+// -the smallest Laplacian eigenvalue, 6 - 6 cos(pi/(n+1)) ~ 0.18 for n = 12).
 Eigen::SparseMatrix<double> laplacian(int n, double shift) {
   std::vector<Eigen::Triplet<double>> t;
   auto id = [n](int i, int j, int k) { return (k * n + j) * n + i; };
@@ -44,7 +44,8 @@ Eigen::VectorXd random_vector(Eigen::Index n, std::uint64_t seed) {
   return v;
 }
 
-double relative_residual(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& x, const Eigen::VectorXd& b) {
+double relative_residual(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& x,
+                         const Eigen::VectorXd& b) {
   return (A * x - b).norm() / b.norm();
 }
 
@@ -141,7 +142,8 @@ TEST(SparseCholesky, RefactorsNewValuesOnTheAnalysedPattern) {
   const Eigen::VectorXd b = random_vector(A.rows(), 3);
   // New values, same pattern: scale and shift.
   for (int j = 0; j < A.outerSize(); ++j)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) it.valueRef() *= it.row() == j ? 3.0 : 2.0;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it)
+      it.valueRef() *= it.row() == j ? 3.0 : 2.0;
   chol.factorize(A);
   Eigen::VectorXd x;
   chol.solve(b, x);

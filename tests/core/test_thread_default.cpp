@@ -18,10 +18,10 @@ TEST(ThreadDefault, CoresTheLoadLeavesIdle) {
 
 // The load average remembers a run that just ended; the processes runnable now do not. Both must say busy.
 TEST(ThreadDefault, LoadFromWorkThatHasEndedDoesNotCount) {
-  EXPECT_EQ(default_thread_count(2, 1.0, 0), 2);  // a script's previous run: nothing else runs now
-  EXPECT_EQ(default_thread_count(2, 1.0, 1), 1);  // another process runs now and has for a minute
-  EXPECT_EQ(default_thread_count(2, 0.1, 3), 2);  // a momentary burst alone does not count
-  EXPECT_EQ(default_thread_count(2, 1.0, -1), 1); // runnable count unknown: the load average alone
+  EXPECT_EQ(default_thread_count(2, 1.0, 0), 2);   // a script's previous run: nothing else runs now
+  EXPECT_EQ(default_thread_count(2, 1.0, 1), 1);   // another process runs now and has for a minute
+  EXPECT_EQ(default_thread_count(2, 0.1, 3), 2);   // a momentary burst alone does not count
+  EXPECT_EQ(default_thread_count(2, 1.0, -1), 1);  // runnable count unknown: the load average alone
   EXPECT_EQ(default_thread_count(4, 9.0, 9), 1);
 }
 

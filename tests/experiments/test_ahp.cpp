@@ -40,7 +40,9 @@ Eigen::MatrixXd matrix(std::initializer_list<std::initializer_list<double>> rows
   return a;
 }
 
-MatrixSource src(std::vector<std::string> labels = {}) { return {"test.json", "criteria.1.matrix", "C2 indicators", labels}; }
+MatrixSource src(std::vector<std::string> labels = {}) {
+  return {"test.json", "criteria.1.matrix", "C2 indicators", labels};
+}
 
 /// The message of the InputError thrown by f ("" if none is thrown).
 template <class F>
@@ -105,21 +107,25 @@ TEST(AhpMatrix, ThreeByThreeClosedForm) {
   EXPECT_LT((r.weights - g).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_NEAR(r.ci, (lambda - 3.0) / 2.0, 1e-12);
   EXPECT_NEAR(r.cr, (lambda - 3.0) / 2.0 / 0.58, 1e-12);  // 0.1874 > 0.1: rejected
-  const std::string msg = input_error([&] { check_pairwise(a, JudgementScale::saaty, src({"I5", "I6", "I7"})); });
+  const std::string msg = input_error([&] {
+    check_pairwise(a, JudgementScale::saaty, src({"I5", "I6", "I7"}));
+  });
   EXPECT_NE(msg.find("test.json: key 'criteria.1.matrix' (C2 indicators)"), std::string::npos) << msg;
   EXPECT_NE(msg.find("CR = 0.1874 > 0.1"), std::string::npos) << msg;
 
   // Either side of the 0.1 limit: d = 2.5 (a = 5, b = 2, c = 1) gives CR = 0.0810, accepted; d = 3 (a = 3,
   // b = 1, c = 1) gives CR = 0.1169, rejected.
   auto closed_cr = [](double d) { return (std::cbrt(d) + 1.0 / std::cbrt(d) - 2.0) / 2.0 / 0.58; };
-  const PairwiseAnalysis ok = check_pairwise(matrix({{1, 5, 2}, {0.2, 1, 1}, {0.5, 1, 1}}), JudgementScale::saaty, src());
+  const PairwiseAnalysis ok =
+      check_pairwise(matrix({{1, 5, 2}, {0.2, 1, 1}, {0.5, 1, 1}}), JudgementScale::saaty, src());
   EXPECT_NEAR(ok.cr, closed_cr(2.5), 1e-12);
   EXPECT_LT(ok.cr, 0.1);
   const Eigen::MatrixXd over = matrix({{1, 3, 1}, {1.0 / 3, 1, 1}, {1, 1, 1}});
   EXPECT_NEAR(analyse_pairwise(over).cr, closed_cr(3.0), 1e-12);
   EXPECT_GT(analyse_pairwise(over).cr, 0.1);
-  EXPECT_NE(input_error([&] { check_pairwise(over, JudgementScale::saaty, src()); }).find("CR = 0.1169 > 0.1"),
-            std::string::npos);
+  EXPECT_NE(
+      input_error([&] { check_pairwise(over, JudgementScale::saaty, src()); }).find("CR = 0.1169 > 0.1"),
+      std::string::npos);
 }
 
 TEST(AhpMatrix, SaatyHouseExample) {
@@ -140,12 +146,14 @@ TEST(AhpMatrix, SaatyHouseExample) {
                                     {4, 7, 5, 8, 6, 6, 2, 1}});
   const PairwiseAnalysis r = analyse_pairwise(validate_pairwise(a, JudgementScale::saaty, src()));
   const std::vector<double> published = {0.173, 0.054, 0.188, 0.018, 0.031, 0.036, 0.167, 0.333};
-  for (int i = 0; i < 8; ++i) EXPECT_NEAR(r.weights[i], published[static_cast<std::size_t>(i)], 6e-4) << "criterion " << i;
+  for (int i = 0; i < 8; ++i)
+    EXPECT_NEAR(r.weights[i], published[static_cast<std::size_t>(i)], 6e-4) << "criterion " << i;
   EXPECT_NEAR(r.lambda_max, 9.669, 6e-4);
   EXPECT_NEAR(r.ci, 0.238, 6e-4);
   EXPECT_DOUBLE_EQ(r.random_index, 1.41);
   EXPECT_NEAR(r.cr, 0.169, 6e-4);
-  EXPECT_NE(input_error([&] { check_pairwise(a, JudgementScale::saaty, src()); }).find("CR = 0.1691"), std::string::npos);
+  EXPECT_NE(input_error([&] { check_pairwise(a, JudgementScale::saaty, src()); }).find("CR = 0.1691"),
+            std::string::npos);
 
   // Same paper, house sizes of A, B, C: priorities .754 .181 .065, lambda_max 3.136, CI 0.068, CR 0.117.
   const PairwiseAnalysis h = analyse_pairwise(matrix({{1, 6, 8}, {1.0 / 6, 1, 4}, {e, q, 1}}));
@@ -206,11 +214,14 @@ TEST(AhpMatrix, ValidationNamesFileKeyAndEntry) {
 }
 
 TEST(AhpMatrix, ParsesFractionsAndNamesBadEntries) {
-  const Eigen::MatrixXd a = parse_matrix(json::parse(R"([[1, "3", " 1/5 "], ["1/3", 1, "0.567/0.056"], [5, 2.5, 1]])"), src());
+  const Eigen::MatrixXd a =
+      parse_matrix(json::parse(R"([[1, "3", " 1/5 "], ["1/3", 1, "0.567/0.056"], [5, 2.5, 1]])"), src());
   EXPECT_DOUBLE_EQ(a(0, 1), 3.0);
   EXPECT_DOUBLE_EQ(a(0, 2), 0.2);
   EXPECT_DOUBLE_EQ(a(1, 2), 0.567 / 0.056);
-  std::string m = input_error([] { parse_matrix(json::parse(R"([[1, "abc"], [1, 1]])"), src({"I8", "I9"})); });
+  std::string m = input_error([] {
+    parse_matrix(json::parse(R"([[1, "abc"], [1, 1]])"), src({"I8", "I9"}));
+  });
   EXPECT_NE(m.find("entry (I8, I9) = \"abc\" is not a positive number or fraction"), std::string::npos) << m;
   m = input_error([] { parse_matrix(json::parse(R"([[1, "1/0"], [1, 1]])"), src()); });
   EXPECT_NE(m.find("entry [1][2]"), std::string::npos) << m;
@@ -239,7 +250,9 @@ TEST(AhpHierarchy, InconsistentMatrixRejectedNamingIt) {
   // A preferred to B 5x, B to D 5x, but D to A 5x: a cycle, CR far above 0.1.
   doc["criteria"][0]["matrix"] = json::parse(R"([[1, 5, "1/5"], ["1/5", 1, 5], [5, "1/5", 1]])");
   const std::string m = input_error([&] { parse_hierarchy(doc, "cyclic.json"); });
-  EXPECT_NE(m.find("cyclic.json: key 'criteria.0.matrix' (C1 indicators): inconsistent judgements"), std::string::npos) << m;
+  EXPECT_NE(m.find("cyclic.json: key 'criteria.0.matrix' (C1 indicators): inconsistent judgements"),
+            std::string::npos)
+      << m;
   EXPECT_NE(m.find("> 0.1"), std::string::npos) << m;
   EXPECT_EQ(m.find('\n'), std::string::npos) << "one line";
 }
@@ -251,31 +264,43 @@ TEST(AhpHierarchy, BadFilesNameTheKey) {
   EXPECT_NE(err(d).find("h.json: key 'goal': missing"), std::string::npos) << err(d);
   d = small_hierarchy();
   d["criteria"][0].erase("matrix");
-  EXPECT_NE(err(d).find("h.json: key 'criteria.0.matrix': missing; the 2x2 pairwise comparison matrix of A, B"),
-            std::string::npos) << err(d);
+  EXPECT_NE(
+      err(d).find("h.json: key 'criteria.0.matrix': missing; the 2x2 pairwise comparison matrix of A, B"),
+      std::string::npos)
+      << err(d);
   d = small_hierarchy();
   d["criteria"][0]["matrix"] = json::parse(R"([[1, 2], [2, 1]])");
-  EXPECT_NE(err(d).find("h.json: key 'criteria.0.matrix' (C1 indicators): entry (A, B) = 2 and entry (B, A) = 2 are "
-                        "not reciprocal"),
-            std::string::npos) << err(d);
+  EXPECT_NE(err(d).find(
+                "h.json: key 'criteria.0.matrix' (C1 indicators): entry (A, B) = 2 and entry (B, A) = 2 are "
+                "not reciprocal"),
+            std::string::npos)
+      << err(d);
   d = small_hierarchy();
   d["matrix"] = json::parse(R"([[1, 11], ["1/11", 1]])");
   EXPECT_NE(err(d).find("h.json: key 'matrix' (criteria): entry (C1, C2) = 11 is not on Saaty's 1-9 scale"),
-            std::string::npos) << err(d);
+            std::string::npos)
+      << err(d);
   d = small_hierarchy();
   d["criteria"][1]["indicators"][0]["wieght"] = 0.2;
-  EXPECT_NE(err(d).find("h.json: key 'criteria.1.indicators.0.wieght': unknown key"), std::string::npos) << err(d);
+  EXPECT_NE(err(d).find("h.json: key 'criteria.1.indicators.0.wieght': unknown key"), std::string::npos)
+      << err(d);
   d = small_hierarchy();
   d["criteria"][1]["indicators"][0]["id"] = "A";
-  EXPECT_NE(err(d).find("h.json: key 'criteria.1.indicators.0.id': 'A' is used twice"), std::string::npos) << err(d);
+  EXPECT_NE(err(d).find("h.json: key 'criteria.1.indicators.0.id': 'A' is used twice"), std::string::npos)
+      << err(d);
   d = small_hierarchy();
   d["scale"] = "likert";
   EXPECT_NE(err(d).find("h.json: key 'scale': unknown value 'likert'; allowed: saaty, aggregate, ratio"),
-            std::string::npos) << err(d);
+            std::string::npos)
+      << err(d);
   d = small_hierarchy();
   d["criteria"][0]["paper_weight"] = 1.5;
-  EXPECT_NE(err(d).find("h.json: key 'criteria.0.paper_weight': value 1.5 is out of range"), std::string::npos) << err(d);
-  EXPECT_NE(input_error([] { load_hierarchy("no-such-hierarchy.json"); }).find("no-such-hierarchy.json: cannot open"),
+  EXPECT_NE(err(d).find("h.json: key 'criteria.0.paper_weight': value 1.5 is out of range"),
+            std::string::npos)
+      << err(d);
+  EXPECT_NE(input_error([] {
+              load_hierarchy("no-such-hierarchy.json");
+            }).find("no-such-hierarchy.json: cannot open"),
             std::string::npos);
 }
 
@@ -315,7 +340,8 @@ TEST(AhpBands, LinearBetweenTable2EdgesClampedOutside) {
 
 TEST(AhpEq40, HandComputedCase) {
   EXPECT_DOUBLE_EQ(comprehensive_score(Eigen::Vector3d(0.2, 0.3, 0.5), Eigen::Vector3d(80, 90, 70)), 78.0);
-  EXPECT_THROW(comprehensive_score(Eigen::Vector3d(0.2, 0.3, 0.5), Eigen::Vector2d(80, 90)), std::invalid_argument);
+  EXPECT_THROW(comprehensive_score(Eigen::Vector3d(0.2, 0.3, 0.5), Eigen::Vector2d(80, 90)),
+               std::invalid_argument);
 
   // Whole pipeline on the small hierarchy: A rated 80, B rated "good" (its step score 85), C measured at a
   // 330 Hz haptic rate (Table 2: 320-340 Hz is 70-80, linear: 75); a rating of C (50) is overridden.
@@ -327,7 +353,8 @@ TEST(AhpEq40, HandComputedCase) {
                                                     {"id": "m2", "scores": {"A": 70}}]})"),
       "ratings.json", h, s);
   const Measurements m = parse_measurements(
-      json::parse(R"({"models": [{"id": "m1", "haptic_rate_hz": 330}, {"id": "m3", "haptic_rate_hz": 400}]})"),
+      json::parse(
+          R"({"models": [{"id": "m1", "haptic_rate_hz": 330}, {"id": "m3", "haptic_rate_hz": 400}]})"),
       "meas.json");
   const AhpReport rep = evaluate(h, s, r, &m, false);
   ASSERT_EQ(rep.models.size(), 3u);
@@ -348,23 +375,33 @@ TEST(AhpEq40, HandComputedCase) {
   EXPECT_DOUBLE_EQ(*rep.models[2].scores[2].score, 100.0);
   // --paper-weights needs Table 1's W_i on every indicator; the small hierarchy has it on C only.
   const std::string msg = input_error([&] { evaluate(h, s, r, &m, true); });
-  EXPECT_NE(msg.find("small.json: key 'criteria.0.indicators.0.paper_global_weight': missing"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("small.json: key 'criteria.0.indicators.0.paper_global_weight': missing"),
+            std::string::npos)
+      << msg;
   // A "paper" ratings file labels its scores as the paper's.
-  const Ratings p = parse_ratings(json::parse(R"({"source": "paper", "models": [{"id": "x", "scores": {"A": 90}}]})"),
-                                  "p.json", h, s);
+  const Ratings p = parse_ratings(
+      json::parse(R"({"source": "paper", "models": [{"id": "x", "scores": {"A": 90}}]})"), "p.json", h, s);
   EXPECT_EQ(evaluate(h, s, p, nullptr, false).models[0].scores[0].source, ScoreSource::paper);
 }
 
 TEST(AhpFiles, BadRatingsMeasurementsAndBandsNameTheKey) {
   const Hierarchy h = parse_hierarchy(small_hierarchy(), "small.json");
   const Standard s = parse_standard(small_bands(), "bands.json");
-  auto rat = [&](const char* text) { return input_error([&] { parse_ratings(json::parse(text), "r.json", h, s); }); };
-  auto mea = [&](const char* text) { return input_error([&] { parse_measurements(json::parse(text), "m.json"); }); };
+  auto rat = [&](const char* text) {
+    return input_error([&] { parse_ratings(json::parse(text), "r.json", h, s); });
+  };
+  auto mea = [&](const char* text) {
+    return input_error([&] { parse_measurements(json::parse(text), "m.json"); });
+  };
   std::string m = rat(R"({"source": "study", "models": [{"id": "x", "scores": {"I10": 80}}]})");
-  EXPECT_NE(m.find("r.json: key 'models.0.scores.I10': unknown indicator; the hierarchy small.json has A, B, C"),
-            std::string::npos) << m;
+  EXPECT_NE(
+      m.find("r.json: key 'models.0.scores.I10': unknown indicator; the hierarchy small.json has A, B, C"),
+      std::string::npos)
+      << m;
   m = rat(R"({"source": "study", "models": [{"id": "x", "scores": {"A": 120}}]})");
-  EXPECT_NE(m.find("r.json: key 'models.0.scores.A': value 120 is out of range; allowed [0, 100]"), std::string::npos) << m;
+  EXPECT_NE(m.find("r.json: key 'models.0.scores.A': value 120 is out of range; allowed [0, 100]"),
+            std::string::npos)
+      << m;
   m = rat(R"({"source": "study", "models": [{"id": "x", "scores": {"A": "great"}}]})");
   EXPECT_NE(m.find("r.json: key 'models.0.scores.A': unknown level 'great'"), std::string::npos) << m;
   m = rat(R"({"models": []})");
@@ -374,7 +411,8 @@ TEST(AhpFiles, BadRatingsMeasurementsAndBandsNameTheKey) {
   m = mea(R"({"models": [{"id": "x", "fps": 60}]})");
   EXPECT_NE(m.find("m.json: key 'models.0.fps': unknown key"), std::string::npos) << m;
   m = mea(R"({"models": [{"id": "x", "update_time_ms": -1}]})");
-  EXPECT_NE(m.find("m.json: key 'models.0.update_time_ms': value -1 is out of range"), std::string::npos) << m;
+  EXPECT_NE(m.find("m.json: key 'models.0.update_time_ms': value -1 is out of range"), std::string::npos)
+      << m;
   m = mea(R"({"models": [{"name": "no id"}]})");
   EXPECT_NE(m.find("m.json: key 'models.0.id': missing"), std::string::npos) << m;
 
@@ -384,25 +422,36 @@ TEST(AhpFiles, BadRatingsMeasurementsAndBandsNameTheKey) {
     return input_error([&] { parse_standard(b, "b.json"); });
   };
   m = bands([](json& b) { b["indicators"]["C"]["edges"] = json::parse("[0, 300, 290, 340, 360, 380]"); });
-  EXPECT_NE(m.find("b.json: key 'indicators.C.edges': the edges must be strictly monotone"), std::string::npos) << m;
+  EXPECT_NE(m.find("b.json: key 'indicators.C.edges': the edges must be strictly monotone"),
+            std::string::npos)
+      << m;
   m = bands([](json& b) { b["indicators"]["C"]["measure"] = "fps"; });
   EXPECT_NE(m.find("b.json: key 'indicators.C.measure': unknown value 'fps'"), std::string::npos) << m;
   m = bands([](json& b) { b["indicators"]["A"]["levels"].erase(0); });
-  EXPECT_NE(m.find("b.json: key 'indicators.A.levels': expected an array of 5 level labels"), std::string::npos) << m;
+  EXPECT_NE(m.find("b.json: key 'indicators.A.levels': expected an array of 5 level labels"),
+            std::string::npos)
+      << m;
   m = bands([](json& b) { b["score_bands"]["step_scores"][1] = 75; });
-  EXPECT_NE(m.find("b.json: key 'score_bands.step_scores': 75 is outside its band [60, 70]"), std::string::npos) << m;
+  EXPECT_NE(m.find("b.json: key 'score_bands.step_scores': 75 is outside its band [60, 70]"),
+            std::string::npos)
+      << m;
   m = bands([](json& b) { b["indicators"]["A"]["edges"] = json::parse("[0, 1, 2, 3, 4, 5]"); });
-  EXPECT_NE(m.find("b.json: key 'indicators.A.edges': only for a measured indicator"), std::string::npos) << m;
+  EXPECT_NE(m.find("b.json: key 'indicators.A.edges': only for a measured indicator"), std::string::npos)
+      << m;
   // The bands must cover the hierarchy's indicators, and only those.
   json b = small_bands();
   b["indicators"].erase("B");
   const Ratings none = parse_ratings(json::parse(R"({"source": "study", "models": []})"), "r.json", h, s);
   m = input_error([&] { evaluate(h, parse_standard(b, "b.json"), none, nullptr, false); });
-  EXPECT_NE(m.find("b.json: key 'indicators.B': missing; the hierarchy small.json has indicator B"), std::string::npos) << m;
+  EXPECT_NE(m.find("b.json: key 'indicators.B': missing; the hierarchy small.json has indicator B"),
+            std::string::npos)
+      << m;
   b = small_bands();
   b["indicators"]["Z"] = b["indicators"]["A"];
   m = input_error([&] { evaluate(h, parse_standard(b, "b.json"), none, nullptr, false); });
-  EXPECT_NE(m.find("b.json: key 'indicators.Z': not an indicator of the hierarchy small.json"), std::string::npos) << m;
+  EXPECT_NE(m.find("b.json: key 'indicators.Z': not an indicator of the hierarchy small.json"),
+            std::string::npos)
+      << m;
 }
 
 // ------------------------------------------------------------------------------ the paper's data
@@ -449,7 +498,7 @@ TEST(AhpTable3, PaperScoresTranscribedAndNotRecomputable) {
                                  kAhpData / "paper-ratings.json", std::nullopt, false});
   EXPECT_EQ(rep.ratings_source, "paper");
   const std::vector<std::pair<std::string, double>> table3 = {
-      {"proposed", 94.806},   {"mass_spring", 81.372}, {"fem_quasi_newton", 80.634},
+      {"proposed", 94.806},    {"mass_spring", 81.372}, {"fem_quasi_newton", 80.634},
       {"tensor_mass", 80.594}, {"filling", 79.820},     {"pbd_viscoelastic", 81.971}};
   ASSERT_EQ(rep.models.size(), table3.size());
   for (std::size_t i = 0; i < table3.size(); ++i) {
@@ -508,8 +557,8 @@ TEST_F(AhpCli, WritesTheTables) {
                  (kTestData / "synthetic-measurements.json").string(), "--out", out.string(), "--no-plot"}),
             0)
       << err_.str();
-  for (const char* f : {"ahp_weights.csv", "ahp_consistency.csv", "ahp_scores.csv", "ahp_indicator_scores.csv",
-                        "ahp_report.md", "ahp_report.json"})
+  for (const char* f : {"ahp_weights.csv", "ahp_consistency.csv", "ahp_scores.csv",
+                        "ahp_indicator_scores.csv", "ahp_report.md", "ahp_report.json"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
   EXPECT_FALSE(fs::exists(out / "ahp_scores.png"));
   std::ifstream j(out / "ahp_report.json");
@@ -529,9 +578,13 @@ TEST_F(AhpCli, BadInputExitsTwoWithOneLine) {
   EXPECT_EQ(std::count(e.begin(), e.end(), '\n'), 1) << e;
   EXPECT_NE(e.find("cyclic-hierarchy.json: key 'criteria.1.matrix' (C2 indicators): inconsistent judgements: "
                    "consistency ratio CR ="),
-            std::string::npos) << e;
-  EXPECT_EQ(run({"ahp", "--measurements", (dir_ / "missing.json").string(), "--no-plot", "--out", (dir_ / "o").string()}), 2);
-  EXPECT_NE(err_.str().find("missing.json: cannot open the AHP measurements file"), std::string::npos) << err_.str();
+            std::string::npos)
+      << e;
+  EXPECT_EQ(run({"ahp", "--measurements", (dir_ / "missing.json").string(), "--no-plot", "--out",
+                 (dir_ / "o").string()}),
+            2);
+  EXPECT_NE(err_.str().find("missing.json: cannot open the AHP measurements file"), std::string::npos)
+      << err_.str();
 }
 
 }  // namespace

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "vascsim/experiments/cantilever.hpp"
 #include "vascsim/core/beam_theory.hpp"
+#include "vascsim/experiments/cantilever.hpp"
 
 namespace {
 
@@ -30,9 +30,9 @@ TEST(CantileverT9, TimoshenkoFormulaMatchesHandValue) {
   EXPECT_NEAR(bending, 0.04, 1e-15);
 }
 
-// Sound mode at n = 3 (both Poisson ratios): the T9 bound 8 % (docs/validation.md) (coarse-resolution error of a
-// 4-node-wide beam). n = 2 is NOT asserted: the K_min = 12 guard widens the corner stencils there
-// and the beam comes out 6-11 % soft (docs/validation.md).
+// Sound mode at n = 3 (both Poisson ratios): the T9 bound 8 % (docs/validation.md) (coarse-resolution error
+// of a 4-node-wide beam). n = 2 is NOT asserted: the K_min = 12 guard widens the corner stencils there and
+// the beam comes out 6-11 % soft (docs/validation.md).
 TEST(CantileverT9, SoundModeWithinEightPercentAtThreeCellsAcross) {
   for (double nu : {0.3, 0.45}) {
     const auto r = run_cantilever(make(3, nu));

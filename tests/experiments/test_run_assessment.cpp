@@ -12,23 +12,22 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "support/run_helpers.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/experiments/cost_model.hpp"
 #include "vascsim/experiments/force_accuracy.hpp"
 #include "vascsim/experiments/run_assessment.hpp"
 #include "vascsim/run/simulation.hpp"
 #include "vascsim/scene/scene.hpp"
-#include "support/run_helpers.hpp"
 
 namespace vascsim {
 namespace {
 
 namespace fs = std::filesystem;
 
-
-// The linear fit with the layers reach on a wall of four layers is stiff (docs/validation.md, "Layers through the
-// wall": +8..+24 % on the vein): a run of the real-time model on a four-layer wall is told so; three layers, or
-// quasi_static's quadratic fit with the thickness reach, are not.
+// The linear fit with the layers reach on a wall of four layers is stiff (docs/validation.md, "Layers through
+// the wall": +8..+24 % on the vein): a run of the real-time model on a four-layer wall is told so; three
+// layers, or quasi_static's quadratic fit with the thickness reach, are not.
 TEST(RunAssessment, TheLinearFitOnFourLayersIsNamed) {
   auto tube = [](const char* model, int layers) {
     nlohmann::json doc = nlohmann::json::parse(R"({
@@ -54,7 +53,8 @@ TEST(RunAssessment, TheLinearFitOnFourLayersIsNamed) {
 }
 
 TEST(CostModel, ReadsAndEvaluatesTheCalibration) {
-  const fs::path file = fs::path(::testing::TempDir()) / ("cost_model_" + std::to_string(::getpid()) + ".json");
+  const fs::path file =
+      fs::path(::testing::TempDir()) / ("cost_model_" + std::to_string(::getpid()) + ".json");
   std::ofstream(file) << R"({"measured": "test", "regenerate": "none", "models": {"quasi_static": {
       "step": "load step", "step_length_key": "",
       "seconds_per_step": {"c0": -13.0, "c1": 1.1, "log_sigma": 0.3, "runs": 9},
@@ -78,10 +78,11 @@ TEST(CostModel, ReadsAndEvaluatesTheCalibration) {
   fs::remove(file);
 }
 
-// A scene with tools costs exp(c_tools) times one without at the same size (contact refactors the preconditioner);
-// its memory fit has no such term.
+// A scene with tools costs exp(c_tools) times one without at the same size (contact refactors the
+// preconditioner); its memory fit has no such term.
 TEST(CostModel, ARunWithToolsTakesTheToolsFactor) {
-  const fs::path file = fs::path(::testing::TempDir()) / ("cost_tools_" + std::to_string(::getpid()) + ".json");
+  const fs::path file =
+      fs::path(::testing::TempDir()) / ("cost_tools_" + std::to_string(::getpid()) + ".json");
   std::ofstream(file) << R"({"measured": "test", "regenerate": "none", "models": {"quasi_static": {
       "step": "load step", "step_length_key": "",
       "seconds_per_step": {"c0": -13.0, "c1": 1.1, "c_tools": 0.9, "log_sigma": 0.3, "runs": 9},
@@ -93,7 +94,8 @@ TEST(CostModel, ARunWithToolsTakesTheToolsFactor) {
   const auto pressed = estimate_cost(c, "quasi_static", 4e5, 12, true);
   ASSERT_TRUE(bonded && pressed);
   EXPECT_NEAR(pressed->seconds_per_step / bonded->seconds_per_step, std::exp(0.9), 1e-12);
-  EXPECT_NEAR(pressed->seconds_per_step, std::exp(-13.0 + 1.1 * std::log(4e5) + 0.9), 1e-12 * pressed->seconds_per_step);
+  EXPECT_NEAR(pressed->seconds_per_step, std::exp(-13.0 + 1.1 * std::log(4e5) + 0.9),
+              1e-12 * pressed->seconds_per_step);
   EXPECT_EQ(pressed->peak_bytes, bonded->peak_bytes);
   EXPECT_TRUE(pressed->tools);
   EXPECT_FALSE(bonded->tools);
@@ -138,14 +140,17 @@ TEST(ForceAccuracy, MatchesTheVesselAndInterpolatesInLogNodes) {
   e = estimate_accuracy(table, vein, std::sqrt(coarse.nodes * finer.nodes));
   EXPECT_NEAR(e.error, 0.5 * (coarse.error + finer.error), 1e-9);
   ASSERT_TRUE(e.below && e.above);
-  EXPECT_NE(describe_accuracy(table, e).find("interpolated in log(nodes) between the rows"), std::string::npos);
+  EXPECT_NE(describe_accuracy(table, e).find("interpolated in log(nodes) between the rows"),
+            std::string::npos);
   // Coarser than the table: its coarsest row, as a lower bound.
   e = estimate_accuracy(table, vein, 0.5 * coarsest.nodes);
   EXPECT_NEAR(e.error, coarsest.error, 1e-12);
   EXPECT_NE(describe_accuracy(table, e).find("coarser than the coarsest row"), std::string::npos);
   // The same vessel with a catheter: the catheter case; an imported mesh: not covered.
-  EXPECT_EQ(estimate_accuracy(table, load_scene(test::source_path("scenes/hand-dorsal-vein-catheter.json")), 22914).match->name,
-            "hand dorsal vein, 6 Fr catheter (Fig. 10)");
+  EXPECT_EQ(
+      estimate_accuracy(table, load_scene(test::source_path("scenes/hand-dorsal-vein-catheter.json")), 22914)
+          .match->name,
+      "hand dorsal vein, 6 Fr catheter (Fig. 10)");
   // Without the cube the quadratic case, and the linear fit the linear case.
   const auto quadratic = case_of("quadratic");
   ASSERT_NE(quadratic, table.cases.end());
@@ -159,12 +164,13 @@ TEST(ForceAccuracy, MatchesTheVesselAndInterpolatesInLogNodes) {
   e = estimate_accuracy(table, vein, finer.nodes);
   ASSERT_NE(e.match, nullptr);
   EXPECT_EQ(e.match, &*linear);
-  EXPECT_EQ(estimate_accuracy(table, load_scene(test::source_path("scenes/cantilever.json")), 1000).match, nullptr);
+  EXPECT_EQ(estimate_accuracy(table, load_scene(test::source_path("scenes/cantilever.json")), 1000).match,
+            nullptr);
 }
 
-// A graded lattice (geometry.refine) is not read off the table's uniform rows: its node count says nothing of its
-// spacing where the load acts (a graded aorta of 3,952 nodes is within 3.4 % of the reference, the uniform 2.2 mm row
-// of 6,768 nodes +9.1 % of the finest).
+// A graded lattice (geometry.refine) is not read off the table's uniform rows: its node count says nothing of
+// its spacing where the load acts (a graded aorta of 3,952 nodes is within 3.4 % of the reference, the
+// uniform 2.2 mm row of 6,768 nodes +9.1 % of the finest).
 TEST(ForceAccuracy, AGradedLatticeIsNotCovered) {
   const ForceAccuracyTable table = ForceAccuracyTable::read(ForceAccuracyTable::default_file());
   Scene aorta = load_scene(test::source_path("scenes/aorta-bent.json"));
@@ -176,8 +182,8 @@ TEST(ForceAccuracy, AGradedLatticeIsNotCovered) {
   EXPECT_NE(describe_accuracy(table, e).find("graded lattice"), std::string::npos);
 }
 
-// The bent aorta's finest row is a few % off the CalculiX reference (docs/validation.md): the line that says "+0.0 %"
-// at that row must say so too, with the number and the reference's file.
+// The bent aorta's finest row is a few % off the CalculiX reference (docs/validation.md): the line that says
+// "+0.0 %" at that row must say so too, with the number and the reference's file.
 TEST(ForceAccuracy, AFinestRowOffTheIndependentReferenceSaysSo) {
   const ForceAccuracyTable table = ForceAccuracyTable::read(ForceAccuracyTable::default_file());
   const Scene aorta = load_scene(test::source_path("scenes/aorta-bent.json"));
@@ -189,23 +195,30 @@ TEST(ForceAccuracy, AFinestRowOffTheIndependentReferenceSaysSo) {
   EXPECT_NEAR(e.error, 0.0, 1e-12);
   ASSERT_TRUE(e.match->independent.has_value());
   const std::string line = describe_accuracy(table, e);
-  EXPECT_NE(line.find(fmt::format("that finest row is itself {:+.1f} % against", 100 * e.match->independent->error)),
+  EXPECT_NE(line.find(fmt::format("that finest row is itself {:+.1f} % against",
+                                  100 * e.match->independent->error)),
             std::string::npos)
       << line;
   EXPECT_NE(line.find("validation/references/aorta-bent.csv"), std::string::npos) << line;
-  // At the finest row the compound error is that row's own (1e-12: the table's error there is 0; rounding to 0.1 %).
-  EXPECT_NE(line.find(fmt::format("so about {:+.1f} % against that reference", 100 * e.match->independent->error)),
-            std::string::npos)
+  // At the finest row the compound error is that row's own (1e-12: the table's error there is 0; rounding to
+  // 0.1 %).
+  EXPECT_NE(
+      line.find(fmt::format("so about {:+.1f} % against that reference", 100 * e.match->independent->error)),
+      std::string::npos)
       << line;
-  // The catheter at the aorta's coarsest row's node count compounds both: (1 + e)(1 + e_finest) - 1, printed to 0.1 %.
-  const AccuracyEstimate coarse = estimate_accuracy(
-      table, load_scene(test::source_path("scenes/hand-dorsal-vein-catheter.json")), e.match->rows.front().nodes);
+  // The catheter at the aorta's coarsest row's node count compounds both: (1 + e)(1 + e_finest) - 1, printed
+  // to 0.1 %.
+  const AccuracyEstimate coarse =
+      estimate_accuracy(table, load_scene(test::source_path("scenes/hand-dorsal-vein-catheter.json")),
+                        e.match->rows.front().nodes);
   ASSERT_NE(coarse.match, nullptr);
   ASSERT_TRUE(coarse.match->independent.has_value());
   const std::string coarse_line = describe_accuracy(table, coarse);
   const double compound = (1 + coarse.error) * (1 + coarse.match->independent->error) - 1;
-  EXPECT_NE(coarse_line.find(fmt::format("so about {:+.1f} %", 100 * compound)), std::string::npos) << coarse_line;
-  // The vein has no such comparison of its finest row in the table: its line ends at the table's own reference.
+  EXPECT_NE(coarse_line.find(fmt::format("so about {:+.1f} %", 100 * compound)), std::string::npos)
+      << coarse_line;
+  // The vein has no such comparison of its finest row in the table: its line ends at the table's own
+  // reference.
   const AccuracyEstimate vein =
       estimate_accuracy(table, load_scene(test::source_path("scenes/hand-dorsal-vein.json")), 22914);
   EXPECT_EQ(describe_accuracy(table, vein).find("that finest row is itself"), std::string::npos);

@@ -1,5 +1,5 @@
-// `vascsim experiment timing` (experiments/timing_sweep.hpp): one point on a coarse vein, its JSON round trip,
-// and the command's --point / --merge path (a fanned-out sweep).
+// `vascsim experiment timing` (experiments/timing_sweep.hpp): one point on a coarse vein, its JSON round
+// trip, and the command's --point / --merge path (a fanned-out sweep).
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -40,15 +40,16 @@ TEST(TimingSweep, OnePointTimesSimulationAndSurfaceMapSeparately) {
   EXPECT_THROW(run_timing_point(o, "quasi_static", 400), InputError);
 }
 
-// The AHP figures (docs/ahp.md): each model at its largest node count, the force error from rms_error.json, the
-// comparison's reference left out of it. Copies of the inputs: exact.
+// The AHP figures (docs/ahp.md): each model at its largest node count, the force error from rms_error.json,
+// the comparison's reference left out of it. Copies of the inputs: exact.
 TEST(TimingSweep, AhpMeasurementsTakeTheLargestNodeCountAndTheForceErrors) {
   TimingPoint a, b;
   a.model = b.model = "m";
   a.nodes = 100, a.simulation_median_ms = 1.0, a.frames_per_s = 900.0;
   b.nodes = 400, b.simulation_median_ms = 4.0, b.frames_per_s = 240.0;
-  const nlohmann::json rms = {{"reference", "ref"},
-                              {"models", {{{"model", "ref"}, {"rms_percent", 0.0}}, {{"model", "m"}, {"rms_percent", 12.5}}}}};
+  const nlohmann::json rms = {
+      {"reference", "ref"},
+      {"models", {{{"model", "ref"}, {"rms_percent", 0.0}}, {{"model", "m"}, {"rms_percent", 12.5}}}}};
   const nlohmann::json j = ahp_measurements({a, b}, rms, "test");
   ASSERT_EQ(j["models"].size(), 1u);
   EXPECT_EQ(j["models"][0]["id"], "m");
@@ -61,14 +62,16 @@ TEST(TimingSweep, AhpMeasurementsTakeTheLargestNodeCountAndTheForceErrors) {
 TEST(TimingSweep, CommandRunsOnePointThenMerges) {
   const fs::path dir = fs::path(::testing::TempDir()) / ("vascsim_timing_" + std::to_string(::getpid()));
   std::ostringstream out, err;
-  ASSERT_EQ(run_cli({"-q", "experiment", "timing", kVein, "--point", "filling:400", "--steps", "2", "--warmup", "0",
-                     "--out", dir.string()},
+  ASSERT_EQ(run_cli({"-q", "experiment", "timing", kVein, "--point", "filling:400", "--steps", "2",
+                     "--warmup", "0", "--out", dir.string()},
                     out, err),
             0)
       << err.str();
   EXPECT_TRUE(fs::exists(dir / "points" / "filling-400.json"));
   std::ostringstream out2, err2;
-  ASSERT_EQ(run_cli({"-q", "experiment", "timing", kVein, "--merge", "--no-plot", "--out", dir.string()}, out2, err2), 0)
+  ASSERT_EQ(run_cli({"-q", "experiment", "timing", kVein, "--merge", "--no-plot", "--out", dir.string()},
+                    out2, err2),
+            0)
       << err2.str();
   std::ifstream csv(dir / "timing.csv");
   std::string header, row;
@@ -78,7 +81,8 @@ TEST(TimingSweep, CommandRunsOnePointThenMerges) {
   EXPECT_EQ(row.rfind("filling,400,", 0), 0u) << row;
   EXPECT_TRUE(fs::exists(dir / "ahp_measurements.json"));
   std::ostringstream out3, err3;
-  EXPECT_EQ(run_cli({"experiment", "timing", kVein, "--point", "filling", "--out", dir.string()}, out3, err3), 2);
+  EXPECT_EQ(run_cli({"experiment", "timing", kVein, "--point", "filling", "--out", dir.string()}, out3, err3),
+            2);
   fs::remove_all(dir);
 }
 

@@ -1,5 +1,5 @@
-// The tools' surface in the VTK output: a closed, outward capsule whose enclosed volume and surface points match
-// the capsule it draws.
+// The tools' surface in the VTK output: a closed, outward capsule whose enclosed volume and surface points
+// match the capsule it draws.
 
 #include <gtest/gtest.h>
 
@@ -31,7 +31,8 @@ TEST(CapsuleSurface, ClosedOutwardAndOnTheCapsule) {
     EXPECT_EQ(n, 1);
     EXPECT_EQ(edges.count({e.second, e.first}), 1u);
   }
-  // Every vertex lies on the capsule (distance to the segment = r, to 1e-12 relative) with its normal outward.
+  // Every vertex lies on the capsule (distance to the segment = r, to 1e-12 relative) with its normal
+  // outward.
   const Vec3 d = b - a;
   for (std::size_t v = 0; v < s.rest_vertices.size(); ++v) {
     const Vec3& p = s.rest_vertices[v];

@@ -1,6 +1,6 @@
-// Quadrature points on a surface for embedded contact (geometry/surface_samples.hpp): they carry the whole area,
-// lie on the curved wall the vertex normals describe (not on the flat chords between the vertices) and stay on
-// flat faces at creases.
+// Quadrature points on a surface for embedded contact (geometry/surface_samples.hpp): they carry the whole
+// area, lie on the curved wall the vertex normals describe (not on the flat chords between the vertices) and
+// stay on flat faces at creases.
 
 #include <gtest/gtest.h>
 
@@ -18,14 +18,16 @@ namespace {
 double mesh_area(const RenderSurface& s) {
   double a = 0.0;
   for (const auto& t : s.triangles)
-    a += 0.5 * (s.rest_vertices[t[1]] - s.rest_vertices[t[0]]).cross(s.rest_vertices[t[2]] - s.rest_vertices[t[0]]).norm();
+    a += 0.5 * (s.rest_vertices[t[1]] - s.rest_vertices[t[0]])
+                   .cross(s.rest_vertices[t[2]] - s.rest_vertices[t[0]])
+                   .norm();
   return a;
 }
 
 // A capsule of radius 1 mm drawn with 24 segments: its flat triangles lie up to r (1 - cos(pi/24)) = 8.6 um
-// inside the capsule. The samples, lifted by Phong tessellation with shape factor 1/2, must lie within 0.5 um of
-// it (the lift's error is of fourth order in the segment's half angle, 0.1 um for a circle; the sphere's caps
-// have irregular triangles, hence 0.5 um): 1/17 of the chords' sag, so a flat sampling fails.
+// inside the capsule. The samples, lifted by Phong tessellation with shape factor 1/2, must lie within 0.5 um
+// of it (the lift's error is of fourth order in the segment's half angle, 0.1 um for a circle; the sphere's
+// caps have irregular triangles, hence 0.5 um): 1/17 of the chords' sag, so a flat sampling fails.
 TEST(SurfaceSamples, CarryTheAreaAndLieOnTheCurvedWall) {
   const Vec3 a(0, 0, 0), b(0, 0, 4e-3);
   const double r = 1e-3;
@@ -40,7 +42,8 @@ TEST(SurfaceSamples, CarryTheAreaAndLieOnTheCurvedWall) {
     worst = std::max(worst, std::abs((p - Vec3(0, 0, 4e-3 * t)).norm() - r));
     EXPECT_NEAR(samples.normals[v].norm(), 1.0, 1e-12);
   }
-  EXPECT_NEAR(area, mesh_area(s), 1e-10 * area);  // the sub-triangles tile each triangle (round-off of 1e5 terms)
+  EXPECT_NEAR(area, mesh_area(s),
+              1e-10 * area);  // the sub-triangles tile each triangle (round-off of 1e5 terms)
   EXPECT_LT(worst, 0.5e-6) << "farthest sample from the capsule";
   EXPECT_EQ(samples.triangle.size(), samples.positions.size());
   EXPECT_EQ(samples.barycentric.size(), samples.positions.size());
@@ -56,7 +59,8 @@ TEST(SurfaceSamples, CreasesKeepTheFacesFlat) {
     cube.rest_normals.push_back(p.normalized());
   }
   // Two outward triangles per face.
-  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& f : faces) {
     cube.triangles.push_back({f[0], f[1], f[2]});
     cube.triangles.push_back({f[0], f[2], f[3]});

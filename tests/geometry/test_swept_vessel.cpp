@@ -9,11 +9,11 @@
 #include <numbers>
 #include <utility>
 
+#include "support/run_helpers.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/geometry/centerline.hpp"
 #include "vascsim/geometry/generators.hpp"
 #include "vascsim/geometry/swept_vessel.hpp"
-#include "support/run_helpers.hpp"
 
 namespace {
 
@@ -127,7 +127,8 @@ TEST(SweptVessel, StraightCentrelineReproducesMakeTube) {
     err = std::max(err, (v.cloud.positions[i] - tube.positions[i]).norm());
   EXPECT_LT(err, 1e-12 * ts.length_m);
   EXPECT_EQ(v.cloud.tets, tube.tets);  // same lattice, same Kuhn split, same orientation
-  EXPECT_NEAR(vascsim::test::total_tet_volume(v.cloud), vascsim::test::total_tet_volume(tube), 1e-12 * vascsim::test::total_tet_volume(tube));
+  EXPECT_NEAR(vascsim::test::total_tet_volume(v.cloud), vascsim::test::total_tet_volume(tube),
+              1e-12 * vascsim::test::total_tet_volume(tube));
 }
 
 // The lattice angle turns the angular lattice by less than half a column so that a column of nodes runs at

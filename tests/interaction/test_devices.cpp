@@ -543,10 +543,11 @@ TEST(MouseMapping, AdvanceAlongTheToolAxisTwistAndSteer) {
   const DevicePose twisted = dev.pose(1.1);
   dev.set_key(ToolKey::twist_right, false);
   const double angle = 0.1 * s.key_twist_rad_per_s;
-  EXPECT_NEAR((twisted.orientation * Vec3::UnitX() - Eigen::AngleAxisd(angle, -Vec3::UnitY()) * side0).norm(), 0.0,
-              1e-12);
-  EXPECT_NEAR((twisted.orientation * (-Vec3::UnitZ()) - (-Vec3::UnitY())).norm(), 0.0, 1e-12);  // axis unchanged
-  EXPECT_NEAR((twisted.position_m - Vec3(0.0, -0.002, 0.0)).norm(), 0.0, 1e-15);                // tool point too
+  EXPECT_NEAR((twisted.orientation * Vec3::UnitX() - Eigen::AngleAxisd(angle, -Vec3::UnitY()) * side0).norm(),
+              0.0, 1e-12);
+  EXPECT_NEAR((twisted.orientation * (-Vec3::UnitZ()) - (-Vec3::UnitY())).norm(), 0.0,
+              1e-12);                                                             // axis unchanged
+  EXPECT_NEAR((twisted.position_m - Vec3(0.0, -0.002, 0.0)).norm(), 0.0, 1e-15);  // tool point too
 
   // Steer: a drag to the right turns the axis towards the view's right (+x) about the tool point.
   dev.steer(100.0, 0.0);

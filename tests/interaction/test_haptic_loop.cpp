@@ -40,7 +40,9 @@ using namespace vascsim;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-bool bitwise_equal(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+bool bitwise_equal(double a, double b) {
+  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+}
 
 DevicePose pose_at(double t, const Vec3& p) {
   DevicePose s;
@@ -52,7 +54,8 @@ DevicePose pose_at(double t, const Vec3& p) {
 /// A fake simulation: a rigid-ish plane z = 0 with tissue below (normal +z), stiffness `k`. It turns the
 /// tool pose it read into the contact state a real step would publish: force k * penetration along n
 /// and the linearisation K = k n n^T.
-ContactState plane_contact(const ToolPose& tool, std::uint64_t sequence, double sim_time_s, double k = 400.0) {
+ContactState plane_contact(const ToolPose& tool, std::uint64_t sequence, double sim_time_s,
+                           double k = 400.0) {
   ContactState c;
   c.sequence = sequence;
   c.sim_time_s = sim_time_s;
@@ -162,8 +165,9 @@ TEST(VirtualCoupling, DefaultsAreCriticallyDampedAndStable) {
   const VirtualCoupling c;
   const auto& s = c.settings();
   EXPECT_DOUBLE_EQ(c.damping_n_s_per_m(), 2.0 * std::sqrt(s.proxy_mass_kg * s.stiffness_n_per_m));
-  const double S = VirtualCoupling::stability_number(s.proxy_mass_kg, s.stiffness_n_per_m, c.damping_n_s_per_m(),
-                                                     s.max_contact_stiffness_n_per_m, s.time_step_s);
+  const double S =
+      VirtualCoupling::stability_number(s.proxy_mass_kg, s.stiffness_n_per_m, c.damping_n_s_per_m(),
+                                        s.max_contact_stiffness_n_per_m, s.time_step_s);
   EXPECT_LT(S, 2.0);  // the defaults keep a margin of 2 below the bound of 4
   test::record("stability_number", S);
 
@@ -348,10 +352,12 @@ TEST(HapticLoop, RejectsMismatchedSettings) {
   LatestValue<ToolPose> to_sim;
   HapticLoopOptions slow;
   slow.rate_hz = 500.0;  // the coupling steps 1 ms
-  EXPECT_THROW(HapticLoop(device, VirtualCoupling{}, ForceOutputFilter{}, from_sim, to_sim, slow), InputError);
+  EXPECT_THROW(HapticLoop(device, VirtualCoupling{}, ForceOutputFilter{}, from_sim, to_sim, slow),
+               InputError);
   ForceOutputSettings strong;
   strong.max_force_n = 5.0;  // above the Omni's 3.3 N peak
-  EXPECT_THROW(HapticLoop(device, VirtualCoupling{}, ForceOutputFilter{strong}, from_sim, to_sim), InputError);
+  EXPECT_THROW(HapticLoop(device, VirtualCoupling{}, ForceOutputFilter{strong}, from_sim, to_sim),
+               InputError);
 }
 
 TEST(HapticLoop, RunsAt1kHzWithASlowSimulationThread) {
@@ -474,7 +480,8 @@ TEST(HapticLoop, RecordedSessionReplaysBitIdenticallyThroughTick) {
   for (std::size_t i = 0; i < kTicks; ++i)
     for (int a = 0; a < 3; ++a) {
       const double again = replay.sent_forces()[i].force_n[a];
-      if (!bitwise_equal(again, recorded.forces[i].force_n[a]) || !bitwise_equal(again, live.sent_forces()[i].force_n[a]))
+      if (!bitwise_equal(again, recorded.forces[i].force_n[a]) ||
+          !bitwise_equal(again, live.sent_forces()[i].force_n[a]))
         ++differing;
     }
   EXPECT_EQ(differing, 0u);
@@ -483,9 +490,9 @@ TEST(HapticLoop, RecordedSessionReplaysBitIdenticallyThroughTick) {
 
 }  // namespace
 
-// A device whose read stalls for 5 ms at chosen ticks (a page fault, a busy core): each stall puts the loop more
-// than a period behind, once in its first kStartupTicks ticks and twice after; the statistics (and the warning
-// the loop's owner prints from them) tell the start-up's apart from the steady state's.
+// A device whose read stalls for 5 ms at chosen ticks (a page fault, a busy core): each stall puts the loop
+// more than a period behind, once in its first kStartupTicks ticks and twice after; the statistics (and the
+// warning the loop's owner prints from them) tell the start-up's apart from the steady state's.
 class StallingDevice : public Device {
  public:
   StallingDevice(Trajectory t, std::vector<int> stalls) : inner_(std::move(t)), stalls_(std::move(stalls)) {}
@@ -515,8 +522,8 @@ TEST(HapticLoop, LateTicksAtStartUpAreToldApartFromLaterOnes1kHz) {
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   loop.stop();
   const HapticStats s = loop.stats();
-  // At least the three stalls (a loaded machine may add its own; never fewer), of which exactly one at start-up
-  // unless the machine itself stalled the loop in its first 100 ticks.
+  // At least the three stalls (a loaded machine may add its own; never fewer), of which exactly one at
+  // start-up unless the machine itself stalled the loop in its first 100 ticks.
   EXPECT_GE(s.late_restarts, 3u);
   EXPECT_GE(s.late_restarts_after_startup, 2u);
   EXPECT_GE(s.late_restarts - s.late_restarts_after_startup, 1u);

@@ -14,12 +14,12 @@
 #include <set>
 #include <string>
 
+#include "support/run_helpers.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/spatial_grid.hpp"
 #include "vascsim/geometry/mesh_wall.hpp"
 #include "vascsim/geometry/triangle_mesh.hpp"
 #include "vascsim/io/mesh_import.hpp"
-#include "support/run_helpers.hpp"
 
 namespace vascsim {
 namespace {
@@ -507,9 +507,10 @@ TEST(MeshWall, OpenTubeLumenInvariants) {
   EXPECT_LT(ratio_full, 1.01);
   RecordProperty("tet_volume_ratio", std::to_string(ratio));
   RecordProperty("tet_volume_ratio_full_length", std::to_string(ratio_full));
-  std::printf("open tube: Delta t/%.2f, %zu nodes, %zu tets, volume/ring(z span) %.4f, volume/ring(L) %.4f, "
-              "min spacing %.3f Delta, min quality %.3f\n",
-              c.t / delta, cl.positions.size(), cl.tets.size(), ratio, ratio_full, min_spacing, min_quality);
+  std::printf(
+      "open tube: Delta t/%.2f, %zu nodes, %zu tets, volume/ring(z span) %.4f, volume/ring(L) %.4f, "
+      "min spacing %.3f Delta, min quality %.3f\n",
+      c.t / delta, cl.positions.size(), cl.tets.size(), ratio, ratio_full, min_spacing, min_quality);
 
   // Surface: closed, outward; its enclosed volume is the outer polygon prism minus the lumen prism
   // (outer vertices at R + t along the radial vertex normals), exact to rounding.
@@ -549,10 +550,11 @@ TEST(MeshWall, ClosedTubeVolumeSpacingQualityLayers) {
     const double min_spacing = min_nearest_spacing(w.cloud.positions) / delta;
     const double min_quality = min_tet_quality(w.cloud);
     const WallLayers layers = measure_wall_layers(w, 100000);
-    std::printf("capped tube axis (%.2f %.2f %.2f): Delta t/%.2f, %zu nodes, %zu tets, volume ratio %.4f, min "
-                "spacing %.3f Delta, min quality %.3f, layers min %d mean %.2f\n",
-                axis.x(), axis.y(), axis.z(), c.t / delta, w.cloud.positions.size(), w.cloud.tets.size(), ratio,
-                min_spacing, min_quality, layers.min, layers.mean);
+    std::printf(
+        "capped tube axis (%.2f %.2f %.2f): Delta t/%.2f, %zu nodes, %zu tets, volume ratio %.4f, min "
+        "spacing %.3f Delta, min quality %.3f, layers min %d mean %.2f\n",
+        axis.x(), axis.y(), axis.z(), c.t / delta, w.cloud.positions.size(), w.cloud.tets.size(), ratio,
+        min_spacing, min_quality, layers.min, layers.mean);
     // Measured 0.992 (aligned), 0.983 and 0.983 at Delta = t / 3. The polygonal lumen is in the
     // reference (its error R (1 - cos pi/n) does not enter); what is lost are the cells at the caps'
     // 90-degree rim ridges (a Kuhn tet cutting the lumen's corner is dropped and no lattice node lies on
@@ -578,9 +580,11 @@ TEST(MeshWall, TetVolumeConvergesWithSpacing) {
   for (Vec3& v : lumen.vertices) v = rot * v;
   const double exact = capped_tube_wall_volume(c.R, c.n, c.L, c.t);
   c.spacing = c.t / 3;
-  const double deficit1 = 1 - vascsim::test::total_tet_volume(make_mesh_wall(lumen, lumen_spec(c)).cloud) / exact;
+  const double deficit1 =
+      1 - vascsim::test::total_tet_volume(make_mesh_wall(lumen, lumen_spec(c)).cloud) / exact;
   c.spacing = c.t / 6;
-  const double deficit2 = 1 - vascsim::test::total_tet_volume(make_mesh_wall(lumen, lumen_spec(c)).cloud) / exact;
+  const double deficit2 =
+      1 - vascsim::test::total_tet_volume(make_mesh_wall(lumen, lumen_spec(c)).cloud) / exact;
   std::printf("capped tube volume deficit: %.4f at Delta = t/3, %.4f at t/6\n", deficit1, deficit2);
   EXPECT_LT(std::abs(deficit1), 0.025);
   EXPECT_LT(std::abs(deficit2), 0.01);
@@ -655,7 +659,8 @@ TEST(MeshWall, ClosedWallFromNestedSurfaces) {
   // The snapped wall fills the solid: measured 0.99; the loss is at the 90-degree ridges of both caps
   // (inner and outer), as for the capped lumen.
   const double ratio = vascsim::test::total_tet_volume(cl) / shell;
-  std::printf("closed wall: %zu nodes, %zu tets, volume ratio %.4f\n", cl.positions.size(), cl.tets.size(), ratio);
+  std::printf("closed wall: %zu nodes, %zu tets, volume ratio %.4f\n", cl.positions.size(), cl.tets.size(),
+              ratio);
   EXPECT_GT(ratio, 0.975);
   EXPECT_LT(ratio, 1.005);
   EXPECT_GT(std::count(w.surface_is_outer.begin(), w.surface_is_outer.end(), 1), 0);
@@ -740,13 +745,13 @@ TEST(MeshWallSlow, AortaLumenStl) {
   RecordProperty("outer_foldovers", w.outer_foldovers);
   RecordProperty("volume_over_shell", std::to_string(volume / shell));
   std::printf(
-      "aorta: %zu nodes, %zu tets, %.2f s, layers min %d mean %.2f, area %.4g m^2, shell %.4g m^3, tet volume "
+      "aorta: %zu nodes, %zu tets, %.2f s, layers min %d mean %.2f, area %.4g m^2, shell %.4g m^3, tet "
+      "volume "
       "%.4g m^3 (/shell %.4f, /(area t) %.4f), min spacing %.3f Delta, min quality %.3f, foldovers %d\n",
-      cl.positions.size(), cl.tets.size(), seconds, layers.min, layers.mean, area, shell, volume, volume / shell,
-      volume / (area * s.wall_thickness_m), min_spacing, min_quality, w.outer_foldovers);
+      cl.positions.size(), cl.tets.size(), seconds, layers.min, layers.mean, area, shell, volume,
+      volume / shell, volume / (area * s.wall_thickness_m), min_spacing, min_quality, w.outer_foldovers);
   EXPECT_LT(seconds, 20.0);
 }
-
 
 }  // namespace
 }  // namespace vascsim

@@ -1,6 +1,6 @@
-// Malformed meshes from the hostile-input reproducers (docs/reliability.md): every one is an InputError naming
-// the file and what is wrong, never a crash, an assertion or a hang, and a file that is fine still imports.
-// A tetrahedron's four faces in each format, then broken on purpose.
+// Malformed meshes from the hostile-input reproducers (docs/reliability.md): every one is an InputError
+// naming the file and what is wrong, never a crash, an assertion or a hang, and a file that is fine still
+// imports. A tetrahedron's four faces in each format, then broken on purpose.
 
 #include <gtest/gtest.h>
 
@@ -70,7 +70,8 @@ TEST(MeshImportMalformed, PlyBinaryHeaderOverAnAsciiBody) {
 }
 
 TEST(MeshImportMalformed, PlyDeclaringFacesItLacks) {
-  expect_error("nofaces.ply", kPlyHeader + kPlyVertices, "element 'face': 4 items declared, the body ends after 0");
+  expect_error("nofaces.ply", kPlyHeader + kPlyVertices,
+               "element 'face': 4 items declared, the body ends after 0");
 }
 
 TEST(MeshImportMalformed, PlyWithoutEndHeaderReturnsAtOnce) {
@@ -106,8 +107,10 @@ TEST(MeshImportMalformed, PlyHeaderThatAssimpWouldMisread) {
                "ply\nformat ascii 1.0\nformat ascii 1.0\n" + kPlyHeader.substr(21) + kPlyVertices + kPlyFaces,
                "a second 'format' line");
   std::string two_vertex_elements = kPlyHeader;
-  two_vertex_elements.insert(two_vertex_elements.find("element face"), "element vertex 45\nproperty float x\n");
-  expect_error("twice-vertex.ply", two_vertex_elements + kPlyVertices + kPlyFaces, "a second element 'vertex'");
+  two_vertex_elements.insert(two_vertex_elements.find("element face"),
+                             "element vertex 45\nproperty float x\n");
+  expect_error("twice-vertex.ply", two_vertex_elements + kPlyVertices + kPlyFaces,
+               "a second element 'vertex'");
   std::string renamed = kPlyHeader;
   renamed.replace(renamed.find("vertex_indices"), 14, "vertex_idx");
   expect_error("renamed.ply", renamed + kPlyVertices + kPlyFaces,
@@ -138,10 +141,11 @@ TEST(MeshImportMalformed, BinaryStlWithNanCoordinates) {
   }
   expect_error("nan.stl", bytes, "STL: triangle 2 has a non-finite coordinate");
   // The same in ASCII.
-  expect_error("nan-ascii.stl",
-               "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 nan 0\nendloop\n"
-               "endfacet\nendsolid t\n",
-               "STL: line 6 has a non-finite coordinate");
+  expect_error(
+      "nan-ascii.stl",
+      "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 nan 0\nendloop\n"
+      "endfacet\nendsolid t\n",
+      "STL: line 6 has a non-finite coordinate");
 }
 
 }  // namespace

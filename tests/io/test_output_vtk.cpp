@@ -35,7 +35,8 @@ std::vector<double> data_array(const std::string& xml, const std::string& name) 
 TEST(OutputVtk, SeriesHoldsEveryStepWithConsistentDisplacements) {
   nlohmann::json doc = {
       {"name", "vtk-check"},
-      {"geometry", {{"type", "box"}, {"min_m", {0, 0, 0}}, {"max_m", {4e-3, 2e-3, 2e-3}}, {"node_spacing_m", 1e-3}}},
+      {"geometry",
+       {{"type", "box"}, {"min_m", {0, 0, 0}}, {"max_m", {4e-3, 2e-3, 2e-3}}, {"node_spacing_m", 1e-3}}},
       {"regions",
        {{{"name", "left"}, {"select", {{"type", "box"}, {"max_m", {0, 1, 1}}}}, {"bc", {{"type", "fixed"}}}},
         {{"name", "right"},

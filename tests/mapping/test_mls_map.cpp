@@ -14,8 +14,8 @@
 #include "vascsim/core/error.hpp"
 #include "vascsim/geometry/boundary.hpp"
 #include "vascsim/geometry/generators.hpp"
-#include "vascsim/mapping/mls_checks.hpp"
 #include "vascsim/geometry/vertex_normals.hpp"
+#include "vascsim/mapping/mls_checks.hpp"
 #include "vascsim/mapping/mls_map.hpp"
 
 namespace vascsim {
@@ -57,8 +57,8 @@ SurfaceMesh boundary_surface(const NodeCloud& cloud) {
 }
 
 // Points near the tube's outer and inner walls at random (theta, z), so they are not nodes: radial
-// offsets from 0.1 Delta inside the wall to 0.5 Delta outside it (docs/model/20-mls-map.md section 20.2: surface points sit up
-// to about Delta/2 outside the cloud), z up to Delta/4 beyond the ends.
+// offsets from 0.1 Delta inside the wall to 0.5 Delta outside it (docs/model/20-mls-map.md section 20.2:
+// surface points sit up to about Delta/2 outside the cloud), z up to Delta/4 beyond the ends.
 Vec3Array tube_offset_points(const TubeShape& tube, double delta, int count, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> theta(0.0, 2.0 * std::numbers::pi);
@@ -95,7 +95,8 @@ Measured measure_t11(const MlsMap& map, const Vec3Array& X, double delta, std::u
   return measure_mls_t11(map, X, delta, seed);
 }
 
-// T11 pass criteria (docs/validation.md (tests T1-T15)). The double bounds hold with margin: the solve with cond(A^)
+// T11 pass criteria (docs/validation.md (tests T1-T15)). The double bounds hold with margin: the solve with
+// cond(A^)
 // <= 1e3 loses at most ~3 of 16 digits, and Sum phi, Sum phi X are then exact to ~1e-13. Float32: input
 // and output rounding of positions of a few mm and of phi give ~1e-6 Delta; the bound is 1e-5 Delta.
 void expect_t11(const MlsMap& map, const Measured& m, const std::string& tag) {
@@ -159,9 +160,10 @@ TEST(MlsMap, SmallRadiusGrowsAtCornersAndStillPassesT11) {
   expect_t11(map, measure_t11(map, cloud.positions, kDelta, 17), "grown");
 }
 
-// A layered wall whose layers are much closer than its columns: four layers through the vein's 0.3 mm wall (0.1 mm
-// apart) at 0.4 mm along it. r0 follows the nearest spacing, the layers', so the surface vertices must grow before
-// they see enough columns (4 growths); the default allows it, and the grown map still passes T11.
+// A layered wall whose layers are much closer than its columns: four layers through the vein's 0.3 mm wall
+// (0.1 mm apart) at 0.4 mm along it. r0 follows the nearest spacing, the layers', so the surface vertices
+// must grow before they see enough columns (4 growths); the default allows it, and the grown map still passes
+// T11.
 TEST(MlsMap, FourLayersAtACoarseSpacingMapTheSurfaceWithTheDefaultGrowths) {
   TubeSpec s;
   s.length_m = 6e-3;
@@ -210,7 +212,8 @@ TEST(MlsMap, VertexFarFromEveryNodeFailsAfterTheAllowedGrowths) {
   } catch (const NumericalError& e) {
     const std::string msg = e.what();
     EXPECT_NE(msg.find("surface vertex 1 at (0.1, 0, 0) m has 0 nodes"), std::string::npos) << msg;
-    EXPECT_NE(msg.find(fmt::format("after {} growths", MlsMapOptions{}.max_growths)), std::string::npos) << msg;
+    EXPECT_NE(msg.find(fmt::format("after {} growths", MlsMapOptions{}.max_growths)), std::string::npos)
+        << msg;
   }
 }
 
@@ -263,9 +266,9 @@ TEST(MlsMap, TransposeMapConservesVirtualWorkAndTotalForce) {
 }
 
 // Vertex normals (geometry/vertex_normals) of the tube's boundary mesh: outer-wall vertices point radially
-// outward, inner ones toward the axis. Rim vertices (z = 0 or L) are left out: their faces span the wall and the end
-// annulus, so the true normal there is not radial. After a rigid motion of the nodes, the normals of the
-// mapped (deformed) mesh are the rotated rest normals, which checks they are recomputed from positions.
+// outward, inner ones toward the axis. Rim vertices (z = 0 or L) are left out: their faces span the wall and
+// the end annulus, so the true normal there is not radial. After a rigid motion of the nodes, the normals of
+// the mapped (deformed) mesh are the rotated rest normals, which checks they are recomputed from positions.
 TEST(MlsMap, TubeVertexNormalsPointRadiallyAndFollowRigidMotion) {
   const NodeCloud cloud = vein_tube();
   const TubeShape& tube = *cloud.tube;

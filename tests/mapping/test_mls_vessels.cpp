@@ -1,5 +1,5 @@
-// docs/validation.md T11 and T15 on the render surfaces of the shipped vessel scenes, at their full resolution
-// (the per-vessel table of docs/validation.md comes from `vascsim validate mls`, the same code).
+// docs/validation.md T11 and T15 on the render surfaces of the shipped vessel scenes, at their full
+// resolution (the per-vessel table of docs/validation.md comes from `vascsim validate mls`, the same code).
 // About 1 s in Release (map construction over ~20k nodes per vessel); also run under the sanitizers.
 
 #include <gtest/gtest.h>
@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "vascsim/experiments/mls_validation.hpp"
 #include "support/run_helpers.hpp"
+#include "vascsim/experiments/mls_validation.hpp"
 
 namespace {
 
@@ -45,10 +45,10 @@ void expect_t11_and_t15(const nlohmann::json& rows) {
 }
 
 TEST(MlsVessels, EveryVesselSurfacePassesT11AndTheGuardsHold) {
-  const auto rows = validate_mls({test::source_path("scenes/hand-dorsal-vein.json"),
-                                  test::source_path("scenes/aorta-bent.json"),
-                                  test::source_path("scenes/retinal-artery-twice-bent.json")},
-                                 {}, 1.0);
+  const auto rows = validate_mls(
+      {test::source_path("scenes/hand-dorsal-vein.json"), test::source_path("scenes/aorta-bent.json"),
+       test::source_path("scenes/retinal-artery-twice-bent.json")},
+      {}, 1.0);
   ASSERT_EQ(rows.size(), 3u);
   expect_t11_and_t15(rows);
 }

@@ -1,6 +1,6 @@
-// The catheter tool and frictionless contact (docs/haptics.md): geometry, device posing, and docs/validation.md T14 -
-// at equilibrium the force the tool exerts on the tissue balances the support reactions, and so does
-// its moment - for the quasi_static active set and for the xpbd contact constraints.
+// The catheter tool and frictionless contact (docs/haptics.md): geometry, device posing, and
+// docs/validation.md T14 - at equilibrium the force the tool exerts on the tissue balances the support
+// reactions, and so does its moment - for the quasi_static active set and for the xpbd contact constraints.
 
 #include <gtest/gtest.h>
 
@@ -13,8 +13,8 @@
 #include "vascsim/core/error.hpp"
 #include "vascsim/model/quasi_static_model.hpp"
 #include "vascsim/model/xpbd_model.hpp"
-#include "vascsim/scene/scene.hpp"
 #include "vascsim/run/simulation.hpp"
+#include "vascsim/scene/scene.hpp"
 
 namespace vascsim {
 namespace {
@@ -80,13 +80,15 @@ TEST(Catheter, SceneTakesFrenchOrMetresAndRejectsBoth) {
 json catheter_press_scene(const std::string& model) {
   json doc = test::catheter_pressed_block();
   doc["quasi_static"] = {{"load_steps", 3}, {"rel_tolerance", 1e-9}};
-  doc["xpbd"] = {{"duration_s", 0.4}, {"ramp_time_s", 0.05}, {"output_interval_s", 0.05}, {"damping_per_s", 60}};
+  doc["xpbd"] = {
+      {"duration_s", 0.4}, {"ramp_time_s", 0.05}, {"output_interval_s", 0.05}, {"damping_per_s", 60}};
   doc["model"] = model;
   return doc;
 }
 
 struct Balance {
-  Vec3 tool_force = Vec3::Zero(), support_force = Vec3::Zero(), tool_moment = Vec3::Zero(), support_moment = Vec3::Zero();
+  Vec3 tool_force = Vec3::Zero(), support_force = Vec3::Zero(), tool_moment = Vec3::Zero(),
+       support_moment = Vec3::Zero();
   int contacts = 0;
   double deepest_m = 0.0;
 };
@@ -119,16 +121,17 @@ Balance run_to_balance(Simulation& sim) {
   }
   const constraints::Capsule g = obstacle_at(ob, rec.report.load_factor);
   for (const auto& p : x) b.deepest_m = std::max(b.deepest_m, -obstacle_contact(g, p).value);
-  std::printf("[ catheter ] %s: tool force on tissue (%.5g, %.5g, %.5g) N, supports (%.5g, %.5g, %.5g) N; moment "
-              "(%.4g, %.4g, %.4g) vs (%.4g, %.4g, %.4g) N m; %d contacts\n",
-              sim.model().name().c_str(), b.tool_force.x(), b.tool_force.y(), b.tool_force.z(), b.support_force.x(),
-              b.support_force.y(), b.support_force.z(), b.tool_moment.x(), b.tool_moment.y(), b.tool_moment.z(),
-              b.support_moment.x(), b.support_moment.y(), b.support_moment.z(), b.contacts);
+  std::printf(
+      "[ catheter ] %s: tool force on tissue (%.5g, %.5g, %.5g) N, supports (%.5g, %.5g, %.5g) N; moment "
+      "(%.4g, %.4g, %.4g) vs (%.4g, %.4g, %.4g) N m; %d contacts\n",
+      sim.model().name().c_str(), b.tool_force.x(), b.tool_force.y(), b.tool_force.z(), b.support_force.x(),
+      b.support_force.y(), b.support_force.z(), b.tool_moment.x(), b.tool_moment.y(), b.tool_moment.z(),
+      b.support_moment.x(), b.support_moment.y(), b.support_moment.z(), b.contacts);
   return b;
 }
 
-// T14 with the quasi_static active set. Tolerance 1 % (T14, docs/validation.md); the Newton residual of 1e-9 of the
-// reactions puts the actual balance far below it. The moment is compared against |F| x the block size,
+// T14 with the quasi_static active set. Tolerance 1 % (T14, docs/validation.md); the Newton residual of 1e-9
+// of the reactions puts the actual balance far below it. The moment is compared against |F| x the block size,
 // the moment a 1 % force error would make.
 TEST(Catheter, QuasiStaticPressBalancesForceAndMoment) {
   Simulation sim(parse_scene(catheter_press_scene("quasi_static"), "catheter-block"));
@@ -144,9 +147,9 @@ TEST(Catheter, QuasiStaticPressBalancesForceAndMoment) {
 }
 
 // T14 with the catheter against the wall's surface (contact.surface "embedded"), pressed 0.5 mm: the samples'
-// forces reach the nodes through their shape functions, so the tool's force and moment balance the supports' as
-// the active set's do (same tolerances), and no node enters the tool by more than the penalty's penetration (bound
-// 2 um, 4e-3 of the 0.5 mm spacing).
+// forces reach the nodes through their shape functions, so the tool's force and moment balance the supports'
+// as the active set's do (same tolerances), and no node enters the tool by more than the penalty's
+// penetration (bound 2 um, 4e-3 of the 0.5 mm spacing).
 TEST(Catheter, EmbeddedPressBalancesForceAndMoment) {
   json doc = catheter_press_scene("quasi_static");
   doc["contact"] = {{"surface", "embedded"}};
@@ -164,11 +167,11 @@ TEST(Catheter, EmbeddedPressBalancesForceAndMoment) {
 }
 
 // Pressed the full 1 mm, the block folds under the capsule's edge (the node contact's run inverts 30 virtual
-// tetrahedra there too). The nodes below the surface are samples of their own, so none sits inside the tool by
-// more than the penalty's penetration: measured 3.1 um; bound 10 um, 2 % of the spacing (without them the folded
-// second layer sat 0.33 mm inside the tool). In 6 load steps: in 3, the folded last step's Newton solve converged or
-// stalled at 3e-6 depending on the BLAS's rounding (machines and thread counts differed); in 6 it converges in about
-// 40 iterations of the 60 allowed at one and two threads. Release only (5 s).
+// tetrahedra there too). The nodes below the surface are samples of their own, so none sits inside the tool
+// by more than the penalty's penetration: measured 3.1 um; bound 10 um, 2 % of the spacing (without them the
+// folded second layer sat 0.33 mm inside the tool). In 6 load steps: in 3, the folded last step's Newton
+// solve converged or stalled at 3e-6 depending on the BLAS's rounding (machines and thread counts differed);
+// in 6 it converges in about 40 iterations of the 60 allowed at one and two threads. Release only (5 s).
 TEST(Catheter, EmbeddedPressKeepsTheNodesBelowTheSurfaceOutOfTheToolSlow) {
   json doc = catheter_press_scene("quasi_static");
   doc["contact"] = {{"surface", "embedded"}};

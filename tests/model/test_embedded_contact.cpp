@@ -1,6 +1,6 @@
-// Embedded contact (model/embedded_contact.hpp): the penalty's forces are minus the gradient of its energy, its
-// Hessian products the derivative of those forces, and the tool's force is what the nodes receive (the shape
-// functions are a partition of unity, so the reaction is consistent with the map).
+// Embedded contact (model/embedded_contact.hpp): the penalty's forces are minus the gradient of its energy,
+// its Hessian products the derivative of those forces, and the tool's force is what the nodes receive (the
+// shape functions are a partition of unity, so the reaction is consistent with the map).
 
 #include <gtest/gtest.h>
 
@@ -17,8 +17,8 @@ struct Fixture {
   ContactSurface surface;
 };
 
-// 30 nodes in a 1 mm box under a 2 x 2 mm patch of 400 samples at z = 0; each sample takes 4 random nodes with
-// random weights that sum to 1. A sphere of 1 mm radius presses 50 um into the patch from above.
+// 30 nodes in a 1 mm box under a 2 x 2 mm patch of 400 samples at z = 0; each sample takes 4 random nodes
+// with random weights that sum to 1. A sphere of 1 mm radius presses 50 um into the patch from above.
 Fixture make_fixture(std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::uniform_int_distribution<Index> pick(0, 29);
@@ -44,7 +44,9 @@ Fixture make_fixture(std::mt19937& rng) {
   return f;
 }
 
-constraints::Capsule pressing_sphere() { return {Vec3(0.1e-3, -0.05e-3, 0.95e-3), Vec3(0.1e-3, -0.05e-3, 0.95e-3), 1e-3}; }
+constraints::Capsule pressing_sphere() {
+  return {Vec3(0.1e-3, -0.05e-3, 0.95e-3), Vec3(0.1e-3, -0.05e-3, 0.95e-3), 1e-3};
+}
 
 // Central differences of the energy with a step of 1 nm (1e-6 of the box; the energy is piecewise quadratic,
 // so the truncation error is round-off, about 1e-7 of the largest force): within 1e-5 of the largest force.
@@ -74,8 +76,8 @@ TEST(EmbeddedContact, ForcesAreMinusTheEnergyGradient) {
     }
 }
 
-// (d^2 U / dx^2) p against the central difference of the forces along p (step 1 nm): within 1e-5 of the largest
-// entry (the active set does not change within the step).
+// (d^2 U / dx^2) p against the central difference of the forces along p (step 1 nm): within 1e-5 of the
+// largest entry (the active set does not change within the step).
 TEST(EmbeddedContact, HessianProductIsTheForcesDerivative) {
   std::mt19937 rng(11);
   Fixture f = make_fixture(rng);
@@ -105,12 +107,13 @@ TEST(EmbeddedContact, HessianProductIsTheForcesDerivative) {
   ASSERT_GT(largest, 0.0);
   for (std::size_t i = 0; i < x.size(); ++i)
     for (int k = 0; k < 3; ++k)
-      EXPECT_NEAR(Hp[i][k], -(fp[i][k] - fm[i][k]) / (2 * h), 1e-5 * largest) << "node " << i << " component " << k;
+      EXPECT_NEAR(Hp[i][k], -(fp[i][k] - fm[i][k]) / (2 * h), 1e-5 * largest)
+          << "node " << i << " component " << k;
 }
 
-// The tool's force is the sum of what the nodes receive (to round-off: the weights sum to 1), points away from
-// the tool (the sphere presses down), and its moment about the sphere's centre vanishes (every sample's force is
-// along the normal through the centre).
+// The tool's force is the sum of what the nodes receive (to round-off: the weights sum to 1), points away
+// from the tool (the sphere presses down), and its moment about the sphere's centre vanishes (every sample's
+// force is along the normal through the centre).
 TEST(EmbeddedContact, TheToolFeelsWhatTheNodesReceive) {
   std::mt19937 rng(3);
   Fixture f = make_fixture(rng);
@@ -127,7 +130,8 @@ TEST(EmbeddedContact, TheToolFeelsWhatTheNodesReceive) {
   EXPECT_LT(load.force_vector_n.z(), 0.0);
   EXPECT_NEAR((load.force_vector_n - total).norm(), 0.0, 1e-12 * load.force_vector_n.norm());
   EXPECT_NEAR(load.torque_vector_n_m.norm(), 0.0, 1e-12 * load.force_vector_n.norm() * sphere.radius_m);
-  EXPECT_NEAR(contact.squared_force(), load.force_vector_n.squaredNorm(), 1e-12 * load.force_vector_n.squaredNorm());
+  EXPECT_NEAR(contact.squared_force(), load.force_vector_n.squaredNorm(),
+              1e-12 * load.force_vector_n.squaredNorm());
   // Nothing penetrates once the sphere is lifted clear.
   contact.place(0, {sphere.a + Vec3(0, 0, 0.1e-3), sphere.a + Vec3(0, 0, 0.1e-3), sphere.radius_m});
   contact.linearize(f.X);
@@ -135,10 +139,10 @@ TEST(EmbeddedContact, TheToolFeelsWhatTheNodesReceive) {
   EXPECT_EQ(contact.energy(f.X), 0.0);
 }
 
-// A frame whose tool moved keeps the samples that were in contact (relinearize_carried): the same samples, at the
-// moved tool's depths, and none of the samples the move swept into the tool; a sample the tool left drops out.
-// Checked against linearize at the same tool pose: the carried set's every force equals the full set's at the
-// same sample (to round-off), and the full set is larger.
+// A frame whose tool moved keeps the samples that were in contact (relinearize_carried): the same samples, at
+// the moved tool's depths, and none of the samples the move swept into the tool; a sample the tool left drops
+// out. Checked against linearize at the same tool pose: the carried set's every force equals the full set's
+// at the same sample (to round-off), and the full set is larger.
 TEST(EmbeddedContact, ACarriedSetKeepsOnlyTheSamplesThatWereInContact) {
   std::mt19937 rng(11);
   Fixture f = make_fixture(rng);

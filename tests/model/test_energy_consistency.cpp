@@ -1,5 +1,5 @@
-// docs/validation.md (tests T1-T15), T4 (momentum conservation) and T5 (forces are minus the energy gradient, with the
-// two negative tests: the G G^T strain variant and adj(F) in place of cof(F)); plus the analytic
+// docs/validation.md (tests T1-T15), T4 (momentum conservation) and T5 (forces are minus the energy gradient,
+// with the two negative tests: the G G^T strain variant and adj(F) in place of cof(F)); plus the analytic
 // Hessian-vector product against central differences of the forces.
 
 #include <gtest/gtest.h>
@@ -7,12 +7,12 @@
 #include "support/energy_checks.hpp"
 #include "support/test_support.hpp"
 
-#include <nlohmann/json.hpp>
 #include <omp.h>
 #include <algorithm>
 #include <cmath>
 #include <functional>
 #include <iomanip>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
 #include <string>
@@ -26,16 +26,20 @@
 namespace {
 
 using namespace vascsim;
-using test::kDelta;
-using test::record;
 using test::fd_force_error;
+using test::kDelta;
 using test::large_deformation;
 using test::max_norm;
+using test::record;
 
 // docs/validation.md (tests T1-T15) default: jittered (+-0.2 Delta) 7^3 cloud, h = 2 Delta.
-NodeCloud jittered_cloud() { return test::lattice(6, 0.2, 11); }
+NodeCloud jittered_cloud() {
+  return test::lattice(6, 0.2, 11);
+}
 
-Material tissue() { return test::tissue(1e5); }
+Material tissue() {
+  return test::tissue(1e5);
+}
 
 struct TermCase {
   const char* name;
@@ -47,30 +51,44 @@ struct TermCase {
 // +-29 deg from one tilted wall frame at every node; under large_deformation some nodes stretch their
 // fibres and some compress them).
 std::vector<TermCase> term_cases(const Material& m, Index num_nodes) {
-  const double E = m.youngs_modulus_pa, nu = m.poisson_ratio, mu = m.shear_modulus(), kappa = m.bulk_modulus();
+  const double E = m.youngs_modulus_pa, nu = m.poisson_ratio, mu = m.shear_modulus(),
+               kappa = m.bulk_modulus();
   auto law = [](const char* name, const nlohmann::json& p) {
     return std::shared_ptr<const materials::HyperelasticLaw>(materials::make_hyperelastic_law(name, p));
   };
   const std::vector<materials::MaterialFrame> frames(
-      static_cast<std::size_t>(num_nodes), materials::make_material_frame(Vec3(0.3, 0.2, 1.0), Vec3(1.0, 0.0, 0.0)));
+      static_cast<std::size_t>(num_nodes),
+      materials::make_material_frame(Vec3(0.3, 0.2, 1.0), Vec3(1.0, 0.0, 0.0)));
   return {{"SVK", {StrainMeasure::GreenHalf, 0.0, 0.0, {}, {}}},
           {"literal", {StrainMeasure::MuellerNoHalf, 0.0, 0.0, {}, {}}},
           {"k_v", {StrainMeasure::GreenHalf, 0.5 * m.lame_lambda(), 0.0, {}, {}}},
           {"stabiliser", {StrainMeasure::GreenHalf, 0.0, 0.5, {}, {}}},
           {"neo_hookean",
-           {StrainMeasure::GreenHalf, 0.0, 0.1, law("neo_hookean", nlohmann::json{{"youngs_modulus_pa", E}, {"poisson_ratio", nu}}), {}}},
+           {StrainMeasure::GreenHalf,
+            0.0,
+            0.1,
+            law("neo_hookean", nlohmann::json{{"youngs_modulus_pa", E}, {"poisson_ratio", nu}}),
+            {}}},
           {"mooney_rivlin",
-           {StrainMeasure::GreenHalf, 0.0, 0.1,
-            law("mooney_rivlin", nlohmann::json{{"c10_pa", 0.3 * mu}, {"c01_pa", 0.2 * mu}, {"bulk_modulus_pa", kappa}}), {}}},
+           {StrainMeasure::GreenHalf,
+            0.0,
+            0.1,
+            law("mooney_rivlin",
+                nlohmann::json{{"c10_pa", 0.3 * mu}, {"c01_pa", 0.2 * mu}, {"bulk_modulus_pa", kappa}}),
+            {}}},
           {"hgo",
            {StrainMeasure::GreenHalf, 0.0, 0.1,
-            law("hgo", nlohmann::json{{"shear_modulus_pa", mu}, {"bulk_modulus_pa", kappa}, {"k1_pa", mu}, {"k2", 1.0},
-                        {"fibre_angle_deg", 29.0}}),
+            law("hgo", nlohmann::json{{"shear_modulus_pa", mu},
+                                      {"bulk_modulus_pa", kappa},
+                                      {"k1_pa", mu},
+                                      {"k2", 1.0},
+                                      {"fibre_angle_deg", 29.0}}),
             frames}}};
 }
 
-// A local scatter-form assembly of docs/model/08-forces.md, f_k = -sum_i Ptilde_i d_ik, for formulations the library
-// does not implement. `stress` returns Ptilde_i = V_i dpsi/dF (or a wrong variant) and adds the energy.
+// A local scatter-form assembly of docs/model/08-forces.md, f_k = -sum_i Ptilde_i d_ik, for formulations the
+// library does not implement. `stress` returns Ptilde_i = V_i dpsi/dF (or a wrong variant) and adds the
+// energy.
 using StressFn = std::function<Mat3(double V, const Mat3& F, double& energy)>;
 
 double local_forces(const Discretization& disc, const StressFn& stress, const Vec3Array& x, Vec3Array& f) {
@@ -111,8 +129,8 @@ TEST(MomentumT4, ForcesConserveLinearAndAngularMomentum) {
       torque += x[i].cross(f[i]);
     }
     const double f_max = max_norm(f);
-    // docs/validation.md T4: sum d_ik = 0 makes sum f = 0, rotation invariance makes sum x cross f = 0, both up to
-    // rounding of ~343 terms: tolerance 1e-12 relative (prototype 6e-15, 4e-15). Measured
+    // docs/validation.md T4: sum d_ik = 0 makes sum f = 0, rotation invariance makes sum x cross f = 0, both
+    // up to rounding of ~343 terms: tolerance 1e-12 relative (prototype 6e-15, 4e-15). Measured
     // <= 1.1e-14, 6.4e-15.
     EXPECT_LE(sum.norm(), 1e-12 * f_max) << c.name;
     EXPECT_LE(torque.norm(), 1e-12 * f_max * L) << c.name;
@@ -179,7 +197,8 @@ TEST(ForceEnergyT5, LocalAssemblyReproducesLibraryForces) {
 }
 
 TEST(ForceEnergyT5, NegativeGGtStrainVariantIsNotAGradient) {
-  // E2 variant: eps = G + G^T + G G^T = F F^T - I with Mueller's force -2 V F sigma d (docs/model/07-strain-stress-energy.md).
+  // E2 variant: eps = G + G^T + G G^T = F F^T - I with Mueller's force -2 V F sigma d
+  // (docs/model/07-strain-stress-energy.md).
   const Material mat = tissue();
   const Discretization disc(jittered_cloud(), mat);
   const Vec3Array x = large_deformation(disc.rest_positions(), 2);
@@ -200,7 +219,8 @@ TEST(ForceEnergyT5, NegativeGGtStrainVariantIsNotAGradient) {
 }
 
 TEST(ForceEnergyT5, NegativeAdjugateInPlaceOfCofactorIsNotAGradient) {
-  // docs/model/09-volume-term-and-stabiliser.md section 9.1: the OpenCloth port builds cof(F)^T = adj(F); wrong for every non-symmetric F.
+  // docs/model/09-volume-term-and-stabiliser.md section 9.1: the OpenCloth port builds cof(F)^T = adj(F);
+  // wrong for every non-symmetric F.
   const Material mat = tissue();
   const Discretization disc(jittered_cloud(), mat);
   const Vec3Array x = large_deformation(disc.rest_positions(), 2);

@@ -6,8 +6,8 @@
 #include <omp.h>
 
 #include <Eigen/Eigenvalues>
-#include <random>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <set>
 
 #include "support/energy_checks.hpp"
@@ -32,7 +32,9 @@ Vec3Array random_vectors(std::size_t n, std::uint64_t seed) {
   return v;
 }
 
-double max_abs(const Eigen::VectorXd& v) { return v.cwiseAbs().maxCoeff(); }
+double max_abs(const Eigen::VectorXd& v) {
+  return v.cwiseAbs().maxCoeff();
+}
 
 Eigen::VectorXd flatten(const Vec3Array& v, const std::vector<Index>& slot) {
   Index n = 0;
@@ -52,17 +54,20 @@ struct HessianTermCase {
 // goes through HyperelasticLaw::first_piola_derivative, the others through the built-in SVK.
 std::vector<HessianTermCase> term_cases(const Material& m) {
   const auto neo = std::shared_ptr<const materials::HyperelasticLaw>(materials::make_hyperelastic_law(
-      "neo_hookean", nlohmann::json{{"youngs_modulus_pa", m.youngs_modulus_pa}, {"poisson_ratio", m.poisson_ratio}}));
-  return {{"SVK", {StrainMeasure::GreenHalf, 0.0, 0.0, {}, {}}},
-          {"literal", {StrainMeasure::MuellerNoHalf, 0.0, 0.0, {}, {}}},
-          {"k_v", {StrainMeasure::GreenHalf, 0.5 * m.lame_lambda(), 0.0, {}, {}}},
-          {"stabiliser", {StrainMeasure::GreenHalf, 0.0, 0.5, {}, {}}},
-          {"neo_hookean_kv_stab", {StrainMeasure::GreenHalf, 0.3 * m.lame_lambda(), 0.1, neo, {}}},
-          {"stabiliser_quadratic_fit", {StrainMeasure::GreenHalf, 0.0, 0.5, {}, {}, StabilizerFit::Quadratic}}};
+      "neo_hookean",
+      nlohmann::json{{"youngs_modulus_pa", m.youngs_modulus_pa}, {"poisson_ratio", m.poisson_ratio}}));
+  return {
+      {"SVK", {StrainMeasure::GreenHalf, 0.0, 0.0, {}, {}}},
+      {"literal", {StrainMeasure::MuellerNoHalf, 0.0, 0.0, {}, {}}},
+      {"k_v", {StrainMeasure::GreenHalf, 0.5 * m.lame_lambda(), 0.0, {}, {}}},
+      {"stabiliser", {StrainMeasure::GreenHalf, 0.0, 0.5, {}, {}}},
+      {"neo_hookean_kv_stab", {StrainMeasure::GreenHalf, 0.3 * m.lame_lambda(), 0.1, neo, {}}},
+      {"stabiliser_quadratic_fit", {StrainMeasure::GreenHalf, 0.0, 0.5, {}, {}, StabilizerFit::Quadratic}}};
 }
 
 // |H v - hessian_product(x, v)|_max / |hessian_product|_max over the kept nodes.
-double product_error(const PointPrimitiveEnergy& energy, const EnergyHessian& H, const Vec3Array& x, Vec3Array v) {
+double product_error(const PointPrimitiveEnergy& energy, const EnergyHessian& H, const Vec3Array& x,
+                     Vec3Array v) {
   const auto& slot = H.node_slot();
   for (std::size_t i = 0; i < v.size(); ++i)
     if (slot[i] < 0) v[i].setZero();  // eliminated nodes do not move
@@ -99,7 +104,8 @@ TEST(EnergyHessian, RestrictedToFreeNodesIsTheFreeBlockOfTheHessian) {
   std::vector<Index> slot(disc.rest_positions().size(), -1);
   Index next = 0;
   for (Index i = disc.num_nodes() - 1; i >= 0; --i)
-    if (disc.rest_positions()[static_cast<std::size_t>(i)].z() > 0.5 * kDelta) slot[static_cast<std::size_t>(i)] = next++;
+    if (disc.rest_positions()[static_cast<std::size_t>(i)].z() > 0.5 * kDelta)
+      slot[static_cast<std::size_t>(i)] = next++;
   EnergyHessian H(energy, {}, slot);
   H.assemble(x);
   EXPECT_EQ(H.num_block_rows(), next);
@@ -120,23 +126,27 @@ TEST(EnergyHessian, IsSymmetricAndTheLowerTriangleStorageMatches) {
   lower.assemble(x);
   const Eigen::MatrixXd F(full.matrix()), L(lower.matrix());
   const double asym = (F - F.transpose()).cwiseAbs().maxCoeff() / F.cwiseAbs().maxCoeff();
-  // Block (k, l) and block (l, k)^T sum the same terms in another order: rounding only, ~1e-16. 1e-13. Measured 2.7e-16.
+  // Block (k, l) and block (l, k)^T sum the same terms in another order: rounding only, ~1e-16. 1e-13.
+  // Measured 2.7e-16.
   EXPECT_LE(asym, 1e-13);
   // The lower storage holds the block lower triangle (diagonal blocks whole) of the full one, with the
   // same numbers (same arithmetic).
   for (int j = 0; j < lower.matrix().outerSize(); ++j)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(lower.matrix(), j); it; ++it) EXPECT_GE(it.row() / 3, j / 3);
-  EXPECT_EQ((Eigen::MatrixXd(F.triangularView<Eigen::Lower>()) - Eigen::MatrixXd(L.triangularView<Eigen::Lower>()))
-                .cwiseAbs()
-                .maxCoeff(),
-            0.0);
+    for (Eigen::SparseMatrix<double>::InnerIterator it(lower.matrix(), j); it; ++it)
+      EXPECT_GE(it.row() / 3, j / 3);
+  EXPECT_EQ(
+      (Eigen::MatrixXd(F.triangularView<Eigen::Lower>()) - Eigen::MatrixXd(L.triangularView<Eigen::Lower>()))
+          .cwiseAbs()
+          .maxCoeff(),
+      0.0);
   EXPECT_EQ(lower.num_stored_blocks(), (full.num_stored_blocks() + full.num_block_rows()) / 2);
   record("relative_asymmetry", asym);
 }
 
-// The lower storage's refill computes only the blocks it stores (energy_hessian.hpp): with the z = 0 layer eliminated
-// and the others numbered backwards, so that "lower" is in the slots' order and not the nodes', its numbers are still
-// the full matrix's lower triangle, bit for bit (each stored block sums the same terms in the same order).
+// The lower storage's refill computes only the blocks it stores (energy_hessian.hpp): with the z = 0 layer
+// eliminated and the others numbered backwards, so that "lower" is in the slots' order and not the nodes',
+// its numbers are still the full matrix's lower triangle, bit for bit (each stored block sums the same terms
+// in the same order).
 TEST(EnergyHessian, LowerStorageOfARestrictedHessianIsTheFullOnesLowerTriangle) {
   const Material mat = test::tissue(1e5);
   const Discretization disc(test::lattice(4, 0.2, 14), mat);
@@ -145,15 +155,18 @@ TEST(EnergyHessian, LowerStorageOfARestrictedHessianIsTheFullOnesLowerTriangle) 
   std::vector<Index> slot(disc.rest_positions().size(), -1);
   Index next = 0;
   for (Index i = disc.num_nodes() - 1; i >= 0; --i)
-    if (disc.rest_positions()[static_cast<std::size_t>(i)].z() > 0.5 * kDelta) slot[static_cast<std::size_t>(i)] = next++;
-  EnergyHessian full(energy, {}, slot), lower(energy, {HessianStencil::Full, false, true, CompactLumping::Polar}, slot);
+    if (disc.rest_positions()[static_cast<std::size_t>(i)].z() > 0.5 * kDelta)
+      slot[static_cast<std::size_t>(i)] = next++;
+  EnergyHessian full(energy, {}, slot),
+      lower(energy, {HessianStencil::Full, false, true, CompactLumping::Polar}, slot);
   full.assemble(x);
   lower.assemble(x);
   const Eigen::MatrixXd F(full.matrix()), L(lower.matrix());
-  EXPECT_EQ((Eigen::MatrixXd(F.triangularView<Eigen::Lower>()) - Eigen::MatrixXd(L.triangularView<Eigen::Lower>()))
-                .cwiseAbs()
-                .maxCoeff(),
-            0.0);
+  EXPECT_EQ(
+      (Eigen::MatrixXd(F.triangularView<Eigen::Lower>()) - Eigen::MatrixXd(L.triangularView<Eigen::Lower>()))
+          .cwiseAbs()
+          .maxCoeff(),
+      0.0);
   EXPECT_GT(L.cwiseAbs().maxCoeff(), 0.0);
 }
 
@@ -181,7 +194,8 @@ TEST(EnergyHessian, DiagonalShiftAddsToTheDiagonalOnly) {
   plain.assemble(x);
   shifted.assemble(x, shift);
   Eigen::VectorXd d(3 * shift.size());
-  for (std::size_t i = 0; i < shift.size(); ++i) d.segment<3>(3 * static_cast<Eigen::Index>(i)).setConstant(shift[i]);
+  for (std::size_t i = 0; i < shift.size(); ++i)
+    d.segment<3>(3 * static_cast<Eigen::Index>(i)).setConstant(shift[i]);
   const Eigen::MatrixXd diff = Eigen::MatrixXd(shifted.matrix()) - Eigen::MatrixXd(plain.matrix());
   const double err = (diff - Eigen::MatrixXd(d.asDiagonal())).cwiseAbs().maxCoeff() / d.maxCoeff();
   // One addition per diagonal entry of a ~10x larger stiffness: rounding of that entry, ~1e-15. 1e-12.
@@ -198,8 +212,8 @@ TEST(EnergyHessian, PsdProjectionMakesCompressedSvkSemiDefiniteAndLeavesRestAlon
   const Material mat = test::tissue(1e5);
   const Discretization disc(test::lattice(4, 0.2, 16), mat);
   const PointPrimitiveEnergy energy(disc, {StrainMeasure::GreenHalf, 0.0, 0.1, {}, {}});
-  // Uniaxial compression to half the length: SVK's tangent is indefinite there (docs/model/17-limitations.md; the
-  // geometric term S_zz ~ -4 mu outweighs the material term mu for shear along z).
+  // Uniaxial compression to half the length: SVK's tangent is indefinite there (docs/model/17-limitations.md;
+  // the geometric term S_zz ~ -4 mu outweighs the material term mu for shear along z).
   Vec3Array x = disc.rest_positions();
   for (auto& p : x) p.z() *= 0.5;
   EnergyHessian exact(energy), projected(energy, {HessianStencil::Full, true, false, CompactLumping::Polar});
@@ -248,7 +262,9 @@ TEST(EnergyHessian, CompactStencilKeepsThePairsAndItsLumpingOnlyAddsStiffness) {
   // Kept off-diagonal blocks are the exact ones.
   double kept_err = 0.0;
   for (const auto& [k, l] : pairs)
-    if (k != l) kept_err = std::max(kept_err, (C.block<3, 3>(3 * k, 3 * l) - F.block<3, 3>(3 * k, 3 * l)).cwiseAbs().maxCoeff());
+    if (k != l)
+      kept_err = std::max(kept_err,
+                          (C.block<3, 3>(3 * k, 3 * l) - F.block<3, 3>(3 * k, 3 * l)).cwiseAbs().maxCoeff());
   EXPECT_EQ(kept_err, 0.0);
   // The rule: C - H = sum over dropped blocks of [[(B B^T)^1/2, -B], [-B^T, (B^T B)^1/2]] is PSD, so C >= H.
   // Rounding of the eigen-solver ~1e-15 of the largest eigenvalue; 1e-12.
@@ -262,7 +278,8 @@ TEST(EnergyHessian, CompactStencilKeepsThePairsAndItsLumpingOnlyAddsStiffness) {
 
 TEST(EnergyHessian, CompactLumpingRulesOnTheDiagonal) {
   // Each rule, checked block by block against the dense full Hessian: the diagonal block of node k is
-  // H_kk plus, over the dropped blocks B = H_kl, sum (B B^T)^(1/2) (Polar), sym(sum B) (RowSum) or nothing (Drop).
+  // H_kk plus, over the dropped blocks B = H_kl, sum (B B^T)^(1/2) (Polar), sym(sum B) (RowSum) or nothing
+  // (Drop).
   const Material mat = test::tissue(1e5);
   const Discretization disc(test::lattice(4, 0.2, 22), mat);
   const PointPrimitiveEnergy energy(disc, {});
@@ -348,7 +365,8 @@ TEST(EnergyHessian, ParallelRefillEqualsSerial) {
   omp_set_num_threads(2);
   H.assemble(x);
   omp_set_num_threads(threads);
-  const Eigen::Map<const Eigen::VectorXd> a(serial.valuePtr(), serial.nonZeros()), b(H.matrix().valuePtr(), H.matrix().nonZeros());
+  const Eigen::Map<const Eigen::VectorXd> a(serial.valuePtr(), serial.nonZeros()),
+      b(H.matrix().valuePtr(), H.matrix().nonZeros());
   EXPECT_EQ((a - b).cwiseAbs().maxCoeff(), 0.0);
 }
 

@@ -1,6 +1,6 @@
-// docs/validation.md (tests T1-T15), T7 (energy behaviour of symplectic Euler with and without damping) and T8 (the
-// explicit stability limit dt_crit = 2 / omega_max, from a dense eigen-decomposition of M^-1/2 H M^-1/2).
-// The two tests named *Slow* take 10^4 explicit steps: ~1 s each in Release, ~30 s each under
+// docs/validation.md (tests T1-T15), T7 (energy behaviour of symplectic Euler with and without damping) and
+// T8 (the explicit stability limit dt_crit = 2 / omega_max, from a dense eigen-decomposition of M^-1/2 H
+// M^-1/2). The two tests named *Slow* take 10^4 explicit steps: ~1 s each in Release, ~30 s each under
 // AddressSanitizer + UBSan at -O1 with Eigen asserts on.
 
 #include <gtest/gtest.h>
@@ -141,9 +141,9 @@ TEST(ExplicitEnergyT7, UndampedEnergyIsBoundedSlow) {
   ASSERT_EQ(E.size(), 10000u);
   double dev = 0.0;
   for (double e : E) dev = std::max(dev, std::abs(e - E0) / E0);
-  // docs/validation.md T7: |E(t) - E0| / E0 <= 5 % over 10^4 steps at dt = 0.5 dt_crit. Symplectic Euler conserves
-  // a shadow energy; the measured E oscillates about it by O((omega dt)^2 / 4), about 2 % for modes up to
-  // 0.3 omega_max. Measured 0.67 %.
+  // docs/validation.md T7: |E(t) - E0| / E0 <= 5 % over 10^4 steps at dt = 0.5 dt_crit. Symplectic Euler
+  // conserves a shadow energy; the measured E oscillates about it by O((omega dt)^2 / 4), about 2 % for modes
+  // up to 0.3 omega_max. Measured 0.67 %.
   EXPECT_LE(dev, 0.05);
   record("max_rel_energy_deviation", dev);
 }
@@ -195,8 +195,8 @@ TEST(ExplicitStabilityT8, PowerIterationAndChosenStep) {
   EXPECT_GE(omega_pi, 0.97 * md.omega_max());
   record("omega_power_over_dense", omega_pi / md.omega_max());
 
-  // docs/validation.md T8: the dt chosen by the code is <= 0.5 dt_crit. Measured 0.335 (the CFL rule 0.4 Delta_min /
-  // c_p binds; safety * 2 / omega_pi alone would give 0.5 dt_crit / 0.9999).
+  // docs/validation.md T8: the dt chosen by the code is <= 0.5 dt_crit. Measured 0.335 (the CFL rule 0.4
+  // Delta_min / c_p binds; safety * 2 / omega_pi alone would give 0.5 dt_crit / 0.9999).
   ExplicitSettings settings;
   settings.duration_s = 1e-3;
   settings.output_interval_s = 1e-4;
@@ -208,8 +208,8 @@ TEST(ExplicitStabilityT8, PowerIterationAndChosenStep) {
 TEST(ExplicitStabilityT8, StableBelowTheLimitSlow) {
   const SingleThreaded serial;
   const Modes& md = modes();
-  // docs/validation.md T8: dt = 0.9 dt_crit is bounded for 10^4 steps, max E <= 1.1 E0 (oscillation of the measured
-  // energy about the shadow energy, O((0.9 * 0.3 * 2)^2 / 4) for the smooth modes). Measured 1.022.
+  // docs/validation.md T8: dt = 0.9 dt_crit is bounded for 10^4 steps, max E <= 1.1 E0 (oscillation of the
+  // measured energy about the shadow energy, O((0.9 * 0.3 * 2)^2 / 4) for the smooth modes). Measured 1.022.
   double E0 = 0.0;
   const std::vector<double> E = run(md.body, smooth_stretch(md), 0.9 * md.dt_crit(), 0.0, 10000, &E0, 1e3);
   ASSERT_EQ(E.size(), 10000u);
@@ -221,8 +221,8 @@ TEST(ExplicitStabilityT8, StableBelowTheLimitSlow) {
 TEST(ExplicitStabilityT8, UnstableAboveTheLimit) {
   const SingleThreaded serial;
   const Modes& md = modes();
-  // docs/validation.md T8: dt = 1.2 dt_crit gives E > 10^3 E0 within 2000 steps (the top mode's amplitude grows ~3.5x
-  // per step from whatever content the nonlinear forces give it). Measured: 10 steps.
+  // docs/validation.md T8: dt = 1.2 dt_crit gives E > 10^3 E0 within 2000 steps (the top mode's amplitude
+  // grows ~3.5x per step from whatever content the nonlinear forces give it). Measured: 10 steps.
   double E0 = 0.0;
   const std::vector<double> E = run(md.body, smooth_stretch(md), 1.2 * md.dt_crit(), 0.0, 2000, &E0, 1e3);
   EXPECT_GT(E.back(), 1e3 * E0);

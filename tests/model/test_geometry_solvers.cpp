@@ -6,14 +6,14 @@
 #include <map>
 #include <numbers>
 
+#include "support/run_helpers.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/experiments/cantilever.hpp"
 #include "vascsim/geometry/boundary.hpp"
 #include "vascsim/geometry/generators.hpp"
 #include "vascsim/model/discretization.hpp"
-#include "vascsim/scene/scene.hpp"
 #include "vascsim/run/simulation.hpp"
-#include "support/run_helpers.hpp"
+#include "vascsim/scene/scene.hpp"
 
 namespace {
 
@@ -40,7 +40,8 @@ TEST(Geometry, TubeHasLayersOnBothSurfacesAndExactPolygonalVolume) {
   // (round-off only).
   const int per_ring = static_cast<int>(c.positions.size()) / c.tube->radial_layers /
                        (static_cast<int>(std::lround(s.length_m / s.node_spacing_m)) + 1);
-  const double area = 0.5 * per_ring * std::sin(2.0 * std::numbers::pi / per_ring) * (1.5e-3 * 1.5e-3 - 1.2e-3 * 1.2e-3);
+  const double area =
+      0.5 * per_ring * std::sin(2.0 * std::numbers::pi / per_ring) * (1.5e-3 * 1.5e-3 - 1.2e-3 * 1.2e-3);
   EXPECT_NEAR(vascsim::test::total_tet_volume(c), area * s.length_m, 1e-12 * area * s.length_m);
 }
 
@@ -72,7 +73,7 @@ TEST(Geometry, BoxBoundaryIsClosedWithTheBoxArea) {
     EXPECT_GT(n.dot(centroid - Vec3(1.5, 1.0, 0.5)), 0.0);
   }
   EXPECT_NEAR(area, 2.0 * (6.0 + 3.0 + 2.0), 1e-12);
-  EXPECT_LT(vector_area.norm(), 1e-12);  // a closed surface has zero vector area
+  EXPECT_LT(vector_area.norm(), 1e-12);                         // a closed surface has zero vector area
   for (const auto& [edge, count] : edges) EXPECT_EQ(count, 2);  // watertight: every edge in two faces
 }
 
@@ -115,14 +116,24 @@ TEST(Discretization, TetPartitionVolumesSumToTheBodyAndSupportIsTwiceTheSpacing)
 TEST(QuasiStatic, ReactionsBalanceOnAnIndentedTube) {
   nlohmann::json doc = {
       {"name", "small-indent"},
-      {"geometry", {{"type", "tube"}, {"outer_radius_m", 1.5e-3}, {"wall_thickness_m", 0.5e-3}, {"length_m", 4e-3},
-                    {"node_spacing_m", 0.25e-3}}},
+      {"geometry",
+       {{"type", "tube"},
+        {"outer_radius_m", 1.5e-3},
+        {"wall_thickness_m", 0.5e-3},
+        {"length_m", 4e-3},
+        {"node_spacing_m", 0.25e-3}}},
       {"regions",
-       {{{"name", "a"}, {"select", {{"type", "cylinder_end"}, {"end", "start"}}}, {"bc", {{"type", "fixed"}}}},
+       {{{"name", "a"},
+         {"select", {{"type", "cylinder_end"}, {"end", "start"}}},
+         {"bc", {{"type", "fixed"}}}},
         {{"name", "b"}, {"select", {{"type", "cylinder_end"}, {"end", "end"}}}, {"bc", {{"type", "fixed"}}}},
         {{"name", "indenter"},
-         {"select", {{"type", "wall_patch"}, {"angle_center_deg", 90}, {"angle_half_width_deg", 20},
-                     {"z_center_m", 2e-3}, {"z_half_length_m", 0.6e-3}}},
+         {"select",
+          {{"type", "wall_patch"},
+           {"angle_center_deg", 90},
+           {"angle_half_width_deg", 20},
+           {"z_center_m", 2e-3},
+           {"z_half_length_m", 0.6e-3}}},
          {"bc", {{"type", "displacement"}, {"direction", "inward"}, {"magnitude_m", 0.3e-3}}}}}},
       {"gravity_m_s2", {0.0, 0.0, -9.81}},
       {"quasi_static", {{"load_steps", 2}, {"rel_tolerance", 1e-8}}}};
@@ -131,7 +142,8 @@ TEST(QuasiStatic, ReactionsBalanceOnAnIndentedTube) {
   for (int k = 1; k <= 2; ++k) r = sim.advance(k);
   ASSERT_TRUE(r.report.converged);
   const double weight = 9.81 * sim.discretization().total_volume() * 1060.0;
-  const Vec3 total = r.regions[0].force_vector_n + r.regions[1].force_vector_n + r.regions[2].force_vector_n + Vec3(0, 0, -weight);
+  const Vec3 total = r.regions[0].force_vector_n + r.regions[1].force_vector_n + r.regions[2].force_vector_n +
+                     Vec3(0, 0, -weight);
   const double scale = r.regions[2].force_vector_n.norm();
   EXPECT_GT(r.regions[2].force_n, 0.0);  // the tissue resists the indenter
   EXPECT_LT(total.norm(), 1e-6 * scale);
@@ -147,7 +159,8 @@ TEST(Explicit, DampedDynamicsSettlesOnTheQuasiStaticSolutionSlow) {
   nlohmann::json doc = cantilever_scene(c);
   const double quasi_static = run_cantilever(c).tip_deflection_m;
   doc["model"] = "explicit";
-  doc["explicit"] = {{"duration_s", 1.5}, {"ramp_time_s", 0.2}, {"output_interval_s", 1.5}, {"damping_per_s", 30.0}};
+  doc["explicit"] = {
+      {"duration_s", 1.5}, {"ramp_time_s", 0.2}, {"output_interval_s", 1.5}, {"damping_per_s", 30.0}};
   Simulation sim(parse_scene(doc, "test"));
   const StepRecord r = sim.advance(1);
   EXPECT_NEAR(r.regions[1].displacement_m / quasi_static, 1.0, 0.01);

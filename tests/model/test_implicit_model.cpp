@@ -6,28 +6,28 @@
 
 #include "support/scenes.hpp"
 
+#include <omp.h>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
-#include <omp.h>
 
+#include "support/run_helpers.hpp"
 #include "vascsim/experiments/cantilever.hpp"
 #include "vascsim/model/implicit_model.hpp"
 #include "vascsim/run/simulation.hpp"
 #include "vascsim/scene/scene.hpp"
-#include "support/run_helpers.hpp"
 
 namespace vascsim {
 namespace {
 
 using nlohmann::json;
 
-// The cantilever of the T9 check (2 cells across: 3 x 3 x 23 nodes), loaded in 0.2 s and held to 1.5 s. Unlike a
-// vessel wall this beam is not quasi-static: its first bending mode is about 5 Hz, so frames of h = 0.1 s
-// (omega h ~ 3) are used, and backward Euler shrinks what is left of the oscillation by 1/(1 + (omega h)^2) ~ 0.1
-// per frame: 13 held frames leave ~1e-13. Frames stop at a residual of 1e-9 of the reactions (or at the
-// position-precision floor near 1e-8, which Newton's stall test detects). Tolerance 1e-6 relative: above all
-// of these, far below any modelling difference.
+// The cantilever of the T9 check (2 cells across: 3 x 3 x 23 nodes), loaded in 0.2 s and held to 1.5 s.
+// Unlike a vessel wall this beam is not quasi-static: its first bending mode is about 5 Hz, so frames of h =
+// 0.1 s (omega h ~ 3) are used, and backward Euler shrinks what is left of the oscillation by 1/(1 + (omega
+// h)^2) ~ 0.1 per frame: 13 held frames leave ~1e-13. Frames stop at a residual of 1e-9 of the reactions (or
+// at the position-precision floor near 1e-8, which Newton's stall test detects). Tolerance 1e-6 relative:
+// above all of these, far below any modelling difference.
 TEST(ImplicitModel, CantileverSteadyStateIsTheStaticEquilibrium) {
   CantileverCase c;
   c.cells_across = 2;
@@ -35,8 +35,9 @@ TEST(ImplicitModel, CantileverSteadyStateIsTheStaticEquilibrium) {
   Simulation stat(parse_scene(doc, "cantilever"));
   const double u_static = test::run_to_end(stat).regions.at(1).displacement_m;
   doc["model"] = "implicit";
-  doc["implicit"] = {{"duration_s", 1.5}, {"ramp_time_s", 0.2}, {"output_interval_s", 0.5}, {"frame_s", 0.1},
-                     {"rel_tolerance", 1e-9}, {"max_newton_iterations", 30}, {"max_cg_iterations", 500}};
+  doc["implicit"] = {{"duration_s", 1.5},       {"ramp_time_s", 0.2},    {"output_interval_s", 0.5},
+                     {"frame_s", 0.1},          {"rel_tolerance", 1e-9}, {"max_newton_iterations", 30},
+                     {"max_cg_iterations", 500}};
   Simulation imp(parse_scene(doc, "cantilever"));
   const StepRecord last = test::run_to_end(imp);
   const double u_implicit = last.regions.at(1).displacement_m;
@@ -50,15 +51,17 @@ TEST(ImplicitModel, CantileverSteadyStateIsTheStaticEquilibrium) {
 json implicit_press_scene(const std::string& model) {
   json doc = test::catheter_pressed_block();
   doc["quasi_static"] = {{"load_steps", 5}, {"rel_tolerance", 1e-9}};
-  doc["implicit"] = {{"duration_s", 0.15}, {"ramp_time_s", 0.1}, {"output_interval_s", 0.05}, {"frame_s", 0.01},
-                     {"rel_tolerance", 1e-9}, {"max_newton_iterations", 30}, {"max_cg_iterations", 300}};
+  doc["implicit"] = {{"duration_s", 0.15},      {"ramp_time_s", 0.1},    {"output_interval_s", 0.05},
+                     {"frame_s", 0.01},         {"rel_tolerance", 1e-9}, {"max_newton_iterations", 30},
+                     {"max_cg_iterations", 300}};
   doc["model"] = model;
   return doc;
 }
 
 // T14 for the implicit model: at the held press the tool's force on the tissue balances the support
-// reactions (1 %, T14's bound; the residual of 1e-9 of the reactions puts the balance far below it) and equals
-// quasi_static's equilibrium force (1e-4 relative: the held frames converge to round-off, see the cantilever).
+// reactions (1 %, T14's bound; the residual of 1e-9 of the reactions puts the balance far below it) and
+// equals quasi_static's equilibrium force (1e-4 relative: the held frames converge to round-off, see the
+// cantilever).
 TEST(ImplicitModel, CatheterPressBalancesAndMatchesQuasiStatic) {
   Simulation stat(parse_scene(implicit_press_scene("quasi_static"), "catheter-block"));
   const Vec3 f_static = test::run_to_end(stat).obstacles.at(0).force_vector_n;
@@ -66,16 +69,17 @@ TEST(ImplicitModel, CatheterPressBalancesAndMatchesQuasiStatic) {
   const StepRecord last = test::run_to_end(imp);
   const Vec3 tool = last.obstacles.at(0).force_vector_n;
   const Vec3 support = last.regions.at(0).force_vector_n;  // the force the base exerts on the tissue
-  std::printf("[ implicit ] press: tool (%.6g, %.6g, %.6g) N, support (%.6g, %.6g, %.6g) N, quasi_static z %.6g N\n",
-              tool.x(), tool.y(), tool.z(), support.x(), support.y(), support.z(), f_static.z());
+  std::printf(
+      "[ implicit ] press: tool (%.6g, %.6g, %.6g) N, support (%.6g, %.6g, %.6g) N, quasi_static z %.6g N\n",
+      tool.x(), tool.y(), tool.z(), support.x(), support.y(), support.z(), f_static.z());
   EXPECT_GT(last.obstacles.at(0).contacts, 3);
   EXPECT_LT((tool + support).norm(), 1e-2 * tool.norm());
   EXPECT_LT((tool - f_static).norm(), 1e-4 * f_static.norm());
 }
 
-// An offline run refactors in line, on the caller's thread: that must leave the caller's OpenMP thread count as
-// it was (a background refactorisation sets its own thread to one; done in line, that once made the whole run
-// single-threaded after its first refactorisation). Exact: a thread count.
+// An offline run refactors in line, on the caller's thread: that must leave the caller's OpenMP thread count
+// as it was (a background refactorisation sets its own thread to one; done in line, that once made the whole
+// run single-threaded after its first refactorisation). Exact: a thread count.
 TEST(ImplicitModel, AnOfflineRefactorisationKeepsTheCallersThreadCount) {
   const int before = omp_get_max_threads();
   omp_set_num_threads(2);
@@ -88,9 +92,9 @@ TEST(ImplicitModel, AnOfflineRefactorisationKeepsTheCallersThreadCount) {
 }
 
 // The stiffness handed to the haptic thread is the derivative of the equilibrium force: posed at 0.5 mm and
-// at 0.5 mm + 1 um (few enough to keep the contact set), each to equilibrium, the force changes by K dp within
-// 2 % (the bound; K is exact for the linearised contact problem with the factor refreshed at the
-// state, so what is left is the change of the active set and of the contact normals over the step).
+// at 0.5 mm + 1 um (few enough to keep the contact set), each to equilibrium, the force changes by K dp
+// within 2 % (the bound; K is exact for the linearised contact problem with the factor refreshed at
+// the state, so what is left is the change of the active set and of the contact normals over the step).
 TEST(ImplicitModel, ToolStiffnessMatchesAFiniteDifference) {
   json doc = implicit_press_scene("implicit");
   doc["obstacles"][0]["motion_m"] = {0.0, 0.0, 0.0};
@@ -116,21 +120,23 @@ TEST(ImplicitModel, ToolStiffnessMatchesAFiniteDifference) {
   // The tool moves by -dp along z; K is d(force on the tissue)/dp.
   const Vec3 predicted = lin->stiffness_n_per_m * Vec3(0, 0, -dp);
   const Vec3 measured = f1 - f0;
-  std::printf("[ implicit ] tool stiffness: predicted dF (%.4g, %.4g, %.4g) N, finite difference (%.4g, %.4g, %.4g) N\n",
-              predicted.x(), predicted.y(), predicted.z(), measured.x(), measured.y(), measured.z());
+  std::printf(
+      "[ implicit ] tool stiffness: predicted dF (%.4g, %.4g, %.4g) N, finite difference (%.4g, %.4g, %.4g) "
+      "N\n",
+      predicted.x(), predicted.y(), predicted.z(), measured.x(), measured.y(), measured.z());
   ASSERT_GT(measured.norm(), 0.0);
   EXPECT_LT((predicted - measured).norm(), 0.02 * measured.norm());
   EXPECT_GT(lin->normal.z(), 0.9);  // the tissue pushes the tool up
 }
 
-
-// A device that jumps 1 mm into the block between two frames (a fast hand, or a frame the machine delayed): the
-// model follows in steps of max_tool_step node spacings (0.25 x 0.5 mm here), so no frame starts from a tool
-// deep inside the wall. Every frame converges (the default tolerance, 1e-3, within the default 8 Newton steps),
-// the force it reports belongs to the position the model used (tool_position_used), the force never pulls, and
-// once the tool has arrived the frames settle on quasi_static's equilibrium at the device's pose: 1 % relative,
-// for a frame tolerance of 1e-3 (measured: force within about 2.5x the tolerance) and quasi_static's 1e-6.
-// With max_tool_step = 0 (the default) the tool is where the device is from the first frame.
+// A device that jumps 1 mm into the block between two frames (a fast hand, or a frame the machine delayed):
+// the model follows in steps of max_tool_step node spacings (0.25 x 0.5 mm here), so no frame starts from a
+// tool deep inside the wall. Every frame converges (the default tolerance, 1e-3, within the default 8 Newton
+// steps), the force it reports belongs to the position the model used (tool_position_used), the force never
+// pulls, and once the tool has arrived the frames settle on quasi_static's equilibrium at the device's pose:
+// 1 % relative, for a frame tolerance of 1e-3 (measured: force within about 2.5x the tolerance) and
+// quasi_static's 1e-6. With max_tool_step = 0 (the default) the tool is where the device is from the first
+// frame.
 TEST(ImplicitModel, ADeviceJumpIsFollowedInBoundedSteps) {
   json doc = implicit_press_scene("implicit");
   doc["obstacles"][0]["motion_m"] = {0.0, 0.0, 0.0};
@@ -154,7 +160,8 @@ TEST(ImplicitModel, ADeviceJumpIsFollowedInBoundedSteps) {
     const Vec3 used = *model.tool_position_used(0);
     EXPECT_LE((used - previous).norm(), step * (1 + 1e-12)) << "frame " << frames;
     EXPECT_TRUE(r.converged) << "frame " << frames << ": residual " << r.residual;
-    EXPECT_GE(model.tool_loads().at(0).force_vector_n.dot(Vec3(0, 0, -1)), 0.0) << "a pulling tool at frame " << frames;
+    EXPECT_GE(model.tool_loads().at(0).force_vector_n.dot(Vec3(0, 0, -1)), 0.0)
+        << "a pulling tool at frame " << frames;
     previous = used;
   }
   EXPECT_GE(frames, 8);  // 1 mm in steps of 0.125 mm
@@ -169,8 +176,9 @@ TEST(ImplicitModel, ADeviceJumpIsFollowedInBoundedSteps) {
   stat_doc["quasi_static"]["rel_tolerance"] = 1e-6;
   Simulation stat(parse_scene(stat_doc, "catheter-block"));
   const Vec3 f_static = test::run_to_end(stat).obstacles.at(0).force_vector_n;
-  std::printf("[ implicit ] device jump of 1 mm: followed in %d frames, force z %.6g N; quasi_static %.6g N\n", frames,
-              f_followed.z(), f_static.z());
+  std::printf(
+      "[ implicit ] device jump of 1 mm: followed in %d frames, force z %.6g N; quasi_static %.6g N\n",
+      frames, f_followed.z(), f_static.z());
   EXPECT_LT((f_followed - f_static).norm(), 1e-2 * f_static.norm());
 
   doc["implicit"]["max_tool_step"] = 0.0;
@@ -183,11 +191,11 @@ TEST(ImplicitModel, ADeviceJumpIsFollowedInBoundedSteps) {
   EXPECT_LT((*m2.tool_position_solved(0) - target).norm(), 1e-15);
 }
 
-// A tool out of contact goes at once as far as its way touches no node (a catheter moving through the lumen at
-// hand speed must not trail the hand by 0.25 node spacings per frame), and only from there in bounded steps: a
-// device 5 mm above the block that jumps to 1 mm above it is followed in one frame; one that jumps from 3 mm
-// above to 1 mm deep is followed in one frame to within one path sample (half a tool radius, 0.5 mm) then at
-// most one bounded step past the first touch.
+// A tool out of contact goes at once as far as its way touches no node (a catheter moving through the lumen
+// at hand speed must not trail the hand by 0.25 node spacings per frame), and only from there in bounded
+// steps: a device 5 mm above the block that jumps to 1 mm above it is followed in one frame; one that jumps
+// from 3 mm above to 1 mm deep is followed in one frame to within one path sample (half a tool radius, 0.5
+// mm) then at most one bounded step past the first touch.
 TEST(ImplicitModel, AToolInFreeSpaceGoesAtOnceUpToTheTissue) {
   json doc = implicit_press_scene("implicit");
   doc["obstacles"][0]["motion_m"] = {0.0, 0.0, 0.0};
@@ -211,8 +219,8 @@ TEST(ImplicitModel, AToolInFreeSpaceGoesAtOnceUpToTheTissue) {
   model.set_tool_pose(0, tip0 - Vec3(0, 0, 1e-3), q);
   model.step();
   const double z = model.tool_position_used(0)->z();
-  std::printf("[ implicit ] free-space jump: the tool went from %.4g mm to %.4g mm above the touching pose\n", 3.0,
-              1e3 * (z - tip0.z()));
+  std::printf("[ implicit ] free-space jump: the tool went from %.4g mm to %.4g mm above the touching pose\n",
+              3.0, 1e3 * (z - tip0.z()));
   EXPECT_LT(z - tip0.z(), 0.5e-3 + 1e-9);       // at most one path sample short of the tissue
   EXPECT_GT(z - tip0.z(), -0.15e-3 - bounded);  // and not deeper than one bounded step past first touch
 }

@@ -1,5 +1,5 @@
-// The per-node compliance cache of the equilibrium solvers (model/node_compliance.hpp): its 3 x 3 couplings are
-// the blocks of P^{-1}, it solves a node once per factor version, and a new version starts afresh.
+// The per-node compliance cache of the equilibrium solvers (model/node_compliance.hpp): its 3 x 3 couplings
+// are the blocks of P^{-1}, it solves a node once per factor version, and a new version starts afresh.
 
 #include <gtest/gtest.h>
 

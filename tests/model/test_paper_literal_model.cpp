@@ -1,7 +1,8 @@
-// The `paper_literal` model (docs/model/19-position-based.md section 19.5): selectable by name, runs a small beam bounded, uses the literal
-// strain whatever the scene's energy block says, uses Mueller's per-iteration stiffness k' = 1 - (1-k)^{1/n}
-// and therefore has the documented dt^2-dependent PBD steady state (docs/model/16-deviations.md, E9, T13), and its
-// constraint_forces() give support reactions that balance the applied load at steady state.
+// The `paper_literal` model (docs/model/19-position-based.md section 19.5): selectable by name, runs a small
+// beam bounded, uses the literal strain whatever the scene's energy block says, uses Mueller's per-iteration
+// stiffness k' = 1 - (1-k)^{1/n} and therefore has the documented dt^2-dependent PBD steady state
+// (docs/model/16-deviations.md, E9, T13), and its constraint_forces() give support reactions that balance the
+// applied load at steady state.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -9,12 +10,12 @@
 #include <cstdio>
 #include <string>
 
+#include "support/run_helpers.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/experiments/cantilever.hpp"
 #include "vascsim/model/paper_literal_model.hpp"
-#include "vascsim/scene/scene.hpp"
 #include "vascsim/run/simulation.hpp"
-#include "support/run_helpers.hpp"
+#include "vascsim/scene/scene.hpp"
 
 namespace {
 
@@ -27,7 +28,8 @@ using json = nlohmann::json;
 // >= 5 nodes; it adds no edge at O). The three stretching projections at O then act on separate
 // components, so n Gauss-Seidel sweeps with k' leave exactly the fraction (1-k')^n of each component's
 // violation: with k' = 1 - (1-k)^{1/n} that is 1-k, and under gravity the steady state is
-//   u = (1-k)/k dt^2 g                                                     (docs/validation.md T13, [derived])
+//   u = (1-k)/k dt^2 g                                                     (docs/validation.md T13,
+//   [derived])
 // The meshless forces are made negligible (E = 1e-6 Pa: 4 E L / (m/dt^2) ~ 1e-13).
 constexpr double kCornerEdge = 1.0;   // L, m
 const Vec3 kGravity(2.0, -3.0, 8.5);  // m/s^2, |g| = 9.23; any direction, the edges are the axes
@@ -110,8 +112,8 @@ TEST(PaperLiteralModel, PerIterationStiffnessIsMuellersSoSteadyStateIsIndependen
   }
 }
 
-// docs/validation.md T13: literal PBD with k = 0.5 sags (1-k) g dt^2 / k, so the steady state at 16 ms is 256x
-// the one at 1 ms (the paper's stiffness depends on dt). Range [200, 300] as in T13; the linearisation
+// docs/validation.md T13: literal PBD with k = 0.5 sags (1-k) g dt^2 / k, so the steady state at 16 ms is
+// 256x the one at 1 ms (the paper's stiffness depends on dt). Range [200, 300] as in T13; the linearisation
 // error at 16 ms (|u| = 2.4 mm on L = 1 m) is far inside it.
 TEST(PaperLiteralModel, SteadySagGrowsWithDtSquared) {
   const CornerResult fine = run_corner(0.5, 4, 1e-3), coarse = run_corner(0.5, 4, 16e-3);
@@ -121,8 +123,8 @@ TEST(PaperLiteralModel, SteadySagGrowsWithDtSquared) {
   ::testing::Test::RecordProperty("sag_ratio_16ms_1ms", std::to_string(ratio));
   EXPECT_GE(ratio, 200.0);
   EXPECT_LE(ratio, 300.0);
-  // The supports carry the whole weight through the PBD constraint forces (docs/model/19-position-based.md force
-  // s grad C / dt^2): only the single free node is in motion and it is at rest, so 1e-9 relative.
+  // The supports carry the whole weight through the PBD constraint forces (docs/model/19-position-based.md
+  // force s grad C / dt^2): only the single free node is in motion and it is at rest, so 1e-9 relative.
   for (const CornerResult* r : {&fine, &coarse})
     EXPECT_LT((r->reaction + r->weight_n * kGravity.normalized()).norm(), 1e-9 * r->weight_n);
 }
@@ -173,9 +175,9 @@ TEST(PaperLiteralModel, SelectableByNameAndRunsASmallBeamBounded) {
   const double tip = ref["tip_deflection_m"], sound = ref["reference_deflection_m"];
   std::printf("tip %.4e m, Timoshenko (sound E) %.4e m, max |u| %.4e m, %.2f s\n", tip, sound, max_u,
               vascsim::test::seconds_since(t0));
-  // Bounded: the literal solid is 4x stiffer than E (docs/validation.md T9: 1/4 of the sound deflection, which is
-  // within 1 % of Timoshenko at 2 cells) and the PBD constraints only stiffen it further, so the tip moves
-  // the right way and by less than 0.3 of the sound deflection (measured 0.018 at dt = 0.1 ms, n = 10);
+  // Bounded: the literal solid is 4x stiffer than E (docs/validation.md T9: 1/4 of the sound deflection,
+  // which is within 1 % of Timoshenko at 2 cells) and the PBD constraints only stiffen it further, so the tip
+  // moves the right way and by less than 0.3 of the sound deflection (measured 0.018 at dt = 0.1 ms, n = 10);
   // no node moves more than that.
   EXPECT_GT(tip, 0.0);
   EXPECT_LT(tip, 0.3 * sound);
@@ -217,9 +219,10 @@ TEST(PaperLiteralModel, UsesTheLiteralStrainWhateverTheEnergyBlockSays) {
 // Reaction forces through constraint_forces(): at steady state the clamp's summed reaction balances the
 // tip load. The stretching constraints and the meshless forces conserve momentum exactly, so with k_e = 0
 // the imbalance is only the leftover motion (measured 9e-9 after 0.15 s with damping 300/s; tolerance
-// 1e-6). The literal energy constraints do not conserve momentum (docs/model/16-deviations.md, E11: sum_b grad_b C != 0) and
-// their net force stays in the balance: measured 6.9e-4 of the load at this strain (1e-3); tolerance 5e-3,
-// and it must stay above 1e-5 so that a "fixed" energy constraint shows up here (docs/model/00-design-decisions.md, decision 1).
+// 1e-6). The literal energy constraints do not conserve momentum (docs/model/16-deviations.md, E11: sum_b
+// grad_b C != 0) and their net force stays in the balance: measured 6.9e-4 of the load at this strain (1e-3);
+// tolerance 5e-3, and it must stay above 1e-5 so that a "fixed" energy constraint shows up here
+// (docs/model/00-design-decisions.md, decision 1).
 TEST(PaperLiteralModel, SupportReactionBalancesTheTipLoadAtSteadyState) {
   for (const double ke : {0.0, 1.0}) {
     json doc = literal_cantilever(1e-4, 10, 0.15, 300.0);
@@ -268,7 +271,8 @@ TEST(PaperLiteralModel, SceneBlockIsValidated) {
   EXPECT_EQ(def.settings<PaperLiteralSettings>("paper_literal").stretch_pairs, StretchPairs::TetEdges);
   json nb = base;
   nb["paper_literal"]["stretch_pairs"] = "neighbours";
-  EXPECT_EQ(parse_scene(nb, "s.json").settings<PaperLiteralSettings>("paper_literal").stretch_pairs, StretchPairs::Neighbours);
+  EXPECT_EQ(parse_scene(nb, "s.json").settings<PaperLiteralSettings>("paper_literal").stretch_pairs,
+            StretchPairs::Neighbours);
 
   const auto rejects = [&](const char* key, const json& value) {
     json bad = base;

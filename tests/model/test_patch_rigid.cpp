@@ -1,5 +1,5 @@
-// docs/validation.md (tests T1-T15), T2 (patch test, incl. float32 and the Eq. 3 sign negative test) and T3 (rigid
-// motion gives no force and no energy, for every energy term).
+// docs/validation.md (tests T1-T15), T2 (patch test, incl. float32 and the Eq. 3 sign negative test) and T3
+// (rigid motion gives no force and no energy, for every energy term).
 
 #include <gtest/gtest.h>
 
@@ -23,10 +23,15 @@ using namespace vascsim;
 using test::kDelta;
 using test::record;
 
-// The docs/validation.md (tests T1-T15) default: jittered (+-0.2 Delta) 7^3 cloud; h = 2 Delta-bar by default.
-NodeCloud patch_cloud() { return test::lattice(6, 0.2, 7); }
+// The docs/validation.md (tests T1-T15) default: jittered (+-0.2 Delta) 7^3 cloud; h = 2 Delta-bar by
+// default.
+NodeCloud patch_cloud() {
+  return test::lattice(6, 0.2, 7);
+}
 
-Material patch_tissue() { return test::tissue(3e5); }
+Material patch_tissue() {
+  return test::tissue(3e5);
+}
 
 Vec3Array affine(const Vec3Array& X, const Mat3& A, const Vec3& t) {
   Vec3Array x(X.size());

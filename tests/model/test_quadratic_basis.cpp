@@ -1,8 +1,8 @@
-// The quadratic basis of the local fit (discretization.basis = quadratic, docs/model/05-local-fit.md section 5.1): the
-// gradient it gives is exact for quadratic fields at every node (the linear basis's is not at a boundary
-// node), and the energy built on it passes the checks the linear one passes (T3 rigid motions, T4 momentum, T5
-// forces = -grad U and Hessian products, T10 the stabiliser on the checkerboard), with the stabiliser now on
-// the quadratic fit's residual (model/stabilizer_matrix).
+// The quadratic basis of the local fit (discretization.basis = quadratic, docs/model/05-local-fit.md
+// section 5.1): the gradient it gives is exact for quadratic fields at every node (the linear basis's is not
+// at a boundary node), and the energy built on it passes the checks the linear one passes (T3 rigid motions,
+// T4 momentum, T5 forces = -grad U and Hessian products, T10 the stabiliser on the checkerboard), with the
+// stabiliser now on the quadratic fit's residual (model/stabilizer_matrix).
 
 #include <gtest/gtest.h>
 
@@ -41,7 +41,9 @@ struct QuadraticField {
       h = 0.5 * (h + h.transpose()).eval();
     }
   }
-  Vec3 u(const Vec3& X) const { return G * X + 0.5 * Vec3(X.dot(H[0] * X), X.dot(H[1] * X), X.dot(H[2] * X)); }
+  Vec3 u(const Vec3& X) const {
+    return G * X + 0.5 * Vec3(X.dot(H[0] * X), X.dot(H[1] * X), X.dot(H[2] * X));
+  }
   Mat3 grad(const Vec3& X) const {
     Mat3 g = G;
     for (int c = 0; c < 3; ++c) g.row(c) += (H[c] * X).transpose();
@@ -49,10 +51,10 @@ struct QuadraticField {
   }
 };
 
-// Exact to rounding at every node, boundary nodes included: the fit reproduces quadratic fields. The tolerance,
-// 1e-9 of |grad u|, is the rounding of B_i^{-1} (its condition number is kept below 1e6 by the guard) on terms
-// of size |u| / Delta. The linear basis misses by O(|H| Delta) at the boundary (measured 0.07 relative), which
-// shows the check can fail.
+// Exact to rounding at every node, boundary nodes included: the fit reproduces quadratic fields. The
+// tolerance, 1e-9 of |grad u|, is the rounding of B_i^{-1} (its condition number is kept below 1e6 by the
+// guard) on terms of size |u| / Delta. The linear basis misses by O(|H| Delta) at the boundary (measured 0.07
+// relative), which shows the check can fail.
 TEST(QuadraticBasis, QuadraticFieldsGiveTheExactGradientAtEveryNode) {
   const Material mat = test::tissue(1e5);
   const NodeCloud cloud = test::lattice(5, 0.2, 4);
@@ -68,17 +70,18 @@ TEST(QuadraticBasis, QuadraticFieldsGiveTheExactGradientAtEveryNode) {
     err_quad = std::max(err_quad, (quad.displacement_gradient(i, u) - exact).norm());
     err_lin = std::max(err_lin, (lin.displacement_gradient(i, u) - exact).norm());
   }
-  std::printf("[ quadratic ] max gradient error / max |grad u|: quadratic %.3g, linear %.3g\n", err_quad / scale,
-              err_lin / scale);
+  std::printf("[ quadratic ] max gradient error / max |grad u|: quadratic %.3g, linear %.3g\n",
+              err_quad / scale, err_lin / scale);
   EXPECT_LT(err_quad, 1e-9 * scale);
   EXPECT_GT(err_lin, 1e-3 * scale);
 }
 
 // T3 and T4 for the quadratic basis with the stabiliser: a rigid motion gives no force (1e-10 E Delta^2, as
-// RigidT3) and no energy beyond the rounding of the assembled stabiliser matrix: its null space holds the rigid
-// motions only to the rounding of its entries, ~1e-16 of alpha mu Delta per entry on differences ~ Delta, so
-// 1e-14 alpha mu V (measured 1e-18 of it; the strain term alone is ~1e-33 J); and the forces of a large deformation sum to zero with zero torque (1e-12 relative,
-// as MomentumT4: sum d_ik = 0 and rotation invariance hold for any fit without a constant term).
+// RigidT3) and no energy beyond the rounding of the assembled stabiliser matrix: its null space holds the
+// rigid motions only to the rounding of its entries, ~1e-16 of alpha mu Delta per entry on differences ~
+// Delta, so 1e-14 alpha mu V (measured 1e-18 of it; the strain term alone is ~1e-33 J); and the forces of a
+// large deformation sum to zero with zero torque (1e-12 relative, as MomentumT4: sum d_ik = 0 and rotation
+// invariance hold for any fit without a constant term).
 TEST(QuadraticBasis, RigidMotionIsFreeAndForcesConserveMomentum) {
   const Material mat = test::tissue(1e5);
   const Discretization disc(test::lattice(6, 0.2, 11), mat, quadratic());
@@ -105,13 +108,15 @@ TEST(QuadraticBasis, RigidMotionIsFreeAndForcesConserveMomentum) {
   EXPECT_LE(torque.norm(), 1e-12 * test::max_norm(f) * test::max_norm(x));
 }
 
-// T5: forces are minus the energy's gradient (central differences, 1e-6 as ForceEnergyT5), for the strain energy
-// with the stabiliser and for the stabiliser matrix alone (its force is the difference of alpha 0.5 and 0); and
-// the Hessian product is the derivative of the forces (1e-6, as HessianProductMatchesForceDifferences).
+// T5: forces are minus the energy's gradient (central differences, 1e-6 as ForceEnergyT5), for the strain
+// energy with the stabiliser and for the stabiliser matrix alone (its force is the difference of alpha 0.5
+// and 0); and the Hessian product is the derivative of the forces (1e-6, as
+// HessianProductMatchesForceDifferences).
 TEST(QuadraticBasis, ForcesAndHessianAreTheEnergysDerivatives) {
   const Material mat = test::tissue(1e5);
   const Discretization disc(test::lattice(6, 0.2, 11), mat, quadratic());
-  test::expect_stabiliser_derivatives<PointPrimitiveEnergy>(disc, EnergyOptions{StrainMeasure::GreenHalf, 0.0, 0.5, {}, {}});
+  test::expect_stabiliser_derivatives<PointPrimitiveEnergy>(
+      disc, EnergyOptions{StrainMeasure::GreenHalf, 0.0, 0.5, {}, {}});
 }
 
 // T10: the stabiliser on the quadratic fit's residual vanishes on quadratic fields (bending is not penalised:
@@ -141,8 +146,8 @@ TEST(QuadraticBasis, StabiliserIgnoresQuadraticFieldsAndPenalisesTheCheckerboard
   EXPECT_GT(energy.energy(x).stabilizer, 0.1 * scale);
 }
 
-// A model whose constraints assume the linear fit (xpbd's stabiliser pairs hold F_i fixed) refuses the quadratic
-// basis at the scene key, naming the models that take it.
+// A model whose constraints assume the linear fit (xpbd's stabiliser pairs hold F_i fixed) refuses the
+// quadratic basis at the scene key, naming the models that take it.
 TEST(QuadraticBasis, ModelsThatAssumeTheLinearFitRefuseItAtTheKey) {
   nlohmann::json doc = nlohmann::json::parse(R"({
     "name": "q", "model": "xpbd",

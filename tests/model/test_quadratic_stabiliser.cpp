@@ -1,8 +1,8 @@
 // The stabiliser on a quadratic fit's residuals with the linear basis (energy.stabilizer_fit = quadratic,
-// docs/model/09-volume-term-and-stabiliser.md section 9.3): the energy built with it passes T3 (rigid motions cost nothing), T5 (forces =
-// -grad U, Hessian products = the forces' derivative), and the scene gives it to the equilibrium models on walls
-// only, refusing it where the constraints assume the linear fit. T10 (the checkerboard, bending left alone) is in
-// test_stiffness_modes.cpp.
+// docs/model/09-volume-term-and-stabiliser.md section 9.3): the energy built with it passes T3 (rigid motions
+// cost nothing), T5 (forces = -grad U, Hessian products = the forces' derivative), and the scene gives it to
+// the equilibrium models on walls only, refusing it where the constraints assume the linear fit. T10 (the
+// checkerboard, bending left alone) is in test_stiffness_modes.cpp.
 
 #include <gtest/gtest.h>
 
@@ -37,7 +37,8 @@ TEST(QuadraticFitStabiliser, ForcesAndHessianAreTheEnergysDerivatives) {
 }
 
 // T3: a rigid motion (rotation by 0.7 rad and a translation of 3 spacings) costs no stabiliser energy and no
-// force: rounding only, 1e-12 of the energy the same stabiliser gives a 1 % checkerboard (which is O(1e-4 mu V)).
+// force: rounding only, 1e-12 of the energy the same stabiliser gives a 1 % checkerboard (which is O(1e-4 mu
+// V)).
 TEST(QuadraticFitStabiliser, RigidMotionIsFree) {
   const Material mat = test::tissue(1e5);
   const Discretization disc(test::lattice(5, 0.2, 3), mat);
@@ -60,22 +61,30 @@ nlohmann::json tube_scene(const std::string& model, const std::string& geometry)
   })");
   doc["model"] = model;
   if (geometry == "tube")
-    doc["geometry"] = {{"type", "tube"}, {"outer_radius_m", 1.5e-3}, {"wall_thickness_m", 0.3e-3},
-                       {"length_m", 3e-3}, {"node_spacing_m", 0.3e-3}};
+    doc["geometry"] = {{"type", "tube"},
+                       {"outer_radius_m", 1.5e-3},
+                       {"wall_thickness_m", 0.3e-3},
+                       {"length_m", 3e-3},
+                       {"node_spacing_m", 0.3e-3}};
   else
-    doc["geometry"] = {{"type", "box"}, {"min_m", {0, 0, 0}}, {"max_m", {0.004, 0.004, 0.004}}, {"node_spacing_m", 0.001}};
+    doc["geometry"] = {
+        {"type", "box"}, {"min_m", {0, 0, 0}}, {"max_m", {0.004, 0.004, 0.004}}, {"node_spacing_m", 0.001}};
   return doc;
 }
 
-// The default: quadratic for quasi_static and implicit on a wall, the linear fit's elsewhere (a box; the models
-// tuned with it; formulation paper_literal has no stabiliser). Asked of xpbd, the key is an input error naming the
-// models that take it.
+// The default: quadratic for quasi_static and implicit on a wall, the linear fit's elsewhere (a box; the
+// models tuned with it; formulation paper_literal has no stabiliser). Asked of xpbd, the key is an input
+// error naming the models that take it.
 TEST(QuadraticFitStabiliser, IsTheEquilibriumModelsDefaultOnAWallAndRefusedByXpbd) {
-  EXPECT_EQ(parse_scene(tube_scene("quasi_static", "tube"), "t.json").energy.stabilizer_fit, StabilizerFit::Quadratic);
-  EXPECT_EQ(parse_scene(tube_scene("implicit", "tube"), "t.json").energy.stabilizer_fit, StabilizerFit::Quadratic);
-  EXPECT_EQ(parse_scene(tube_scene("quasi_static", "box"), "t.json").energy.stabilizer_fit, StabilizerFit::Basis);
+  EXPECT_EQ(parse_scene(tube_scene("quasi_static", "tube"), "t.json").energy.stabilizer_fit,
+            StabilizerFit::Quadratic);
+  EXPECT_EQ(parse_scene(tube_scene("implicit", "tube"), "t.json").energy.stabilizer_fit,
+            StabilizerFit::Quadratic);
+  EXPECT_EQ(parse_scene(tube_scene("quasi_static", "box"), "t.json").energy.stabilizer_fit,
+            StabilizerFit::Basis);
   EXPECT_EQ(parse_scene(tube_scene("xpbd", "tube"), "t.json").energy.stabilizer_fit, StabilizerFit::Basis);
-  EXPECT_EQ(parse_scene(tube_scene("explicit", "tube"), "t.json").energy.stabilizer_fit, StabilizerFit::Basis);
+  EXPECT_EQ(parse_scene(tube_scene("explicit", "tube"), "t.json").energy.stabilizer_fit,
+            StabilizerFit::Basis);
   nlohmann::json asked = tube_scene("xpbd", "tube");
   asked["energy"] = {{"stabilizer_fit", "quadratic"}};
   const std::string m = test::scene_error(asked, "t.json");

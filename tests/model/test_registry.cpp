@@ -91,7 +91,8 @@ TEST(ModelRegistry, ReadersRejectUnknownKeys) {
 TEST(ModelRegistry, SceneChecksCapabilities) {
   for (const ModelEntry& e : model_registry()) {
     json tools = tiny_block(e.name);
-    tools["obstacles"] = json::array({{{"name", "ball"}, {"radius_m", 0.001}, {"centre_m", {0.001, 0.001, 0.004}}}});
+    tools["obstacles"] =
+        json::array({{{"name", "ball"}, {"radius_m", 0.001}, {"centre_m", {0.001, 0.001, 0.004}}}});
     if (e.capabilities.takes_tools) {
       EXPECT_NO_THROW(parse_scene(tools, "t.json")) << e.name;
     } else {

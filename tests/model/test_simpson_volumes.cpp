@@ -1,7 +1,7 @@
-// Simpson volumes (discretization.volume = simpson, geometry/lattice_quadrature, docs/model/04-volumes.md): the
-// weights integrate cubics along a lattice's layers, and with the quadratic basis the nodal sum gives a bending
-// field the continuum's energy, which the tet partition's trapezoid weights overestimate by half with three
-// layers (the cause of the quadratic basis's stiffness measured in docs/validation.md).
+// Simpson volumes (discretization.volume = simpson, geometry/lattice_quadrature, docs/model/04-volumes.md):
+// the weights integrate cubics along a lattice's layers, and with the quadratic basis the nodal sum gives a
+// bending field the continuum's energy, which the tet partition's trapezoid weights overestimate by half with
+// three layers (the cause of the quadratic basis's stiffness measured in docs/validation.md).
 
 #include <gtest/gtest.h>
 
@@ -21,8 +21,8 @@
 namespace vascsim {
 namespace {
 
-// Sum_k w_k x_k^p against 1 / (p + 1) on [0, 1]: exact to rounding (1e-14) for p <= 3 and n >= 3 (the trapezoid
-// on 3 points misses x^2 by 0.04, so the comparison can fail).
+// Sum_k w_k x_k^p against 1 / (p + 1) on [0, 1]: exact to rounding (1e-14) for p <= 3 and n >= 3 (the
+// trapezoid on 3 points misses x^2 by 0.04, so the comparison can fail).
 TEST(SimpsonVolumes, WeightsIntegrateCubicsExactly) {
   for (int n = 3; n <= 10; ++n) {
     const std::vector<double> w = cubic_exact_weights(n);
@@ -58,7 +58,8 @@ TEST(SimpsonVolumes, QuadraticBasisGivesABendingFieldTheContinuumEnergy) {
   simpson.volume_factors = simpson_volume_factors(body);
   const Discretization with_simpson(body.cloud, mat, simpson);
   const Discretization with_trapezoid(body.cloud, mat, trapezoid);
-  EXPECT_NEAR(with_simpson.total_volume(), with_trapezoid.total_volume(), 1e-12 * with_trapezoid.total_volume());
+  EXPECT_NEAR(with_simpson.total_volume(), with_trapezoid.total_volume(),
+              1e-12 * with_trapezoid.total_volume());
 
   const double a = 1e-6 / test::kDelta;  // curvature, 1/m
   const double z_mid = 0.5 * spec.max_m.z();
@@ -73,14 +74,15 @@ TEST(SimpsonVolumes, QuadraticBasisGivesABendingFieldTheContinuumEnergy) {
   const EnergyOptions energy{StrainMeasure::GreenHalf, 0.0, 0.0, {}, {}};
   const double e_simpson = PointPrimitiveEnergy(with_simpson, energy).energy(x).total();
   const double e_trapezoid = PointPrimitiveEnergy(with_trapezoid, energy).energy(x).total();
-  std::printf("[ simpson ] bending energy / continuum: Simpson %.8f, tet partition %.6f\n", e_simpson / continuum,
-              e_trapezoid / continuum);
+  std::printf("[ simpson ] bending energy / continuum: Simpson %.8f, tet partition %.6f\n",
+              e_simpson / continuum, e_trapezoid / continuum);
   EXPECT_NEAR(e_simpson / continuum, 1.0, 1e-4);
   EXPECT_NEAR(e_trapezoid / continuum, 1.5, 0.05);
 }
 
-// Through a vessel wall only the layer index counts: on a tube with 3 layers the factors are Simpson's over the
-// trapezoid's, 2/3 at either surface and 4/3 in the middle (exact ratios), whatever the node's angle or s.
+// Through a vessel wall only the layer index counts: on a tube with 3 layers the factors are Simpson's over
+// the trapezoid's, 2/3 at either surface and 4/3 in the middle (exact ratios), whatever the node's angle or
+// s.
 TEST(SimpsonVolumes, FactorsFollowTheWallLayers) {
   GeometrySpec spec;
   spec.type = "tube";
@@ -112,8 +114,9 @@ TEST(SimpsonVolumes, ABodyWithoutLayersIsRefused) {
   }
 }
 
-// The scene's default follows the basis: the quadratic basis gets Simpson volumes on a lattice, the linear one
-// keeps the tet partition, an explicit choice wins, and Simpson on an imported mesh is refused at the key.
+// The scene's default follows the basis: the quadratic basis gets Simpson volumes on a lattice, the linear
+// one keeps the tet partition, an explicit choice wins, and Simpson on an imported mesh is refused at the
+// key.
 TEST(SimpsonVolumes, TheQuadraticBasisDefaultsToThemInAScene) {
   nlohmann::json doc = nlohmann::json::parse(R"({
     "name": "s", "model": "quasi_static",
@@ -127,7 +130,8 @@ TEST(SimpsonVolumes, TheQuadraticBasisDefaultsToThemInAScene) {
   EXPECT_EQ(parse_scene(doc, "s.json").discretization.volume, VolumeRule::TetPartition);
   doc["discretization"] = {{"basis", "linear"}};
   EXPECT_EQ(parse_scene(doc, "s.json").discretization.volume, VolumeRule::TetPartition);
-  doc["geometry"] = {{"type", "mesh"}, {"file", "wall.stl"}, {"wall_thickness_m", 1e-3}, {"node_spacing_m", 1e-3}};
+  doc["geometry"] = {
+      {"type", "mesh"}, {"file", "wall.stl"}, {"wall_thickness_m", 1e-3}, {"node_spacing_m", 1e-3}};
   doc["discretization"] = {{"volume", "simpson"}};
   try {
     parse_scene(doc, "s.json");

@@ -1,5 +1,5 @@
-// docs/validation.md (tests T1-T15), T6 (stiffness scaling: SVK matches linear elasticity, the literal strain is 4x
-// stiffer) and T10 (nodal-integration zero-energy modes and the stabiliser that removes them).
+// docs/validation.md (tests T1-T15), T6 (stiffness scaling: SVK matches linear elasticity, the literal strain
+// is 4x stiffer) and T10 (nodal-integration zero-energy modes and the stabiliser that removes them).
 
 #include <gtest/gtest.h>
 
@@ -22,9 +22,13 @@ using namespace vascsim;
 using test::kDelta;
 using test::record;
 
-NodeCloud regular_lattice(int cells) { return test::lattice(cells); }
+NodeCloud regular_lattice(int cells) {
+  return test::lattice(cells);
+}
 
-Material tissue(double nu) { return test::tissue(5e5, nu); }
+Material tissue(double nu) {
+  return test::tissue(5e5, nu);
+}
 
 TEST(StiffnessT6, UniaxialStrainEnergyMatchesLinearElasticity) {
   const double e = 1e-4;
@@ -41,9 +45,9 @@ TEST(StiffnessT6, UniaxialStrainEnergyMatchesLinearElasticity) {
       Vec3Array x = disc.rest_positions();
       for (Vec3& p : x) p[axis] *= 1.0 + e;
       const double r_svk = svk.energy(x).total() / U_lin, r_lit = literal.energy(x).total() / U_lin;
-      // docs/validation.md T6: [0.999, 1.001] and [3.996, 4.004]. The exact ratios are (1 + e/2)^2 = 1.0001 and
-      // 4.0004 (Green strain e + e^2/2), since the patch test makes F exact at every node. Measured 1.0001
-      // and 4.0004 for nu = 0.3 and 0.45.
+      // docs/validation.md T6: [0.999, 1.001] and [3.996, 4.004]. The exact ratios are (1 + e/2)^2 = 1.0001
+      // and 4.0004 (Green strain e + e^2/2), since the patch test makes F exact at every node.
+      // Measured 1.0001 and 4.0004 for nu = 0.3 and 0.45.
       EXPECT_GE(r_svk, 0.999) << "nu " << nu << " axis " << axis;
       EXPECT_LE(r_svk, 1.001) << "nu " << nu << " axis " << axis;
       EXPECT_GE(r_lit, 3.996) << "nu " << nu << " axis " << axis;
@@ -89,8 +93,8 @@ TEST(ZeroModesT10, CheckerboardHasNoStrainAtInteriorNodes) {
         double& worst = cb.interior(i, j, k) ? interior_max : boundary_max;
         worst = std::max(worst, g);
       }
-  // docs/validation.md T10: interior |F_i - I| <= 1e-12, documenting the defect (symmetric neighbourhoods cancel
-  // the mode exactly; prototype 3e-16). Measured 7.7e-16.
+  // docs/validation.md T10: interior |F_i - I| <= 1e-12, documenting the defect (symmetric neighbourhoods
+  // cancel the mode exactly; prototype 3e-16). Measured 7.7e-16.
   EXPECT_LE(interior_max, 1e-12);
   // The same measure is O(a / Delta) at boundary nodes, so it is not vacuous there (prototype 1.8e-3
   // for a smaller a). Measured 0.065.
@@ -123,8 +127,8 @@ TEST(ZeroModesT10, StabiliserPenalisesCheckerboardButNotAffineFields) {
     for (Vec3& p : x) p = A * p + t;
     U_affine = std::max(U_affine, std::abs(energy.energy(x).stabilizer));
   }
-  // docs/validation.md T10: <= 1e-20 E Delta^3 for any affine field (the local fit is exact, so only rounding of
-  // r_ij ~ 1e-16 Delta remains). Measured 1.7e-33 J vs 5e-25 J.
+  // docs/validation.md T10: <= 1e-20 E Delta^3 for any affine field (the local fit is exact, so only rounding
+  // of r_ij ~ 1e-16 Delta remains). Measured 1.7e-33 J vs 5e-25 J.
   EXPECT_LE(U_affine, 1e-20 * E * kDelta * kDelta * kDelta);
   record("stabiliser_energy_affine_J", U_affine);
 }
@@ -140,9 +144,10 @@ Vec3Array bent(const Discretization& disc, double kappa) {
   return x;
 }
 
-// energy.stabilizer_fit = quadratic (docs/model/09-volume-term-and-stabiliser.md section 9.3): the stabiliser on the residuals of a quadratic fit
-// over the same neighbourhood. It must still penalise the checkerboard (which no quadratic reproduces), and it must
-// leave a quadratic field, such as bending, to the strain energy, where the linear fit's residuals penalise it.
+// energy.stabilizer_fit = quadratic (docs/model/09-volume-term-and-stabiliser.md section 9.3): the stabiliser
+// on the residuals of a quadratic fit over the same neighbourhood. It must still penalise the checkerboard
+// (which no quadratic reproduces), and it must leave a quadratic field, such as bending, to the strain
+// energy, where the linear fit's residuals penalise it.
 TEST(ZeroModesT10, QuadraticResidualStabiliserLeavesBendingToTheStrain) {
   const Checkerboard cb;
   const double mu = cb.mat.shear_modulus(), E = cb.mat.youngs_modulus_pa, alpha = 0.1;
@@ -151,14 +156,17 @@ TEST(ZeroModesT10, QuadraticResidualStabiliserLeavesBendingToTheStrain) {
   const PointPrimitiveEnergy quadratic_fit(cb.disc, options);
   const double scale = alpha * mu * (cb.a / kDelta) * (cb.a / kDelta) * cb.disc.total_volume();
   const double U_checker = quadratic_fit.energy(cb.positions()).stabilizer;
-  // The same bound as the linear fit's (0.1 of the natural scale): the mode stays penalised. Measured 0.61x (the linear fit: 0.90x).
+  // The same bound as the linear fit's (0.1 of the natural scale): the mode stays penalised. Measured 0.61x
+  // (the linear fit: 0.90x).
   EXPECT_GT(U_checker, 0.1 * scale);
   record("quadratic_stabiliser_checkerboard_over_scale", U_checker / scale);
 
-  EXPECT_LE(std::abs(quadratic_fit.energy(bent(cb.disc, 1e-3 / kDelta)).stabilizer), 1e-12 * E * std::pow(kDelta, 3));
+  EXPECT_LE(std::abs(quadratic_fit.energy(bent(cb.disc, 1e-3 / kDelta)).stabilizer),
+            1e-12 * E * std::pow(kDelta, 3));
 
-  // A plate of three node layers (0.3 mm thick) whose nodes are twice as far apart along it (8 x 8 x 2 cells of
-  // 0.3 x 0.3 x 0.15 mm), with supports that follow the wall (stretch 2), bent about y: the vein's wall at 0.3 mm.
+  // A plate of three node layers (0.3 mm thick) whose nodes are twice as far apart along it (8 x 8 x 2 cells
+  // of 0.3 x 0.3 x 0.15 mm), with supports that follow the wall (stretch 2), bent about y: the vein's wall at
+  // 0.3 mm.
   BoxSpec plate;
   plate.max_m = Vec3(2.4e-3, 2.4e-3, 0.3e-3);
   plate.cells = Eigen::Vector3i(8, 8, 2);
@@ -177,16 +185,18 @@ TEST(ZeroModesT10, QuadraticResidualStabiliserLeavesBendingToTheStrain) {
   const double U_linear = wall_linear.energy(x).stabilizer, U_quadratic = wall_quadratic.energy(x).stabilizer;
   const double U_strain = wall_quadratic.energy(x).strain;
   // The linear fit's residuals of a bending field are the quadratic part of kappa X X / 2 that no affine map
-  // absorbs, so its stabiliser takes a share of the bending energy (bound 1e-4, so that it cannot be rounding;
-  // measured 2.1e-3 on this plate, more where the field varies faster than a support, as under a tool). The
-  // quadratic fit reproduces the field, so only rounding remains (bound 1e-12 of the strain energy: r_ij is
-  // rounding, ~1e-16 |X_ij|; measured 8e-18).
+  // absorbs, so its stabiliser takes a share of the bending energy (bound 1e-4, so that it cannot be
+  // rounding; measured 2.1e-3 on this plate, more where the field varies faster than a support, as under a
+  // tool). The quadratic fit reproduces the field, so only rounding remains (bound 1e-12 of the strain
+  // energy: r_ij is rounding, ~1e-16 |X_ij|; measured 8e-18).
   EXPECT_GT(U_linear, 1e-4 * U_strain);
   EXPECT_LE(std::abs(U_quadratic), 1e-12 * U_strain);
   record("bent_wall_stabiliser_over_strain_linear_fit", U_linear / U_strain);
   record("bent_wall_stabiliser_over_strain_quadratic_fit", U_quadratic / U_strain);
-  std::printf("[ stabiliser ] bent 3-layer wall: stabiliser / strain energy %.3g (linear fit), %.3g (quadratic fit)\n",
-              U_linear / U_strain, U_quadratic / U_strain);
+  std::printf(
+      "[ stabiliser ] bent 3-layer wall: stabiliser / strain energy %.3g (linear fit), %.3g (quadratic "
+      "fit)\n",
+      U_linear / U_strain, U_quadratic / U_strain);
 }
 
 }  // namespace

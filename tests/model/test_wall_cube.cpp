@@ -1,8 +1,8 @@
-// The through-wall cube (discretization.wall_cube, docs/model/05-local-fit.md section 5.3): the quadratic fit on a wall
-// also fits the cube of the through-wall coordinate, so the gradients at a node and at its Gauss points are
-// exact for a displacement cubic across the wall (transverse shear's profile), on top of every quadratic
-// field; the energy keeps the checks every fit passes (T3-T5), a wall of three layers keeps the quadratic
-// fit, and the key is checked.
+// The through-wall cube (discretization.wall_cube, docs/model/05-local-fit.md section 5.3): the quadratic fit
+// on a wall also fits the cube of the through-wall coordinate, so the gradients at a node and at its Gauss
+// points are exact for a displacement cubic across the wall (transverse shear's profile), on top of every
+// quadratic field; the energy keeps the checks every fit passes (T3-T5), a wall of three layers keeps the
+// quadratic fit, and the key is checked.
 
 #include <gtest/gtest.h>
 
@@ -39,8 +39,9 @@ NodeCloud flat_wall(int cells, int layers, double jitter = 0.0) {
 // quasi_static's configuration on walls for the flat wall: quadratic fit, supports that follow the wall and
 // reach through its thickness, 2 x 2 x 2 Gauss points over each node's cell (one lattice step along x and y,
 // halved at the edges), and the through-wall cube as asked.
-DiscretizationOptions wall_options(const NodeCloud& cloud, int cells, int layers, bool cube,
-                                   DiscretizationOptions::WallCubics cubics = DiscretizationOptions::WallCubics::Cube) {
+DiscretizationOptions wall_options(
+    const NodeCloud& cloud, int cells, int layers, bool cube,
+    DiscretizationOptions::WallCubics cubics = DiscretizationOptions::WallCubics::Cube) {
   DiscretizationOptions o;
   o.wall_cubics = cubics;
   o.basis = GradientBasis::Quadratic;
@@ -74,10 +75,10 @@ struct WithAndWithoutCube {
   Discretization with, without;
 };
 
-// u = (a z^3, b z^3, c z^3) + a quadratic field, and with `mixed` also the cubics with one or two through-wall
-// factors (z^2 x, z x^2, z x y, ... : a plate bent by a varying moment): the largest error of the deformation
-// gradient at every node and at every Gauss point (the point at X_i + o_0 z + o_1 x + o_2 y on the flat wall)
-// against the field's own, over the largest displacement gradient.
+// u = (a z^3, b z^3, c z^3) + a quadratic field, and with `mixed` also the cubics with one or two
+// through-wall factors (z^2 x, z x^2, z x y, ... : a plate bent by a varying moment): the largest error of
+// the deformation gradient at every node and at every Gauss point (the point at X_i + o_0 z + o_1 x + o_2 y
+// on the flat wall) against the field's own, over the largest displacement gradient.
 double cubic_field_error(const Discretization& d, bool mixed = false) {
   const Vec3 a(2.0, -1.0, 0.5);  // per m^3 times 1e-3 / t^2 below
   const Vec3 b(-0.7, 1.1, 0.4), c(0.9, 0.3, -0.8), e(0.2, -0.6, 1.3);
@@ -150,12 +151,12 @@ TEST(WallCube, ThreeLayersKeepTheQuadraticFit) {
   EXPECT_EQ(diff, 0.0);
 }
 
-// The same on a curved wall (a tube, through the scene as a user builds it, with the cube alone): a neighbour on
-// the node's own layer lies off its tangent plane, so z^3 is not exactly a quadratic of z there, and only the count
-// of the support's depths tells three layers from four. With three layers no node fits the cube and the gradient
-// vectors are the quadratic fit's bit for bit; with four every node fits it. (Counted by the residual alone,
-// all 672 nodes of the three-layer tube fitted it, and the catheter on the three-layer vein came out 11-18 %
-// stiff.)
+// The same on a curved wall (a tube, through the scene as a user builds it, with the cube alone): a neighbour
+// on the node's own layer lies off its tangent plane, so z^3 is not exactly a quadratic of z there, and only
+// the count of the support's depths tells three layers from four. With three layers no node fits the cube and
+// the gradient vectors are the quadratic fit's bit for bit; with four every node fits it. (Counted by the
+// residual alone, all 672 nodes of the three-layer tube fitted it, and the catheter on the three-layer vein
+// came out 11-18 % stiff.)
 TEST(WallCube, ThreeLayersOnACurvedWallKeepTheQuadraticFit) {
   nlohmann::json doc = nlohmann::json::parse(R"({
     "name": "q", "model": "quasi_static",
@@ -199,22 +200,25 @@ TEST(WallCube, PassesTheEnergyChecksT3ToT5) {
   EXPECT_LE(test::assembled_hessian_error(energy, test::large_deformation(disc.rest_positions(), 3)), 1e-10);
 }
 
-// WallCubics::ThroughWall: the fit also holds the five cubics with a through-wall factor beside z^3, so a field
-// with all six (a plate bent by a moment that varies along it, with its transverse shear) is reproduced at every
-// node and Gauss point of the four-layer wall, edges included: 1e-8 of the largest gradient, as for the cube alone
-// (the same conditioning; measured below 1e-12). The cube alone is off by O(1e-2..1e-1) on that field (asserted
-// above 1e-3, which shows the check can fail): z^2 x and z x^2 alias into the gradient through the wall.
+// WallCubics::ThroughWall: the fit also holds the five cubics with a through-wall factor beside z^3, so a
+// field with all six (a plate bent by a moment that varies along it, with its transverse shear) is reproduced
+// at every node and Gauss point of the four-layer wall, edges included: 1e-8 of the largest gradient, as for
+// the cube alone (the same conditioning; measured below 1e-12). The cube alone is off by O(1e-2..1e-1) on
+// that field (asserted above 1e-3, which shows the check can fail): z^2 x and z x^2 alias into the gradient
+// through the wall.
 TEST(WallCubics, ThroughWallCubicsReproduceABentPlatesFieldAtEveryPoint) {
   const int cells = 5, layers = 4;
   const NodeCloud cloud = flat_wall(cells, layers);
-  const Discretization mixed(cloud, test::tissue(1e5),
-                             wall_options(cloud, cells, layers, true, DiscretizationOptions::WallCubics::ThroughWall));
+  const Discretization mixed(
+      cloud, test::tissue(1e5),
+      wall_options(cloud, cells, layers, true, DiscretizationOptions::WallCubics::ThroughWall));
   const Discretization cube(cloud, test::tissue(1e5), wall_options(cloud, cells, layers, true));
   ASSERT_EQ(mixed.point_directions(), 9);
   EXPECT_EQ(mixed.wall_cube_nodes(), mixed.num_nodes());
   const double e_mixed = cubic_field_error(mixed, true), e_cube = cubic_field_error(cube, true);
-  std::printf("[ wall cubics ] bent plate's gradient error: %.3e with the through-wall cubics, %.3e with the cube\n",
-              e_mixed, e_cube);
+  std::printf(
+      "[ wall cubics ] bent plate's gradient error: %.3e with the through-wall cubics, %.3e with the cube\n",
+      e_mixed, e_cube);
   EXPECT_LT(e_mixed, 1e-8);
   EXPECT_GT(e_cube, 1e-3);
   EXPECT_LT(cubic_field_error(mixed, false), 1e-8);  // still exact for the cube's own field
@@ -228,8 +232,8 @@ TEST(WallCubics, PassesTheEnergyChecksT3ToT5) {
   const Material mat = test::tissue(1e5);
   const int cells = 4, layers = 4;
   const NodeCloud cloud = flat_wall(cells, layers, 0.2);
-  const Discretization disc(cloud, mat,
-                            wall_options(cloud, cells, layers, true, DiscretizationOptions::WallCubics::ThroughWall));
+  const Discretization disc(
+      cloud, mat, wall_options(cloud, cells, layers, true, DiscretizationOptions::WallCubics::ThroughWall));
   ASSERT_GT(disc.wall_cube_nodes(), 0);
   EnergyOptions eo{StrainMeasure::GreenHalf, 0.0, 0.5, {}, {}};
   eo.stabilizer_fit = StabilizerFit::Quadratic;
@@ -239,8 +243,8 @@ TEST(WallCubics, PassesTheEnergyChecksT3ToT5) {
   EXPECT_LE(test::assembled_hessian_error(energy, test::large_deformation(disc.rest_positions(), 3)), 1e-10);
 }
 
-// discretization.wall_cubics: "cube" by default; "through_wall" where the cube is off or the points lie across the
-// slab only, or a misspelt value, gives an error that names the key.
+// discretization.wall_cubics: "cube" by default; "through_wall" where the cube is off or the points lie
+// across the slab only, or a misspelt value, gives an error that names the key.
 TEST(WallCubics, IsCheckedAtItsKey) {
   nlohmann::json doc = nlohmann::json::parse(R"({
     "name": "q", "model": "quasi_static",

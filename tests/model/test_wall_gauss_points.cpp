@@ -1,9 +1,9 @@
-// Gauss points in the wall (discretization.wall_quadrature, docs/model/04-volumes.md section 4.4). With 'gauss' each
-// node's strain energy is evaluated at two Gauss points across its slab of the wall, with the gradient its
-// fit gives there; with 'gauss_cell' at 2 x 2 x 2 points over its whole cell (the slab across, the column and
-// cross-section steps along). A bending field's energy is then exact over the tet partition's volumes (the
-// nodal sum overestimates it by half on a three-layer wall), a strain that varies along the wall is
-// integrated exactly over each cell by the cell's points, and the energy passes the checks every basis
+// Gauss points in the wall (discretization.wall_quadrature, docs/model/04-volumes.md section 4.4). With
+// 'gauss' each node's strain energy is evaluated at two Gauss points across its slab of the wall, with the
+// gradient its fit gives there; with 'gauss_cell' at 2 x 2 x 2 points over its whole cell (the slab across,
+// the column and cross-section steps along). A bending field's energy is then exact over the tet partition's
+// volumes (the nodal sum overestimates it by half on a three-layer wall), a strain that varies along the wall
+// is integrated exactly over each cell by the cell's points, and the energy passes the checks every basis
 // passes: T3 rigid motions, T4 momentum, T5 forces = -grad U and Hessian products, and the assembled Hessian
 // equals the Hessian product.
 
@@ -207,12 +207,12 @@ TEST(WallGaussPoints, CellPointsLieInsideEachNodesCell) {
   }
 }
 
-// On a bent vessel a node's cell along the wall is longer on the outside of the bend and shorter on the inside: its
-// cross-section edge must be the distance the node's own column and layer cover per cross-section step, i.e. half
-// the distance between its two axial lattice neighbours (measured directly). Bound 2 %: 1.26 % measured, at the
-// cells where the straight legs meet the arch, whose curvature jumps there within one step. With the centre-line's
-// step instead the inside of this bend (r / R up to 0.5) is off by a factor 2 (asserted above 20 %, which shows the
-// check can fail).
+// On a bent vessel a node's cell along the wall is longer on the outside of the bend and shorter on the
+// inside: its cross-section edge must be the distance the node's own column and layer cover per cross-section
+// step, i.e. half the distance between its two axial lattice neighbours (measured directly). Bound 2 %: 1.26
+// % measured, at the cells where the straight legs meet the arch, whose curvature jumps there within one
+// step. With the centre-line's step instead the inside of this bend (r / R up to 0.5) is off by a factor 2
+// (asserted above 20 %, which shows the check can fail).
 TEST(WallGaussPoints, CellsFollowTheBendOfAVessel) {
   const nlohmann::json doc = nlohmann::json::parse(R"({
     "name": "bend", "model": "quasi_static",
@@ -240,13 +240,17 @@ TEST(WallGaussPoints, CellsFollowTheBendOfAVessel) {
   for (std::size_t i = 0; i < wall.s_m.size(); ++i) {
     const auto prev = at.find(key(i, -1)), next = at.find(key(i, 1));
     if (prev == at.end() || next == at.end()) continue;
-    const double step = 0.5 * (body.cloud.positions[next->second] - body.cloud.positions[prev->second]).norm();
+    const double step =
+        0.5 * (body.cloud.positions[next->second] - body.cloud.positions[prev->second]).norm();
     worst = std::max(worst, std::abs(o.wall_cells[i].edges[1].norm() / step - 1.0));
     worst_plain = std::max(worst_plain, std::abs(wall.s_step_m / step - 1.0));
     ++checked;
   }
-  std::printf("[ wall Gauss points ] %d cells on a bend: cross-section edge off by %.4f at most (the centre-line's step "
-              "%.3f)\n", checked, worst, worst_plain);
+  std::printf(
+      "[ wall Gauss points ] %d cells on a bend: cross-section edge off by %.4f at most (the centre-line's "
+      "step "
+      "%.3f)\n",
+      checked, worst, worst_plain);
   EXPECT_GT(checked, 1000);
   EXPECT_LT(worst, 0.02);
   EXPECT_GT(worst_plain, 0.2);
@@ -291,12 +295,13 @@ TEST(WallGaussPoints, ForcesAndHessianAreTheEnergysDerivatives) {
     EXPECT_LE(test::assembled_hessian_error(energy, x), 1e-10) << "basis " << static_cast<int>(basis);
     EnergyHessian H(energy);
     H.assemble(x);
-    // The lower storage (the preconditioner's) computes only its blocks, with the points' gradient vectors: the
-    // same numbers as the full matrix's lower triangle, bit for bit.
+    // The lower storage (the preconditioner's) computes only its blocks, with the points' gradient vectors:
+    // the same numbers as the full matrix's lower triangle, bit for bit.
     EnergyHessian lower(energy, {HessianStencil::Full, false, true, CompactLumping::Polar});
     lower.assemble(x);
     const Eigen::MatrixXd F(H.matrix()), L(lower.matrix());
-    EXPECT_EQ((Eigen::MatrixXd(F.triangularView<Eigen::Lower>()) - Eigen::MatrixXd(L.triangularView<Eigen::Lower>()))
+    EXPECT_EQ((Eigen::MatrixXd(F.triangularView<Eigen::Lower>()) -
+               Eigen::MatrixXd(L.triangularView<Eigen::Lower>()))
                   .cwiseAbs()
                   .maxCoeff(),
               0.0);

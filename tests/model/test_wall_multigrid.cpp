@@ -15,8 +15,8 @@
 #include "vascsim/model/contact_active_set.hpp"
 #include "vascsim/model/energy_hessian.hpp"
 #include "vascsim/model/galerkin_hessian.hpp"
-#include "vascsim/model/newton_equilibrium.hpp"
 #include "vascsim/model/implicit_model.hpp"
+#include "vascsim/model/newton_equilibrium.hpp"
 #include "vascsim/model/rigid_obstacle.hpp"
 #include "vascsim/model/single_precision_hessian.hpp"
 #include "vascsim/model/wall_coarse_space.hpp"
@@ -33,8 +33,8 @@ json piece_settings() {
   return {{"duration_s", 0.06}, {"ramp_time_s", 0.05}, {"output_interval_s", 0.01}, {"frame_s", 0.01}};
 }
 
-// The vein piece bent and stretched smoothly (a few per cent of strain, a tenth of a radian of rotation): a state
-// at which every tangent is positive definite, so the exact and the projected Hessians agree.
+// The vein piece bent and stretched smoothly (a few per cent of strain, a tenth of a radian of rotation): a
+// state at which every tangent is positive definite, so the exact and the projected Hessians agree.
 Vec3Array smooth_deformation(const Vec3Array& X) {
   Vec3Array x(X.size());
   for (std::size_t i = 0; i < X.size(); ++i) {
@@ -61,8 +61,8 @@ double dot(const Vec3Array& a, const Vec3Array& b) {
 
 // With the identity as prolongation the Galerkin operator is the assembled Hessian itself: the same tangents,
 // the same stabiliser and the same shift, summed in another order. Tolerance 1e-11 of the largest entry: the
-// round-off of sums of about a hundred terms, far below any missing or misplaced term (which is of the order of
-// the entries).
+// round-off of sums of about a hundred terms, far below any missing or misplaced term (which is of the order
+// of the entries).
 TEST(GalerkinHessian, WithTheIdentityProlongationItIsTheAssembledHessian) {
   Simulation sim(parse_scene(test::vein_piece_catheter(piece_settings()), "piece"));
   const Problem& P = sim.problem();
@@ -114,19 +114,21 @@ TEST(WallCoarseSpace, KeepsTranslationsAndInterpolatesLinearlyAlongTheLattice) {
       for (int l = 0; l < L.layers; ++l) {
         const Index k = L.id(l, c, s);
         double sum = 0.0;
-        for (auto e = C.row_start[static_cast<std::size_t>(k)]; e < C.row_start[static_cast<std::size_t>(k) + 1]; ++e)
+        for (auto e = C.row_start[static_cast<std::size_t>(k)];
+             e < C.row_start[static_cast<std::size_t>(k) + 1]; ++e)
           sum += C.weight[static_cast<std::size_t>(e)];
         EXPECT_NEAR(sum, 1.0, 1e-12) << "node " << k;
         const bool coarse = c % 2 == 0 && s % 2 == 0;
-        const auto entries = C.row_start[static_cast<std::size_t>(k) + 1] - C.row_start[static_cast<std::size_t>(k)];
+        const auto entries =
+            C.row_start[static_cast<std::size_t>(k) + 1] - C.row_start[static_cast<std::size_t>(k)];
         if (coarse) {
           EXPECT_EQ(entries, 1);
         }
         ++interior;
       }
   ASSERT_GT(interior, 100);
-  // A field linear in the rest position along a cross-section's columns and along the sections is reproduced on
-  // the straight piece at the midpoints (where the lattice lines are straight: along z).
+  // A field linear in the rest position along a cross-section's columns and along the sections is reproduced
+  // on the straight piece at the midpoints (where the lattice lines are straight: along z).
   Eigen::VectorXd cz(3 * C.coarse_nodes);
   Vec3Array fine(static_cast<std::size_t>(P.discretization().num_nodes()), Vec3::Zero());
   {
@@ -136,11 +138,13 @@ TEST(WallCoarseSpace, KeepsTranslationsAndInterpolatesLinearlyAlongTheLattice) {
     for (Index k = 0; k < P.discretization().num_nodes(); ++k)
       if (C.row_start[static_cast<std::size_t>(k) + 1] - C.row_start[static_cast<std::size_t>(k)] == 1 &&
           C.weight[static_cast<std::size_t>(C.row_start[static_cast<std::size_t>(k)])] == 1.0)
-        cz.segment<3>(3 * C.coarse[static_cast<std::size_t>(C.row_start[static_cast<std::size_t>(k)])]) = z[static_cast<std::size_t>(k)];
+        cz.segment<3>(3 * C.coarse[static_cast<std::size_t>(C.row_start[static_cast<std::size_t>(k)])]) =
+            z[static_cast<std::size_t>(k)];
     C.prolongate_add(cz, fine);
     for (int s = 2; s < L.sections - 2; ++s) {
       const Index k = L.id(1, 0, s);
-      EXPECT_NEAR(fine[static_cast<std::size_t>(k)].z(), z[static_cast<std::size_t>(k)].z(), 1e-12) << "section " << s;
+      EXPECT_NEAR(fine[static_cast<std::size_t>(k)].z(), z[static_cast<std::size_t>(k)].z(), 1e-12)
+          << "section " << s;
     }
   }
 }
@@ -156,7 +160,8 @@ TEST(SinglePrecisionHessian, MatchesTheDoubleProduct) {
   const Vec3Array x = smooth_deformation(sim.discretization().rest_positions());
   SinglePrecisionHessian single(E);
   single.linearize(x);
-  for (const Vec3Array& v : {random_field(x.size(), 3, 1e-5), smooth_deformation(sim.discretization().rest_positions())}) {
+  for (const Vec3Array& v :
+       {random_field(x.size(), 3, 1e-5), smooth_deformation(sim.discretization().rest_positions())}) {
     Vec3Array a, b;
     E.hessian_product(x, v, a);
     single.product(v, b);
@@ -208,9 +213,9 @@ struct MultigridRig {
   NewtonOperator op;
 };
 
-// Conjugate gradients need a symmetric positive definite preconditioner: a . M b = b . M a and a . M a > 0 for
-// the V-cycle with the solver's matrix. Symmetric to the coarse solve's single-precision rounding (1e-7 of the
-// result; tolerance 1e-5), positive for every direction tried.
+// Conjugate gradients need a symmetric positive definite preconditioner: a . M b = b . M a and a . M a > 0
+// for the V-cycle with the solver's matrix. Symmetric to the coarse solve's single-precision rounding (1e-7
+// of the result; tolerance 1e-5), positive for every direction tried.
 TEST(WallMultigrid, TheVCycleIsSymmetricPositiveDefinite) {
   MultigridRig rig;
   rig.mg->set_operator(&rig.op);
@@ -228,11 +233,12 @@ TEST(WallMultigrid, TheVCycleIsSymmetricPositiveDefinite) {
   rig.mg->set_operator(nullptr);
 }
 
-// PCG with the multigrid converges to the solution of the Newton system that a direct sparse Cholesky solve of
-// the assembled matrix gives (the state is smooth, every tangent positive definite, so the assembled matrix is the
-// solver's). CG to a relative residual of 1e-10; the solutions then agree to about cond * 1e-10 ~ 1e-7 of the
-// solution (tolerance 1e-6). And it needs few iterations: at most 100 for ten orders of magnitude from a random
-// right-hand side (measured 67; without its coarse correction the same solve takes over 500).
+// PCG with the multigrid converges to the solution of the Newton system that a direct sparse Cholesky solve
+// of the assembled matrix gives (the state is smooth, every tangent positive definite, so the assembled
+// matrix is the solver's). CG to a relative residual of 1e-10; the solutions then agree to about cond * 1e-10
+// ~ 1e-7 of the solution (tolerance 1e-6). And it needs few iterations: at most 100 for ten orders of
+// magnitude from a random right-hand side (measured 67; without its coarse correction the same solve takes
+// over 500).
 TEST(WallMultigrid, ConjugateGradientsReachTheDirectSolution) {
   MultigridRig rig;
   NewtonSettings ns;
@@ -264,8 +270,8 @@ TEST(WallMultigrid, ConjugateGradientsReachTheDirectSolution) {
 
 // The implicit model with the multigrid and with the Cholesky factor of the whole Hessian reach the same
 // equilibrium under the catheter (each frame to a relative residual of 1e-9): the tool force agrees to 1e-5
-// relative (the two solvers stop at different points within the tolerance; 1e-9 of the reactions moves the force
-// by about 1e-8 of itself, far inside).
+// relative (the two solvers stop at different points within the tolerance; 1e-9 of the reactions moves the
+// force by about 1e-8 of itself, far inside).
 TEST(WallMultigrid, TheImplicitModelReachesTheFactorsEquilibrium) {
   json settings = piece_settings();
   settings["rel_tolerance"] = 1e-9;
@@ -280,19 +286,19 @@ TEST(WallMultigrid, TheImplicitModelReachesTheFactorsEquilibrium) {
     const StepRecord last = test::run_to_end(sim);
     force[i++] = last.obstacles.at(0).force_vector_n;
     std::printf("[ multigrid ] %s: tool force (%.9g, %.9g, %.9g) N, %d contacts, residual %.2g\n", kind,
-                last.obstacles.at(0).force_vector_n.x(), last.obstacles.at(0).force_vector_n.y(), last.obstacles.at(0).force_vector_n.z(),
-                last.obstacles.at(0).contacts, last.report.residual);
+                last.obstacles.at(0).force_vector_n.x(), last.obstacles.at(0).force_vector_n.y(),
+                last.obstacles.at(0).force_vector_n.z(), last.obstacles.at(0).contacts, last.report.residual);
     EXPECT_GT(last.obstacles.at(0).contacts, 0);
   }
   ASSERT_GT(force[1].norm(), 1e-4);
   EXPECT_LT((force[0] - force[1]).norm(), 1e-5 * force[1].norm());
 }
 
-// The real-time path with the tools on the wall's surface (contact.surface "embedded": the carried first step of
-// every frame, the penalty in the multigrid's window, single-precision products): the piece pressed 0.8 mm in five
-// frames and held reaches quasi_static's equilibrium with the same contact, within 1e-3 relative (the frames stop at
-// a residual of 1e-6 of the reactions, quasi_static at 1e-8: both forces within a few 1e-6 of the equilibrium's;
-// the bound leaves room for the float products' rounding).
+// The real-time path with the tools on the wall's surface (contact.surface "embedded": the carried first step
+// of every frame, the penalty in the multigrid's window, single-precision products): the piece pressed 0.8 mm
+// in five frames and held reaches quasi_static's equilibrium with the same contact, within 1e-3 relative (the
+// frames stop at a residual of 1e-6 of the reactions, quasi_static at 1e-8: both forces within a few 1e-6 of
+// the equilibrium's; the bound leaves room for the float products' rounding).
 TEST(WallMultigrid, TheEmbeddedContactFramesReachQuasiStatic) {
   json settings = piece_settings();
   settings["rel_tolerance"] = 1e-6;
@@ -303,23 +309,25 @@ TEST(WallMultigrid, TheEmbeddedContactFramesReachQuasiStatic) {
   json stat = imp;
   stat["model"] = "quasi_static";
   stat["quasi_static"] = {{"load_steps", 4}, {"rel_tolerance", 1e-8}};
-  stat["discretization"]["basis"] = "linear";  // the implicit model's discretisation, not quasi_static's default
+  stat["discretization"]["basis"] =
+      "linear";  // the implicit model's discretisation, not quasi_static's default
   Simulation s_imp(parse_scene(imp, "piece"));
   const StepRecord a = test::run_to_end(s_imp);
   Simulation s_stat(parse_scene(stat, "piece"));
   const StepRecord b = test::run_to_end(s_stat);
   const Vec3 fa = a.obstacles.at(0).force_vector_n, fb = b.obstacles.at(0).force_vector_n;
-  std::printf("[ multigrid ] embedded contact: implicit %.9g N, quasi_static %.9g N (%d samples)\n", fa.norm(),
-              fb.norm(), a.obstacles.at(0).contacts);
+  std::printf("[ multigrid ] embedded contact: implicit %.9g N, quasi_static %.9g N (%d samples)\n",
+              fa.norm(), fb.norm(), a.obstacles.at(0).contacts);
   EXPECT_EQ(s_imp.model().info()["preconditioner"]["matrix"], "wall multigrid");
   ASSERT_GT(fb.norm(), 1e-4);
   EXPECT_LT((fa - fb).norm(), 1e-3 * fb.norm());
 }
 
-// A device pose 0.6 mm into the wall in one frame from the wall's surface (four mean node spacings): the frame
-// reaches it in three carried steps (contact_substep's cap), the model's tool ends the frame exactly at the pose, and the
-// frames held there settle on the force of the same pose approached in 0.05 mm frames, within 1 % (the frames'
-// tolerance of 1e-3 puts each force within about 0.3 % of the equilibrium; the two paths end in the same state).
+// A device pose 0.6 mm into the wall in one frame from the wall's surface (four mean node spacings): the
+// frame reaches it in three carried steps (contact_substep's cap), the model's tool ends the frame exactly at
+// the pose, and the frames held there settle on the force of the same pose approached in 0.05 mm frames,
+// within 1 % (the frames' tolerance of 1e-3 puts each force within about 0.3 % of the equilibrium; the two
+// paths end in the same state).
 TEST(WallMultigrid, AToolThatJumpsIntoTheWallEndsTheFrameAtThePose) {
   json settings = piece_settings();
   settings["duration_s"] = 10.0;
@@ -349,7 +357,8 @@ TEST(WallMultigrid, AToolThatJumpsIntoTheWallEndsTheFrameAtThePose) {
     EXPECT_TRUE(r.converged);
     force[path] = model.tool_loads().at(0).force_vector_n;
   }
-  std::printf("[ multigrid ] jump into the wall: %.6g N, approached: %.6g N\n", force[0].norm(), force[1].norm());
+  std::printf("[ multigrid ] jump into the wall: %.6g N, approached: %.6g N\n", force[0].norm(),
+              force[1].norm());
   ASSERT_GT(force[1].norm(), 1e-3);
   EXPECT_LT((force[0] - force[1]).norm(), 1e-2 * force[1].norm());
 }

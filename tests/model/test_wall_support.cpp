@@ -1,6 +1,7 @@
-// Supports that follow the wall (discretization.support = wall, docs/model/03-neighbourhoods.md section 3.1): on a vessel lattice whose
-// spacing along the wall is twice its layer spacing, each node's support is an ellipsoid, twice as long along the
-// wall as through it, instead of a sphere grown until it holds enough in-plane neighbours.
+// Supports that follow the wall (discretization.support = wall, docs/model/03-neighbourhoods.md section 3.1):
+// on a vessel lattice whose spacing along the wall is twice its layer spacing, each node's support is an
+// ellipsoid, twice as long along the wall as through it, instead of a sphere grown until it holds enough
+// in-plane neighbours.
 
 #include <gtest/gtest.h>
 
@@ -19,8 +20,8 @@
 namespace vascsim {
 namespace {
 
-// A 6 mm tube of the hand dorsal vein's wall (outer radius 1.5 mm, wall 0.3 mm: 3 layers 0.15 mm apart) with a
-// spacing of 0.3 mm along the wall, ends clamped.
+// A 6 mm tube of the hand dorsal vein's wall (outer radius 1.5 mm, wall 0.3 mm: 3 layers 0.15 mm apart) with
+// a spacing of 0.3 mm along the wall, ends clamped.
 nlohmann::json tube(const std::string& support) {
   nlohmann::json doc = nlohmann::json::parse(R"({
     "name": "wall-tube", "model": "quasi_static",
@@ -35,12 +36,12 @@ nlohmann::json tube(const std::string& support) {
   return doc;
 }
 
-// The isotropic rule (h = 2 x the mean nearest spacing, the 0.15 mm layer step) puts the in-plane neighbours, 0.3 mm
-// away, on the edge of the support, so every node's support must grow (by 1.2 per step) until it holds enough of
-// them, and it then reaches across the whole wall. The wall-aligned support holds them at once: only nodes at the
-// tube's two ends (half neighbourhoods) grow, and every neighbour lies inside the node's ellipsoid, radius h_i
-// through the wall and s h_i along it, s = the lattice's spacing along the wall over the layer step (about 2; the
-// columns and cross-sections round it).
+// The isotropic rule (h = 2 x the mean nearest spacing, the 0.15 mm layer step) puts the in-plane neighbours,
+// 0.3 mm away, on the edge of the support, so every node's support must grow (by 1.2 per step) until it holds
+// enough of them, and it then reaches across the whole wall. The wall-aligned support holds them at once:
+// only nodes at the tube's two ends (half neighbourhoods) grow, and every neighbour lies inside the node's
+// ellipsoid, radius h_i through the wall and s h_i along it, s = the lattice's spacing along the wall over
+// the layer step (about 2; the columns and cross-sections round it).
 TEST(WallSupport, FollowsTheWallWithoutGrowing) {
   Simulation iso(parse_scene(tube("isotropic"), "tube.json"));
   Simulation wall(parse_scene(tube("wall"), "tube.json"));
@@ -59,18 +60,21 @@ TEST(WallSupport, FollowsTheWallWithoutGrowing) {
       const Vec3& Xj = X[d.pairs().col[e]];
       const Vec3 Xij = Xj - X[i];
       const double across = std::hypot(Xj.x(), Xj.y()) - std::hypot(X[i].x(), X[i].y());  // depth difference
-      worst = std::max(worst, std::sqrt(across * across + (Xij.squaredNorm() - across * across) / (stretch * stretch)) / h);
+      worst = std::max(
+          worst,
+          std::sqrt(across * across + (Xij.squaredNorm() - across * across) / (stretch * stretch)) / h);
     }
   }
-  std::printf("[ wall support ] %.1f neighbours (isotropic %.1f); %d of %d nodes grown (isotropic: all); "
-              "largest distance in the support %.6f h\n",
-              d.mean_neighbours(), iso.discretization().mean_neighbours(), d.grown_nodes(), d.num_nodes(), worst);
+  std::printf(
+      "[ wall support ] %.1f neighbours (isotropic %.1f); %d of %d nodes grown (isotropic: all); "
+      "largest distance in the support %.6f h\n",
+      d.mean_neighbours(), iso.discretization().mean_neighbours(), d.grown_nodes(), d.num_nodes(), worst);
   EXPECT_EQ(grown_inside, 0);
   EXPECT_LT(worst, 1.0);
 }
 
-// The gradient stays exact for affine fields (the patch test, T2: any positive weights in A_i and in the sum), at
-// every node: 1e-10 relative, as PatchT2.
+// The gradient stays exact for affine fields (the patch test, T2: any positive weights in A_i and in the
+// sum), at every node: 1e-10 relative, as PatchT2.
 TEST(WallSupport, AffineFieldsGiveTheExactGradient) {
   Simulation wall(parse_scene(tube("wall"), "tube.json"));
   const Discretization& d = wall.discretization();
@@ -79,11 +83,12 @@ TEST(WallSupport, AffineFieldsGiveTheExactGradient) {
   EXPECT_LT(test::max_affine_gradient_error(d, A), 1e-10 * A.norm());
 }
 
-// On a curved wall the ellipsoid follows the layers, not the node's tangent plane: at 0.4 mm along the vein's wall
-// (stretch 2.67, an ellipsoid 0.8 mm long on a wall of mid-radius 1.35 mm) a node's own layer curves away from its
-// tangent plane by up to 0.24 mm, more than the 0.15 mm between layers. With the wall depths every node of the
-// node's own layer within 0.9 of the in-plane reach is a neighbour (the depth difference is zero); measured with
-// the tangent plane instead (no depths given), some are not, which shows the check can fail.
+// On a curved wall the ellipsoid follows the layers, not the node's tangent plane: at 0.4 mm along the vein's
+// wall (stretch 2.67, an ellipsoid 0.8 mm long on a wall of mid-radius 1.35 mm) a node's own layer curves
+// away from its tangent plane by up to 0.24 mm, more than the 0.15 mm between layers. With the wall depths
+// every node of the node's own layer within 0.9 of the in-plane reach is a neighbour (the depth difference is
+// zero); measured with the tangent plane instead (no depths given), some are not, which shows the check can
+// fail.
 TEST(WallSupport, FollowsTheLayersOfACurvedWall) {
   nlohmann::json doc = tube("wall");
   doc["geometry"]["node_spacing_m"] = 0.4e-3;
@@ -91,7 +96,8 @@ TEST(WallSupport, FollowsTheLayersOfACurvedWall) {
   const Body& body = sim.body();
   DiscretizationOptions flat = discretization_options(sim.scene(), body);
   flat.wall_depths.clear();
-  const Discretization layered_disc(body.cloud, sim.scene().material, discretization_options(sim.scene(), body));
+  const Discretization layered_disc(body.cloud, sim.scene().material,
+                                    discretization_options(sim.scene(), body));
   const Discretization flat_disc(body.cloud, sim.scene().material, flat);
   auto missing_same_layer = [&](const Discretization& d) {
     const Vec3Array& X = d.rest_positions();
@@ -110,18 +116,21 @@ TEST(WallSupport, FollowsTheLayersOfACurvedWall) {
     return missing;
   };
   const int layered = missing_same_layer(layered_disc), tangent = missing_same_layer(flat_disc);
-  std::printf("[ wall support ] stretch %.2f: same-layer nodes inside 0.9 of the reach left out: %d with the layers, "
-              "%d with the tangent plane\n", flat.wall_stretch, layered, tangent);
+  std::printf(
+      "[ wall support ] stretch %.2f: same-layer nodes inside 0.9 of the reach left out: %d with the layers, "
+      "%d with the tangent plane\n",
+      flat.wall_stretch, layered, tangent);
   EXPECT_EQ(layered, 0);
   EXPECT_GT(tangent, 0);
 }
 
-// discretization.wall_reach = thickness (docs/model/03-neighbourhoods.md section 3.2): every node's support holds every layer of the
-// wall, so the quadratic basis fits the through-wall square at the surfaces without growing any support inside the
-// tube (the default reach puts the far layer on the support's edge, where the weight is zero: a surface node sees two
-// layers, and its quadratic guard grows the support); the gradient stays exact for affine fields (1e-10, as
-// AffineFieldsGiveTheExactGradient) and, with the quadratic basis, for quadratic fields (1e-9, as
-// QuadraticBasis.QuadraticFieldsGiveTheExactGradientAtEveryNode) at every node away from the tube's ends.
+// discretization.wall_reach = thickness (docs/model/03-neighbourhoods.md section 3.2): every node's support
+// holds every layer of the wall, so the quadratic basis fits the through-wall square at the surfaces without
+// growing any support inside the tube (the default reach puts the far layer on the support's edge, where the
+// weight is zero: a surface node sees two layers, and its quadratic guard grows the support); the gradient
+// stays exact for affine fields (1e-10, as AffineFieldsGiveTheExactGradient) and, with the quadratic basis,
+// for quadratic fields (1e-9, as QuadraticBasis.QuadraticFieldsGiveTheExactGradientAtEveryNode) at every node
+// away from the tube's ends.
 TEST(WallSupport, AThicknessReachHoldsEveryLayer) {
   auto layers_seen = [](const Discretization& d, Index i) {
     std::vector<long> layers;
@@ -171,11 +180,12 @@ TEST(WallSupport, AThicknessReachHoldsEveryLayer) {
     scale = std::max(scale, exact.norm());
     err_quadratic = std::max(err_quadratic, (d.displacement_gradient(i, quadratic) - exact).norm());
   }
-  std::printf("[ wall support ] through-wall scale %.3f; fewest layers in a support: %d (reach by layers: %d); "
-              "%d supports grown inside the tube (by layers: %d of %d); gradient errors %.2g (affine), %.2g "
-              "(quadratic)\n",
-              d.wall_across_scale(), fewest_layers(d), fewest_layers(by_layers.discretization()), grown_inside,
-              by_layers.discretization().grown_nodes(), d.num_nodes(), err_affine / A.norm(), err_quadratic / scale);
+  std::printf(
+      "[ wall support ] through-wall scale %.3f; fewest layers in a support: %d (reach by layers: %d); "
+      "%d supports grown inside the tube (by layers: %d of %d); gradient errors %.2g (affine), %.2g "
+      "(quadratic)\n",
+      d.wall_across_scale(), fewest_layers(d), fewest_layers(by_layers.discretization()), grown_inside,
+      by_layers.discretization().grown_nodes(), d.num_nodes(), err_affine / A.norm(), err_quadratic / scale);
   EXPECT_NEAR(d.wall_across_scale(), 0.75, 0.01);  // h_0 = 2 x the 0.15 mm layer step = the 0.3 mm wall
   EXPECT_EQ(fewest_layers(d), 3);
   EXPECT_EQ(grown_inside, 0);
@@ -194,7 +204,8 @@ TEST(WallSupport, AThicknessReachHoldsEveryLayer) {
 // A body without node layers through a wall refuses it at the key.
 TEST(WallSupport, NeedsAWall) {
   nlohmann::json doc = tube("wall");
-  doc["geometry"] = {{"type", "box"}, {"min_m", {0, 0, 0}}, {"max_m", {0.004, 0.004, 0.004}}, {"node_spacing_m", 0.001}};
+  doc["geometry"] = {
+      {"type", "box"}, {"min_m", {0, 0, 0}}, {"max_m", {0.004, 0.004, 0.004}}, {"node_spacing_m", 0.001}};
   try {
     Simulation sim(parse_scene(doc, "box.json"));
     FAIL() << "a box took wall-aligned supports";
@@ -203,9 +214,9 @@ TEST(WallSupport, NeedsAWall) {
   }
 }
 
-// The default follows the model and the geometry: wall supports for the equilibrium models on a walled lattice
-// (quasi_static, implicit), isotropic for the other models, for bodies without wall layers and for the paper's
-// formulation; an explicit key wins.
+// The default follows the model and the geometry: wall supports for the equilibrium models on a walled
+// lattice (quasi_static, implicit), isotropic for the other models, for bodies without wall layers and for
+// the paper's formulation; an explicit key wins.
 TEST(WallSupport, IsTheEquilibriumModelsDefaultOnAWall) {
   using Support = DiscretizationOptions::Support;
   auto support_of = [](nlohmann::json doc) { return parse_scene(doc, "tube.json").discretization.support; };
@@ -223,7 +234,8 @@ TEST(WallSupport, IsTheEquilibriumModelsDefaultOnAWall) {
   doc["discretization"]["support"] = "isotropic";
   EXPECT_EQ(support_of(doc), Support::Isotropic);
   doc["discretization"].erase("support");
-  doc["geometry"] = {{"type", "box"}, {"min_m", {0, 0, 0}}, {"max_m", {0.004, 0.004, 0.004}}, {"node_spacing_m", 0.001}};
+  doc["geometry"] = {
+      {"type", "box"}, {"min_m", {0, 0, 0}}, {"max_m", {0.004, 0.004, 0.004}}, {"node_spacing_m", 0.001}};
   EXPECT_EQ(support_of(doc), Support::Isotropic);
 }
 

@@ -1,7 +1,8 @@
 // The real-time `xpbd` model with its default elastic option (A), the meshless strain constraint
-// (docs/model/19-position-based.md (A)): the closed-form block, the colouring, rest stability at any substep, convergence of
-// the steady state to quasi_static (the same energy) as sweeps grow, reaction forces from lambda/h^2, and
-// the issue-3 stability test (a patch pushed 50 % of the radius in 10 ms, released, 10 s simulated).
+// (docs/model/19-position-based.md (A)): the closed-form block, the colouring, rest stability at any substep,
+// convergence of the steady state to quasi_static (the same energy) as sweeps grow, reaction forces from
+// lambda/h^2, and the issue-3 stability test (a patch pushed 50 % of the radius in 10 ms, released, 10 s
+// simulated).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,8 +16,8 @@
 #include "vascsim/model/constraint_colouring.hpp"
 #include "vascsim/model/explicit_model.hpp"
 #include "vascsim/model/xpbd_model.hpp"
-#include "vascsim/scene/scene.hpp"
 #include "vascsim/run/simulation.hpp"
+#include "vascsim/scene/scene.hpp"
 
 namespace {
 
@@ -111,8 +112,8 @@ json cantilever_xpbd(int substeps, int iterations, double deflection_fraction = 
   doc["output"]["vtk"] = false;
   // The beam's first bending mode is ~5 Hz; damping 60/s (about critical) reaches the steady state within
   // ~0.3 s.
-  doc["xpbd"] = {{"duration_s", 0.4},    {"ramp_time_s", 0.05},           {"output_interval_s", 0.05},
-                 {"step_s", 1e-3},       {"substeps", substeps},          {"iterations", iterations},
+  doc["xpbd"] = {{"duration_s", 0.4},    {"ramp_time_s", 0.05},  {"output_interval_s", 0.05},
+                 {"step_s", 1e-3},       {"substeps", substeps}, {"iterations", iterations},
                  {"damping_per_s", 60.0}};
   return doc;
 }
@@ -164,13 +165,14 @@ TEST(XpbdMeshless, SteadyStateConvergesToQuasiStaticSlow) {
   ASSERT_GT(reference, 0.0);
   const SteadyState coarse = run_to_steady_state(2, 1), fine = run_to_steady_state(8, 4);
   const double e_coarse = (coarse.tip - reference) / reference, e_fine = (fine.tip - reference) / reference;
-  std::printf("[ xpbd     ] cantilever 207 nodes: quasi_static tip %.5e m; xpbd 2x1 %.5e m (%+.4f), 8x4 %.5e m "
-              "(%+.4f)\n",
-              reference, coarse.tip, e_coarse, fine.tip, e_fine);
+  std::printf(
+      "[ xpbd     ] cantilever 207 nodes: quasi_static tip %.5e m; xpbd 2x1 %.5e m (%+.4f), 8x4 %.5e m "
+      "(%+.4f)\n",
+      reference, coarse.tip, e_coarse, fine.tip, e_fine);
   test::record("xpbd_2x1_rel_error", e_coarse);
   test::record("xpbd_8x4_rel_error", e_fine);
   EXPECT_LT(fine.change, 2e-3 * reference);  // steady
-  EXPECT_GT(e_coarse, 0.0);                   // softer
+  EXPECT_GT(e_coarse, 0.0);                  // softer
   EXPECT_LT(std::abs(e_fine), std::abs(e_coarse));
   EXPECT_LT(std::abs(e_fine), 0.01);
   const double load = fine.tip_load.norm();
@@ -249,9 +251,10 @@ TEST(XpbdMeshless, PushedAndReleasedPatchStaysBoundedAndSettlesSlow) {
   const auto& model = dynamic_cast<const XpbdModel&>(sim.model());
   double v_max = 0.0;
   for (const auto& v : model.velocities()) v_max = std::max(v_max, v.norm());
-  std::printf("[ xpbd     ] push-release tube (%d nodes): max displacement %.4g m (%.2f of the push), after 1 s "
-              "%.3g m, max speed %.3g m/s\n",
-              static_cast<int>(X.size()), max_u, max_u / push, final_u, v_max);
+  std::printf(
+      "[ xpbd     ] push-release tube (%d nodes): max displacement %.4g m (%.2f of the push), after 1 s "
+      "%.3g m, max speed %.3g m/s\n",
+      static_cast<int>(X.size()), max_u, max_u / push, final_u, v_max);
   EXPECT_GE(max_u, push * (1.0 - 1e-9));  // the push happened
   // Released, damped 100/s for ~1 s: back at rest in the rest shape (1 % of the push; an inverted or
   // tangled state would stay far from it).
@@ -276,10 +279,10 @@ TEST(XpbdMeshless, ReleaseIsValidated) {
 
 namespace {
 
-// docs/validation.md T14 in its quasi-static form: a rigid sphere pressed 1.5 mm into the top of a 10 mm block whose
-// base is fixed. At steady state the force the sphere exerts on the tissue (sum lambda n / h^2) balances
-// the base reaction (1 %: the steady state is reached to ~0.1 %, the rest is T14's bound), no node is
-// inside the sphere, and the force pushes along the motion.
+// docs/validation.md T14 in its quasi-static form: a rigid sphere pressed 1.5 mm into the top of a 10 mm
+// block whose base is fixed. At steady state the force the sphere exerts on the tissue (sum lambda n / h^2)
+// balances the base reaction (1 %: the steady state is reached to ~0.1 %, the rest is T14's bound), no node
+// is inside the sphere, and the force pushes along the motion.
 TEST(XpbdMeshless, SphereContactForceBalancesTheSupports) {
   json doc = json::parse(R"({
     "name": "xpbd-sphere",
@@ -299,9 +302,10 @@ TEST(XpbdMeshless, SphereContactForceBalancesTheSupports) {
   }
   ASSERT_EQ(rec.obstacles.size(), 1u);
   const Vec3 tool = rec.obstacles[0].force_vector_n, base = region_force(sim, rec, "base");
-  std::printf("[ xpbd     ] sphere 1.5 mm into a block: tool force on tissue (%.4g, %.4g, %.4g) N, base reaction "
-              "(%.4g, %.4g, %.4g) N\n",
-              tool.x(), tool.y(), tool.z(), base.x(), base.y(), base.z());
+  std::printf(
+      "[ xpbd     ] sphere 1.5 mm into a block: tool force on tissue (%.4g, %.4g, %.4g) N, base reaction "
+      "(%.4g, %.4g, %.4g) N\n",
+      tool.x(), tool.y(), tool.z(), base.x(), base.y(), base.z());
   EXPECT_GT(rec.obstacles[0].force_n, 0.0);  // pushes along its motion
   EXPECT_NEAR(rec.obstacles[0].displacement_m, 0.0015, 1e-12);
   EXPECT_LT((tool + base).norm(), 1e-2 * tool.norm());

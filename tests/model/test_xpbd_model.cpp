@@ -1,6 +1,6 @@
-// The real-time `xpbd` model with elastic option (B), tet neo-Hookean (docs/model/19-position-based.md (B), T13 in spirit): steady state approaches the quasi-static
-// solution as the substep shrinks, stays bounded under a fast large prescribed motion, and is selectable
-// by name from a scene.
+// The real-time `xpbd` model with elastic option (B), tet neo-Hookean (docs/model/19-position-based.md (B),
+// T13 in spirit): steady state approaches the quasi-static solution as the substep shrinks, stays bounded
+// under a fast large prescribed motion, and is selectable by name from a scene.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -10,13 +10,13 @@
 
 #include <Eigen/SparseCholesky>
 
+#include "support/run_helpers.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/experiments/cantilever.hpp"
 #include "vascsim/model/tet_stiffness.hpp"
 #include "vascsim/model/xpbd_model.hpp"
-#include "vascsim/scene/scene.hpp"
 #include "vascsim/run/simulation.hpp"
-#include "support/run_helpers.hpp"
+#include "vascsim/scene/scene.hpp"
 
 namespace {
 
@@ -50,8 +50,8 @@ struct XpbdRun {
 XpbdRun run_xpbd_cantilever(int substeps) {
   json doc = cantilever_scene(small_cantilever());
   doc["model"] = "xpbd";
-  doc["xpbd"] = {{"duration_s", 0.3},   {"ramp_time_s", 0.05}, {"output_interval_s", 0.025},
-                 {"step_s", 5e-4},      {"substeps", substeps}, {"iterations", 1},
+  doc["xpbd"] = {{"duration_s", 0.3},     {"ramp_time_s", 0.05},         {"output_interval_s", 0.025},
+                 {"step_s", 5e-4},        {"substeps", substeps},        {"iterations", 1},
                  {"damping_per_s", 60.0}, {"elastic", "tet_neo_hookean"}};
   const auto t0 = std::chrono::steady_clock::now();
   Simulation sim(parse_scene(doc, "cantilever-xpbd (generated)"));
@@ -73,9 +73,8 @@ double p1_tip_deflection(const Simulation& sim) {
   const Discretization& disc = sim.discretization();
   const Problem& problem = sim.problem();
   const Index n = disc.num_nodes();
-  const Eigen::SparseMatrix<double> K = linear_tet_stiffness(disc.rest_positions(), disc.tets(),
-                                                             disc.material().lame_lambda(),
-                                                             disc.material().shear_modulus());
+  const Eigen::SparseMatrix<double> K = linear_tet_stiffness(
+      disc.rest_positions(), disc.tets(), disc.material().lame_lambda(), disc.material().shear_modulus());
   std::vector<Index> dof(3 * static_cast<std::size_t>(n), -1);
   Index free = 0;
   for (Index i = 0; i < n; ++i)
@@ -84,7 +83,8 @@ double p1_tip_deflection(const Simulation& sim) {
   std::vector<Eigen::Triplet<double>> trip;
   for (int c = 0; c < K.outerSize(); ++c)
     for (Eigen::SparseMatrix<double>::InnerIterator it(K, c); it; ++it)
-      if (dof[it.row()] >= 0 && dof[it.col()] >= 0) trip.emplace_back(dof[it.row()], dof[it.col()], it.value());
+      if (dof[it.row()] >= 0 && dof[it.col()] >= 0)
+        trip.emplace_back(dof[it.row()], dof[it.col()], it.value());
   Eigen::SparseMatrix<double> Kf(free, free);
   Kf.setFromTriplets(trip.begin(), trip.end());
   Vec3Array f;
@@ -100,7 +100,8 @@ double p1_tip_deflection(const Simulation& sim) {
   for (const Region& r : problem.regions())
     if (r.name == "tip") {
       double sum = 0.0;
-      for (Index i : r.nodes) sum += Vec3(u[dof[3 * i]], u[dof[3 * i + 1]], u[dof[3 * i + 2]]).dot(r.direction);
+      for (Index i : r.nodes)
+        sum += Vec3(u[dof[3 * i]], u[dof[3 * i + 1]], u[dof[3 * i + 2]]).dot(r.direction);
       return sum / static_cast<double>(r.nodes.size());
     }
   ADD_FAILURE() << "no tip region";
@@ -120,14 +121,17 @@ TEST(XpbdTetModel, CantileverSteadyStateConvergesToP1AsSubstepsGrowSlow) {
   const XpbdRun coarse = run_xpbd_cantilever(4);
   const XpbdRun fine = run_xpbd_cantilever(32);
   const auto rel = [](double a, double b) { return std::abs(a - b) / b; };
-  std::printf("[ xpbd     ] cantilever (%d nodes): quasi_static (meshless) tip %.5e m, P1 tets %.5e m;\n"
-              "[ xpbd     ]   substeps  4: tip %.5e m, rel. error vs P1 %.4f, vs quasi_static %.4f, last change %.1e, "
-              "%.3f s\n"
-              "[ xpbd     ]   substeps 32: tip %.5e m, rel. error vs P1 %.4f, vs quasi_static %.4f, last change %.1e, "
-              "%.3f s\n",
-              static_cast<int>(qs.discretization().num_nodes()), meshless, p1, coarse.tip, rel(coarse.tip, p1),
-              rel(coarse.tip, meshless), coarse.tip_change / p1, coarse.seconds, fine.tip, rel(fine.tip, p1),
-              rel(fine.tip, meshless), fine.tip_change / p1, fine.seconds);
+  std::printf(
+      "[ xpbd     ] cantilever (%d nodes): quasi_static (meshless) tip %.5e m, P1 tets %.5e m;\n"
+      "[ xpbd     ]   substeps  4: tip %.5e m, rel. error vs P1 %.4f, vs quasi_static %.4f, last change "
+      "%.1e, "
+      "%.3f s\n"
+      "[ xpbd     ]   substeps 32: tip %.5e m, rel. error vs P1 %.4f, vs quasi_static %.4f, last change "
+      "%.1e, "
+      "%.3f s\n",
+      static_cast<int>(qs.discretization().num_nodes()), meshless, p1, coarse.tip, rel(coarse.tip, p1),
+      rel(coarse.tip, meshless), coarse.tip_change / p1, coarse.seconds, fine.tip, rel(fine.tip, p1),
+      rel(fine.tip, meshless), fine.tip_change / p1, fine.seconds);
   // Both runs reached a steady state (the last 25 ms changed the tip by < 0.2 %).
   EXPECT_LT(coarse.tip_change, 2e-3 * p1);
   EXPECT_LT(fine.tip_change, 2e-3 * p1);
@@ -147,8 +151,8 @@ TEST(XpbdTetModel, ShearIsExplicitAboveTheStabilityLimit) {
     c.deflection_fraction = 0.0;
     json doc = cantilever_scene(c);
     doc["model"] = "xpbd";
-    doc["xpbd"] = {{"duration_s", 0.05}, {"output_interval_s", 0.05}, {"step_s", 1e-3}, {"substeps", substeps},
-                   {"damping_per_s", 10.0}, {"elastic", "tet_neo_hookean"}};
+    doc["xpbd"] = {{"duration_s", 0.05},   {"output_interval_s", 0.05}, {"step_s", 1e-3},
+                   {"substeps", substeps}, {"damping_per_s", 10.0},     {"elastic", "tet_neo_hookean"}};
     Simulation sim(parse_scene(doc, "cantilever-rest (generated)"));
     try {
       sim.advance(1);
@@ -161,8 +165,9 @@ TEST(XpbdTetModel, ShearIsExplicitAboveTheStabilityLimit) {
     return u;
   };
   const double stable = drift(6), unstable = drift(2);
-  std::printf("[ xpbd     ] unloaded cantilever, 50 ms: max drift %.3g m at h = 0.17 ms, %.3g m at h = 0.5 ms\n",
-              stable, unstable);
+  std::printf(
+      "[ xpbd     ] unloaded cantilever, 50 ms: max drift %.3g m at h = 0.17 ms, %.3g m at h = 0.5 ms\n",
+      stable, unstable);
   EXPECT_LT(stable, 1e-12);
   EXPECT_GT(unstable, 1e-6);
 }
@@ -190,8 +195,8 @@ TEST(XpbdModel, FastLargePrescribedMotionStaysBounded) {
   const double size = 0.01;
   double max_u = 0.0;
   for (int k = 1; k <= sim.model().num_steps(); ++k) {
-    // The model's own steps: the run's guard (Simulation::advance) stops this push at step 1 with exit 3, as the
-    // patch's corner folds 56 virtual tetrahedra; what is checked here is that xpbd itself stays bounded.
+    // The model's own steps: the run's guard (Simulation::advance) stops this push at step 1 with exit 3, as
+    // the patch's corner folds 56 virtual tetrahedra; what is checked here is that xpbd itself stays bounded.
     sim.model().advance(k);
     const auto& x = sim.model().positions();
     for (std::size_t i = 0; i < x.size(); ++i) {
@@ -205,9 +210,11 @@ TEST(XpbdModel, FastLargePrescribedMotionStaysBounded) {
   const auto& xpbd = dynamic_cast<const XpbdModel&>(sim.model());
   double v_max = 0.0;
   for (const auto& v : xpbd.velocities()) v_max = std::max(v_max, v.norm());
-  std::printf("[ xpbd     ] pushed box (%d nodes, %d colours): max displacement %.4g m (%.2f x size), final max "
-              "speed %.3g m/s, %.3f s wall for 0.5 s simulated\n",
-              static_cast<int>(X.size()), xpbd.num_colours(), max_u, max_u / size, v_max, vascsim::test::seconds_since(t0));
+  std::printf(
+      "[ xpbd     ] pushed box (%d nodes, %d colours): max displacement %.4g m (%.2f x size), final max "
+      "speed %.3g m/s, %.3f s wall for 0.5 s simulated\n",
+      static_cast<int>(X.size()), xpbd.num_colours(), max_u, max_u / size, v_max,
+      vascsim::test::seconds_since(t0));
   EXPECT_GE(max_u, 0.005 * (1.0 - 1e-9));
   EXPECT_LT(v_max, 0.05);
 }
@@ -215,7 +222,7 @@ TEST(XpbdModel, FastLargePrescribedMotionStaysBounded) {
 TEST(XpbdModel, SelectableByNameAndValidated) {
   json doc = pushed_box();
   doc["xpbd"] = {{"duration_s", 0.002}, {"output_interval_s", 1e-3}, {"substeps", 4}, {"iterations", 2},
-                 {"step_s", 5e-4}, {"damping_per_s", 5.0}};
+                 {"step_s", 5e-4},      {"damping_per_s", 5.0}};
   const Scene sc = parse_scene(doc, "s.json");
   EXPECT_EQ(sc.model, "xpbd");
   EXPECT_EQ(sc.settings<XpbdSettings>("xpbd").substeps, 4);

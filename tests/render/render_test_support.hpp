@@ -62,7 +62,8 @@ struct Silhouette {
   std::size_t drawn = 0, expected = 0, both = 0;
   Eigen::Vector3d mean_object = Eigen::Vector3d::Zero(), mean_background = Eigen::Vector3d::Zero();
   double relative_error() const {
-    return expected == 0 ? 1.0 : std::abs(static_cast<double>(drawn) - static_cast<double>(expected)) / expected;
+    return expected == 0 ? 1.0
+                         : std::abs(static_cast<double>(drawn) - static_cast<double>(expected)) / expected;
   }
   /// The picture shows the geometry: areas agree to 1 %, 99 % of the expected pixels are drawn, and the
   /// object's mean colour is at least 20 levels (of 255) from the background's.
@@ -72,7 +73,8 @@ struct Silhouette {
   }
 };
 
-/// Counts the pixels `is_object` calls drawn against the expected mask; mean colours of object and background.
+/// Counts the pixels `is_object` calls drawn against the expected mask; mean colours of object and
+/// background.
 template <typename IsObject>
 inline Silhouette compare(const Image& image, const std::vector<std::uint8_t>& expected, IsObject is_object) {
   Silhouette s;

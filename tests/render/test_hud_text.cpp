@@ -1,5 +1,5 @@
-// The HUD's line on what the hand gets (render/hud.hpp hand_line): the force sent to the device beside the model's,
-// how far the model's tool is behind the hand and how old the force is. Pure text, no GL context.
+// The HUD's line on what the hand gets (render/hud.hpp hand_line): the force sent to the device beside the
+// model's, how far the model's tool is behind the hand and how old the force is. Pure text, no GL context.
 
 #include <gtest/gtest.h>
 

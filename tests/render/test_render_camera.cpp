@@ -124,8 +124,8 @@ TEST(RenderCamera, CArmApShowsThePatientsRightOnTheLeftAndLaoTurnsAboutTheSuperi
   // The source is posterior, the detector (viewer) anterior.
   EXPECT_LT(ap.eye_m.y(), -1.0);
   EXPECT_NEAR(ap.eye_m.x(), 0.0, 1e-12);
-  EXPECT_LT(project(ap, Vec3(0.5, 0, 0)).x(), 0.0);   // patient's right on the left of the screen
-  EXPECT_GT(project(ap, Vec3(0, 0, 0.5)).y(), 0.0);   // head up
+  EXPECT_LT(project(ap, Vec3(0.5, 0, 0)).x(), 0.0);  // patient's right on the left of the screen
+  EXPECT_GT(project(ap, Vec3(0, 0, 0.5)).y(), 0.0);  // head up
   // LAO 90: the detector on the patient's left (-x), the source on the right.
   const CameraPose lao = cam.carm_pose(90, 0);
   EXPECT_GT(lao.eye_m.x(), 1.0);
@@ -142,8 +142,8 @@ TEST(RenderCamera, CArmApShowsThePatientsRightOnTheLeftAndLaoTurnsAboutTheSuperi
   // The device frame of the mirrored view is right-handed and points into the picture from the detector.
   const ViewFrame v = ap.view_frame();
   EXPECT_LT((v.right_m.cross(v.up_m) + v.forward_m).norm(), 1e-12);
-  EXPECT_LT(v.forward_m.y(), 0.0);                         // from the anterior detector into the patient
-  EXPECT_LT(v.right_m.x(), 0.0);                           // screen right = patient's left
+  EXPECT_LT(v.forward_m.y(), 0.0);  // from the anterior detector into the patient
+  EXPECT_LT(v.right_m.x(), 0.0);    // screen right = patient's left
 }
 
 TEST(RenderCamera, ViewFrameOfTheLitViewIsTheCameraAxes) {

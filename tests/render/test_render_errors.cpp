@@ -5,9 +5,9 @@
 
 #include <string>
 
+#include "support/program_output.hpp"
 #include "vascsim/render/gl_context.hpp"
 #include "vascsim/render/renderer.hpp"
-#include "support/program_output.hpp"
 
 namespace vascsim::render {
 namespace {
@@ -74,8 +74,9 @@ TEST(RenderErrors, DemoExitsWithCodeTwoAndOneLine) {
 TEST(RenderErrors, NoDisplayAndNoEglExitsWithCodeTwo) {
   // glvnd finds no EGL vendor when pointed at a file that does not exist: as on a machine without
   // Mesa's EGL. Without DISPLAY the demo must go headless, and fail with one line.
-  const Result r = run("env -u DISPLAY -u WAYLAND_DISPLAY __EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/egl.json",
-                       "--size 64x64 --out x.png");
+  const Result r =
+      run("env -u DISPLAY -u WAYLAND_DISPLAY __EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/egl.json",
+          "--size 64x64 --out x.png");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_EQ(r.lines(), 1u) << r.output;
   EXPECT_NE(r.output.find("cannot render headless"), std::string::npos) << r.output;

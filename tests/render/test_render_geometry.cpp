@@ -70,19 +70,22 @@ TEST(RenderGeometry, CapsuleIsClosedOutwardWithTheCapsuleVolume) {
       std::array<std::uint32_t, 3> w{};
       for (int k = 0; k < 3; ++k) {
         const Float3& p = m.positions_m[tri[k]];
-        w[k] = weld.emplace(std::array<float, 3>{p.x(), p.y(), p.z()}, static_cast<std::uint32_t>(weld.size()))
-                   .first->second;
+        w[k] =
+            weld.emplace(std::array<float, 3>{p.x(), p.y(), p.z()}, static_cast<std::uint32_t>(weld.size()))
+                .first->second;
       }
       welded.push_back(w);
     }
     EXPECT_TRUE(closed_and_oriented(welded)) << "rounded " << rounded;
     const double r = t.radius_m, length = (t.tip_m - t.back_m).norm();
-    const double expected = rounded ? std::numbers::pi * r * r * (length - r) + 2.0 / 3.0 * std::numbers::pi * r * r * r
-                                    : std::numbers::pi * r * r * length;
+    const double expected =
+        rounded ? std::numbers::pi * r * r * (length - r) + 2.0 / 3.0 * std::numbers::pi * r * r * r
+                : std::numbers::pi * r * r * length;
     EXPECT_NEAR(signed_volume(m.positions_m, m.triangles) / expected, 1.0, 0.01) << "rounded " << rounded;
     // The apex is the tip.
     float far = 0.0f;
-    for (const Float3& p : m.positions_m) far = std::max(far, (p - t.back_m).dot((t.tip_m - t.back_m).normalized()));
+    for (const Float3& p : m.positions_m)
+      far = std::max(far, (p - t.back_m).dot((t.tip_m - t.back_m).normalized()));
     EXPECT_NEAR(far, length, 1e-6);
   }
 }

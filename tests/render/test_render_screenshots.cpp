@@ -19,7 +19,9 @@
 namespace vascsim::render::test {
 namespace {
 
-void record(const char* key, double value) { ::testing::Test::RecordProperty(key, std::to_string(value)); }
+void record(const char* key, double value) {
+  ::testing::Test::RecordProperty(key, std::to_string(value));
+}
 
 class RenderScreenshot : public HeadlessScene {
  protected:
@@ -56,7 +58,8 @@ TEST_F(RenderScreenshot, LitPictureShowsTheWallSilhouetteInWallColours) {
   record("lit_expected_px", static_cast<double>(sil.expected));
   record("lit_area_error", sil.relative_error());
   EXPECT_GT(sil.expected, static_cast<std::size_t>(0.03 * kWidth * kHeight));  // the vessel is in view
-  EXPECT_TRUE(sil.shows_geometry()) << "drawn " << sil.drawn << " expected " << sil.expected << " both " << sil.both;
+  EXPECT_TRUE(sil.shows_geometry()) << "drawn " << sil.drawn << " expected " << sil.expected << " both "
+                                    << sil.both;
   // The procedural outer wall is reddish: red clearly above blue and green.
   EXPECT_GT(sil.mean_object.x(), sil.mean_object.z() + 40.0) << sil.mean_object.transpose();
   EXPECT_GT(sil.mean_object.x(), sil.mean_object.y() + 40.0) << sil.mean_object.transpose();
@@ -88,7 +91,8 @@ TEST_F(RenderScreenshot, FluoroscopyIsGreyWithTheWallAndCatheterSilhouette) {
   const RenderSettings s = fluoro_exact();
   const Image image = render(s);
   for (std::size_t i = 0; i < image.rgba.size(); i += 4)
-    ASSERT_TRUE(image.rgba[i] == image.rgba[i + 1] && image.rgba[i] == image.rgba[i + 2]) << "pixel " << i / 4;
+    ASSERT_TRUE(image.rgba[i] == image.rgba[i + 1] && image.rgba[i] == image.rgba[i + 2])
+        << "pixel " << i / 4;
   const SolidMesh tools = tool_mesh(frame);
   auto expected = coverage(frame.positions_m, frame.triangles, view_proj(s), kWidth, kHeight);
   const auto tool_px = coverage(tools.positions_m, tools.triangles, view_proj(s), kWidth, kHeight);
@@ -97,7 +101,8 @@ TEST_F(RenderScreenshot, FluoroscopyIsGreyWithTheWallAndCatheterSilhouette) {
   const Silhouette sil =
       compare(image, expected, [&](int, int, const std::uint8_t* p) { return p[0] < background - 1; });
   record("fluoro_area_error", sil.relative_error());
-  EXPECT_TRUE(sil.shows_geometry()) << "drawn " << sil.drawn << " expected " << sil.expected << " both " << sil.both;
+  EXPECT_TRUE(sil.shows_geometry()) << "drawn " << sil.drawn << " expected " << sil.expected << " both "
+                                    << sil.both;
   // Darker than the background (attenuation), never brighter.
   EXPECT_LT(sil.mean_object.x(), sil.mean_background.x() - 60.0);
 }
@@ -176,7 +181,7 @@ TEST_F(RenderScreenshot, ForceArrowTurnsRedAboveTheThreshold) {
     }
     return n;
   };
-  s.show_surface = false;  // the wall's reds would count
+  s.show_surface = false;        // the wall's reds would count
   demo->fill(frame, 0.25, 0.5);  // 0.2 N, threshold 0.5 N
   const Image below = render(s);
   demo->fill(frame, 0.25, 2.0);  // 0.8 N

@@ -3,10 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 #include "support/program_output.hpp"
 
@@ -32,13 +32,15 @@ TEST(ViewerErrors, ASceneWithoutASurfaceOrFile) {
   const fs::path dir = fs::temp_directory_path() / ("vascsim-view-errors-" + std::to_string(::getpid()));
   fs::create_directories(dir);
   std::ofstream(dir / "no-geometry.json") << R"({ "name": "nothing", "model": "xpbd" })";
-  expect_one_line(view("", (dir / "no-geometry.json").string() + " --screenshot x.png"), "key 'geometry': missing");
+  expect_one_line(view("", (dir / "no-geometry.json").string() + " --screenshot x.png"),
+                  "key 'geometry': missing");
   expect_one_line(view("", (dir / "absent.json").string()), "cannot open the scene file");
   fs::remove_all(dir);
 }
 
 TEST(ViewerErrors, AMissingTextureFileIsOneLineBeforeTheBuild) {
-  const Result r = view("", kVessel + " --set viewer.texture=missing-wall.png --screenshot x.png --size 64x64");
+  const Result r =
+      view("", kVessel + " --set viewer.texture=missing-wall.png --screenshot x.png --size 64x64");
   expect_one_line(r, "missing-wall.png: no such file");
   EXPECT_NE(r.output.find("texture file"), std::string::npos) << r.output;
 }
@@ -51,8 +53,9 @@ TEST(ViewerErrors, AnImpossibleWindowSize) {
 
 TEST(ViewerErrors, NoDisplayAndNoEgl) {
   // glvnd finds no EGL vendor when pointed at a file that does not exist: as on a machine without Mesa's EGL.
-  const Result r = view("env -u DISPLAY -u WAYLAND_DISPLAY __EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/egl.json",
-                        kVessel + " --size 64x64");
+  const Result r =
+      view("env -u DISPLAY -u WAYLAND_DISPLAY __EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent/egl.json",
+           kVessel + " --size 64x64");
   expect_one_line(r, "cannot render headless");
   EXPECT_NE(r.output.find("xvfb-run"), std::string::npos) << r.output;
 }

@@ -1,8 +1,9 @@
 // The mouse drives the catheter in the viewer's own frames: the live session in lockstep with the viewer's
-// frame builder (which fits the mouse device to the scene, mouse_workspace.hpp) on tests/data/haptic-block.json
-// (a 6 x 6 x 3 mm block, the catheter's tip 0.2 mm above its top). A scripted input sequence advances the
-// catheter with the wheel; the frames the render thread would draw show no force while the tip is above the
-// block and a force once it presses in, with the arrow pointing into the tissue. No GL context is needed.
+// frame builder (which fits the mouse device to the scene, mouse_workspace.hpp) on
+// tests/data/haptic-block.json (a 6 x 6 x 3 mm block, the catheter's tip 0.2 mm above its top). A scripted
+// input sequence advances the catheter with the wheel; the frames the render thread would draw show no force
+// while the tip is above the block and a force once it presses in, with the arrow pointing into the tissue.
+// No GL context is needed.
 
 #include <gtest/gtest.h>
 
@@ -46,19 +47,22 @@ TEST(ViewerInput, MouseWheelAdvancesTheCatheterUntilTheFramesShowAForce) {
   // The proxy followed the wheel into the block: 0.7 mm deep is z = 2.3 mm (measured 2.34); within 0.3 mm for
   // the tissue pushing back.
   EXPECT_LT(tip_z, 0.0026);
-  EXPECT_GT(f.tool_force_n, 1e-3);  // as the scripted press of the haptic session at this depth (> 1 mN; 19 mN)
+  EXPECT_GT(f.tool_force_n,
+            1e-3);  // as the scripted press of the haptic session at this depth (> 1 mN; 19 mN)
   ASSERT_TRUE(f.render.force.has_value());
   // The arrow (the tool's force on the tissue) points down, into the block: 90 % of it along -z, as in
   // LiveSession.LockstepMouseAdvancesTheCatheterUntilItPressesTheBlock (the tip off the lattice tilts it).
   EXPECT_LT(f.render.force->force_n.z(), -0.9 * f.render.force->force_n.norm());
   ASSERT_EQ(f.render.tools.size(), 1u);
   EXPECT_NEAR(f.render.tools[0].tip_m.z(), static_cast<float>(tip_z), 1e-7f);  // drawn where it is
-  // The colour fields are where the press is: the largest displacement, and (after one more frame with the stress
-  // field asked for) the largest von Mises stress, lie within 2 mm of the tool point (the block is 6 x 6 mm; the
-  // tip's radius is 1 mm and the node spacing 0.5 mm). At rest the stress is zero up to rounding.
+  // The colour fields are where the press is: the largest displacement, and (after one more frame with the
+  // stress field asked for) the largest von Mises stress, lie within 2 mm of the tool point (the block is 6 x
+  // 6 mm; the tip's radius is 1 mm and the node spacing 0.5 mm). At rest the stress is zero up to rounding.
   const auto peak_distance = [&](const render::RenderFrame& r) {
-    const auto top = std::max_element(r.scalar->values.begin(), r.scalar->values.end()) - r.scalar->values.begin();
-    return (r.positions_m[static_cast<std::size_t>(top)].cast<double>() - f.info.sample.tool_position_m).norm();
+    const auto top =
+        std::max_element(r.scalar->values.begin(), r.scalar->values.end()) - r.scalar->values.begin();
+    return (r.positions_m[static_cast<std::size_t>(top)].cast<double>() - f.info.sample.tool_position_m)
+        .norm();
   };
   ASSERT_TRUE(f.render.scalar.has_value());
   EXPECT_EQ(f.render.scalar->label, "displacement");

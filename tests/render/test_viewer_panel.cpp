@@ -5,9 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <algorithm>
 #include <filesystem>
-#include <unistd.h>
 
 #include "vascsim/viewer/frame_builder.hpp"
 #include "vascsim/viewer/session_panel.hpp"
@@ -33,7 +33,8 @@ struct ViewerPanel : ::testing::Test {
     LiveOptions options;
     options.lockstep = true;
     session = std::make_unique<LiveSession>(scene, mouse, builder, options);
-    panel = std::make_unique<SessionPanel>(*session, scene, kPanelBlock, std::vector<std::string>{}, controls);
+    panel =
+        std::make_unique<SessionPanel>(*session, scene, kPanelBlock, std::vector<std::string>{}, controls);
   }
   // One frame after the panel's requests: what the render thread would draw.
   const ViewerFrame& frame_after(const render::HudRequests& r) {
@@ -83,7 +84,7 @@ TEST_F(ViewerPanel, ModelAndSettingsRebuildAndABadValueIsAMessage) {
   damping = std::find_if(controls.model_settings.begin(), controls.model_settings.end(),
                          [](const JsonField& f) { return f.key == "xpbd.damping_per_s"; });
   ASSERT_NE(damping, controls.model_settings.end());
-  EXPECT_EQ(damping->value, 120.0);          // read back from the rebuilt scene
+  EXPECT_EQ(damping->value, 120.0);  // read back from the rebuilt scene
   EXPECT_EQ(controls.youngs_modulus_pa, 4e5);
 
   controls.model = "quasi_static";  // any device-driven model, from the registry

@@ -6,9 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <filesystem>
 #include <sstream>
-#include <unistd.h>
 
 #include <fmt/format.h>
 #include <stb_image.h>
@@ -43,9 +43,12 @@ Image read_png(const fs::path& file) {
 // `vascsim -q view tiny-bent-vessel.json --paused --screenshot ... <extra>`, in process; the picture.
 Image view(const std::vector<std::string>& extra) {
   const fs::path png = fs::temp_directory_path() / ("vascsim-view-" + std::to_string(::getpid()) + ".png");
-  std::vector<std::string> args = {"-q", "view", kScene, "--paused", "--screenshot", png.string(), "--size",
-                                   fmt::format("{}x{}", kWidth, kHeight), "--yaw", std::to_string(kYaw), "--pitch",
-                                   std::to_string(kPitch)};
+  std::vector<std::string> args = {"-q",           "view",
+                                   kScene,         "--paused",
+                                   "--screenshot", png.string(),
+                                   "--size",       fmt::format("{}x{}", kWidth, kHeight),
+                                   "--yaw",        std::to_string(kYaw),
+                                   "--pitch",      std::to_string(kPitch)};
   args.insert(args.end(), extra.begin(), extra.end());
   std::ostringstream out, err;
   const int rc = run_cli(args, out, err, {&viewer::add_view_command});
@@ -95,9 +98,11 @@ TEST(ViewerScreenshot, LitPictureOfARealSceneShowsTheVesselSilhouette) {
   ASSERT_EQ(image.width, kWidth);
   const auto expected = expected_silhouette(RenderSettings{});
   const Silhouette s = lit_silhouette(image, expected);
-  std::printf("[ viewer   ] lit: drawn %zu px, expected %zu px, both %zu, area error %.4f, mean wall (%.0f %.0f %.0f)\n",
-              s.drawn, s.expected, s.both, s.relative_error(), s.mean_object.x(), s.mean_object.y(),
-              s.mean_object.z());
+  std::printf(
+      "[ viewer   ] lit: drawn %zu px, expected %zu px, both %zu, area error %.4f, mean wall (%.0f %.0f "
+      "%.0f)\n",
+      s.drawn, s.expected, s.both, s.relative_error(), s.mean_object.x(), s.mean_object.y(),
+      s.mean_object.z());
   EXPECT_GT(s.expected, static_cast<std::size_t>(0.05 * kWidth * kHeight));  // the vessel fills the picture
   EXPECT_TRUE(s.shows_geometry()) << "drawn " << s.drawn << " expected " << s.expected << " both " << s.both;
   EXPECT_GT(s.mean_object.x(), s.mean_object.z() + 40.0);  // the procedural wall is reddish
@@ -124,16 +129,18 @@ TEST(ViewerScreenshot, FluoroscopyOfARealSceneShowsTheContrastFilledVessel) {
   const Image reference = view(without);
   ASSERT_EQ(image.rgba.size(), reference.rgba.size());
   for (std::size_t i = 0; i < image.rgba.size(); i += 4)
-    ASSERT_TRUE(image.rgba[i] == image.rgba[i + 1] && image.rgba[i] == image.rgba[i + 2]) << "pixel " << i / 4;
+    ASSERT_TRUE(image.rgba[i] == image.rgba[i + 1] && image.rgba[i] == image.rgba[i + 2])
+        << "pixel " << i / 4;
   RenderSettings s;
   s.mode = ViewMode::fluoroscopy;
   s.carm_lao_deg = 30.0;
   const auto expected = expected_silhouette(s);
-  const Silhouette sil = compare(image, expected, [&](int x, int y, const std::uint8_t* p) {
-    return p[0] != reference.pixel(x, y)[0];
-  });
-  std::printf("[ viewer   ] fluoroscopy: drawn %zu px, expected %zu px, both %zu, area error %.4f, grey %.0f vs %.0f\n",
-              sil.drawn, sil.expected, sil.both, sil.relative_error(), sil.mean_object.x(), sil.mean_background.x());
+  const Silhouette sil = compare(
+      image, expected, [&](int x, int y, const std::uint8_t* p) { return p[0] != reference.pixel(x, y)[0]; });
+  std::printf(
+      "[ viewer   ] fluoroscopy: drawn %zu px, expected %zu px, both %zu, area error %.4f, grey %.0f vs "
+      "%.0f\n",
+      sil.drawn, sil.expected, sil.both, sil.relative_error(), sil.mean_object.x(), sil.mean_background.x());
   EXPECT_GT(sil.expected, static_cast<std::size_t>(0.05 * kWidth * kHeight));
   EXPECT_LE(sil.relative_error(), 0.03);
   EXPECT_GE(sil.both, 0.97 * sil.expected);

@@ -44,8 +44,8 @@ TEST(ContactResolution, WarnsUpToTheDeepestUnderResolvedStep) {
   EXPECT_NE(w.find("'probe'"), std::string::npos) << w;
   EXPECT_NE(w.find("up to 0.5 mm"), std::string::npos) << w;
   EXPECT_NE(w.find("1.28 mm"), std::string::npos) << w;
-  // The 1.0 mm lattice resolves the probe's contact from 2a = 1.4 mm on: F = 4 E* (0.7 mm)^3 / (3 R) = 115 mN, the
-  // force the message names (the third step's 126.9 mN is above it).
+  // The 1.0 mm lattice resolves the probe's contact from 2a = 1.4 mm on: F = 4 E* (0.7 mm)^3 / (3 R) = 115
+  // mN, the force the message names (the third step's 126.9 mN is above it).
   EXPECT_NEAR(coarse.resolving_force_n(), hertz_contact_force_n(1.4e-3, R, E, nu), 1e-15);
   EXPECT_NEAR(hertz_contact_diameter_m(coarse.resolving_force_n(), R, E, nu), 1.4e-3, 1e-15);
   EXPECT_NE(w.find("node spacings of 1 mm along the wall under the tool"), std::string::npos) << w;
@@ -63,10 +63,11 @@ TEST(ContactResolution, WarnsUpToTheDeepestUnderResolvedStep) {
   EXPECT_NE(f.find("'wall_probe' was narrower than the lattice resolves: its Hertz"), std::string::npos) << f;
 }
 
-// One lattice and one tool, pressed along one force-depth curve (the probe's, about 170 mN per mm) in 3 or in 6
-// load steps: the warning names the same node spacing and the same force from which that spacing resolves the
-// contact either way; only the depth up to which the steps were under-resolved follows the steps (0.5 and
-// 0.625 mm). (It named the spacing that resolved the first loaded step instead: 0.718 mm with 3 steps, 0.570 mm with 6.)
+// One lattice and one tool, pressed along one force-depth curve (the probe's, about 170 mN per mm) in 3 or in
+// 6 load steps: the warning names the same node spacing and the same force from which that spacing resolves
+// the contact either way; only the depth up to which the steps were under-resolved follows the steps (0.5 and
+// 0.625 mm). (It named the spacing that resolved the first loaded step instead: 0.718 mm with 3 steps, 0.570
+// mm with 6.)
 TEST(ContactResolution, TheWarningNamesTheSameSpacingWhateverTheLoadSteps) {
   const double E = 1.0e6, nu = 0.45, R = 5e-3, push = 0.75e-3;
   auto warning_with = [&](int steps) {
@@ -78,7 +79,8 @@ TEST(ContactResolution, TheWarningNamesTheSameSpacingWhateverTheLoadSteps) {
   EXPECT_NE(three.find("up to 0.5 mm"), std::string::npos) << three;
   EXPECT_NE(six.find("up to 0.625 mm"), std::string::npos) << six;
   // Everything from the spacing on is the lattice's and the tool's.
-  const std::size_t a = three.find("of the lattice's node spacings"), b = six.find("of the lattice's node spacings");
+  const std::size_t a = three.find("of the lattice's node spacings"),
+                    b = six.find("of the lattice's node spacings");
   ASSERT_NE(a, std::string::npos) << three;
   ASSERT_NE(b, std::string::npos) << six;
   EXPECT_EQ(three.substr(a), six.substr(b));
@@ -86,9 +88,9 @@ TEST(ContactResolution, TheWarningNamesTheSameSpacingWhateverTheLoadSteps) {
 }
 
 // The spacing a tool's contact sees on a graded lattice (a vein 0.1 mm over +-30 deg x +-0.5 mm facing +y at
-// mid-length, 0.4 mm elsewhere): that of the cell under the tool, the fine one in the window (where the lattice's
-// steps, its finest, say the same) and a coarse one on the far side 3 mm along, where the finest steps would call
-// a contact resolved that is not.
+// mid-length, 0.4 mm elsewhere): that of the cell under the tool, the fine one in the window (where the
+// lattice's steps, its finest, say the same) and a coarse one on the far side 3 mm along, where the finest
+// steps would call a contact resolved that is not.
 TEST(ContactResolution, TheSpacingUnderAToolIsTheLatticesThere) {
   const nlohmann::json doc = nlohmann::json::parse(R"({
     "name": "graded-vein", "model": "quasi_static",

@@ -1,8 +1,8 @@
-// A real-time frame of the implicit model as the haptic session sees it (docs/haptics.md): the model's tool is at
-// the device pose each frame was given, also when the frame stops before converging; such a frame hands on the
-// last equilibrium's force with that equilibrium's pose; and the force felt at a tick between frames is the
-// contact problem re-solved at the tick's pose with the stored compliance. All in lockstep (the frames called
-// in line), on the shared catheter block.
+// A real-time frame of the implicit model as the haptic session sees it (docs/haptics.md): the model's tool
+// is at the device pose each frame was given, also when the frame stops before converging; such a frame hands
+// on the last equilibrium's force with that equilibrium's pose; and the force felt at a tick between frames
+// is the contact problem re-solved at the tick's pose with the stored compliance. All in lockstep (the frames
+// called in line), on the shared catheter block.
 
 #include <gtest/gtest.h>
 
@@ -40,15 +40,15 @@ ToolPose pose_at(const Vec3& p) {
   return pose;
 }
 
-// The device presses 0.8 mm in 0.2 mm frames, slides 0.5 mm along x in two, then jumps 0.4 mm deeper in one frame, with
-// frames of at most two Newton steps (a short time budget does the same in a realtime session), each pose repeated
-// until its frame converges. After every frame, converged or not, the model's tool is at the pose the frame was
-// given (exactly: the default max_tool_step = 0 never holds the tool back). A frame hands on its own force at its
-// own pose only when it converged, or ended below handoff_max_residual (1e-2) with no contact pulling; every other
-// frame hands on the last handed-on force with that frame's pose, bit for bit, and the model counts it. So a frame
-// above 1e-2 never hands on, and a converged one always does. The jump must produce a frame that does not (a 0.4 mm
-// jump is not solved in two Newton steps), and the frames after it reach the new depth's equilibrium and hand it
-// on.
+// The device presses 0.8 mm in 0.2 mm frames, slides 0.5 mm along x in two, then jumps 0.4 mm deeper in one
+// frame, with frames of at most two Newton steps (a short time budget does the same in a realtime session),
+// each pose repeated until its frame converges. After every frame, converged or not, the model's tool is at
+// the pose the frame was given (exactly: the default max_tool_step = 0 never holds the tool back). A frame
+// hands on its own force at its own pose only when it converged, or ended below handoff_max_residual (1e-2)
+// with no contact pulling; every other frame hands on the last handed-on force with that frame's pose, bit
+// for bit, and the model counts it. So a frame above 1e-2 never hands on, and a converged one always does.
+// The jump must produce a frame that does not (a 0.4 mm jump is not solved in two Newton steps), and the
+// frames after it reach the new depth's equilibrium and hand it on.
 TEST(DeviceFrame, TheToolIsAtTheDevicePoseEvenWhenAFrameStopsEarly) {
   const ImplicitSettings defaults;
   Simulation sim(parse_scene(device_block({{"max_newton_iterations", 2}}), "catheter-block"));
@@ -71,7 +71,8 @@ TEST(DeviceFrame, TheToolIsAtTheDevicePoseEvenWhenAFrameStopsEarly) {
       EXPECT_EQ(f.tool_lag_m, 0.0) << "pose " << i << ", frame " << k;
       const long long counted = model.info()["frames_handing_on_an_older_force"].get<long long>();
       const bool handed_on = counted == stale;
-      EXPECT_TRUE(handed_on || !f.converged) << "a converged frame kept an older force: pose " << i << ", frame " << k;
+      EXPECT_TRUE(handed_on || !f.converged)
+          << "a converged frame kept an older force: pose " << i << ", frame " << k;
       EXPECT_TRUE(!handed_on || f.residual <= defaults.handoff_max_residual)
           << "a frame above the hand-off residual handed on its force: pose " << i << ", frame " << k;
       if (handed_on) {
@@ -79,15 +80,18 @@ TEST(DeviceFrame, TheToolIsAtTheDevicePoseEvenWhenAFrameStopsEarly) {
         handed = f;
       } else {
         ++stale;
-        EXPECT_EQ((f.tool_position_m - handed.tool_position_m).norm(), 0.0) << "pose " << i << ", frame " << k;
+        EXPECT_EQ((f.tool_position_m - handed.tool_position_m).norm(), 0.0)
+            << "pose " << i << ", frame " << k;
         EXPECT_EQ((f.force_n - handed.force_n).norm(), 0.0) << "pose " << i << ", frame " << k;
         EXPECT_EQ((out.read().tool.position() - handed.tool_position_m).norm(), 0.0);
       }
     }
     EXPECT_TRUE(f.converged) << "pose " << i;
   }
-  std::printf("[ frame    ] %zu poses in %d frames of at most 2 Newton steps; %d frames handed on an older force; "
-              "the 0.4 mm jump's first frame ended at residual %.3g\n", path.size(), frames, stale, jump_residual);
+  std::printf(
+      "[ frame    ] %zu poses in %d frames of at most 2 Newton steps; %d frames handed on an older force; "
+      "the 0.4 mm jump's first frame ended at residual %.3g\n",
+      path.size(), frames, stale, jump_residual);
   EXPECT_GT(jump_residual, defaults.handoff_max_residual);
   EXPECT_GE(stale, 1);
   EXPECT_EQ(model.info()["frames_handing_on_an_older_force"].get<long long>(), stale);
@@ -96,12 +100,12 @@ TEST(DeviceFrame, TheToolIsAtTheDevicePoseEvenWhenAFrameStopsEarly) {
 }
 
 // The hand-off: the state a frame publishes (its force, the wall's stiffness at the tool and the candidate
-// contacts with their compliance) answers a tick at pose p with the contact problem re-solved at p. Checked against
-// the model itself re-solved at p to equilibrium (1e-9), for tick poses 20 um from the frame's, into and out of
-// the wall and along it (the hand at 2-5 mm/s between two frames of 4-10 ms): within 1 % of the force. The
-// remaining difference is the second-order change of the wall's response over 20 um (the linearisation is exact
-// to first order, ImplicitModel.ToolStiffnessMatchesAFiniteDifference) and the contact set's discreteness; measured
-// 0.1-0.4 %. At the frame's own pose the tick's force is the frame's, exactly.
+// contacts with their compliance) answers a tick at pose p with the contact problem re-solved at p. Checked
+// against the model itself re-solved at p to equilibrium (1e-9), for tick poses 20 um from the frame's, into
+// and out of the wall and along it (the hand at 2-5 mm/s between two frames of 4-10 ms): within 1 % of the
+// force. The remaining difference is the second-order change of the wall's response over 20 um (the
+// linearisation is exact to first order, ImplicitModel.ToolStiffnessMatchesAFiniteDifference) and the contact
+// set's discreteness; measured 0.1-0.4 %. At the frame's own pose the tick's force is the frame's, exactly.
 TEST(DeviceFrame, ATickFeelsTheContactProblemReSolvedAtItsPose) {
   const json tight = {{"rel_tolerance", 1e-9}, {"max_newton_iterations", 30}, {"max_cg_iterations", 300}};
   Simulation sim(parse_scene(device_block(tight), "catheter-block"));
@@ -116,7 +120,8 @@ TEST(DeviceFrame, ATickFeelsTheContactProblemReSolvedAtItsPose) {
   for (int k = 1; k <= 10; ++k) settle(kTouch - Vec3(0, 0, 0.05e-3 * k));
   const Vec3 p0 = kTouch - Vec3(0, 0, 0.5e-3);
   const FrameSample frame = settle(p0);
-  model.relinearize_now();  // the linearisation at the converged state (a frame's comes from its last Newton step)
+  model.relinearize_now();  // the linearisation at the converged state (a frame's comes from its last Newton
+                            // step)
   const FrameSample held = publisher.step(pose_at(p0));
   const ContactState state = out.read();
   ASSERT_TRUE(held.converged);
@@ -128,9 +133,11 @@ TEST(DeviceFrame, ATickFeelsTheContactProblemReSolvedAtItsPose) {
     const Vec3 felt = state.force_at(p0 + dp);
     const Vec3 resolved = settle(p0 + dp).force_n;
     settle(p0);
-    std::printf("[ frame    ] tick at dp (%+.0f, %+.0f, %+.0f) um: felt (%.6g, %.6g, %.6g) N, re-solved (%.6g, %.6g, "
-                "%.6g) N, %.2f %%\n", 1e6 * dp.x(), 1e6 * dp.y(), 1e6 * dp.z(), felt.x(), felt.y(), felt.z(),
-                resolved.x(), resolved.y(), resolved.z(), 100 * (felt - resolved).norm() / resolved.norm());
+    std::printf(
+        "[ frame    ] tick at dp (%+.0f, %+.0f, %+.0f) um: felt (%.6g, %.6g, %.6g) N, re-solved (%.6g, %.6g, "
+        "%.6g) N, %.2f %%\n",
+        1e6 * dp.x(), 1e6 * dp.y(), 1e6 * dp.z(), felt.x(), felt.y(), felt.z(), resolved.x(), resolved.y(),
+        resolved.z(), 100 * (felt - resolved).norm() / resolved.norm());
     EXPECT_LT((felt - resolved).norm(), 1e-2 * resolved.norm()) << "dp " << dp.transpose();
   }
 }

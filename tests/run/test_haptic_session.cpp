@@ -4,22 +4,22 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <functional>
-#include <unistd.h>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
+#include "support/run_helpers.hpp"
 #include "vascsim/app/cli.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/interaction/scripted_device.hpp"
 #include "vascsim/interaction/session_recording.hpp"
 #include "vascsim/run/haptic_session.hpp"
-#include "support/run_helpers.hpp"
 
 namespace vascsim {
 namespace {
@@ -27,7 +27,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("vascsim-haptic-" + name + "-" + std::to_string(::getpid()));
+  const fs::path d =
+      fs::temp_directory_path() / ("vascsim-haptic-" + name + "-" + std::to_string(::getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
@@ -86,12 +87,14 @@ TEST(HapticSession, RealtimePressStaysWithinTheClamp) {
   opt.mode = "realtime";
   const auto s = run_haptic_session(test::haptic_block_scene({"haptics.force_limit_n=0.05"}), opt);
   const auto& loop = s["haptics"]["loop"];
-  std::printf("[ session  ] realtime: %.1f Hz, jitter p50/p99/max %.3f/%.3f/%.3f ms, %zu simulation steps at %.1f Hz, "
-              "force latency mean %.2f ms\n",
-              loop["achieved_rate_hz"].get<double>(), loop["jitter_p50_ms"].get<double>(),
-              loop["jitter_p99_ms"].get<double>(), loop["jitter_max_ms"].get<double>(),
-              s["haptics"]["simulation_steps"].get<std::size_t>(), s["haptics"]["deformation_rate_hz"].get<double>(),
-              loop["force_latency_mean_ms"].get<double>());
+  std::printf(
+      "[ session  ] realtime: %.1f Hz, jitter p50/p99/max %.3f/%.3f/%.3f ms, %zu simulation steps at %.1f "
+      "Hz, "
+      "force latency mean %.2f ms\n",
+      loop["achieved_rate_hz"].get<double>(), loop["jitter_p50_ms"].get<double>(),
+      loop["jitter_p99_ms"].get<double>(), loop["jitter_max_ms"].get<double>(),
+      s["haptics"]["simulation_steps"].get<std::size_t>(), s["haptics"]["deformation_rate_hz"].get<double>(),
+      loop["force_latency_mean_ms"].get<double>());
   EXPECT_GT(loop["achieved_rate_hz"].get<double>(), 800.0);
   EXPECT_LT(loop["achieved_rate_hz"].get<double>(), 1200.0);
   EXPECT_EQ(loop["nan_events"].get<std::uint64_t>(), 0u);
@@ -168,11 +171,12 @@ nlohmann::json implicit_session(const fs::path& trajectory, int ticks_per_frame,
   HapticRunOptions o;
   o.out_dir = out;
   o.mode = mode;
-  return run_haptic_session(test::haptic_block_scene({"model=implicit", "implicit.frame_s=" + frame,
-                                         "implicit.output_interval_s=" + frame, "implicit.duration_s=0.8",
-                                         "haptics.ticks_per_step=" + std::to_string(ticks_per_frame),
-                                         "haptics.device.trajectory=" + trajectory.string()}),
-                            o);
+  return run_haptic_session(
+      test::haptic_block_scene({"model=implicit", "implicit.frame_s=" + frame,
+                                "implicit.output_interval_s=" + frame, "implicit.duration_s=0.8",
+                                "haptics.ticks_per_step=" + std::to_string(ticks_per_frame),
+                                "haptics.device.trajectory=" + trajectory.string()}),
+      o);
 }
 
 // Columns of a CSV file with a header, by name, as numbers.
@@ -183,7 +187,8 @@ std::vector<std::vector<double>> csv_columns(const fs::path& file, const std::ve
   std::vector<std::string> head;
   for (std::stringstream h(line); std::getline(h, cell, ',');) head.push_back(cell);
   std::vector<std::size_t> at;
-  for (const auto& n : names) at.push_back(static_cast<std::size_t>(std::find(head.begin(), head.end(), n) - head.begin()));
+  for (const auto& n : names)
+    at.push_back(static_cast<std::size_t>(std::find(head.begin(), head.end(), n) - head.begin()));
   std::vector<std::vector<double>> rows;
   while (std::getline(in, line)) {
     std::vector<double> all;
@@ -195,8 +200,8 @@ std::vector<std::vector<double>> csv_columns(const fs::path& file, const std::ve
   return rows;
 }
 
-// The equilibrium force (z) against the tool's height, from a session's frames (force_history.csv), interpolated
-// linearly in the height.
+// The equilibrium force (z) against the tool's height, from a session's frames (force_history.csv),
+// interpolated linearly in the height.
 std::function<double(double)> equilibrium_by_height(const fs::path& session) {
   auto frames = csv_columns(session / "force_history.csv", {"tool_z_m", "force_z_n"});
   std::sort(frames.begin(), frames.end());
@@ -216,9 +221,10 @@ struct TickComparison {
 };
 
 // Every tick's tissue force (haptic_ticks.csv) against the equilibrium at the tick's tool height, where that
-// equilibrium exceeds 2 mN (the first 0.05 mm of the press, where a tenth of the force is below the ripple of a
-// frame's discrete contact set), each within `bound` relative; every tick finite.
-TickComparison compare_ticks(const fs::path& session, const std::function<double(double)>& equilibrium, double bound) {
+// equilibrium exceeds 2 mN (the first 0.05 mm of the press, where a tenth of the force is below the ripple of
+// a frame's discrete contact set), each within `bound` relative; every tick finite.
+TickComparison compare_ticks(const fs::path& session, const std::function<double(double)>& equilibrium,
+                             double bound) {
   TickComparison c;
   for (const auto& t : csv_columns(session / "haptic_ticks.csv", {"time_s", "tool_z_m", "tissue_fz_n"})) {
     EXPECT_TRUE(std::isfinite(t[2])) << "t = " << t[0];
@@ -233,29 +239,32 @@ TickComparison compare_ticks(const fs::path& session, const std::function<double
 
 // Slow frames, deterministically: the implicit model in lockstep with frames of 50 ms (20 frames/s, as on a
 // loaded machine), the haptic thread bridging 50 ticks per frame with the wall's linearised response and the
-// candidate contacts. Every tick's tissue force must stay within 10 % (the bound for the force felt at
-// 1 kHz) of the equilibrium at the tick's tool position, from a lockstep session with frames of 10 ms (converged,
-// interpolated in the tool height). Measured: worst 8.3 %, median 0.9 % (10 ms frames against themselves between
-// frames: worst 7.3 %).
+// candidate contacts. Every tick's tissue force must stay within 10 % (the bound for the force felt
+// at 1 kHz) of the equilibrium at the tick's tool position, from a lockstep session with frames of 10 ms
+// (converged, interpolated in the tool height). Measured: worst 8.3 %, median 0.9 % (10 ms frames against
+// themselves between frames: worst 7.3 %).
 TEST(HapticSession, ImplicitSlowFramesKeepEveryTickNearTheEquilibrium) {
   const fs::path d = fresh_dir("implicit-slow");
   const fs::path press = write_slow_press(d);
   implicit_session(press, 10, "lockstep", d / "frames-10ms");
   implicit_session(press, 50, "lockstep", d / "frames-50ms");
   const TickComparison c = compare_ticks(d / "frames-50ms", equilibrium_by_height(d / "frames-10ms"), 0.10);
-  std::printf("[ session  ] implicit, 50 ms frames in lockstep: %d ticks in contact, worst tick %.1f %% from the "
-              "equilibrium\n", c.compared, 100 * c.worst);
+  std::printf(
+      "[ session  ] implicit, 50 ms frames in lockstep: %d ticks in contact, worst tick %.1f %% from the "
+      "equilibrium\n",
+      c.compared, 100 * c.worst);
   EXPECT_GT(c.compared, 500);
   fs::remove_all(d);
 }
 
-// The same in a realtime session: the haptic thread at wall-clock 1 kHz, the model on the other core as fast as
-// it goes. The target, 10 % at every tick, is asserted deterministically by the lockstep test above; here
-// the frames arrive when the shared machine lets them, a frame's force is a frame old when it lands, and each
-// extrapolation spans two frames: measured 8-13 % at 40-58 frames/s with other jobs on the machine, so the bound
-// is 15 %. It presumes frames at most 50 ms apart (the lockstep test's regime): on a machine so loaded that the
-// model's thread was held longer between two frames, the accuracy check is skipped (saying so, with the gap),
-// while every tick must still be finite and within the clamp, and the loop must run.
+// The same in a realtime session: the haptic thread at wall-clock 1 kHz, the model on the other core as fast
+// as it goes. The target, 10 % at every tick, is asserted deterministically by the lockstep test
+// above; here the frames arrive when the shared machine lets them, a frame's force is a frame old when it
+// lands, and each extrapolation spans two frames: measured 8-13 % at 40-58 frames/s with other jobs on the
+// machine, so the bound is 15 %. It presumes frames at most 50 ms apart (the lockstep test's regime): on a
+// machine so loaded that the model's thread was held longer between two frames, the accuracy check is skipped
+// (saying so, with the gap), while every tick must still be finite and within the clamp, and the loop must
+// run.
 TEST(HapticSession, ImplicitRealtimeTicksFollowTheEquilibrium) {
   const fs::path d = fresh_dir("implicit-realtime");
   const fs::path press = write_slow_press(d);
@@ -270,7 +279,8 @@ TEST(HapticSession, ImplicitRealtimeTicksFollowTheEquilibrium) {
   }
   std::printf("[ session  ] implicit realtime: %.1f frames/s; %s; loop %.1f Hz, p99 jitter %.3f ms\n", rate,
               s["haptics"]["loop"]["scheduling"].get<std::string>().c_str(),
-              s["haptics"]["loop"]["achieved_rate_hz"].get<double>(), s["haptics"]["loop"]["jitter_p99_ms"].get<double>());
+              s["haptics"]["loop"]["achieved_rate_hz"].get<double>(),
+              s["haptics"]["loop"]["jitter_p99_ms"].get<double>());
   EXPECT_GT(s["haptics"]["loop"]["achieved_rate_hz"].get<double>(), 900.0);
   double gap = 0.0;  // the longest wall time between the poses of two consecutive frames
   const auto poses = csv_columns(d / "realtime" / "force_history.csv", {"pose_time_s"});
@@ -279,8 +289,9 @@ TEST(HapticSession, ImplicitRealtimeTicksFollowTheEquilibrium) {
     GTEST_SKIP() << "the machine held the model's thread for " << 1e3 * gap
                  << " ms between two frames (> 50 ms): tick accuracy not checked";
   const TickComparison c = compare_ticks(d / "realtime", equilibrium_by_height(d / "lockstep"), 0.15);
-  std::printf("[ session  ] implicit realtime: %d ticks in contact, worst tick %.1f %% from the equilibrium\n",
-              c.compared, 100 * c.worst);
+  std::printf(
+      "[ session  ] implicit realtime: %d ticks in contact, worst tick %.1f %% from the equilibrium\n",
+      c.compared, 100 * c.worst);
   EXPECT_GT(c.compared, 300);
   fs::remove_all(d);
 }
@@ -308,21 +319,21 @@ TEST(HapticSession, BadDeviceFilesExitWithCode2) {
   for (const auto& [name, text] : cases) {
     std::ofstream(d / name) << text;
     std::string err;
-    const int rc = run({"-q", "run", test::source_path("tests/data/haptic-block.json"), "--out", (d / "out").string(),
-                        "--set", "haptics.device.trajectory=" + (d / name).string()},
+    const int rc = run({"-q", "run", test::source_path("tests/data/haptic-block.json"), "--out",
+                        (d / "out").string(), "--set", "haptics.device.trajectory=" + (d / name).string()},
                        err);
     EXPECT_EQ(rc, 2) << name << ": " << err;
     EXPECT_NE(err.find(name), std::string::npos) << err;
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
   }
   std::string err;
-  EXPECT_EQ(run({"-q", "run", test::source_path("tests/data/haptic-block.json"), "--out", (d / "out").string(), "--set",
-                 "haptics.device.trajectory=" + (d / "missing.csv").string()},
+  EXPECT_EQ(run({"-q", "run", test::source_path("tests/data/haptic-block.json"), "--out",
+                 (d / "out").string(), "--set", "haptics.device.trajectory=" + (d / "missing.csv").string()},
                 err),
             2);
   EXPECT_NE(err.find("missing.csv"), std::string::npos) << err;
-  EXPECT_EQ(run({"-q", "run", test::source_path("tests/data/haptic-block.json"), "--out", (d / "out").string(), "--replay",
-                 (d / "nan.csv").string()},
+  EXPECT_EQ(run({"-q", "run", test::source_path("tests/data/haptic-block.json"), "--out",
+                 (d / "out").string(), "--replay", (d / "nan.csv").string()},
                 err),
             2);
   fs::remove_all(d);

@@ -1,5 +1,6 @@
-// geometry.fit_lattice_to_patch (geometry/lattice_fit): the lattice's counts around and along the vessel chosen so
-// that the first wall patch's strips ("strips"), or its nodes' span ("edges"), are the extent asked.
+// geometry.fit_lattice_to_patch (geometry/lattice_fit): the lattice's counts around and along the vessel
+// chosen so that the first wall patch's strips ("strips"), or its nodes' span ("edges"), are the extent
+// asked.
 
 #include <gtest/gtest.h>
 
@@ -21,9 +22,9 @@ const nlohmann::json& patch_report(const Simulation& sim) {
 }
 
 // The bundled vein's +-15 deg x +-1 mm patch at 0.3 mm: the plain lattice (28 columns 12.9 deg apart, 68
-// cross-sections 0.2985 mm apart) selects 38.6 deg and 1.79 mm (+28.6 % and -10.4 %, with warnings); the fitted
-// one selects the asked 30 deg and 2 mm (1e-9: the counts make them exact up to rounding), without warnings, with
-// counts within the 0.75-1.5 band around the plain ones.
+// cross-sections 0.2985 mm apart) selects 38.6 deg and 1.79 mm (+28.6 % and -10.4 %, with warnings); the
+// fitted one selects the asked 30 deg and 2 mm (1e-9: the counts make them exact up to rounding), without
+// warnings, with counts within the 0.75-1.5 band around the plain ones.
 TEST(LatticeFit, APatchSelectsTheAreaAsked) {
   nlohmann::json doc = read_json_file(test::source_path("scenes/vein-indent.json"), "scene", "a scene");
   doc["geometry"]["node_spacing_m"] = 0.3e-3;
@@ -36,20 +37,24 @@ TEST(LatticeFit, APatchSelectsTheAreaAsked) {
   const Simulation fitted(parse_scene(doc, "vein.json"));
   const nlohmann::json& after = patch_report(fitted);
   std::printf("[ lattice fit ] plain: %.3f deg x %.4f mm, %d nodes; fitted: %.3f deg x %.4f mm, %d nodes\n",
-              before["selected"]["angle_deg"].get<double>(), 1e3 * before["selected"]["length_m"].get<double>(),
-              static_cast<int>(plain.discretization().num_nodes()), after["selected"]["angle_deg"].get<double>(),
-              1e3 * after["selected"]["length_m"].get<double>(), static_cast<int>(fitted.discretization().num_nodes()));
+              before["selected"]["angle_deg"].get<double>(),
+              1e3 * before["selected"]["length_m"].get<double>(),
+              static_cast<int>(plain.discretization().num_nodes()),
+              after["selected"]["angle_deg"].get<double>(), 1e3 * after["selected"]["length_m"].get<double>(),
+              static_cast<int>(fitted.discretization().num_nodes()));
   EXPECT_NEAR(after["selected"]["angle_deg"].get<double>(), 30.0, 1e-9);
   EXPECT_NEAR(after["selected"]["length_m"].get<double>(), 2e-3, 1e-9 * 2e-3);
   EXPECT_NEAR(after["selected"]["angle_center_deg"].get<double>(), 90.0, 1e-9);
   EXPECT_TRUE(after["warnings"].empty()) << after["warnings"].dump();
-  const double ratio = static_cast<double>(fitted.discretization().num_nodes()) / plain.discretization().num_nodes();
+  const double ratio =
+      static_cast<double>(fitted.discretization().num_nodes()) / plain.discretization().num_nodes();
   EXPECT_GT(ratio, 0.75 * 0.75);
   EXPECT_LT(ratio, 1.5 * 1.5);
 }
 
-// Fitted to the edges, the outermost selected nodes lie on the patch's edges: the nodes span the asked 30 deg and
-// 2 mm (1e-9 again), reported as measured by span, without warnings; the strips reach half a step beyond them.
+// Fitted to the edges, the outermost selected nodes lie on the patch's edges: the nodes span the asked 30 deg
+// and 2 mm (1e-9 again), reported as measured by span, without warnings; the strips reach half a step beyond
+// them.
 TEST(LatticeFit, APatchsNodesReachItsEdges) {
   nlohmann::json doc = read_json_file(test::source_path("scenes/vein-indent.json"), "scene", "a scene");
   doc["geometry"]["node_spacing_m"] = 0.3e-3;
@@ -69,8 +74,8 @@ TEST(LatticeFit, APatchsNodesReachItsEdges) {
   EXPECT_TRUE(r["warnings"].empty()) << r["warnings"].dump();
 }
 
-// A patch of zero width and length (one column, one cross-section) fitted to its edges selects the single outer
-// node on its centre: the counts put a column and a cross-section there.
+// A patch of zero width and length (one column, one cross-section) fitted to its edges selects the single
+// outer node on its centre: the counts put a column and a cross-section there.
 TEST(LatticeFit, AZeroWidthPatchSelectsTheNodeAtItsCentre) {
   nlohmann::json doc = read_json_file(test::source_path("scenes/vein-indent.json"), "scene", "a scene");
   doc["geometry"]["node_spacing_m"] = 0.3e-3;
@@ -85,8 +90,8 @@ TEST(LatticeFit, AZeroWidthPatchSelectsTheNodeAtItsCentre) {
   EXPECT_NEAR(r["selected"]["s_center_m"].get<double>(), 10e-3, 1e-12);
 }
 
-// Without a wall patch, with the phase set by hand, or with a value that is not a fit, the key is an input error
-// naming it.
+// Without a wall patch, with the phase set by hand, or with a value that is not a fit, the key is an input
+// error naming it.
 TEST(LatticeFit, NeedsAPatchAndItsOwnPhase) {
   nlohmann::json doc = read_json_file(test::source_path("scenes/vein-indent.json"), "scene", "a scene");
   doc["geometry"]["fit_lattice_to_patch"] = "edges";

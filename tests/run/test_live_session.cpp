@@ -6,19 +6,19 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <thread>
-#include <unistd.h>
 
+#include "support/run_helpers.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/frame_exchange.hpp"
 #include "vascsim/interaction/mouse_keyboard_device.hpp"
 #include "vascsim/run/haptic_session.hpp"
 #include "vascsim/run/live_session.hpp"
-#include "support/run_helpers.hpp"
 
 namespace vascsim {
 namespace {
@@ -65,9 +65,9 @@ fs::path scratch(const std::string& name) {
   return d;
 }
 
-// Scripted mouse input in lockstep (1 ms frames, one haptic tick each): 20 idle frames, 20 notches (1 mm down,
-// one per frame), 60 frames holding. The force is exactly zero while the tip is above the block (no node
-// is in contact: no load at all) and the tissue pushes the tool up once it presses in.
+// Scripted mouse input in lockstep (1 ms frames, one haptic tick each): 20 idle frames, 20 notches (1 mm
+// down, one per frame), 60 frames holding. The force is exactly zero while the tip is above the block (no
+// node is in contact: no load at all) and the tissue pushes the tool up once it presses in.
 TEST(LiveSession, LockstepMouseAdvancesTheCatheterUntilItPressesTheBlock) {
   MouseKeyboardDevice mouse(block_mouse());
   ExchangeObserver observer;
@@ -84,21 +84,22 @@ TEST(LiveSession, LockstepMouseAdvancesTheCatheterUntilItPressesTheBlock) {
     const LiveFrameInfo& info = observer.exchange.front().info;
     ASSERT_EQ(info.frame, static_cast<std::uint64_t>(k + 1));
     ASSERT_TRUE(info.has_tool);
-    if (info.sample.tool_position_m.z() > 0.003) force_above = std::max(force_above, info.sample.force_n.norm());
+    if (info.sample.tool_position_m.z() > 0.003)
+      force_above = std::max(force_above, info.sample.force_n.norm());
     last_force = info.sample.force_n;
   }
   const LiveFrameInfo& end = observer.exchange.front().info;
   std::printf("[ live     ] tool at z = %.4f mm, force on the tool (%.3g, %.3g, %.3g) N\n",
               1e3 * end.sample.tool_position_m.z(), last_force.x(), last_force.y(), last_force.z());
   EXPECT_EQ(force_above, 0.0);
-  // The coupling's proxy follows the device (2.2 mm after 60 frames of hold, critically damped, settled within
-  // 1 % in about 20 ms): below 2.5 mm leaves 0.25 mm for the tissue pushing it back.
+  // The coupling's proxy follows the device (2.2 mm after 60 frames of hold, critically damped, settled
+  // within 1 % in about 20 ms): below 2.5 mm leaves 0.25 mm for the tissue pushing it back.
   EXPECT_LT(end.sample.tool_position_m.z(), 0.0025);
-  // 0.8 mm into the block gives more than 1 mN (as HapticSession.LockstepPressReplaysBitIdentically, scripted;
-  // measured 23 mN here).
+  // 0.8 mm into the block gives more than 1 mN (as HapticSession.LockstepPressReplaysBitIdentically,
+  // scripted; measured 23 mN here).
   EXPECT_GT(last_force.z(), 1e-3);
-  // Upwards: a frictionless press on a flat top; the tip off the node lattice tilts it a little (measured 3 %),
-  // so 90 % of the force along +z.
+  // Upwards: a frictionless press on a flat top; the tip off the node lattice tilts it a little (measured 3
+  // %), so 90 % of the force along +z.
   EXPECT_GT(last_force.z(), 0.9 * last_force.norm());
   EXPECT_GT(end.haptics.ticks, 99u);
 }

@@ -10,8 +10,8 @@
 
 #include "vascsim/app/cli.hpp"
 #include "vascsim/core/error.hpp"
-#include "vascsim/scene/scene.hpp"
 #include "vascsim/run/simulation.hpp"
+#include "vascsim/scene/scene.hpp"
 
 namespace vascsim {
 namespace {
@@ -62,7 +62,8 @@ TEST(MaterialLawScene, AllLawsMatchSvkAtSmallStrain) {
   // Mooney-Rivlin with mu = 2 (C10 + C01) and the bulk modulus of E = 0.5 MPa, nu = 0.45.
   const double mu = 5e5 / (2 * 1.45), kappa = 5e5 / (3 * (1 - 0.9));
   json mr = svk;
-  mr["material"] = {{"law", "mooney_rivlin"}, {"c10_pa", 0.35 * mu}, {"c01_pa", 0.15 * mu}, {"bulk_modulus_pa", kappa}};
+  mr["material"] = {
+      {"law", "mooney_rivlin"}, {"c10_pa", 0.35 * mu}, {"c01_pa", 0.15 * mu}, {"bulk_modulus_pa", kappa}};
   EXPECT_NEAR(top_displacement(mr) / u_svk, 1.0, 5e-3);
 }
 
@@ -74,8 +75,8 @@ TEST(MaterialLawScene, LawsDifferAtLargeStrain) {
   json neo = svk;
   neo["material"]["law"] = "neo_hookean";
   const double u_svk = top_displacement(svk), u_neo = top_displacement(neo);
-  std::printf("[ laws     ] cube pulled by 2 N: top displacement svk %.4g mm, neo-Hookean %.4g mm\n", u_svk * 1e3,
-              u_neo * 1e3);
+  std::printf("[ laws     ] cube pulled by 2 N: top displacement svk %.4g mm, neo-Hookean %.4g mm\n",
+              u_svk * 1e3, u_neo * 1e3);
   EXPECT_GT(u_svk, 0.5e-3);  // a large strain indeed (> 12 %)
   EXPECT_GT(std::abs(u_neo / u_svk - 1.0), 0.02);
 }
@@ -129,8 +130,8 @@ TEST(MaterialLawScene, XpbdWithALawApproachesTheStaticSolution) {
   doc["material"]["youngs_modulus_pa"] = 2e4;
   const double u_static = top_displacement(doc);
   doc["model"] = "xpbd";
-  doc["xpbd"] = {{"duration_s", 0.6}, {"ramp_time_s", 0.1}, {"output_interval_s", 0.1}, {"damping_per_s", 30},
-                 {"substeps", 8}, {"iterations", 4}};
+  doc["xpbd"] = {{"duration_s", 0.6},   {"ramp_time_s", 0.1}, {"output_interval_s", 0.1},
+                 {"damping_per_s", 30}, {"substeps", 8},      {"iterations", 4}};
   Simulation sim(parse_scene(doc, "law-cube"));
   StepRecord rec, previous;
   for (int k = 1; k <= sim.model().num_steps(); ++k) {
@@ -138,9 +139,10 @@ TEST(MaterialLawScene, XpbdWithALawApproachesTheStaticSolution) {
     rec = sim.advance(k);
   }
   const double u_xpbd = rec.regions.at(1).displacement_m;
-  std::printf("[ laws     ] neo-Hookean cube: quasi_static %.5g mm, xpbd 8x4 steady %.5g mm (%.2f %%)\n", u_static * 1e3,
-              u_xpbd * 1e3, 100 * (u_xpbd / u_static - 1));
-  EXPECT_NEAR(rec.regions.at(1).displacement_m, previous.regions.at(1).displacement_m, 1e-3 * u_static);  // steady
+  std::printf("[ laws     ] neo-Hookean cube: quasi_static %.5g mm, xpbd 8x4 steady %.5g mm (%.2f %%)\n",
+              u_static * 1e3, u_xpbd * 1e3, 100 * (u_xpbd / u_static - 1));
+  EXPECT_NEAR(rec.regions.at(1).displacement_m, previous.regions.at(1).displacement_m,
+              1e-3 * u_static);  // steady
   EXPECT_NEAR(u_xpbd / u_static, 1.0, 0.05);
 }
 
@@ -166,7 +168,7 @@ TEST(MaterialLawScene, BadMaterialBlocksNameTheKey) {
   expect_input_error(d, "material.law");
   d = cube(1e-3);
   d["material"] = {{"law", "hgo"}, {"shear_modulus_pa", 3e4}, {"bulk_modulus_pa", 3e5}, {"k1_pa", 2e4},
-                   {"k2", 0.8}, {"fibre_angle_deg", 29}};
+                   {"k2", 0.8},    {"fibre_angle_deg", 29}};
   expect_input_error(d, "centre-line");  // a box has no vessel frame for the fibres
   d["material"]["fibre_angle_deg"] = 95;
   expect_input_error(d, "fibre_angle_deg");
@@ -178,7 +180,8 @@ TEST(MaterialLawScene, BadMaterialBlocksNameTheKey) {
 TEST(MaterialLawScene, BadMaterialExitsWithCode2) {
   std::ostringstream out, err;
   EXPECT_EQ(run_cli({"run", std::string(VASCSIM_SOURCE_DIR) + "/scenes/vein-indent.json", "--set",
-                     "material.law=neo_hookean", "--set", "material.poisson_ratio=0.5", "--out", "/tmp/vascsim-bad-law"},
+                     "material.law=neo_hookean", "--set", "material.poisson_ratio=0.5", "--out",
+                     "/tmp/vascsim-bad-law"},
                     out, err),
             2);
   EXPECT_NE(err.str().find("poisson_ratio"), std::string::npos) << err.str();

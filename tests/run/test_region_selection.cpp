@@ -56,7 +56,8 @@ struct Selected {
   Body body;
   std::unique_ptr<Discretization> disc;
   std::vector<RegionSelection> reports;
-  explicit Selected(const json& doc) : scene(parse_scene(doc, "patch-phase")), body(build_body(scene.geometry)) {
+  explicit Selected(const json& doc)
+      : scene(parse_scene(doc, "patch-phase")), body(build_body(scene.geometry)) {
     disc = std::make_unique<Discretization>(body.cloud, scene.material, discretization_options(scene, body));
     reports = describe_selections(scene, *disc, body, build_regions(scene, *disc, body));
   }
@@ -140,14 +141,16 @@ std::string empty_selection_error(const json& doc) {
   return "";
 }
 
-// A region that selects nothing says why (it said only "selects no nodes"): the body's extent in the selector's
-// own coordinates beside the window asked, and "these values look like millimetres" where the window divided by
-// 1000 meets the body.
+// A region that selects nothing says why (it said only "selects no nodes"): the body's extent in the
+// selector's own coordinates beside the window asked, and "these values look like millimetres" where the
+// window divided by 1000 meets the body.
 TEST(RegionSelection, ARegionThatSelectsNothingNamesTheBodysExtentAndItsWindow) {
   auto expect_has = [](const std::string& message, const std::vector<std::string>& parts, bool millimetres) {
-    for (const std::string& p : parts) EXPECT_NE(message.find(p), std::string::npos) << "'" << p << "' in " << message;
-    EXPECT_EQ(message.find("these values look like millimetres (divided by 1000 they meet the body): lengths are in "
-                           "metres") != std::string::npos,
+    for (const std::string& p : parts)
+      EXPECT_NE(message.find(p), std::string::npos) << "'" << p << "' in " << message;
+    EXPECT_EQ(message.find(
+                  "these values look like millimetres (divided by 1000 they meet the body): lengths are in "
+                  "metres") != std::string::npos,
               millimetres)
         << message;
   };
@@ -155,33 +158,39 @@ TEST(RegionSelection, ARegionThatSelectsNothingNamesTheBodysExtentAndItsWindow) 
   json doc = vein(90.0);
   doc["regions"][2]["select"]["s_center_m"] = 2.0;
   doc["regions"][2]["select"]["s_half_length_m"] = 0.6;
-  expect_has(empty_selection_error(doc),
-             {"patch-phase: key 'regions.2.select': region 'indenter' selects no nodes: its window is 90 +- 15 deg "
-              "round the centre-line (angle_center_deg, angle_half_width_deg) and s = 2 +- 0.6 m along it",
-              "the body's outer surface nodes lie at s = 0 .. 0.004 m"},
-             true);
-  // In metres on the body, but narrower than a column and between two (the plain lattice's 88.4 and 94.7 deg).
+  expect_has(
+      empty_selection_error(doc),
+      {"patch-phase: key 'regions.2.select': region 'indenter' selects no nodes: its window is 90 +- 15 deg "
+       "round the centre-line (angle_center_deg, angle_half_width_deg) and s = 2 +- 0.6 m along it",
+       "the body's outer surface nodes lie at s = 0 .. 0.004 m"},
+      true);
+  // In metres on the body, but narrower than a column and between two (the plain lattice's 88.4 and 94.7
+  // deg).
   doc = vein(90.0);
   doc["geometry"]["lattice_angle_deg"] = 0;
   doc["regions"][2]["select"]["angle_half_width_deg"] = 1.0;
-  expect_has(empty_selection_error(doc), {"their column nearest 90 deg is 1.579 deg from it (a column every 6.316 deg)"},
-             false);
+  expect_has(empty_selection_error(doc),
+             {"their column nearest 90 deg is 1.579 deg from it (a column every 6.316 deg)"}, false);
   // A box in millimetres, and one that misses the body in either unit.
   doc = vein(90.0);
-  doc["regions"][2]["select"] = json::parse(R"({ "type": "box", "min_m": [-1, 1, 1.5], "max_m": [1, 2, 2.5] })");
+  doc["regions"][2]["select"] =
+      json::parse(R"({ "type": "box", "min_m": [-1, 1, 1.5], "max_m": [1, 2, 2.5] })");
   doc["regions"][2]["bc"] = {{"type", "fixed"}};
   expect_has(empty_selection_error(doc),
-             {"its box [-1, 1, 1.5] .. [1, 2, 2.5] m (min_m, max_m) holds none of the body, whose nodes lie within [",
+             {"its box [-1, 1, 1.5] .. [1, 2, 2.5] m (min_m, max_m) holds none of the body, whose nodes lie "
+              "within [",
               ", 0] .. [", ", 0.004] m"},
              true);
   doc["regions"][2]["select"] = json::parse(R"({ "type": "box", "min_m": [10, 10, 10] })");
   expect_has(empty_selection_error(doc), {"its box [10, 10, 10] .. [inf, inf, inf] m"}, false);
   // A surface patch centred in millimetres.
-  doc["regions"][2]["select"] = json::parse(R"({ "type": "surface_patch", "centre_m": [0, 1.5, 2], "radius_m": 0.6 })");
-  expect_has(empty_selection_error(doc),
-             {"its sphere of radius 0.6 m (radius_m) round [0, 1.5, 2] m (centre_m) holds none of the body's outer "
-              "surface nodes"},
-             true);
+  doc["regions"][2]["select"] =
+      json::parse(R"({ "type": "surface_patch", "centre_m": [0, 1.5, 2], "radius_m": 0.6 })");
+  expect_has(
+      empty_selection_error(doc),
+      {"its sphere of radius 0.6 m (radius_m) round [0, 1.5, 2] m (centre_m) holds none of the body's outer "
+       "surface nodes"},
+      true);
 }
 
 double patch_force(const json& doc) {
@@ -204,8 +213,10 @@ TEST(RegionSelection, PatchForceDoesNotDependOnTheLatticePhaseSlow) {
   plain_on["geometry"]["lattice_angle_deg"] = 0;
   plain_between["geometry"]["lattice_angle_deg"] = 0;
   const double f_on = patch_force(plain_on), f_between = patch_force(plain_between);
-  std::printf("[ patch    ] force at 0.2 mm: aligned %.5g / %.5g mN; plain lattice 5 columns %.5g, 4 columns %.5g mN\n",
-              on_line * 1e3, between * 1e3, f_on * 1e3, f_between * 1e3);
+  std::printf(
+      "[ patch    ] force at 0.2 mm: aligned %.5g / %.5g mN; plain lattice 5 columns %.5g, 4 columns %.5g "
+      "mN\n",
+      on_line * 1e3, between * 1e3, f_on * 1e3, f_between * 1e3);
   EXPECT_NEAR(f_on / on_line, 1.0, 1e-6);  // 14 columns: on a line of the plain lattice already
   EXPECT_GT(f_on / f_between - 1.0, 0.05);
 }

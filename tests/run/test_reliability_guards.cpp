@@ -42,7 +42,8 @@ TEST(InversionCheck, FindsEveryInvertedTetAndNode) {
   const InversionReport r = check_inversion(sim.problem(), mirrored);
   EXPECT_EQ(r.inverted_tets, static_cast<Index>(sim.discretization().tets().size()));
   EXPECT_EQ(r.inverted_nodes, sim.discretization().num_nodes());
-  EXPECT_NEAR(r.min_det_f, -1.0, 1e-12);  // a mirror is exactly linear: the MLS fit reproduces it to round-off
+  EXPECT_NEAR(r.min_det_f, -1.0,
+              1e-12);  // a mirror is exactly linear: the MLS fit reproduces it to round-off
   EXPECT_EQ(r.first_tet, 0);
   EXPECT_EQ(r.first_node, 0);
 }

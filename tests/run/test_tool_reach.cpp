@@ -1,5 +1,5 @@
-// Whether a tool will touch the body, from the geometry: the closest approach of its swept path (load factor) or
-// of its trajectory (device) to the nodes, checked against a hand-computed distance.
+// Whether a tool will touch the body, from the geometry: the closest approach of its swept path (load factor)
+// or of its trajectory (device) to the nodes, checked against a hand-computed distance.
 
 #include <gtest/gtest.h>
 
@@ -20,7 +20,7 @@ TEST(ToolReach, LoadPathFindsTheClosestApproachAndWhetherItTouches) {
   sphere.name = "ball";
   sphere.radius_m = 1e-3;
   sphere.a_m = sphere.b_m = sphere.tool_point_m = Vec3(0, 3e-3, 0);  // 2 mm gap at s = 0
-  sphere.motion_m = Vec3(0, -1.5e-3, 0);                            // 0.5 mm gap at s = 1
+  sphere.motion_m = Vec3(0, -1.5e-3, 0);                             // 0.5 mm gap at s = 1
   ToolReach r = tool_reach_by_load(sphere, row_of_nodes());
   EXPECT_FALSE(r.touches());
   EXPECT_NEAR(r.clearance_m, 0.5e-3, 1e-12);  // at the end of the path: exact (a sample lies there)

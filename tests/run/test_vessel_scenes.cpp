@@ -13,8 +13,8 @@
 #include "vascsim/core/error.hpp"
 #include "vascsim/run/discretization_setup.hpp"
 #include "vascsim/run/runner.hpp"
-#include "vascsim/scene/scene.hpp"
 #include "vascsim/run/simulation.hpp"
+#include "vascsim/scene/scene.hpp"
 
 namespace {
 
@@ -99,7 +99,8 @@ TEST(VesselScene, StraightVesselEqualsTheTube) {
     ]
   })");
   json vessel = tube;
-  vessel["geometry"] = json::parse(R"({ "type": "vessel", "centerline": { "type": "straight", "length_m": 2.4e-3 },
+  vessel["geometry"] =
+      json::parse(R"({ "type": "vessel", "centerline": { "type": "straight", "length_m": 2.4e-3 },
     "outer_radius_m": 1.5e-3, "wall_thickness_m": 0.4e-3, "node_spacing_m": 0.4e-3 })");
   vessel["regions"][1]["select"].erase("z_center_m");
   vessel["regions"][1]["select"].erase("z_half_length_m");
@@ -113,7 +114,8 @@ TEST(VesselScene, StraightVesselEqualsTheTube) {
     EXPECT_LT((t.regions[r].displacement_m - v.regions[r].displacement_m).norm(), 1e-12 * 1e-4);
   }
   const double th = 45.0 * std::numbers::pi / 180.0;
-  EXPECT_LT((t.regions[1].displacement_m - (-1e-4) * Vec3(std::cos(th), std::sin(th), 0.0)).norm(), 1e-12 * 1e-4);
+  EXPECT_LT((t.regions[1].displacement_m - (-1e-4) * Vec3(std::cos(th), std::sin(th), 0.0)).norm(),
+            1e-12 * 1e-4);
   // The tube's render surface: 2 walls and 2 end rings, closed (every edge in two triangles).
   ASSERT_TRUE(t.body.surface.has_value());
   std::map<std::pair<Index, Index>, int> edges;
@@ -125,7 +127,8 @@ TEST(VesselScene, StraightVesselEqualsTheTube) {
 TEST(VesselScene, SurfacePatchSelectsTheOuterShellAroundAPoint) {
   json doc = bent_vessel();
   doc["geometry"]["centerline"] = {{"type", "straight"}, {"length_m", 3.2e-3}};
-  doc["regions"][2]["select"] = {{"type", "surface_patch"}, {"centre_m", {0.0, 1.5e-3, 1.6e-3}}, {"radius_m", 0.7e-3}};
+  doc["regions"][2]["select"] = {
+      {"type", "surface_patch"}, {"centre_m", {0.0, 1.5e-3, 1.6e-3}}, {"radius_m", 0.7e-3}};
   const Built b = build(doc);
   const Region& ind = b.regions[2];
   ASSERT_GT(ind.nodes.size(), 3u);
@@ -141,7 +144,8 @@ TEST(VesselScene, SurfacePatchSelectsTheOuterShellAroundAPoint) {
 
 TEST(VesselScene, CentrelineSelectorsOnABoxFailClearly) {
   json doc = bent_vessel();
-  doc["geometry"] = {{"type", "box"}, {"min_m", {0, 0, 0}}, {"max_m", {1e-3, 1e-3, 1e-3}}, {"node_spacing_m", 5e-4}};
+  doc["geometry"] = {
+      {"type", "box"}, {"min_m", {0, 0, 0}}, {"max_m", {1e-3, 1e-3, 1e-3}}, {"node_spacing_m", 5e-4}};
   doc["regions"] = json::array({bent_vessel()["regions"][2]});
   doc["regions"][0]["select"] = {{"type", "surface_patch"}, {"centre_m", {0, 0, 0}}, {"radius_m", 1e-3}};
   try {

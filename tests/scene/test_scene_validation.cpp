@@ -17,14 +17,14 @@
 #include <string>
 #include <vector>
 
+#include "support/cli_capture.hpp"
+#include "support/scene_errors.hpp"
+#include "support/scenes.hpp"
 #include "vascsim/app/cli.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/model/explicit_model.hpp"
 #include "vascsim/model/quasi_static_model.hpp"
 #include "vascsim/scene/scene.hpp"
-#include "support/cli_capture.hpp"
-#include "support/scene_errors.hpp"
-#include "support/scenes.hpp"
 
 namespace {
 
@@ -38,7 +38,9 @@ using vascsim::test::tiny_box;
 
 using CliResult = vascsim::test::CliCapture;
 
-CliResult cli(const std::vector<std::string>& args) { return vascsim::test::run_cli_captured(args); }
+CliResult cli(const std::vector<std::string>& args) {
+  return vascsim::test::run_cli_captured(args);
+}
 
 /// This process's scratch folder under testing::TempDir().
 fs::path scratch_root() {
@@ -80,7 +82,6 @@ std::string read_text(const fs::path& file) {
   s << in.rdbuf();
   return s.str();
 }
-
 
 /// A valid tube (3 layers x 20 around x 5 rings = 300 nodes): both end rings clamped, a 3 x 3 node
 /// patch on the outer wall at theta = 90 deg pushed 50 um inward.
@@ -342,7 +343,8 @@ TEST(SceneValidation, RegionSelectingNoNodes) {
       R"({ "name": "nowhere", "select": { "type": "box", "min_m": [1, 1, 1], "max_m": [2, 2, 2] } })"));
   const std::string path = write_scene(test_dir() / "scene.json", s);
   // Found after the geometry is built; the message names the region and its select block.
-  expect_input_error(path, {}, {path + ": ", "region 'nowhere'", "selects no nodes", "key 'regions.2.select'"});
+  expect_input_error(path, {},
+                     {path + ": ", "region 'nowhere'", "selects no nodes", "key 'regions.2.select'"});
 }
 
 TEST(SceneValidation, TubeSelectorOnBox) {
@@ -361,10 +363,10 @@ TEST(SceneValidation, WallThicknessNotBelowOuterRadius) {
   }
 }
 
-// A misspelt required key is reported as the unknown key the file holds, with the key meant, in every block (it
-// was reported as the key meant, missing: "key 'geometry.wall_thickness_m': missing"). A present key that is
-// another allowed key is not taken for a misspelling (a capsule's b_m of its a_m, Mooney-Rivlin's c01_pa of its
-// c10_pa: one edit apart each), and a key near nothing allowed gets no suggestion.
+// A misspelt required key is reported as the unknown key the file holds, with the key meant, in every block
+// (it was reported as the key meant, missing: "key 'geometry.wall_thickness_m': missing"). A present key that
+// is another allowed key is not taken for a misspelling (a capsule's b_m of its a_m, Mooney-Rivlin's c01_pa
+// of its c10_pa: one edit apart each), and a key near nothing allowed gets no suggestion.
 TEST(SceneValidation, AMisspeltRequiredKeyIsNamedAsTypedWithTheKeyMeant) {
   auto rename = [](json& block, const std::string& from, const std::string& to) {
     block[to] = block[from];
@@ -373,8 +375,9 @@ TEST(SceneValidation, AMisspeltRequiredKeyIsNamedAsTypedWithTheKeyMeant) {
   {
     json s = tiny_tube();
     rename(s["geometry"], "wall_thickness_m", "wall_thicknes_m");
-    expect_scene_error(s, "geometry.wall_thicknes_m",
-                       {"unknown key (did you mean 'wall_thickness_m'?); 'wall_thickness_m' is missing: a number in"});
+    expect_scene_error(
+        s, "geometry.wall_thicknes_m",
+        {"unknown key (did you mean 'wall_thickness_m'?); 'wall_thickness_m' is missing: a number in"});
   }
   {
     json s = tiny_tube();
@@ -383,12 +386,14 @@ TEST(SceneValidation, AMisspeltRequiredKeyIsNamedAsTypedWithTheKeyMeant) {
   }
   {
     json s = tiny_tube();
-    s["obstacles"] = json::parse(R"([{ "name": "probe", "radius_m": 1e-3, "center_m": [0, 2.6e-3, 0.8e-3] }])");
+    s["obstacles"] =
+        json::parse(R"([{ "name": "probe", "radius_m": 1e-3, "center_m": [0, 2.6e-3, 0.8e-3] }])");
     expect_scene_error(s, "obstacles.0.center_m", {"did you mean 'centre_m'?"});
   }
   {
     json s = tiny_tube();
-    s["obstacles"] = json::parse(R"([{ "name": "probe", "shape": "capsule", "radius_m": 1e-3, "b_m": [0, 3e-3, 1e-3] }])");
+    s["obstacles"] =
+        json::parse(R"([{ "name": "probe", "shape": "capsule", "radius_m": 1e-3, "b_m": [0, 3e-3, 1e-3] }])");
     expect_scene_error(s, "obstacles.0.a_m", {"missing; an array of 3 numbers"});
   }
   {
@@ -403,9 +408,9 @@ TEST(SceneValidation, AMisspeltRequiredKeyIsNamedAsTypedWithTheKeyMeant) {
   }
 }
 
-// An unknown key names the nearest allowed key where one is a few edits away; the list of allowed keys holds every
-// key the block accepts, a vessel's refine included when the scene has no refine block (it was listed only with
-// one).
+// An unknown key names the nearest allowed key where one is a few edits away; the list of allowed keys holds
+// every key the block accepts, a vessel's refine included when the scene has no refine block (it was listed
+// only with one).
 TEST(SceneValidation, AnUnknownKeyNamesTheNearestAllowedKeyAndEveryAllowedKey) {
   {
     json s = tiny_tube();
@@ -461,8 +466,8 @@ TEST(SceneValidation, BadMeshFilesExitTwoWithOneLineNamingTheFile) {
     const int f[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
     std::string s = "solid t\n";
     for (const auto& t : f)
-      s += "facet normal 0 0 0\nouter loop\nvertex " + v[t[0]] + "\nvertex " + v[t[1]] + "\nvertex " + v[t[2]] +
-           "\nendloop\nendfacet\n";
+      s += "facet normal 0 0 0\nouter loop\nvertex " + v[t[0]] + "\nvertex " + v[t[1]] + "\nvertex " +
+           v[t[2]] + "\nendloop\nendfacet\n";
     return s + "endsolid t\n";
   };
   const std::vector<std::pair<std::string, std::string>> files = {
@@ -476,7 +481,8 @@ TEST(SceneValidation, BadMeshFilesExitTwoWithOneLineNamingTheFile) {
     const fs::path mesh = dir / name;
     if (!text.empty()) write_text(mesh, text == "<empty>" ? "" : text);
     json s = tiny_box();
-    s["geometry"] = {{"type", "mesh"}, {"file", mesh.string()}, {"wall_thickness_m", 0.1}, {"node_spacing_m", 0.05}};
+    s["geometry"] = {
+        {"type", "mesh"}, {"file", mesh.string()}, {"wall_thickness_m", 0.1}, {"node_spacing_m", 0.05}};
     s["regions"] = json::array();
     const std::string path = write_scene(dir / ("scene-" + name + ".json"), s);
     const CliResult r = cli({"-q", "run", path, "--out", (dir / "out").string()});
@@ -606,37 +612,43 @@ std::string scene_warning_lines(const Scene& sc) {
   return out;
 }
 
-// The tiny tube typed in millimetres (a vessel of 1.5 m radius and 1.6 m long) parses, and names its radius and
-// its length with the fix; in metres it warns of nothing. A bent vessel's centre-line names the key that sets
-// its length, and that key's value in the fix.
+// The tiny tube typed in millimetres (a vessel of 1.5 m radius and 1.6 m long) parses, and names its radius
+// and its length with the fix; in metres it warns of nothing. A bent vessel's centre-line names the key that
+// sets its length, and that key's value in the fix.
 TEST(SceneWarnings, AVesselTypedInMillimetresIsNamed) {
   json s = tiny_tube();
-  EXPECT_TRUE(parse_scene(s, "tube.json").warnings.empty()) << scene_warning_lines(parse_scene(s, "tube.json"));
+  EXPECT_TRUE(parse_scene(s, "tube.json").warnings.empty())
+      << scene_warning_lines(parse_scene(s, "tube.json"));
   for (const char* key : {"outer_radius_m", "wall_thickness_m", "length_m", "node_spacing_m"})
     s["geometry"][key] = 1e3 * s["geometry"][key].get<double>();
   for (const char* key : {"z_center_m", "z_half_length_m"})
     s["regions"][2]["select"][key] = 1e3 * s["regions"][2]["select"][key].get<double>();
   s["probes"][0]["position_m"] = {0, 1.5, 0.8};
   const Scene mm = parse_scene(s, "tube.json");
-  EXPECT_TRUE(scene_has_warning(mm, "tube.json: key 'geometry.outer_radius_m': a vessel radius of 1.5 m is implausible "
-                              "(above 0.05 m); if these are millimetres, write them in metres (1.5e-3)"))
+  EXPECT_TRUE(
+      scene_has_warning(mm,
+                        "tube.json: key 'geometry.outer_radius_m': a vessel radius of 1.5 m is implausible "
+                        "(above 0.05 m); if these are millimetres, write them in metres (1.5e-3)"))
       << scene_warning_lines(mm);
-  EXPECT_TRUE(scene_has_warning(mm, "key 'geometry.length_m': a vessel length of 1.6 m is implausible (above 1 m); if "
-                              "these are millimetres, write them in metres (1.6e-3)"))
+  EXPECT_TRUE(
+      scene_has_warning(mm,
+                        "key 'geometry.length_m': a vessel length of 1.6 m is implausible (above 1 m); if "
+                        "these are millimetres, write them in metres (1.6e-3)"))
       << scene_warning_lines(mm);
   json bent = tiny_tube();
   bent["geometry"] = json::parse(R"({ "type": "vessel", "outer_radius_m": 1.5e-3, "wall_thickness_m": 0.4e-3,
       "node_spacing_m": 0.4e-3, "centerline": { "type": "bent", "radius_of_curvature_m": 5, "angle_deg": 90 } })");
-  EXPECT_TRUE(scene_has_warning(parse_scene(bent, "bent.json"), "key 'geometry.centerline.radius_of_curvature_m': a "
-                                                          "centre-line length of 7.854 m is implausible (above 1 m); "
-                                                          "if these are millimetres, write them in metres (5e-3)"))
+  EXPECT_TRUE(scene_has_warning(parse_scene(bent, "bent.json"),
+                                "key 'geometry.centerline.radius_of_curvature_m': a "
+                                "centre-line length of 7.854 m is implausible (above 1 m); "
+                                "if these are millimetres, write them in metres (5e-3)"))
       << scene_warning_lines(parse_scene(bent, "bent.json"));
 }
 
-// A node spacing along the wall coarser than the forces are measured accurate at (docs/validation.md, "Real-time
-// resolutions"): with the quadratic fit (quasi_static's default on walls) above 1x the wall's thickness, with the
-// linear fit above 1.5x; on a graded lattice the window's spacing counts. The same lattice's failed guards name
-// the spacing first (coarse_spacing_advice).
+// A node spacing along the wall coarser than the forces are measured accurate at (docs/validation.md,
+// "Real-time resolutions"): with the quadratic fit (quasi_static's default on walls) above 1x the wall's
+// thickness, with the linear fit above 1.5x; on a graded lattice the window's spacing counts. The same
+// lattice's failed guards name the spacing first (coarse_spacing_advice).
 TEST(SceneWarnings, ALatticeCoarseForItsWallIsNamed) {
   json s = tiny_tube();  // a 0.4 mm wall at 0.4 mm: 1x
   const Scene at_limit = parse_scene(s, "tube.json");
@@ -644,26 +656,33 @@ TEST(SceneWarnings, ALatticeCoarseForItsWallIsNamed) {
   EXPECT_EQ(at_limit.discretization.coarse_spacing_advice, "");
   s["geometry"]["node_spacing_m"] = 0.8e-3;
   const Scene coarse = parse_scene(s, "tube.json");
-  EXPECT_TRUE(scene_has_warning(coarse, "tube.json: key 'geometry.node_spacing_m': the node spacing along the wall, "
-                                  "0.0008 m, is 2x the wall thickness (0.0004 m), coarser than the 1x up to which the "
-                                  "forces are measured accurate (with the quadratic fit"))
+  EXPECT_TRUE(
+      scene_has_warning(coarse,
+                        "tube.json: key 'geometry.node_spacing_m': the node spacing along the wall, "
+                        "0.0008 m, is 2x the wall thickness (0.0004 m), coarser than the 1x up to which the "
+                        "forces are measured accurate (with the quadratic fit"))
       << scene_warning_lines(coarse);
-  EXPECT_TRUE(scene_has_warning(coarse, "reduce geometry.node_spacing_m to at most 0.0004 m")) << scene_warning_lines(coarse);
-  const std::string advice = "reduce geometry.node_spacing_m (now 2x the wall thickness; forces are measured "
-                             "accurate up to 1x)";
+  EXPECT_TRUE(scene_has_warning(coarse, "reduce geometry.node_spacing_m to at most 0.0004 m"))
+      << scene_warning_lines(coarse);
+  const std::string advice =
+      "reduce geometry.node_spacing_m (now 2x the wall thickness; forces are measured "
+      "accurate up to 1x)";
   EXPECT_EQ(coarse.discretization.coarse_spacing_advice, advice);
   EXPECT_EQ(coarse.mapping.coarse_spacing_advice, advice);
   // The linear fit: 1.25x passes, 2x is named with its own limit.
   s["discretization"] = {{"basis", "linear"}};
   s["geometry"]["node_spacing_m"] = 0.5e-3;
-  EXPECT_TRUE(parse_scene(s, "tube.json").warnings.empty()) << scene_warning_lines(parse_scene(s, "tube.json"));
+  EXPECT_TRUE(parse_scene(s, "tube.json").warnings.empty())
+      << scene_warning_lines(parse_scene(s, "tube.json"));
   s["geometry"]["node_spacing_m"] = 0.8e-3;
-  EXPECT_TRUE(scene_has_warning(parse_scene(s, "tube.json"), "coarser than the 1.5x up to which the forces are measured "
-                                                       "accurate (with the linear fit"));
+  EXPECT_TRUE(scene_has_warning(parse_scene(s, "tube.json"),
+                                "coarser than the 1.5x up to which the forces are measured "
+                                "accurate (with the linear fit"));
   // A graded vessel 4x away from its window: the window's spacing is what counts.
   json graded = tiny_tube();
   graded["regions"].erase(2);
-  graded["geometry"] = json::parse(R"({ "type": "vessel", "centerline": { "type": "straight", "length_m": 8e-3 },
+  graded["geometry"] =
+      json::parse(R"({ "type": "vessel", "centerline": { "type": "straight", "length_m": 8e-3 },
       "outer_radius_m": 1.5e-3, "wall_thickness_m": 0.3e-3, "node_spacing_m": 1.2e-3,
       "refine": { "angle_center_deg": 90, "angle_half_width_deg": 20, "s_half_length_m": 1e-3,
                   "node_spacing_m": 0.15e-3 } })");
@@ -671,8 +690,9 @@ TEST(SceneWarnings, ALatticeCoarseForItsWallIsNamed) {
   EXPECT_TRUE(fine_window.warnings.empty()) << scene_warning_lines(fine_window);
   EXPECT_NE(fine_window.discretization.coarse_spacing_advice, "");  // a failed guard would be away from it
   graded["geometry"]["refine"]["node_spacing_m"] = 0.45e-3;
-  EXPECT_TRUE(scene_has_warning(parse_scene(graded, "graded.json"), "key 'geometry.refine.node_spacing_m': the node "
-                                                              "spacing along the wall, 0.00045 m, is 1.5x"));
+  EXPECT_TRUE(scene_has_warning(parse_scene(graded, "graded.json"),
+                                "key 'geometry.refine.node_spacing_m': the node "
+                                "spacing along the wall, 0.00045 m, is 1.5x"));
 }
 
 // An obstacle's node_radius_m moves the contact from the wall's surface (the default with quasi_static's wall
@@ -688,15 +708,19 @@ TEST(SceneWarnings, ANodeRadiusThatMovesTheContactToTheNodesIsNamed) {
   s["obstacles"][0]["node_radius_m"] = 0.1e-3;
   const Scene nodes = parse_scene(s, "tube.json");
   EXPECT_FALSE(nodes.contact.embedded);
-  EXPECT_TRUE(scene_has_warning(nodes, "tube.json: key 'obstacles.0.node_radius_m': obstacle 'probe' keeps the nodes 0.0001 "
-                                 "m off the tool, which moves the contact of every tool from the wall's surface"))
+  EXPECT_TRUE(
+      scene_has_warning(nodes,
+                        "tube.json: key 'obstacles.0.node_radius_m': obstacle 'probe' keeps the nodes 0.0001 "
+                        "m off the tool, which moves the contact of every tool from the wall's surface"))
       << scene_warning_lines(nodes);
   EXPECT_TRUE(scene_has_warning(nodes, "set contact.surface to \"nodes\" if the nodes' contact is meant"));
   s["contact"] = {{"surface", "nodes"}};
-  EXPECT_TRUE(parse_scene(s, "tube.json").warnings.empty()) << scene_warning_lines(parse_scene(s, "tube.json"));
+  EXPECT_TRUE(parse_scene(s, "tube.json").warnings.empty())
+      << scene_warning_lines(parse_scene(s, "tube.json"));
   s.erase("contact");
   s["model"] = "implicit";  // its default contact is the nodes
-  EXPECT_TRUE(parse_scene(s, "tube.json").warnings.empty()) << scene_warning_lines(parse_scene(s, "tube.json"));
+  EXPECT_TRUE(parse_scene(s, "tube.json").warnings.empty())
+      << scene_warning_lines(parse_scene(s, "tube.json"));
 }
 
 TEST(SceneOverride, SetModelExplicitChangesTheModel) {

@@ -1,6 +1,6 @@
 #pragma once
-// `vascsim ...` in-process through run_cli, with what it printed, and a scratch folder per test: for the tests
-// of error exits and output files.
+// `vascsim ...` in-process through run_cli, with what it printed, and a scratch folder per test: for the
+// tests of error exits and output files.
 
 #include <gtest/gtest.h>
 #include <spdlog/spdlog.h>
@@ -20,7 +20,8 @@ namespace vascsim::test {
 struct CliCapture {
   int code = -1;
   std::string out, err;
-  std::vector<std::string> messages;  ///< lines of err that are neither log lines ("[level] msg") nor progress lines
+  std::vector<std::string>
+      messages;  ///< lines of err that are neither log lines ("[level] msg") nor progress lines
   bool err_has(const std::string& s) const { return err.find(s) != std::string::npos; }
   bool out_has(const std::string& s) const { return out.find(s) != std::string::npos; }
 };

@@ -18,7 +18,8 @@
 
 namespace vascsim::test {
 
-// docs/validation.md T4/T5 deformation: x = R (I + 0.1 rand) X plus 0.05 Delta noise (rand, noise uniform in [-1, 1]).
+// docs/validation.md T4/T5 deformation: x = R (I + 0.1 rand) X plus 0.05 Delta noise (rand, noise uniform in
+// [-1, 1]).
 inline Vec3Array large_deformation(const Vec3Array& X, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
@@ -32,7 +33,8 @@ inline Vec3Array large_deformation(const Vec3Array& X, std::uint64_t seed) {
   return x;
 }
 
-// The patch test's measure: the largest error over the nodes of the fitted gradient of the affine field u = A X.
+// The patch test's measure: the largest error over the nodes of the fitted gradient of the affine field u = A
+// X.
 inline double max_affine_gradient_error(const Discretization& d, const Mat3& A) {
   Vec3Array u(d.rest_positions().size());
   for (std::size_t i = 0; i < u.size(); ++i) u[i] = A * d.rest_positions()[i];
@@ -76,7 +78,8 @@ void expect_rigid_motion_free_and_momentum(const Energy& energy, const Material&
 }
 
 // max over 30 random DOFs of |f + dU/dx| / max|f|, with dU/dx by central differences of step 1e-7 Delta.
-inline double fd_force_error(const std::function<double(const Vec3Array&)>& U, const Vec3Array& f, Vec3Array x) {
+inline double fd_force_error(const std::function<double(const Vec3Array&)>& U, const Vec3Array& f,
+                             Vec3Array x) {
   const SingleThreaded serial;  // a few hundred energies of a few hundred nodes: one thread
   std::mt19937_64 rng(99);
   std::uniform_int_distribution<std::size_t> node(0, x.size() - 1);
@@ -99,9 +102,10 @@ inline double fd_force_error(const std::function<double(const Vec3Array&)>& U, c
   return err / f_max;
 }
 
-// max_i |H v + (f(x + eps v) - f(x - eps v)) / (2 eps)| / max_i |H v| for a random v of size Delta (seed): the
-// Hessian product against a central difference of the forces (T5). `hessian_product(x, v, Hv)` and
-// `forces(x, f)` are the energy's. Truncation ~eps^2, rounding ~1e-15 / eps: about 1e-9 relative at eps = 1e-6.
+// max_i |H v + (f(x + eps v) - f(x - eps v)) / (2 eps)| / max_i |H v| for a random v of size Delta (seed):
+// the Hessian product against a central difference of the forces (T5). `hessian_product(x, v, Hv)` and
+// `forces(x, f)` are the energy's. Truncation ~eps^2, rounding ~1e-15 / eps: about 1e-9 relative at eps =
+// 1e-6.
 template <class Energy>
 double fd_hessian_error(const Energy& energy, const Vec3Array& x, std::uint64_t seed, double eps = 1e-6) {
   std::mt19937_64 rng(seed);
@@ -117,15 +121,17 @@ double fd_hessian_error(const Energy& energy, const Vec3Array& x, std::uint64_t 
   energy.forces(xp, fp);
   energy.forces(xm, fm);
   double err = 0.0;
-  for (std::size_t i = 0; i < x.size(); ++i) err = std::max(err, (Hv[i] + (fp[i] - fm[i]) / (2 * eps)).norm());
+  for (std::size_t i = 0; i < x.size(); ++i)
+    err = std::max(err, (Hv[i] + (fp[i] - fm[i]) / (2 * eps)).norm());
   return err / max_norm(Hv);
 }
 
-// T5 for an energy with a stabiliser: on a jittered lattice at the large deformation, the forces of `with` (the
-// energy's options, a stabiliser among them) against central differences of its energy, the stabiliser's forces
-// alone (`with`'s minus those of the same discretisation without a stabiliser) against the derivative of its
-// stabiliser energy, and its Hessian product against differences of its forces, each to 1e-6 relative (the
-// differences' own error at eps = 1e-6); the stabiliser's force must not be zero, or the check is vacuous.
+// T5 for an energy with a stabiliser: on a jittered lattice at the large deformation, the forces of `with`
+// (the energy's options, a stabiliser among them) against central differences of its energy, the stabiliser's
+// forces alone (`with`'s minus those of the same discretisation without a stabiliser) against the derivative
+// of its stabiliser energy, and its Hessian product against differences of its forces, each to 1e-6 relative
+// (the differences' own error at eps = 1e-6); the stabiliser's force must not be zero, or the check is
+// vacuous.
 template <class Energy, class Discretization, class Options>
 void expect_stabiliser_derivatives(const Discretization& disc, const Options& with_options) {
   const Vec3Array x = large_deformation(disc.rest_positions(), 2);

@@ -20,7 +20,8 @@ struct ProgramOutput {
 };
 
 /// Runs `env program args` in a shell (env: e.g. "env -u DISPLAY", may be empty).
-inline ProgramOutput run_program(const std::string& env, const std::string& program, const std::string& args) {
+inline ProgramOutput run_program(const std::string& env, const std::string& program,
+                                 const std::string& args) {
   const std::string cmd = env + " \"" + program + "\" " + args + " 2>&1";
   ProgramOutput r;
   FILE* pipe = popen(cmd.c_str(), "r");

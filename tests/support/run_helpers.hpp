@@ -1,7 +1,8 @@
 #pragma once
-// Small helpers that several test files share: the source tree's files, the haptic block scene, running a simulation to its end, the
-// volume of a node cloud's virtual tetrahedra, and wall-clock seconds. The test files are compiled as unity
-// batches (tests/CMakeLists.txt), so a helper two files need lives here, not in each file's anonymous namespace.
+// Small helpers that several test files share: the source tree's files, the haptic block scene, running a
+// simulation to its end, the volume of a node cloud's virtual tetrahedra, and wall-clock seconds. The test
+// files are compiled as unity batches (tests/CMakeLists.txt), so a helper two files need lives here, not in
+// each file's anonymous namespace.
 
 #include <algorithm>
 #include <chrono>
@@ -25,8 +26,9 @@ inline Scene haptic_block_scene(const std::vector<std::string>& sets = {}) {
   return load_scene(source_path("tests/data/haptic-block.json"), sets);
 }
 
-/// The --set that puts the haptic block on a 1 mm lattice (196 nodes instead of 1,183): for tests of a session's
-/// bookkeeping (ticks, frames, replays, the sign of the force), which do not depend on the resolution.
+/// The --set that puts the haptic block on a 1 mm lattice (196 nodes instead of 1,183): for tests of a
+/// session's bookkeeping (ticks, frames, replays, the sign of the force), which do not depend on the
+/// resolution.
 inline const std::vector<std::string> kCoarseHapticBlock = {"geometry.node_spacing_m=1e-3"};
 
 /// Advances every step of the run; the last step's record.
@@ -40,7 +42,8 @@ inline StepRecord run_to_end(Simulation& sim) {
 inline double total_tet_volume(const NodeCloud& c, double* min_volume = nullptr) {
   double v = 0.0, vmin = std::numeric_limits<double>::infinity();
   for (const Tet& t : c.tets) {
-    const double vt = signed_volume(c.positions[t[0]], c.positions[t[1]], c.positions[t[2]], c.positions[t[3]]);
+    const double vt =
+        signed_volume(c.positions[t[0]], c.positions[t[1]], c.positions[t[2]], c.positions[t[3]]);
     v += vt;
     vmin = std::min(vmin, vt);
   }

@@ -11,8 +11,8 @@
 
 namespace vascsim::test {
 
-/// The message of the InputError that parse_scene(doc) throws; records a test failure (and returns "") when it
-/// parses.
+/// The message of the InputError that parse_scene(doc) throws; records a test failure (and returns "") when
+/// it parses.
 inline std::string scene_error(const nlohmann::json& doc, const std::string& file = "scene.json") {
   try {
     parse_scene(doc, file);

@@ -24,10 +24,10 @@ inline nlohmann::json tiny_box(double push_m = 1e-5, int load_steps = 2) {
   return scene;
 }
 
-/// A 6 x 6 x 3 mm block (node spacing 0.5 mm: half the catheter's radius, docs/haptics.md), base fixed, under a
-/// 6 Fr catheter lying across its top along x, tilted so that a press is deeper at x = 6 mm than at x = 0 and the
-/// moment is not trivially zero; motion_m presses it 1 mm (0.9 mm at x = 6 mm, 0.42 mm at x = 0). The caller adds
-/// the model and its settings block.
+/// A 6 x 6 x 3 mm block (node spacing 0.5 mm: half the catheter's radius, docs/haptics.md), base fixed, under
+/// a 6 Fr catheter lying across its top along x, tilted so that a press is deeper at x = 6 mm than at x = 0
+/// and the moment is not trivially zero; motion_m presses it 1 mm (0.9 mm at x = 6 mm, 0.42 mm at x = 0). The
+/// caller adds the model and its settings block.
 inline nlohmann::json catheter_pressed_block() {
   return nlohmann::json::parse(R"({
     "name": "catheter-block",
@@ -40,9 +40,9 @@ inline nlohmann::json catheter_pressed_block() {
 }
 
 /// A 6 mm piece of the hand dorsal vein at the real-time resolution (outer radius 1.5 mm, wall 0.3 mm, node
-/// spacing 0.3 mm along the wall, three layers through it: 1,764 nodes on a wall lattice), both ends clamped, the
-/// 6 Fr catheter 0.2 mm above the outer wall at mid-length pointing into it; motion_m presses it 0.6 mm. Model
-/// `implicit` with the given settings block.
+/// spacing 0.3 mm along the wall, three layers through it: 1,764 nodes on a wall lattice), both ends clamped,
+/// the 6 Fr catheter 0.2 mm above the outer wall at mid-length pointing into it; motion_m presses it 0.6 mm.
+/// Model `implicit` with the given settings block.
 inline nlohmann::json vein_piece_catheter(const nlohmann::json& implicit_settings) {
   nlohmann::json scene = nlohmann::json::parse(R"({
     "name": "vein-piece-catheter",

@@ -1,6 +1,6 @@
 #pragma once
-// Shared fixtures of the unit tests: the docs/validation.md (tests T1-T15) node clouds, a tissue material, and a way
-// to record measured values in the test report.
+// Shared fixtures of the unit tests: the docs/validation.md (tests T1-T15) node clouds, a tissue material,
+// and a way to record measured values in the test report.
 
 #include <gtest/gtest.h>
 
@@ -29,8 +29,8 @@ inline void record(const std::string& key, double value) {
   ::testing::Test::RecordProperty(key, s.str());
 }
 
-/// A cube of `cells`^3 lattice cells of edge kDelta, nodes jittered by `jitter` * kDelta (the T1-T10 default of
-/// docs/validation.md: 6 cells (7^3 nodes), jitter 0.2).
+/// A cube of `cells`^3 lattice cells of edge kDelta, nodes jittered by `jitter` * kDelta (the T1-T10 default
+/// of docs/validation.md: 6 cells (7^3 nodes), jitter 0.2).
 inline NodeCloud lattice(int cells, double jitter = 0.0, std::uint64_t seed = 1) {
   BoxSpec spec;
   spec.min_m = Vec3::Zero();

@@ -40,11 +40,15 @@ int ahp_command(const AhpFlags& f, CliContext& ctx) {
 void add_ahp_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands) {
   auto flags = std::make_shared<AhpFlags>();
   CLI::App* ahp_app = app.add_subcommand(
-      "ahp", "The paper's AHP evaluation (Tables 1-3, Eq. 40): weights and consistency of the pairwise matrices, the "
-             "score table of all models and a figure (docs/ahp.md); default inputs: the bundled data/ahp files");
-  ahp_app->add_option("--hierarchy", flags->hierarchy, "Hierarchy with pairwise matrices (default: paper-hierarchy.json)");
+      "ahp",
+      "The paper's AHP evaluation (Tables 1-3, Eq. 40): weights and consistency of the pairwise matrices, "
+      "the "
+      "score table of all models and a figure (docs/ahp.md); default inputs: the bundled data/ahp files");
+  ahp_app->add_option("--hierarchy", flags->hierarchy,
+                      "Hierarchy with pairwise matrices (default: paper-hierarchy.json)");
   ahp_app->add_option("--bands", flags->bands, "Evaluation standard, Table 2 (default: paper-bands.json)");
-  ahp_app->add_option("--ratings", flags->ratings, "Indicator ratings per model (default: paper-ratings.json)");
+  ahp_app->add_option("--ratings", flags->ratings,
+                      "Indicator ratings per model (default: paper-ratings.json)");
   ahp_app->add_option("--measurements", flags->measurements,
                       "Measured figures per model (data/ahp/measurements.schema.json; default: none)");
   ahp_app->add_option("--out", flags->out, "Output folder")->capture_default_str();

@@ -1,9 +1,9 @@
 // `vascsim bench`: wall time per 1 ms step of a dynamic model at several resolutions and thread counts
 // (docs/performance.md).
 
-#include <filesystem>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <filesystem>
 
 #include "vascsim/app/command.hpp"
 #include "vascsim/core/error.hpp"
@@ -25,7 +25,8 @@ int bench(BenchFlags& flags, CliContext& ctx) {
   for (const auto& f : flags.outs) {
     const auto ext = std::filesystem::path(f).extension();
     if (ext != ".csv" && ext != ".json")
-      throw InputError(fmt::format("bench: --out '{}' must end in .csv or .json (give --out twice for both)", f));
+      throw InputError(
+          fmt::format("bench: --out '{}' must end in .csv or .json (give --out twice for both)", f));
   }
   RealtimeBenchOptions opt = flags.options;
   if (flags.threads->count() == 0 && ctx.threads > 0) opt.threads = {ctx.threads};
@@ -55,16 +56,19 @@ void add_bench_command(CLI::App& app, CliContext& ctx, std::vector<Command>& com
   CLI::App* bench_app = app.add_subcommand(
       "bench", "Real-time benchmark: wall time per 1 ms step at several resolutions (docs/performance.md)");
   bench_app->add_option("scene", o.scene_path, "Scene JSON file with a tube geometry")->capture_default_str();
-  bench_app->add_option("--model", o.model, "Dynamic model to time (e.g. xpbd or explicit)")->capture_default_str();
+  bench_app->add_option("--model", o.model, "Dynamic model to time (e.g. xpbd or explicit)")
+      ->capture_default_str();
   bench_app->add_option("--nodes", o.target_nodes, "Target node counts (the nearest tube resolution is used)")
       ->delimiter(',')
       ->capture_default_str();
   flags->threads =
-      bench_app->add_option("--threads", o.threads, "OpenMP thread counts (default 1,2; or -j N)")->delimiter(',');
+      bench_app->add_option("--threads", o.threads, "OpenMP thread counts (default 1,2; or -j N)")
+          ->delimiter(',');
   bench_app->add_option("--steps", o.steps, "Timed 1 ms steps per configuration")->capture_default_str();
   bench_app->add_option("--warmup", o.warmup_steps, "Untimed steps before them")->capture_default_str();
   bench_app->add_option("--set", o.overrides, "Override a scene key: path.to.key=value (repeatable)");
-  bench_app->add_option("--out", flags->outs, "Write FILE.csv or FILE.json (repeatable: --out a.csv --out a.json)");
+  bench_app->add_option("--out", flags->outs,
+                        "Write FILE.csv or FILE.json (repeatable: --out a.csv --out a.json)");
   commands.push_back({bench_app, [flags, &ctx] { return bench(*flags, ctx); }});
 }
 

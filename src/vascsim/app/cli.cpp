@@ -1,15 +1,15 @@
 #include "vascsim/app/cli.hpp"
 
-#include <algorithm>
-#include <cstdlib>
 #include <fmt/format.h>
-#include <iostream>
-#include <latch>
 #include <omp.h>
 #include <spdlog/sinks/ostream_sink.h>
 #include <spdlog/spdlog.h>
-#include <thread>
 #include <unistd.h>
+#include <algorithm>
+#include <cstdlib>
+#include <iostream>
+#include <latch>
+#include <thread>
 #include <vector>
 
 #include "vascsim/app/command.hpp"
@@ -22,7 +22,9 @@
 
 namespace vascsim {
 
-bool CliContext::err_is_terminal() const { return &err == &std::cerr && isatty(STDERR_FILENO); }
+bool CliContext::err_is_terminal() const {
+  return &err == &std::cerr && isatty(STDERR_FILENO);
+}
 
 namespace {
 
@@ -44,34 +46,37 @@ void fall_through(CLI::App& app) {
 
 // The largest -j. Beyond the cores, threads only wait for one another (docs/performance.md, section 6), and
 // 256 is as many as the largest common machines have hardware threads (a two-socket server of 2 x 64 cores
-// with SMT); a fixed bound rather than a multiple of this machine's cores, so that a command line valid on one
-// machine is valid on another. It also keeps an absurd -j (1024, 100000) away from OpenMP, which ends the
+// with SMT); a fixed bound rather than a multiple of this machine's cores, so that a command line valid on
+// one machine is valid on another. It also keeps an absurd -j (1024, 100000) away from OpenMP, which ends the
 // process when it cannot create a team's threads (below).
 constexpr int kMaxThreads = 256;
 
-// libgomp ends the process (exit code 1, "libgomp: Thread creation failed") when it cannot create a thread of a
-// team, at the first parallel region. So the threads -j asks for are started here first, all alive at once as
-// OpenMP's team would be, and ended again: a limit on processes (ulimit -u) or on the address space for their
-// stacks (ulimit -v) is then one line and exit code 2, before any work.
+// libgomp ends the process (exit code 1, "libgomp: Thread creation failed") when it cannot create a thread of
+// a team, at the first parallel region. So the threads -j asks for are started here first, all alive at once
+// as OpenMP's team would be, and ended again: a limit on processes (ulimit -u) or on the address space for
+// their stacks (ulimit -v) is then one line and exit code 2, before any work.
 void check_threads_can_start(int threads) {
   std::latch release(1);
   std::vector<std::thread> started;
   std::string failure;
   try {
     started.reserve(static_cast<std::size_t>(threads - 1));
-    while (static_cast<int>(started.size()) < threads - 1) started.emplace_back([&release] { release.wait(); });
+    while (static_cast<int>(started.size()) < threads - 1)
+      started.emplace_back([&release] { release.wait(); });
   } catch (const std::exception& e) {
     failure = e.what();
   }
   release.count_down();
   for (std::thread& t : started) t.join();
   if (!failure.empty())
-    throw InputError(fmt::format("-j {}: only {} threads could be started ({}): a limit on processes (ulimit -u) or "
-                                 "on memory (ulimit -v) allows fewer; choose a smaller -j",
-                                 threads, started.size() + 1, failure));
+    throw InputError(
+        fmt::format("-j {}: only {} threads could be started ({}): a limit on processes (ulimit -u) or "
+                    "on memory (ulimit -v) allows fewer; choose a smaller -j",
+                    threads, started.size() + 1, failure));
 }
 
-// -j, else OMP_NUM_THREADS (read by OpenMP itself), else the cores other work leaves idle (thread_default.hpp).
+// -j, else OMP_NUM_THREADS (read by OpenMP itself), else the cores other work leaves idle
+// (thread_default.hpp).
 void apply_thread_count(int requested) {
   if (requested > 0) {
     if (requested > 1) check_threads_can_start(requested);
@@ -85,13 +90,14 @@ void apply_thread_count(int requested) {
   const int threads = default_thread_count(cores, load, others);
   omp_set_num_threads(threads);
   // Said with -v only: an error must stay one line, and the README states the rule.
-  spdlog::debug("{} OpenMP thread{} of {} cores: the load average is {:.2f} and {} other process{} running now "
-                "(-j N or OMP_NUM_THREADS=N chooses)",
-                threads, threads == 1 ? "" : "s", cores, load, others, others == 1 ? " is" : "es are");
+  spdlog::debug(
+      "{} OpenMP thread{} of {} cores: the load average is {:.2f} and {} other process{} running now "
+      "(-j N or OMP_NUM_THREADS=N chooses)",
+      threads, threads == 1 ? "" : "s", cores, load, others, others == 1 ? " is" : "es are");
 }
 
-// An empty value is never meaningful (`--out ''` is no folder, `--record ''` no file): every option that takes a
-// value rejects it at parse time instead of falling back to a default silently.
+// An empty value is never meaningful (`--out ''` is no folder, `--record ''` no file): every option that
+// takes a value rejects it at parse time instead of falling back to a default silently.
 void reject_empty_values(CLI::App& app) {
   const CLI::Validator non_empty([](std::string& value) { return value.empty() ? "an empty value" : ""; }, "",
                                  "non-empty");
@@ -104,16 +110,18 @@ void reject_empty_values(CLI::App& app) {
 
 int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostream& err,
             const std::vector<CommandAdder>& extra_commands) {
-  CLI::App app{"vascsim: point-primitive vascular tissue simulation (Zhang et al. 2021, with the fixes of "
-               "docs/model.md)"};
+  CLI::App app{
+      "vascsim: point-primitive vascular tissue simulation (Zhang et al. 2021, with the fixes of "
+      "docs/model.md)"};
   app.require_subcommand(1);
   CliContext ctx{out, err};
   app.add_flag("-q,--quiet", ctx.quiet, "Only warnings and errors on stderr");
   app.add_flag("-v,--verbose", ctx.verbose, "Debug logging");
-  app.add_option("-j,--threads", ctx.threads,
-                 fmt::format("OpenMP threads, 1 to {} (default: OMP_NUM_THREADS if set, else the cores the load "
-                             "average leaves idle, at least 1)",
-                             kMaxThreads))
+  app.add_option(
+         "-j,--threads", ctx.threads,
+         fmt::format("OpenMP threads, 1 to {} (default: OMP_NUM_THREADS if set, else the cores the load "
+                     "average leaves idle, at least 1)",
+                     kMaxThreads))
       ->check(CLI::Range(1, kMaxThreads));
   std::vector<Command> commands;
   add_run_command(app, ctx, commands);
@@ -128,12 +136,16 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   fall_through(app);
   reject_empty_values(app);
   // After fall_through: the stub keeps whatever follows it as its own extras.
-  const bool viewer =
-      std::any_of(commands.begin(), commands.end(), [](const Command& c) { return c.app->get_name() == "view"; });
+  const bool viewer = std::any_of(commands.begin(), commands.end(),
+                                  [](const Command& c) { return c.app->get_name() == "view"; });
   if (!viewer) add_view_stub_command(app, ctx, commands);
-  app.set_version_flag("--version", [viewer] {
-    return format_build_info(build_info()) + "viewer: " + (viewer ? "on" : "off (built without VASCSIM_BUILD_VIEWER)");
-  }, "Print the version and the build configuration, then exit");
+  app.set_version_flag(
+      "--version",
+      [viewer] {
+        return format_build_info(build_info()) +
+               "viewer: " + (viewer ? "on" : "off (built without VASCSIM_BUILD_VIEWER)");
+      },
+      "Print the version and the build configuration, then exit");
 
   std::vector<std::string> rev(args.rbegin(), args.rend());
   try {

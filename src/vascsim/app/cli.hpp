@@ -7,10 +7,11 @@
 //   vascsim [-q|-v] [-j THREADS] validate cantilever [--out DIR] [--sizes 2,3,4,6]
 //   vascsim [-q|-v] bench [SCENE.json] [--model xpbd] [--nodes 1000,3000,10000,30000] [--threads 1,2]
 //     [--steps 200] [--warmup 20] [--set key=value ...] [--out FILE.csv|FILE.json ...]
-//   vascsim view SCENE.json [--set key=value ...] [--screenshot FILE.png --frames N --size WxH]  (viewer builds)
-// Exit codes: 0 success, 1 internal error (a bug), 2 bad input (scene, key, value, file; a run too large to start
-// without --yes), 3 numerical failure (ill-conditioned discretisation, unstable or non-finite solution), 4 a run
-// that finished with unconverged steps (command.hpp kExitUnconverged).
+//   vascsim view SCENE.json [--set key=value ...] [--screenshot FILE.png --frames N --size WxH]  (viewer
+//   builds)
+// Exit codes: 0 success, 1 internal error (a bug), 2 bad input (scene, key, value, file; a run too large to
+// start without --yes), 3 numerical failure (ill-conditioned discretisation, unstable or non-finite
+// solution), 4 a run that finished with unconverged steps (command.hpp kExitUnconverged).
 
 #include <ostream>
 #include <string>

@@ -3,12 +3,12 @@
 // discretisation error with its bound, or why the sequence gives none (run/convergence_study.hpp;
 // docs/convergence.md).
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fmt/format.h>
 #include <map>
-#include <spdlog/spdlog.h>
 
 #include "vascsim/app/command.hpp"
 #include "vascsim/app/progress.hpp"
@@ -41,7 +41,8 @@ double parse_target(const std::string& text) {
     value = std::stod(number, &used);
     if (used != number.size()) throw std::invalid_argument(number);
   } catch (const std::exception&) {
-    throw InputError(fmt::format("--target '{}': write a relative error as a percentage (2%) or a fraction (0.02)", text));
+    throw InputError(
+        fmt::format("--target '{}': write a relative error as a percentage (2%) or a fraction (0.02)", text));
   }
   if (percent) value /= 100.0;
   if (!(value > 0.0) || value >= 1.0)
@@ -49,7 +50,9 @@ double parse_target(const std::string& text) {
   return value;
 }
 
-std::string pct(double fraction) { return fmt::format("{:+.2f} %", 100.0 * fraction); }
+std::string pct(double fraction) {
+  return fmt::format("{:+.2f} %", 100.0 * fraction);
+}
 
 // "3-7" or "5" for a sorted list of steps, runs joined with commas.
 std::string step_ranges(const std::vector<const ConvergenceOutput*>& rows) {
@@ -66,11 +69,13 @@ std::string step_ranges(const std::vector<const ConvergenceOutput*>& rows) {
 }
 
 std::string where(const ConvergenceOutput& o) {
-  if (o.tool_displacement_m >= 0.0) return fmt::format("step {}, tool at {:.3g} mm", o.step, o.tool_displacement_m * 1e3);
+  if (o.tool_displacement_m >= 0.0)
+    return fmt::format("step {}, tool at {:.3g} mm", o.step, o.tool_displacement_m * 1e3);
   return fmt::format("step {}, load factor {:.3g}", o.step, o.load_factor);
 }
 
-void report_quantity(const ConvergenceResult& result, const std::string& quantity, double target, CliContext& ctx) {
+void report_quantity(const ConvergenceResult& result, const std::string& quantity, double target,
+                     CliContext& ctx) {
   std::vector<const ConvergenceOutput*> rows;
   for (const ConvergenceOutput& o : result.outputs)
     if (o.quantity == quantity) rows.push_back(&o);
@@ -79,10 +84,11 @@ void report_quantity(const ConvergenceResult& result, const std::string& quantit
   const std::size_t user = static_cast<std::size_t>(result.user_level);
   ctx.out << fmt::format("{} ({}):\n", quantity, last.unit);
   if (last.status == "extrapolated")
-    ctx.out << fmt::format("  last step ({}): {:.6g} at the scene's spacing, extrapolated {:.6g} (observed order {:.2f}): "
-                           "estimated error {}, |error| <= {:.2f} % (GCI)\n",
-                           where(last), last.values[user], last.estimate.extrapolated, last.estimate.order,
-                           pct(last.user_error), 100.0 * last.user_bound);
+    ctx.out << fmt::format(
+        "  last step ({}): {:.6g} at the scene's spacing, extrapolated {:.6g} (observed order {:.2f}): "
+        "estimated error {}, |error| <= {:.2f} % (GCI)\n",
+        where(last), last.values[user], last.estimate.extrapolated, last.estimate.order, pct(last.user_error),
+        100.0 * last.user_bound);
   else
     ctx.out << fmt::format("  last step ({}): no estimate ({})\n", where(last), last.status);
   std::map<std::string, std::vector<const ConvergenceOutput*>> by_status;
@@ -99,32 +105,38 @@ void report_quantity(const ConvergenceResult& result, const std::string& quantit
                            step_ranges(it->second), pct(lo), pct(hi), 100.0 * worst->user_bound, worst->step);
   }
   static const std::map<std::string, std::string> why = {
-      {"contact not resolved", "the tool's contact spans under 1.4 node spacings at some level (the force "
-                               "depends on where the nodes fall there)"},
+      {"contact not resolved",
+       "the tool's contact spans under 1.4 node spacings at some level (the force "
+       "depends on where the nodes fall there)"},
       {"oscillating", "not in the asymptotic range: the values go up and down with the spacing"},
       {"order out of range", fmt::format("not in the asymptotic range: observed order outside [{}, {}]",
                                          kMinObservedOrder, kMaxObservedOrder)},
-      {"orders disagree", "not in the asymptotic range: the finest and the coarsest three levels give orders "
-                          "that differ by more than half"},
+      {"orders disagree",
+       "not in the asymptotic range: the finest and the coarsest three levels give orders "
+       "that differ by more than half"},
       {"not converged", "a level's solve did not converge"},
       {"zero", "no load yet"},
       {"exact", "the same value at every spacing"}};
   for (const auto& [status, list] : by_status) {
     if (status == "extrapolated") continue;
     const auto w = why.find(status);
-    ctx.out << fmt::format("  steps {}: no estimate: {}\n", step_ranges(list), w != why.end() ? w->second : status);
+    ctx.out << fmt::format("  steps {}: no estimate: {}\n", step_ranges(list),
+                           w != why.end() ? w->second : status);
   }
   if (target > 0.0 && worst) {
     if (worst->user_bound <= target)
-      ctx.out << fmt::format("  target {:.2g} %: met at the scene's spacing (every estimated step within {:.2f} %)\n",
-                             100.0 * target, 100.0 * worst->user_bound);
+      ctx.out << fmt::format(
+          "  target {:.2g} %: met at the scene's spacing (every estimated step within {:.2f} %)\n",
+          100.0 * target, 100.0 * worst->user_bound);
     else {
       double spacing = 1e300;
       for (const ConvergenceOutput* o : by_status["extrapolated"])
-        if (o->user_bound > target) spacing = std::min(spacing, spacing_for_target(result, *o, target / kGciSafetyFactor));
-      ctx.out << fmt::format("  target {:.2g} %: a node spacing of about {:.4g} mm (now {:.4g} mm) brings every "
-                             "estimated step's bound under it (error falling as h^p)\n",
-                             100.0 * target, spacing * 1e3, result.levels[user].spacing_m * 1e3);
+        if (o->user_bound > target)
+          spacing = std::min(spacing, spacing_for_target(result, *o, target / kGciSafetyFactor));
+      ctx.out << fmt::format(
+          "  target {:.2g} %: a node spacing of about {:.4g} mm (now {:.4g} mm) brings every "
+          "estimated step's bound under it (error falling as h^p)\n",
+          100.0 * target, spacing * 1e3, result.levels[user].spacing_m * 1e3);
     }
   }
 }
@@ -148,13 +160,15 @@ int converge(const ConvergeFlags& flags, CliContext& ctx) {
     levels = count;
     label = fmt::format("level {} of {} ({})", index + 1, count, what);
     (void)factor;
-    // The scene's own level logs as `run` would; the others only their errors unless -v (their warnings, e.g. a
-    // contact the coarser lattice does not resolve, are the study's business and in their summary.json).
-    if (!ctx.verbose) spdlog::set_level(index == 0 ? (ctx.quiet ? spdlog::level::warn : spdlog::level::info)
-                                                   : spdlog::level::err);
+    // The scene's own level logs as `run` would; the others only their errors unless -v (their warnings, e.g.
+    // a contact the coarser lattice does not resolve, are the study's business and in their summary.json).
+    if (!ctx.verbose)
+      spdlog::set_level(index == 0 ? (ctx.quiet ? spdlog::level::warn : spdlog::level::info)
+                                   : spdlog::level::err);
   };
   options.on_step = [&](const StepRecord& r, int total) {
-    progress.update(level * total + r.step, levels * total, fmt::format("{}, step {} of {}", label, r.step, total));
+    progress.update(level * total + r.step, levels * total,
+                    fmt::format("{}, step {} of {}", label, r.step, total));
   };
   const spdlog::level::level_enum log_level = spdlog::get_level();
   const ConvergenceResult result = run_convergence_study(scene, options);
@@ -168,15 +182,17 @@ int converge(const ConvergeFlags& flags, CliContext& ctx) {
   std::string spacings, nodes;
   double seconds = 0.0;
   for (const ConvergenceLevel& l : result.levels) {
-    spacings += fmt::format("{}{:.4g}{}", spacings.empty() ? "" : " / ", l.spacing_m * 1e3, l.user ? "*" : "");
+    spacings +=
+        fmt::format("{}{:.4g}{}", spacings.empty() ? "" : " / ", l.spacing_m * 1e3, l.user ? "*" : "");
     nodes += fmt::format("{}{}", nodes.empty() ? "" : " / ", l.nodes);
     seconds += l.seconds;
   }
   const ConvergenceLevel& mine = result.levels[static_cast<std::size_t>(result.user_level)];
   const int layers = mine.signature.wall_layers;
-  ctx.out << fmt::format("{}: {} levels, node spacing{} {} mm (* the scene's), {} nodes{}, {:.0f} s\n", scene.name,
-                         result.levels.size(), layers > 0 ? " along the wall" : "", spacings, nodes,
-                         layers > 0 ? fmt::format(", {} layers through the wall", layers) : "", seconds);
+  ctx.out << fmt::format("{}: {} levels, node spacing{} {} mm (* the scene's), {} nodes{}, {:.0f} s\n",
+                         scene.name, result.levels.size(), layers > 0 ? " along the wall" : "", spacings,
+                         nodes, layers > 0 ? fmt::format(", {} layers through the wall", layers) : "",
+                         seconds);
   std::vector<std::string> seen;
   for (const ConvergenceOutput& o : result.outputs)
     if (std::find(seen.begin(), seen.end(), o.quantity) == seen.end()) seen.push_back(o.quantity);
@@ -185,8 +201,9 @@ int converge(const ConvergeFlags& flags, CliContext& ctx) {
   ctx.out << fmt::format("wrote {}, {}\n", csv.string(), (options.out_dir / "convergence.json").string());
   if (flags.no_plot) return 0;
   const std::filesystem::path png = options.out_dir / "convergence.png";
-  const PlotOutcome plot = run_plot_script(bundled_script("plot_convergence.py"),
-                                           {(options.out_dir / "convergence.json").string(), "--out", png.string()}, png);
+  const PlotOutcome plot =
+      run_plot_script(bundled_script("plot_convergence.py"),
+                      {(options.out_dir / "convergence.json").string(), "--out", png.string()}, png);
   if (plot.problem.empty())
     ctx.out << "wrote " << png.string() << "\n";
   else
@@ -202,7 +219,8 @@ void add_converge_command(CLI::App& app, CliContext& ctx, std::vector<Command>& 
       "converge",
       "Estimate a scene's discretisation error: run it at coarser node spacings (and optionally one finer), "
       "extrapolate each output with the observed order and report its error and bound (docs/convergence.md)");
-  sub->add_option("scene", flags->scene, "Scene JSON file (docs/scene-format.md); a headless scene with load steps")
+  sub->add_option("scene", flags->scene,
+                  "Scene JSON file (docs/scene-format.md); a headless scene with load steps")
       ->required();
   sub->add_option("--set", flags->sets, "Override a scene key: path.to.key=value (repeatable)");
   sub->add_option("--out", flags->out, "Output folder (default: out/<scene name>-converge)");
@@ -210,11 +228,13 @@ void add_converge_command(CLI::App& app, CliContext& ctx, std::vector<Command>& 
       ->check(CLI::Range(1.05, 4.0));
   sub->add_option("--coarser", flags->coarser, "Levels coarser than the scene's (default: 2)")
       ->check(CLI::Range(1, 4));
-  sub->add_flag("--finer", flags->finer,
-                "Also one level finer than the scene's (about ratio^2-ratio^3 times its cost): a second estimate "
-                "of the order that checks the first");
-  sub->add_option("--target", flags->target,
-                  "A relative error to reach, e.g. 2% or 0.02: reports the spacing that brings the bound under it");
+  sub->add_flag(
+      "--finer", flags->finer,
+      "Also one level finer than the scene's (about ratio^2-ratio^3 times its cost): a second estimate "
+      "of the order that checks the first");
+  sub->add_option(
+      "--target", flags->target,
+      "A relative error to reach, e.g. 2% or 0.02: reports the spacing that brings the bound under it");
   sub->add_flag("--no-plot", flags->no_plot, "Write the CSV and JSON only, no convergence.png");
   sub->add_flag("--yes", flags->yes, fmt::format("Allow levels of more than {} nodes", kMaxNodesUnasked));
   commands.push_back({sub, [flags, &ctx] { return converge(*flags, ctx); }});

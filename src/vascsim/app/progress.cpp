@@ -1,12 +1,16 @@
 #include "vascsim/app/progress.hpp"
 
-#include <algorithm>
 #include <fmt/format.h>
+#include <algorithm>
 
 namespace vascsim {
 
 Progress::Progress(std::ostream& out, bool terminal, std::string label, bool quiet)
-    : out_(out), terminal_(terminal), quiet_(quiet), label_(std::move(label)), start_(std::chrono::steady_clock::now()) {}
+    : out_(out),
+      terminal_(terminal),
+      quiet_(quiet),
+      label_(std::move(label)),
+      start_(std::chrono::steady_clock::now()) {}
 
 void Progress::update(int done, int total, const std::string& status) {
   if (quiet_) return;
@@ -21,7 +25,8 @@ void Progress::update(int done, int total, const std::string& status) {
          << std::flush;
     drawn_ = true;
   } else {
-    out_ << fmt::format("{}: {}/{} ({:.0f}%) {:.1f}s {}\n", label_, done, total, 100.0 * frac, elapsed, status)
+    out_ << fmt::format("{}: {}/{} ({:.0f}%) {:.1f}s {}\n", label_, done, total, 100.0 * frac, elapsed,
+                        status)
          << std::flush;
   }
 }

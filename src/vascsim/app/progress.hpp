@@ -11,8 +11,8 @@ class Progress {
  public:
   /// `quiet` (the -q flag: only warnings and errors): it prints nothing.
   Progress(std::ostream& out, bool terminal, std::string label, bool quiet = false);
-  /// Reports `done` of `total` with a short status text (shown as at most `total`: a session that runs past its
-  /// nominal end is at 100 %).
+  /// Reports `done` of `total` with a short status text (shown as at most `total`: a session that runs past
+  /// its nominal end is at 100 %).
   void update(int done, int total, const std::string& status);
   void finish();
 

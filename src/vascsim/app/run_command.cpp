@@ -1,9 +1,9 @@
 // `vascsim run SCENE.json`: a headless run of a scene (load steps or output times), or a haptic session when
 // the scene has a `haptics` block.
 
-#include <filesystem>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <filesystem>
 
 #include "vascsim/app/command.hpp"
 #include "vascsim/app/progress.hpp"
@@ -31,7 +31,8 @@ void print_warnings(const nlohmann::json& summary, CliContext& ctx) {
   for (const auto& w : summary["warnings"]) ctx.out << "warning: " << w.get<std::string>() << "\n";
 }
 
-int run_session(const Scene& scene, const std::filesystem::path& out_dir, const RunFlags& flags, CliContext& ctx) {
+int run_session(const Scene& scene, const std::filesystem::path& out_dir, const RunFlags& flags,
+                CliContext& ctx) {
   spdlog::info("scene '{}' ({}): haptic session, model {}, output {}", scene.name, scene.file, scene.model,
                out_dir.string());
   Progress progress(ctx.err, ctx.err_is_terminal(), scene.name, ctx.quiet);
@@ -54,50 +55,60 @@ int run_session(const Scene& scene, const std::filesystem::path& out_dir, const 
   const auto& h = summary["haptics"];
   const auto& loop = h["loop"];
   ctx.out << fmt::format(
-      "{}: {} nodes, {:.3g} s session ({}), {} ticks at {:.1f} Hz (jitter p50/p99/max {:.3f}/{:.3f}/{:.3f} ms), {} "
+      "{}: {} nodes, {:.3g} s session ({}), {} ticks at {:.1f} Hz (jitter p50/p99/max {:.3f}/{:.3f}/{:.3f} "
+      "ms), {} "
       "simulation steps at {:.1f} Hz, max force on the tool {:.4g} N; wrote {}\n",
       scene.name, summary["nodes"].get<int>(), h["duration_s"].get<double>(), h["mode"].get<std::string>(),
-      h["ticks"].get<std::size_t>(), loop["achieved_rate_hz"].get<double>(), loop["jitter_p50_ms"].get<double>(),
-      loop["jitter_p99_ms"].get<double>(), loop["jitter_max_ms"].get<double>(),
-      h["simulation_steps"].get<std::size_t>(), h["deformation_rate_hz"].get<double>(),
-      h["max_force_on_tool_n"].get<double>(), (out_dir / "force_history.csv").string());
+      h["ticks"].get<std::size_t>(), loop["achieved_rate_hz"].get<double>(),
+      loop["jitter_p50_ms"].get<double>(), loop["jitter_p99_ms"].get<double>(),
+      loop["jitter_max_ms"].get<double>(), h["simulation_steps"].get<std::size_t>(),
+      h["deformation_rate_hz"].get<double>(), h["max_force_on_tool_n"].get<double>(),
+      (out_dir / "force_history.csv").string());
   if (h["mode"].get<std::string>() == "realtime") {
-    // What the hand got, beside the model: in realtime the frames come at their own pace and the loop extends the
-    // last one's force to the hand's pose, so the model's force and the hand's differ under motion.
+    // What the hand got, beside the model: in realtime the frames come at their own pace and the loop extends
+    // the last one's force to the hand's pose, so the model's force and the hand's differ under motion.
     ctx.out << fmt::format(
-        "the hand: the force it felt came from frames {:.0f} ms old on average ({:.0f} ms at most) at {:.1f} frames/s; "
-        "the model's tool stayed at most {:.3g} mm behind the device; force sent to the hand at most {:.4g} N, the "
-        "model's frames at most {:.4g} N (between frames the loop extends the last frame's force with its stiffness "
+        "the hand: the force it felt came from frames {:.0f} ms old on average ({:.0f} ms at most) at {:.1f} "
+        "frames/s; "
+        "the model's tool stayed at most {:.3g} mm behind the device; force sent to the hand at most {:.4g} "
+        "N, the "
+        "model's frames at most {:.4g} N (between frames the loop extends the last frame's force with its "
+        "stiffness "
         "to the hand's pose; docs/haptics.md)\n",
         loop["force_latency_mean_ms"].get<double>(), loop["force_latency_max_ms"].get<double>(),
         h["deformation_rate_hz"].get<double>(), 1e3 * h["max_tool_lag_m"].get<double>(),
         loop["max_force_sent_n"].get<double>(), h["max_force_on_tool_n"].get<double>());
   }
   if (summary["interrupted"].get<bool>())
-    ctx.out << "interrupted: summary.json, force_history.csv, session.csv and haptic_ticks.csv hold the ticks done\n";
+    ctx.out << "interrupted: summary.json, force_history.csv, session.csv and haptic_ticks.csv hold the "
+               "ticks done\n";
   if (h.contains("replay"))
-    ctx.out << fmt::format("replay of {}: {} ticks compared, max force difference {:.3g} N, bit-identical: {}\n",
-                           h["replay"]["file"].get<std::string>(), h["replay"]["ticks_compared"].get<std::size_t>(),
-                           h["replay"]["max_force_difference_n"].get<double>(),
-                           h["replay"]["bit_identical"].get<bool>() ? "yes" : "no");
+    ctx.out << fmt::format(
+        "replay of {}: {} ticks compared, max force difference {:.3g} N, bit-identical: {}\n",
+        h["replay"]["file"].get<std::string>(), h["replay"]["ticks_compared"].get<std::size_t>(),
+        h["replay"]["max_force_difference_n"].get<double>(),
+        h["replay"]["bit_identical"].get<bool>() ? "yes" : "no");
   print_warnings(summary, ctx);
   const auto unconverged = summary["unconverged_frames"].get<long long>();
   if (unconverged == 0) return 0;
-  // Realtime frames stop at their time budget or iteration limit by design (the next frame goes on from there); a
-  // lockstep frame takes the time it needs.
+  // Realtime frames stop at their time budget or iteration limit by design (the next frame goes on from
+  // there); a lockstep frame takes the time it needs.
   if (h["mode"].get<std::string>() == "realtime") {
-    ctx.out << fmt::format("note: {} of {} frames ended before converging (a realtime frame stops at its time budget or "
-                           "iteration limit; the next frame goes on from there)\n",
-                           unconverged, h["simulation_steps"].get<std::size_t>());
+    ctx.out << fmt::format(
+        "note: {} of {} frames ended before converging (a realtime frame stops at its time budget or "
+        "iteration limit; the next frame goes on from there)\n",
+        unconverged, h["simulation_steps"].get<std::size_t>());
     return 0;
   }
-  ctx.out << fmt::format("NOT CONVERGED: {} of {} frames did not reach the tolerance; the forces of those frames are "
-                         "not equilibria (force_history.csv, column converged)\n",
-                         unconverged, h["simulation_steps"].get<std::size_t>());
+  ctx.out << fmt::format(
+      "NOT CONVERGED: {} of {} frames did not reach the tolerance; the forces of those frames are "
+      "not equilibria (force_history.csv, column converged)\n",
+      unconverged, h["simulation_steps"].get<std::size_t>());
   return kExitUnconverged;
 }
 
-int run_headless(const Scene& scene, const std::filesystem::path& out_dir, const RunFlags& flags, CliContext& ctx) {
+int run_headless(const Scene& scene, const std::filesystem::path& out_dir, const RunFlags& flags,
+                 CliContext& ctx) {
   spdlog::info("scene '{}' ({}), model {}, output {}", scene.name, scene.file, scene.model, out_dir.string());
   Progress progress(ctx.err, ctx.err_is_terminal(), scene.name, ctx.quiet);
   RunOptions opt;
@@ -108,13 +119,15 @@ int run_headless(const Scene& scene, const std::filesystem::path& out_dir, const
     const ModelCost* cost = calibration ? calibration->find(scene.model) : nullptr;
     announce_run(scene, sim, headless_model_steps(scene, sim, cost), flags.yes);
   };
-  opt.on_step = [&](const StepRecord& r, int total) { progress.update(r.step, total, step_status(scene.model, r)); };
+  opt.on_step = [&](const StepRecord& r, int total) {
+    progress.update(r.step, total, step_status(scene.model, r));
+  };
   const nlohmann::json summary = run_scene(scene, opt);
   progress.finish();
   ctx.out << fmt::format("{}: {} nodes, {} steps in {:.2f} s (setup {:.2f} s); wrote {}\n", scene.name,
                          summary["nodes"].get<int>(), summary["steps"].size() - 1,
-                         summary["timings_s"]["total"].get<double>(), summary["timings_s"]["setup"].get<double>(),
-                         (out_dir / "summary.json").string());
+                         summary["timings_s"]["total"].get<double>(),
+                         summary["timings_s"]["setup"].get<double>(), (out_dir / "summary.json").string());
   if (summary.contains("reference")) {
     const auto& ref = summary["reference"];
     ctx.out << fmt::format("tip deflection {:.6g} m, Timoshenko reference {:.6g} m, ratio {:.4f}\n",
@@ -122,15 +135,17 @@ int run_headless(const Scene& scene, const std::filesystem::path& out_dir, const
                            ref["ratio"].get<double>());
   }
   if (summary["interrupted"].get<bool>())
-    ctx.out << fmt::format("interrupted after step {} of {}: summary.json, probes.csv and the VTK series hold the "
-                           "steps done\n",
-                           summary["steps"].size() - 1, summary["planned_steps"].get<int>());
+    ctx.out << fmt::format(
+        "interrupted after step {} of {}: summary.json, probes.csv and the VTK series hold the "
+        "steps done\n",
+        summary["steps"].size() - 1, summary["planned_steps"].get<int>());
   print_warnings(summary, ctx);
   const int unconverged = summary["unconverged_steps"].get<int>();
   if (unconverged == 0) return 0;
-  ctx.out << fmt::format("NOT CONVERGED: {} of {} steps did not reach the tolerance; their forces and displacements "
-                         "are not equilibria (summary.json, steps[].converged)\n",
-                         unconverged, summary["steps"].size() - 1);
+  ctx.out << fmt::format(
+      "NOT CONVERGED: {} of {} steps did not reach the tolerance; their forces and displacements "
+      "are not equilibria (summary.json, steps[].converged)\n",
+      unconverged, summary["steps"].size() - 1);
   return kExitUnconverged;
 }
 
@@ -140,7 +155,8 @@ int run(const RunFlags& flags, CliContext& ctx) {
       flags.out.empty() ? std::filesystem::path("out") / scene.name : std::filesystem::path(flags.out);
   if (scene.haptics.enabled) return run_session(scene, out_dir, flags, ctx);
   if (!flags.mode.empty() || !flags.record.empty() || !flags.replay.empty())
-    throw InputError(fmt::format("{}: --mode, --record and --replay need a scene with a 'haptics' block", scene.file));
+    throw InputError(
+        fmt::format("{}: --mode, --record and --replay need a scene with a 'haptics' block", scene.file));
   return run_headless(scene, out_dir, flags, ctx);
 }
 
@@ -148,18 +164,23 @@ int run(const RunFlags& flags, CliContext& ctx) {
 
 void add_run_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands) {
   auto flags = std::make_shared<RunFlags>();
-  CLI::App* run_app = app.add_subcommand("run", "Run a scene headless and write summary.json, probes.csv (and VTK)");
+  CLI::App* run_app =
+      app.add_subcommand("run", "Run a scene headless and write summary.json, probes.csv (and VTK)");
   run_app->add_option("scene", flags->scene, "Scene JSON file (docs/scene-format.md)")->required();
   run_app->add_option("--set", flags->sets, "Override a scene key: path.to.key=value (repeatable)");
   run_app->add_option("--out", flags->out, "Output folder (default: out/<scene name>)");
-  run_app->add_option("--mode", flags->mode, "Haptic scenes: lockstep (deterministic) or realtime (haptic thread)")
+  run_app
+      ->add_option("--mode", flags->mode,
+                   "Haptic scenes: lockstep (deterministic) or realtime (haptic thread)")
       ->check(CLI::IsMember({"lockstep", "realtime"}));
   run_app->add_option("--record", flags->record, "Haptic scenes: also write the session recording to FILE");
-  run_app->add_option("--replay", flags->replay, "Haptic scenes: play a session recording instead of the trajectory");
-  run_app->add_flag("--yes", flags->yes,
-                    fmt::format("Start a run of more than {} nodes or expected to take more than {} (otherwise refused, "
-                                "exit code 2)",
-                                kMaxNodesUnasked, human_duration(kMaxSecondsUnasked)));
+  run_app->add_option("--replay", flags->replay,
+                      "Haptic scenes: play a session recording instead of the trajectory");
+  run_app->add_flag(
+      "--yes", flags->yes,
+      fmt::format("Start a run of more than {} nodes or expected to take more than {} (otherwise refused, "
+                  "exit code 2)",
+                  kMaxNodesUnasked, human_duration(kMaxSecondsUnasked)));
   commands.push_back({run_app, [flags, &ctx] { return run(*flags, ctx); }});
 }
 

@@ -16,11 +16,13 @@ BuildChecks node_limit(const Scene& scene, bool yes) {
     Vec3 lo = x.front(), hi = x.front();
     for (const Vec3& p : x) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
     const Vec3 span = hi - lo;
-    throw InputError(fmt::format(
-        "{}: the body has {} nodes (it spans {:.3g} x {:.3g} x {:.3g} m), more than the {} a run starts without "
-        "asking: check that every length is in metres (keys ending in _m) and geometry.node_spacing_m, or pass "
-        "--yes to go ahead",
-        scene.file, x.size(), span.x(), span.y(), span.z(), kMaxNodesUnasked));
+    throw InputError(
+        fmt::format("{}: the body has {} nodes (it spans {:.3g} x {:.3g} x {:.3g} m), more than the {} a run "
+                    "starts without "
+                    "asking: check that every length is in metres (keys ending in _m) and "
+                    "geometry.node_spacing_m, or pass "
+                    "--yes to go ahead",
+                    scene.file, x.size(), span.x(), span.y(), span.z(), kMaxNodesUnasked));
   };
   return checks;
 }
@@ -36,17 +38,18 @@ void announce_run(const Scene& scene, Simulation& sim, double steps, bool yes, b
     return;
   }
   if (wall_clock) {
-    spdlog::info("expected time per {} on this machine: {} (within a factor {:.2g} either way); the session runs in "
-                 "wall-clock time",
-                 cost->step, human_duration(cost->seconds_per_step), cost->factor);
+    spdlog::info(
+        "expected time per {} on this machine: {} (within a factor {:.2g} either way); the session runs in "
+        "wall-clock time",
+        cost->step, human_duration(cost->seconds_per_step), cost->factor);
     return;
   }
   spdlog::info("expected time on this machine: {}", describe_cost(*cost));
   if (yes || cost->total_s <= kMaxSecondsUnasked) return;
-  throw InputError(fmt::format("{}: this run is expected to take {} ({}), more than the {} a run starts without "
-                               "asking: pass --yes to go ahead, or coarsen geometry.node_spacing_m or shorten the run",
-                               scene.file, human_duration(cost->total_s), describe_cost(*cost),
-                               human_duration(kMaxSecondsUnasked)));
+  throw InputError(fmt::format(
+      "{}: this run is expected to take {} ({}), more than the {} a run starts without "
+      "asking: pass --yes to go ahead, or coarsen geometry.node_spacing_m or shorten the run",
+      scene.file, human_duration(cost->total_s), describe_cost(*cost), human_duration(kMaxSecondsUnasked)));
 }
 
 }  // namespace vascsim

@@ -12,8 +12,8 @@ namespace vascsim {
 constexpr std::size_t kMaxNodesUnasked = 200000;
 constexpr double kMaxSecondsUnasked = 600.0;
 
-/// The build check refusing a body above kMaxNodesUnasked nodes unless `yes` (an InputError naming the file, the
-/// node count, the body's extent and --yes).
+/// The build check refusing a body above kMaxNodesUnasked nodes unless `yes` (an InputError naming the file,
+/// the node count, the body's extent and --yes).
 BuildChecks node_limit(const Scene& scene, bool yes);
 
 /// Logs the run's expected cost and the model's known accuracy problems at these settings (warnings), and

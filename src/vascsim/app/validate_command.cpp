@@ -1,8 +1,8 @@
 // `vascsim validate ...`: validation studies against analytic references (the cantilever table T9, the MLS
 // surface map's T11/T15 on scene bodies).
 
-#include <filesystem>
 #include <fmt/format.h>
+#include <filesystem>
 
 #include "vascsim/app/command.hpp"
 #include "vascsim/app/progress.hpp"
@@ -22,8 +22,9 @@ struct CantileverFlags {
 int validate_cantilever(const CantileverFlags& flags, CliContext& ctx) {
   const OutputWriter out(flags.out.empty() ? std::filesystem::path("out/cantilever-table")
                                            : std::filesystem::path(flags.out));
-  CsvTable csv = out.table("cantilever-table.csv", {"configuration", "n", "nodes", "tip_deflection_m", "reference_m",
-                                                    "ratio", "newton_iterations", "residual", "seconds"});
+  CsvTable csv =
+      out.table("cantilever-table.csv", {"configuration", "n", "nodes", "tip_deflection_m", "reference_m",
+                                         "ratio", "newton_iterations", "residual", "seconds"});
   std::string md = "| configuration |";
   for (int n : flags.sizes) md += fmt::format(" n = {} |", n);
   md += "\n|---|";
@@ -40,7 +41,8 @@ int validate_cantilever(const CantileverFlags& flags, CliContext& ctx) {
       c.cells_across = n;
       const CantileverResult r = run_cantilever(c);
       csv.add_row(fmt::format("\"{}\",{},{},{:.9g},{:.9g},{:.6f},{},{:.3g},{:.3f}", row.label, n, r.nodes,
-                              r.tip_deflection_m, r.reference_m, r.ratio, r.newton_iterations, r.residual, r.seconds));
+                              r.tip_deflection_m, r.reference_m, r.ratio, r.newton_iterations, r.residual,
+                              r.seconds));
       md += fmt::format(" {:.3f} |", r.ratio);
       progress.update(++done, total, fmt::format("{} n={}: ratio {:.4f}", row.label, n, r.ratio));
     }
@@ -80,7 +82,8 @@ void add_validate_commands(CLI::App& app, CliContext& ctx, std::vector<Command>&
   validate->require_subcommand(1);
 
   auto cant = std::make_shared<CantileverFlags>();
-  CLI::App* cant_app = validate->add_subcommand("cantilever", "T9: cantilever convergence table (docs/validation.md)");
+  CLI::App* cant_app =
+      validate->add_subcommand("cantilever", "T9: cantilever convergence table (docs/validation.md)");
   cant_app->add_option("--out", cant->out, "Output folder (default: out/cantilever-table)");
   cant_app->add_option("--sizes", cant->sizes, "Cells across the beam, n = b / Delta")
       ->delimiter(',')
@@ -88,8 +91,8 @@ void add_validate_commands(CLI::App& app, CliContext& ctx, std::vector<Command>&
   commands.push_back({cant_app, [cant, &ctx] { return validate_cantilever(*cant, ctx); }});
 
   auto mls = std::make_shared<MlsFlags>();
-  CLI::App* mls_app =
-      validate->add_subcommand("mls", "T11/T15: the MLS surface map of each scene's body (docs/validation.md)");
+  CLI::App* mls_app = validate->add_subcommand(
+      "mls", "T11/T15: the MLS surface map of each scene's body (docs/validation.md)");
   mls_app->add_option("scenes", mls->scenes, "Scene JSON files")->required();
   mls_app->add_option("--set", mls->sets, "Override a key in every scene: path.to.key=value (repeatable)");
   mls_app->add_option("--tight-factor", mls->tight_factor, "Support radius factor for the T15 guard check")

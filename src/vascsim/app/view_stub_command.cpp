@@ -10,12 +10,13 @@ void add_view_stub_command(CLI::App& app, CliContext& /*ctx*/, std::vector<Comma
   CLI::App* view = app.add_subcommand("view", "Interactive viewer (not in this build)");
   view->allow_extras();
   view->prefix_command();
-  commands.push_back({view, [] {
-                        throw InputError(
-                            "this vascsim was built without the viewer: configure with -DVASCSIM_BUILD_VIEWER=ON "
-                            "(the GL packages are in scripts/install-deps.sh)");
-                        return 2;
-                      }});
+  commands.push_back(
+      {view, [] {
+         throw InputError(
+             "this vascsim was built without the viewer: configure with -DVASCSIM_BUILD_VIEWER=ON "
+             "(the GL packages are in scripts/install-deps.sh)");
+         return 2;
+       }});
 }
 
 }  // namespace vascsim

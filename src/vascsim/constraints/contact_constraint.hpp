@@ -1,6 +1,6 @@
 #pragma once
-// One-sided contact of a node sphere against a rigid body given as a signed distance phi (docs/model/19-position-based.md,
-// "contact constraints (alpha = 0, only if C < 0)"):
+// One-sided contact of a node sphere against a rigid body given as a signed distance phi
+// (docs/model/19-position-based.md, "contact constraints (alpha = 0, only if C < 0)"):
 //   C(p) = phi(p) - r_node >= 0,   grad C = grad phi = n (outward unit normal of the body at p)   (m)
 // The constraint is active only while C < 0; project it with XpbdParameters::unilateral = true so the
 // accumulated lambda stays >= 0. The tissue node is pushed along +n with force lambda n / h^2; the tool

@@ -1,8 +1,8 @@
 #pragma once
 // Stretching (distance) constraint between two nodes: paper Eqs. 13-17 (Zhang et al. 2021), which are
 // Mueller et al. 2007 ("Position Based Dynamics", JVCIR 18(2)) section 3.3 (stretching constraint).
-// docs/model/16-deviations.md, E10: sound mode applies it to the virtual-tetrahedron edges as an XPBD constraint with
-// compliance alpha_e = 1/k_e (m/N); paper-literal mode uses PBD with k' = 1 - (1-k)^{1/n}.
+// docs/model/16-deviations.md, E10: sound mode applies it to the virtual-tetrahedron edges as an XPBD
+// constraint with compliance alpha_e = 1/k_e (m/N); paper-literal mode uses PBD with k' = 1 - (1-k)^{1/n}.
 
 #include "vascsim/constraints/xpbd_projection.hpp"
 

@@ -75,7 +75,8 @@ ScalarConstraint<4> literal_energy_constraint(const TetPositions& x, const TetMa
 
 std::vector<BarycentreSprings> barycentre_springs_of_mesh(const Vec3Array& X,
                                                           const std::vector<std::array<Index, 4>>& tets,
-                                                          const std::vector<double>& masses, double bulk_modulus_pa) {
+                                                          const std::vector<double>& masses,
+                                                          double bulk_modulus_pa) {
   std::vector<BarycentreSprings> out(tets.size());
   for (std::size_t t = 0; t < tets.size(); ++t) {
     TetPositions x;

@@ -40,8 +40,8 @@ Mat3 unmandel(const Vec6& v) {
 }
 
 Mat6 meshless_strain_block(const Mat3& C, const Mat3& D) {
-  // tr(L_r C L_s D) = sum over the non-zero entries (a,b,l) of L_r and (c,d,m) of L_s of l m C_bc D_da. L_r has
-  // one entry (p,p,1) on a normal row and two, (p,q) and (q,p) with 1/sqrt2, on a shear row: at most four
+  // tr(L_r C L_s D) = sum over the non-zero entries (a,b,l) of L_r and (c,d,m) of L_s of l m C_bc D_da. L_r
+  // has one entry (p,p,1) on a normal row and two, (p,q) and (q,p) with 1/sqrt2, on a shear row: at most four
   // products per matrix entry instead of two 3x3 products (this block dominated the projection's profile).
   struct Entry {
     int a, b;
@@ -87,7 +87,8 @@ void meshless_strain_constraint(Index i, std::span<const Index> neighbours, std:
                                 const Vec3& d_self, const Vec3Array& x, MeshlessStrainEval& out) {
   if (neighbours.size() != d.size())
     throw std::invalid_argument("meshless_strain_constraint: neighbours and d must have the same length");
-  // F_i = sum_j (x_j - x_i) d_ij^T (docs/model/06-gradients.md); differences keep the rounding small far from the origin.
+  // F_i = sum_j (x_j - x_i) d_ij^T (docs/model/06-gradients.md); differences keep the rounding small far from
+  // the origin.
   const Vec3& xi = x[static_cast<std::size_t>(i)];
   Mat3 F = Mat3::Zero();
   for (std::size_t s = 0; s < neighbours.size(); ++s)

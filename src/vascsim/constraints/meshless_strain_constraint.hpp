@@ -1,17 +1,19 @@
 #pragma once
-// Meshless strain constraint per node (docs/model/19-position-based.md (A)): the point-primitive SVK strain energy of node
-// i, U_i = V_i [mu E_i:E_i + lambda/2 tr(E_i)^2] (docs/model/07-strain-stress-energy.md, the paper's Eqs. 2-7 with the E1/E2
-// fixes), written as one 6-component XPBD constraint so the real-time model is still the paper's energy:
+// Meshless strain constraint per node (docs/model/19-position-based.md (A)): the point-primitive SVK strain
+// energy of node i, U_i = V_i [mu E_i:E_i + lambda/2 tr(E_i)^2] (docs/model/07-strain-stress-energy.md, the
+// paper's Eqs. 2-7 with the E1/E2 fixes), written as one 6-component XPBD constraint so the real-time model
+// is still the paper's energy:
 //   c_i = Mandel(E_i) = (E_00, E_11, E_22, sqrt2 E_12, sqrt2 E_02, sqrt2 E_01)      (dimensionless)
-//   E_i = 1/2 (F_i^T F_i - I),  F_i = sum_{k in N_i u {i}} x_k d_ik^T   (docs/model/06-gradients.md, d_ii = -sum_j d_ij)
-//   U_i = 1/2 c_i^T (V_i C^) c_i,  C^ = lambda e e^T + 2 mu I_6,  e = (1,1,1,0,0,0)^T   (exact, Pa)
-//   compliance alpha_i = (V_i C^)^{-1}  (1/J)
-//   J_ik = dc_i/dx_k (6x3),  dE_pq/dx_k = 1/2 (d_ik,q F_:,p + d_ik,p F_:,q)  (sqrt2 on the shear rows)
+//   E_i = 1/2 (F_i^T F_i - I),  F_i = sum_{k in N_i u {i}} x_k d_ik^T   (docs/model/06-gradients.md, d_ii =
+//   -sum_j d_ij) U_i = 1/2 c_i^T (V_i C^) c_i,  C^ = lambda e e^T + 2 mu I_6,  e = (1,1,1,0,0,0)^T   (exact,
+//   Pa) compliance alpha_i = (V_i C^)^{-1}  (1/J) J_ik = dc_i/dx_k (6x3),  dE_pq/dx_k = 1/2 (d_ik,q F_:,p +
+//   d_ik,p F_:,q)  (sqrt2 on the shear rows)
 // Projection (xpbd_block_project): Delta lambda = -(J W J^T + alpha~)^{-1} (c + alpha~ lambda),
 // Delta p_k = w_k J_ik^T Delta lambda, alpha~ = alpha_i / h^2 (Macklin et al. 2016 in block form).
 // Because sum_k d_ik = 0, sum_k J_ik = 0 and the correction conserves momentum.
 //
-// The zero-energy-mode stabiliser (docs/model/09-volume-term-and-stabiliser.md section 9.2) is not part of this constraint.
+// The zero-energy-mode stabiliser (docs/model/09-volume-term-and-stabiliser.md section 9.2) is not part of
+// this constraint.
 
 #include <span>
 #include <vector>
@@ -35,8 +37,8 @@ Vec6 mandel(const Mat3& A);
 /// Inverse of mandel(): the symmetric tensor L with mandel(L) = v.
 Mat3 unmandel(const Vec6& v);
 
-/// The 6x6 matrix J W J^T = sum_k w_k J_ik J_ik^T of node i's constraint in closed form, from C = F_i^T F_i and
-/// D_i = sum_k w_k d_ik d_ik^T (k over the stencil {i} u N_i; D is constant during a run):
+/// The 6x6 matrix J W J^T = sum_k w_k J_ik J_ik^T of node i's constraint in closed form, from C = F_i^T F_i
+/// and D_i = sum_k w_k d_ik d_ik^T (k over the stencil {i} u N_i; D is constant during a run):
 ///   J_ik^T e_r = F L_r d_ik (L_r = unmandel(e_r), from d(E:L)/dx_k = F L d_k), so
 ///   (J W J^T)_rs = sum_k w_k d_k^T L_r C L_s d_k = tr(L_r C L_s D)                     [derived]
 /// This replaces K+1 products of 6x3 blocks per projection by twelve 3x3 products. Units 1/(kg m^2), those of

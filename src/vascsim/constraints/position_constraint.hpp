@@ -1,8 +1,8 @@
 #pragma once
-// Fixed and prescribed-position constraints (docs/model/19-position-based.md "Boundary conditions"): pin a node to a target
-// (its rest position X_i for a clamp, a scripted position for a prescribed displacement), or tether it
-// with compliance 1/(k_f V_i) to model surrounding tissue. Mueller et al. 2007 treat a pinned node by
-// w = 0; these constraints are for targets that move, or are compliant, or need a reaction force
+// Fixed and prescribed-position constraints (docs/model/19-position-based.md "Boundary conditions"): pin a
+// node to a target (its rest position X_i for a clamp, a scripted position for a prescribed displacement), or
+// tether it with compliance 1/(k_f V_i) to model surrounding tissue. Mueller et al. 2007 treat a pinned node
+// by w = 0; these constraints are for targets that move, or are compliant, or need a reaction force
 // (lambda/h^2, e.g. the support reactions of docs/validation.md T14).
 
 #include "vascsim/constraints/xpbd_projection.hpp"

@@ -1,5 +1,6 @@
 #pragma once
-// The one projection routine shared by every position-based constraint (docs/model/19-position-based.md section 19.5 and docs/model/16-deviations.md, E9).
+// The one projection routine shared by every position-based constraint (docs/model/19-position-based.md
+// section 19.5 and docs/model/16-deviations.md, E9).
 //
 // A constraint kernel supplies only its value C and its gradients grad_k C (iMSTK / Bender style, see
 // STYLE.md); the routines here turn them into position corrections:
@@ -46,8 +47,9 @@ using Mat63 = Eigen::Matrix<double, 6, 3>;
 /// Denominator guard: a projection whose denominator (1+gamma) sum w|grad C|^2 + alpha~ (or the PBD
 /// sum w|grad C|^2) is <= this value is skipped (zero correction, Delta lambda = 0). It fires only when
 /// every involved node is fixed (w = 0) or the gradient vanishes (e.g. a coincident pair, or the 0/0 of a
-/// double-root constraint at rest, docs/model/16-deviations.md, E11). Units are those of the denominator (1/kg for a unit
-/// gradient); project masses are >= 1e-12 kg, so w|grad C|^2 of a live constraint is >> 1e-30.
+/// double-root constraint at rest, docs/model/16-deviations.md, E11). Units are those of the denominator
+/// (1/kg for a unit gradient); project masses are >= 1e-12 kg, so w|grad C|^2 of a live constraint is >>
+/// 1e-30.
 inline constexpr double kDenominatorEpsilon = 1e-30;
 
 /// Value and gradients of a scalar constraint over N nodes (the output of every scalar kernel).
@@ -92,7 +94,8 @@ double xpbd_project(const ScalarConstraint<N>& c, const std::array<double, N>& w
 }
 
 /// Mueller 2007's per-iteration stiffness k' = 1 - (1 - k)^{1/n}, so that n Gauss-Seidel iterations of
-/// one linear constraint remove the fraction k of its error (docs/model/16-deviations.md, E9). k in [0, 1], n >= 1.
+/// one linear constraint remove the fraction k of its error (docs/model/16-deviations.md, E9). k in [0, 1], n
+/// >= 1.
 double pbd_iteration_stiffness(double k, int iterations);
 
 /// PBD projection as printed (paper Eq. 12, Mueller 2007 section 3.3):
@@ -116,7 +119,8 @@ inline Vec3 constraint_force(double lambda, const Vec3& grad_k, double dt) {
 }
 
 /// XPBD projection of a 6-component (block) constraint c(x) in R^6 over n nodes, solved as one 6x6 system
-/// (Macklin 2016 Eq. 26 in matrix form, used by the meshless strain constraint, docs/model/19-position-based.md (A)):
+/// (Macklin 2016 Eq. 26 in matrix form, used by the meshless strain constraint,
+/// docs/model/19-position-based.md (A)):
 ///   [(I + Gamma) J W J^T + alpha~] Delta lambda = -c - alpha~ lambda - Gamma J (p - x_prev),
 ///   alpha~ = compliance / h^2,  Gamma = compliance * damping / h,  Delta p_k = w_k J_k^T Delta lambda.
 /// J[k] = dc/dx_k (6x3), w[k] inverse masses, displacement[k] = p_k - x_prev_k (may be empty when

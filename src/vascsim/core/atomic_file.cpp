@@ -1,9 +1,9 @@
 #include "vascsim/core/atomic_file.hpp"
 
+#include <fmt/format.h>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fmt/format.h>
 
 #include "vascsim/core/error.hpp"
 
@@ -23,7 +23,8 @@ void write_file_atomically(const std::filesystem::path& file, std::string_view c
   const bool flushed = std::fflush(out) == 0;
   const int error = errno;
   const bool closed = std::fclose(out) == 0;
-  if (!written || !flushed || !closed) fail(fmt::format("{} (disk full?)", std::strerror(error ? error : errno)));
+  if (!written || !flushed || !closed)
+    fail(fmt::format("{} (disk full?)", std::strerror(error ? error : errno)));
   std::error_code ec;
   std::filesystem::rename(temp, file, ec);
   if (ec) fail(ec.message());

@@ -9,8 +9,8 @@
 
 namespace vascsim {
 
-/// Writes `content` to `file` through "<file>.tmp" and a rename. Throws InputError "<file>: cannot write: ..."
-/// (the temporary file is removed).
+/// Writes `content` to `file` through "<file>.tmp" and a rename. Throws InputError "<file>: cannot write:
+/// ..." (the temporary file is removed).
 void write_file_atomically(const std::filesystem::path& file, std::string_view content);
 
 }  // namespace vascsim

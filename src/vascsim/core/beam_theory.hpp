@@ -1,6 +1,6 @@
 #pragma once
-// Reference deflection of a cantilever with a tip load (the cantilever check T9, docs/validation.md): Euler-Bernoulli bending plus
-// Timoshenko shear with Cowper's shear coefficient for a rectangular section,
+// Reference deflection of a cantilever with a tip load (the cantilever check T9, docs/validation.md):
+// Euler-Bernoulli bending plus Timoshenko shear with Cowper's shear coefficient for a rectangular section,
 //   delta_T = P L^3 / (3 E I) + P L / (kappa G A),   kappa = 10 (1 + nu) / (12 + 11 nu).
 
 namespace vascsim {

@@ -10,7 +10,9 @@ namespace vascsim {
 
 namespace {
 // Symbols are looked up in everything the process has loaded (the BLAS comes in with libcholmod).
-void* symbol(const char* name) { return dlsym(RTLD_DEFAULT, name); }
+void* symbol(const char* name) {
+  return dlsym(RTLD_DEFAULT, name);
+}
 }  // namespace
 
 std::string blas_library() {

@@ -43,7 +43,9 @@ std::string blas_description() {
 
 }  // namespace
 
-std::string version() { return VASCSIM_VERSION; }
+std::string version() {
+  return VASCSIM_VERSION;
+}
 
 BuildInfo build_info() {
   BuildInfo b;

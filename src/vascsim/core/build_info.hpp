@@ -16,10 +16,11 @@ struct BuildInfo {
   std::string library;     ///< "shared" or "static" libvascsim
   std::string sanitizers;  ///< VASCSIM_SANITIZE ("" : none)
   std::string openmp;      ///< the OpenMP specification date the compiler implements (_OPENMP), e.g. "201511"
-  int omp_max_threads = 0; ///< threads an OpenMP region would use now
-  std::string blas;        ///< the BLAS library loaded at run time (blas_control.hpp), with OpenBLAS's config
-  std::string cholmod;     ///< the CHOLMOD version compiled against
-  std::string bundled_files;  ///< the folder bundled scenes, data and scripts are read from (bundled_files.hpp)
+  int omp_max_threads = 0;  ///< threads an OpenMP region would use now
+  std::string blas;     ///< the BLAS library loaded at run time (blas_control.hpp), with OpenBLAS's config
+  std::string cholmod;  ///< the CHOLMOD version compiled against
+  std::string
+      bundled_files;  ///< the folder bundled scenes, data and scripts are read from (bundled_files.hpp)
 };
 
 /// The build of this library and the run-time libraries it found.

@@ -30,8 +30,14 @@ InterruptGuard::~InterruptGuard() {
   std::signal(SIGTERM, g_previous_term == SIG_ERR ? SIG_DFL : g_previous_term);
 }
 
-bool interrupt_requested() { return g_interrupted.load(); }
-void request_interrupt() { g_interrupted.store(true); }
-void clear_interrupt() { g_interrupted.store(false); }
+bool interrupt_requested() {
+  return g_interrupted.load();
+}
+void request_interrupt() {
+  g_interrupted.store(true);
+}
+void clear_interrupt() {
+  g_interrupted.store(false);
+}
 
 }  // namespace vascsim

@@ -40,8 +40,8 @@ nlohmann::json parse_json_text(const std::string& text, const std::string& file)
   try {
     return parse(text);
   } catch (const TooDeep&) {
-    throw InputError(fmt::format("{}: arrays and objects nest deeper than {} levels; a scene needs about 5", file,
-                                 kMaxJsonDepth));
+    throw InputError(fmt::format("{}: arrays and objects nest deeper than {} levels; a scene needs about 5",
+                                 file, kMaxJsonDepth));
   } catch (const nlohmann::json::exception& e) {
     // parse errors, and out_of_range for a number beyond a double (1e999)
     throw InputError(fmt::format("{}: not valid JSON: {}", file, library_reason(e)));
@@ -67,10 +67,11 @@ nlohmann::json read_json_file(const std::filesystem::path& file, const std::stri
     throw InputError(fmt::format("{}: is not a regular file (a device or pipe); {}", name, expected));
   const auto size = std::filesystem::file_size(file, ec);
   if (!ec && size > kMaxJsonFileBytes)
-    throw InputError(fmt::format("{}: {} bytes; a JSON input may have at most {} bytes", name, size,
-                                 kMaxJsonFileBytes));
+    throw InputError(
+        fmt::format("{}: {} bytes; a JSON input may have at most {} bytes", name, size, kMaxJsonFileBytes));
   std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open {} (missing or unreadable); {}", name, noun, expected));
+  if (!in)
+    throw InputError(fmt::format("{}: cannot open {} (missing or unreadable); {}", name, noun, expected));
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw InputError(fmt::format("{}: read error; {}", name, expected));

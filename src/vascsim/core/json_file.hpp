@@ -22,6 +22,7 @@ std::optional<nlohmann::json> try_parse_json(const std::string& text);
 
 /// Reads and parses a regular file of at most 256 MiB. Messages name it as `noun` ("the scene file") and end
 /// with `expected` (e.g. "expected a JSON trajectory {\"samples\": [...]}").
-nlohmann::json read_json_file(const std::filesystem::path& file, const std::string& noun, const std::string& expected);
+nlohmann::json read_json_file(const std::filesystem::path& file, const std::string& noun,
+                              const std::string& expected);
 
 }  // namespace vascsim

@@ -1,8 +1,8 @@
 #include "vascsim/core/json_reader.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <cmath>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/text.hpp"
@@ -37,17 +37,21 @@ std::string type_name(const nlohmann::json& v) {
 JsonReader::JsonReader(const nlohmann::json& object, std::string path, std::string file)
     : object_(object), path_(std::move(path)), file_(std::move(file)) {
   if (!object_.is_object())
-    throw InputError(fmt::format("{}: key '{}': expected an object, found {}", file_, path_.empty() ? "(root)" : path_,
-                                 type_name(object_)));
+    throw InputError(fmt::format("{}: key '{}': expected an object, found {}", file_,
+                                 path_.empty() ? "(root)" : path_, type_name(object_)));
 }
 
-std::string JsonReader::key_path(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+std::string JsonReader::key_path(const std::string& key) const {
+  return path_.empty() ? key : path_ + "." + key;
+}
 
 void JsonReader::fail(const std::string& key, const std::string& message) const {
   throw InputError(fmt::format("{}: key '{}': {}", file_, key_path(key), message));
 }
 
-bool JsonReader::has(const std::string& key) const { return object_.contains(key); }
+bool JsonReader::has(const std::string& key) const {
+  return object_.contains(key);
+}
 
 const nlohmann::json* JsonReader::find(const std::string& key) {
   read_.insert(key);
@@ -55,7 +59,9 @@ const nlohmann::json* JsonReader::find(const std::string& key) {
   return it == object_.end() ? nullptr : &*it;
 }
 
-const nlohmann::json* JsonReader::raw(const std::string& key) { return find(key); }
+const nlohmann::json* JsonReader::raw(const std::string& key) {
+  return find(key);
+}
 
 void JsonReader::note(const std::string& key, JsonField field) {
   if (fields_ == nullptr) return;
@@ -67,7 +73,8 @@ double JsonReader::number(const std::string& key, double fallback, double lo, do
   const auto* v = find(key);
   double x = fallback;
   if (v) {
-    if (!v->is_number()) fail(key, fmt::format("expected a number in [{}, {}], found {}", lo, hi, type_name(*v)));
+    if (!v->is_number())
+      fail(key, fmt::format("expected a number in [{}, {}], found {}", lo, hi, type_name(*v)));
     x = v->get<double>();
     if (!std::isfinite(x) || x < lo || x > hi)
       fail(key, fmt::format("value {} is out of range; allowed [{}, {}]", x, lo, hi));
@@ -128,7 +135,8 @@ std::string JsonReader::string(const std::string& key, const std::string& fallba
 
 std::string JsonReader::required_string(const std::string& key, const std::vector<std::string>& allowed) {
   if (!has(key))
-    missing(key, allowed.empty() ? "a string is required" : fmt::format("one of: {}", fmt::join(allowed, ", ")));
+    missing(key,
+            allowed.empty() ? "a string is required" : fmt::format("one of: {}", fmt::join(allowed, ", ")));
   return string(key, "", allowed);
 }
 
@@ -139,7 +147,8 @@ Vec3 JsonReader::vec3(const std::string& key, const Vec3& fallback) {
   Vec3 out;
   for (int a = 0; a < 3; ++a) {
     const auto& e = (*v)[static_cast<std::size_t>(a)];
-    if (!e.is_number() || !std::isfinite(e.get<double>())) fail(key, "expected an array of 3 finite numbers [x, y, z]");
+    if (!e.is_number() || !std::isfinite(e.get<double>()))
+      fail(key, "expected an array of 3 finite numbers [x, y, z]");
     out[a] = e.get<double>();
   }
   return out;
@@ -169,7 +178,8 @@ std::vector<JsonReader> JsonReader::array_of_objects(const std::string& key, boo
   for (std::size_t i = 0; i < v->size(); ++i) {
     const auto& e = (*v)[i];
     const std::string p = fmt::format("{}.{}", key_path(key), i);
-    if (!e.is_object()) throw InputError(fmt::format("{}: key '{}': expected an object, found {}", file_, p, type_name(e)));
+    if (!e.is_object())
+      throw InputError(fmt::format("{}: key '{}': expected an object, found {}", file_, p, type_name(e)));
     out.emplace_back(e, p, file_);
   }
   return out;
@@ -200,9 +210,10 @@ void JsonReader::finish() const {
   for (const auto& [k, v] : object_.items())
     if (!read_.count(k)) {  // an allowed key that is present is read, or rejected with its own message before
       const std::optional<std::string> near = nearest_name(k, known);
-      throw InputError(fmt::format("{}: key '{}': unknown key{}{}", file_, key_path(k),
-                                   near ? fmt::format(" (did you mean '{}'?)", *near) : "",
-                                   known.empty() ? "" : fmt::format("; allowed here: {}", fmt::join(known, ", "))));
+      throw InputError(
+          fmt::format("{}: key '{}': unknown key{}{}", file_, key_path(k),
+                      near ? fmt::format(" (did you mean '{}'?)", *near) : "",
+                      known.empty() ? "" : fmt::format("; allowed here: {}", fmt::join(known, ", "))));
     }
 }
 

@@ -2,7 +2,8 @@
 // Validated reading of one JSON object of a scene file. Every access names the key, its unit and its
 // allowed range; finish() rejects keys that were never read (unknown keys, typos), naming the nearest allowed
 // key. A required key that is missing while a misspelling of it is present is reported as that unknown key.
-// All problems are InputError messages of the form "<file>: key '<path>': <what is wrong>; <what is allowed>".
+// All problems are InputError messages of the form "<file>: key '<path>': <what is wrong>; <what is
+// allowed>".
 
 #include <initializer_list>
 #include <nlohmann/json.hpp>
@@ -38,7 +39,8 @@ class JsonReader {
   double required_number(const std::string& key, double lo, double hi);
   int integer(const std::string& key, int fallback, int lo, int hi);
   bool boolean(const std::string& key, bool fallback);
-  std::string string(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed = {});
+  std::string string(const std::string& key, const std::string& fallback,
+                     const std::vector<std::string>& allowed = {});
   std::string required_string(const std::string& key, const std::vector<std::string>& allowed = {});
   /// Three finite numbers [x, y, z].
   Vec3 vec3(const std::string& key, const Vec3& fallback);
@@ -51,10 +53,12 @@ class JsonReader {
   const nlohmann::json* raw(const std::string& key);
 
   /// Keys this object also accepts on paths not taken (the other of two alternatives, a block read only when
-  /// present): finish() lists them as allowed, and a required key's check never takes them for its misspelling.
+  /// present): finish() lists them as allowed, and a required key's check never takes them for its
+  /// misspelling.
   void allow(std::initializer_list<const char*> keys);
-  /// Throws for a required `key` that is absent: "missing; <what>" (e.g. "a number in [0, 1] is required"), or,
-  /// when the object holds an unread key that is a misspelling of it, that key as unknown with `key` to use.
+  /// Throws for a required `key` that is absent: "missing; <what>" (e.g. "a number in [0, 1] is required"),
+  /// or, when the object holds an unread key that is a misspelling of it, that key as unknown with `key` to
+  /// use.
   [[noreturn]] void missing(const std::string& key, const std::string& what) const;
 
   /// Throws for keys present in the object that were never read, naming the nearest allowed key.

@@ -1,8 +1,8 @@
 #include "vascsim/core/memory_usage.hpp"
 
+#include <sys/resource.h>
 #include <fstream>
 #include <string>
-#include <sys/resource.h>
 
 namespace vascsim {
 

@@ -8,10 +8,14 @@ namespace vascsim {
 
 const char* richardson_status_name(RichardsonStatus status) {
   switch (status) {
-    case RichardsonStatus::Extrapolated: return "extrapolated";
-    case RichardsonStatus::Exact: return "exact";
-    case RichardsonStatus::Oscillating: return "oscillating";
-    case RichardsonStatus::OrderOutOfRange: return "order out of range";
+    case RichardsonStatus::Extrapolated:
+      return "extrapolated";
+    case RichardsonStatus::Exact:
+      return "exact";
+    case RichardsonStatus::Oscillating:
+      return "oscillating";
+    case RichardsonStatus::OrderOutOfRange:
+      return "order out of range";
   }
   return "?";
 }
@@ -46,7 +50,8 @@ Richardson richardson_extrapolate(const double (&h)[3], const double (&f)[3], do
     r.order = 0.0;
     return r;
   }
-  if (std::abs(e21) <= scale || e32 / e21 <= 0.0) {  // the finer pair agrees but the coarser not, or up and down
+  if (std::abs(e21) <= scale ||
+      e32 / e21 <= 0.0) {  // the finer pair agrees but the coarser not, or up and down
     r.status = RichardsonStatus::Oscillating;
     return r;
   }

@@ -1,8 +1,8 @@
 #pragma once
 // Richardson extrapolation of a sequence of resolutions and its uncertainty: the grid convergence index (GCI)
-// procedure of Celik et al. 2008, "Procedure for estimation and reporting of uncertainty due to discretization
-// in CFD applications", J. Fluids Eng. 130(7), 078001 (the same procedure validation/fem/richardson.py applies
-// to the CalculiX references).
+// procedure of Celik et al. 2008, "Procedure for estimation and reporting of uncertainty due to
+// discretization in CFD applications", J. Fluids Eng. 130(7), 078001 (the same procedure
+// validation/fem/richardson.py applies to the CalculiX references).
 //
 // Three resolutions h1 < h2 < h3 (fine to coarse) with values f1, f2, f3: the observed order p solves
 //   p = |ln|e32/e21| + q(p)| / ln r21,  q(p) = ln((r21^p - s) / (r32^p - s)),  s = sign(e32/e21),
@@ -17,9 +17,9 @@ namespace vascsim {
 
 /// Why a sequence gives no extrapolation.
 enum class RichardsonStatus {
-  Extrapolated,  ///< monotone, with an order in the accepted range
-  Exact,         ///< the three values agree to rounding: no discretisation error to estimate
-  Oscillating,   ///< e32 / e21 < 0: the values go up and down with the resolution
+  Extrapolated,    ///< monotone, with an order in the accepted range
+  Exact,           ///< the three values agree to rounding: no discretisation error to estimate
+  Oscillating,     ///< e32 / e21 < 0: the values go up and down with the resolution
   OrderOutOfRange  ///< monotone, but the observed order is below kMinObservedOrder or above kMaxObservedOrder
 };
 
@@ -27,8 +27,8 @@ enum class RichardsonStatus {
 const char* richardson_status_name(RichardsonStatus status);
 
 /// Observed orders outside [kMinObservedOrder, kMaxObservedOrder] mean the sequence is not in the asymptotic
-/// range: below 0.5 the differences barely shrink (the extrapolation would reach far beyond the data), above 6
-/// they shrink faster than any consistent discretisation of second-order operators does (one value is off).
+/// range: below 0.5 the differences barely shrink (the extrapolation would reach far beyond the data), above
+/// 6 they shrink faster than any consistent discretisation of second-order operators does (one value is off).
 inline constexpr double kMinObservedOrder = 0.5;
 inline constexpr double kMaxObservedOrder = 6.0;
 /// Celik et al.'s factor of safety for three resolutions with an observed order.
@@ -40,7 +40,8 @@ struct Richardson {
   double extrapolated = 0.0;  ///< f_ext (Extrapolated), f1 (Exact); otherwise f1 as well
   /// (f1 - f_ext) / f_ext: the estimated relative error of the finest value (0 unless Extrapolated)
   double fine_error = 0.0;
-  /// The GCI of the finest value: a bound on |relative error| with the factor of safety (0 unless Extrapolated)
+  /// The GCI of the finest value: a bound on |relative error| with the factor of safety (0 unless
+  /// Extrapolated)
   double fine_gci = 0.0;
 };
 

@@ -6,16 +6,16 @@
 // The Fortran BLAS of the process (OpenBLAS through Debian's libblas.so.3 alternative; blas_control.hpp). The
 // trailing lengths are gfortran's hidden character-argument lengths.
 extern "C" {
-void strsv_(const char* uplo, const char* trans, const char* diag, const int* n, const float* a, const int* lda,
-            float* x, const int* incx, std::size_t, std::size_t, std::size_t);
+void strsv_(const char* uplo, const char* trans, const char* diag, const int* n, const float* a,
+            const int* lda, float* x, const int* incx, std::size_t, std::size_t, std::size_t);
 void sgemv_(const char* trans, const int* m, const int* n, const float* alpha, const float* a, const int* lda,
             const float* x, const int* incx, const float* beta, float* y, const int* incy, std::size_t);
-void strsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m, const int* n,
-            const float* alpha, const float* a, const int* lda, float* b, const int* ldb, std::size_t, std::size_t,
-            std::size_t, std::size_t);
-void sgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k, const float* alpha,
-            const float* a, const int* lda, const float* b, const int* ldb, const float* beta, float* c, const int* ldc,
-            std::size_t, std::size_t);
+void strsm_(const char* side, const char* uplo, const char* transa, const char* diag, const int* m,
+            const int* n, const float* alpha, const float* a, const int* lda, float* b, const int* ldb,
+            std::size_t, std::size_t, std::size_t, std::size_t);
+void sgemm_(const char* transa, const char* transb, const int* m, const int* n, const int* k,
+            const float* alpha, const float* a, const int* lda, const float* b, const int* ldb,
+            const float* beta, float* c, const int* ldc, std::size_t, std::size_t);
 }
 
 namespace vascsim {
@@ -26,7 +26,8 @@ constexpr float kPlus = 1.0f, kMinus = -1.0f, kZero = 0.0f;
 }  // namespace
 
 void SinglePrecisionFactor::assign(const SupernodalFactorView& f) {
-  if (f.n <= 0 || f.supernodes <= 0 || !f.perm || !f.super || !f.row_start || !f.value_start || !f.rows || !f.values)
+  if (f.n <= 0 || f.supernodes <= 0 || !f.perm || !f.super || !f.row_start || !f.value_start || !f.rows ||
+      !f.values)
     throw std::invalid_argument("SinglePrecisionFactor: not a supernodal factor");
   n_ = f.n;
   const auto ns = static_cast<std::size_t>(f.supernodes);
@@ -120,7 +121,8 @@ void SinglePrecisionFactor::backward(float* Y, int columns) const {
 
 void SinglePrecisionFactor::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) const {
   if (empty()) throw std::logic_error("SinglePrecisionFactor::solve without a factor");
-  if (B.rows() != n_) throw std::invalid_argument("SinglePrecisionFactor::solve: right-hand sides of the wrong size");
+  if (B.rows() != n_)
+    throw std::invalid_argument("SinglePrecisionFactor::solve: right-hand sides of the wrong size");
   const auto columns = static_cast<int>(B.cols());
   X.setZero(n_, B.cols());
   if (columns == 0) return;
@@ -130,27 +132,33 @@ void SinglePrecisionFactor::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) 
     const double s = B.col(j).cwiseAbs().maxCoeff();
     scale[static_cast<std::size_t>(j)] = s > 0.0 ? s : 1.0;
     float* y = Y_.data() + static_cast<std::ptrdiff_t>(j) * n_;
-    for (int k = 0; k < n_; ++k) y[k] = static_cast<float>(B(perm_[static_cast<std::size_t>(k)], j) / scale[static_cast<std::size_t>(j)]);
+    for (int k = 0; k < n_; ++k)
+      y[k] =
+          static_cast<float>(B(perm_[static_cast<std::size_t>(k)], j) / scale[static_cast<std::size_t>(j)]);
   }
   forward(Y_.data(), columns);
   backward(Y_.data(), columns);
   for (int j = 0; j < columns; ++j) {
     const float* y = Y_.data() + static_cast<std::ptrdiff_t>(j) * n_;
-    for (int k = 0; k < n_; ++k) X(perm_[static_cast<std::size_t>(k)], j) = scale[static_cast<std::size_t>(j)] * y[k];
+    for (int k = 0; k < n_; ++k)
+      X(perm_[static_cast<std::size_t>(k)], j) = scale[static_cast<std::size_t>(j)] * y[k];
   }
 }
 
 void SinglePrecisionFactor::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) const {
   if (empty()) throw std::logic_error("SinglePrecisionFactor::solve without a factor");
-  if (b.size() != n_) throw std::invalid_argument("SinglePrecisionFactor::solve: right-hand side of the wrong size");
+  if (b.size() != n_)
+    throw std::invalid_argument("SinglePrecisionFactor::solve: right-hand side of the wrong size");
   // Scaled into float's range by |b|_inf (a preconditioner's right-hand side may be of any magnitude).
   const double scale = b.cwiseAbs().maxCoeff();
   x.setZero(n_);
   if (!(scale > 0.0)) return;
-  for (int k = 0; k < n_; ++k) y_[static_cast<std::size_t>(k)] = static_cast<float>(b[perm_[static_cast<std::size_t>(k)]] / scale);
+  for (int k = 0; k < n_; ++k)
+    y_[static_cast<std::size_t>(k)] = static_cast<float>(b[perm_[static_cast<std::size_t>(k)]] / scale);
   forward(y_.data());
   backward(y_.data());
-  for (int k = 0; k < n_; ++k) x[perm_[static_cast<std::size_t>(k)]] = scale * y_[static_cast<std::size_t>(k)];
+  for (int k = 0; k < n_; ++k)
+    x[perm_[static_cast<std::size_t>(k)]] = scale * y_[static_cast<std::size_t>(k)];
 }
 
 }  // namespace vascsim

@@ -4,9 +4,9 @@
 
 #include <cholmod.h>
 
+#include <fmt/format.h>
 #include <chrono>
 #include <cstring>
-#include <fmt/format.h>
 #include <stdexcept>
 
 #include "vascsim/core/error.hpp"
@@ -21,14 +21,22 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 std::string ordering_name(int cholmod_ordering) {
   switch (cholmod_ordering) {
-    case CHOLMOD_NATURAL: return "natural";
-    case CHOLMOD_GIVEN: return "given";
-    case CHOLMOD_AMD: return "amd";
-    case CHOLMOD_METIS: return "metis";
-    case CHOLMOD_NESDIS: return "nesdis";
-    case CHOLMOD_COLAMD: return "colamd";
-    case CHOLMOD_POSTORDERED: return "natural (postordered)";
-    default: return fmt::format("unknown ({})", cholmod_ordering);
+    case CHOLMOD_NATURAL:
+      return "natural";
+    case CHOLMOD_GIVEN:
+      return "given";
+    case CHOLMOD_AMD:
+      return "amd";
+    case CHOLMOD_METIS:
+      return "metis";
+    case CHOLMOD_NESDIS:
+      return "nesdis";
+    case CHOLMOD_COLAMD:
+      return "colamd";
+    case CHOLMOD_POSTORDERED:
+      return "natural (postordered)";
+    default:
+      return fmt::format("unknown ({})", cholmod_ordering);
   }
 }
 
@@ -57,11 +65,16 @@ cholmod_sparse view_lower(const Eigen::SparseMatrix<double>& A) {
 
 std::string to_string(CholeskyOrdering ordering) {
   switch (ordering) {
-    case CholeskyOrdering::Default: return "default";
-    case CholeskyOrdering::Amd: return "amd";
-    case CholeskyOrdering::Metis: return "metis";
-    case CholeskyOrdering::Nesdis: return "nesdis";
-    case CholeskyOrdering::Natural: return "natural";
+    case CholeskyOrdering::Default:
+      return "default";
+    case CholeskyOrdering::Amd:
+      return "amd";
+    case CholeskyOrdering::Metis:
+      return "metis";
+    case CholeskyOrdering::Nesdis:
+      return "nesdis";
+    case CholeskyOrdering::Natural:
+      return "natural";
   }
   return "?";
 }
@@ -105,7 +118,9 @@ SparseCholesky::SparseCholesky(const SparseCholeskyOptions& options)
 
 SparseCholesky::~SparseCholesky() = default;
 
-bool SparseCholesky::analysed() const { return cm_->L != nullptr; }
+bool SparseCholesky::analysed() const {
+  return cm_->L != nullptr;
+}
 
 void SparseCholesky::analyse(const Eigen::SparseMatrix<double>& A) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -114,11 +129,12 @@ void SparseCholesky::analyse(const Eigen::SparseMatrix<double>& A) {
   factorized_ = false;
   cm_->L = cholmod_analyze(&a, &cm_->c);
   if (!cm_->L || cm_->c.status < CHOLMOD_OK)
-    throw NumericalError(fmt::format("sparse Cholesky: analysis of a {} x {} matrix failed (CHOLMOD status {}{})",
-                                     A.rows(), A.cols(), cm_->c.status,
-                                     cm_->c.status == CHOLMOD_NOT_INSTALLED ? ": ordering not built into CHOLMOD"
-                                     : cm_->c.status == CHOLMOD_OUT_OF_MEMORY ? ": out of memory"
-                                                                               : ""));
+    throw NumericalError(
+        fmt::format("sparse Cholesky: analysis of a {} x {} matrix failed (CHOLMOD status {}{})", A.rows(),
+                    A.cols(), cm_->c.status,
+                    cm_->c.status == CHOLMOD_NOT_INSTALLED   ? ": ordering not built into CHOLMOD"
+                    : cm_->c.status == CHOLMOD_OUT_OF_MEMORY ? ": out of memory"
+                                                             : ""));
   rows_ = A.rows();
   nnz_analysed_ = A.nonZeros();
   stats_ = SparseCholeskyStats{};
@@ -133,20 +149,23 @@ void SparseCholesky::analyse(const Eigen::SparseMatrix<double>& A) {
 void SparseCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
   if (!analysed()) throw std::logic_error("SparseCholesky::factorize before analyse");
   if (A.rows() != rows_ || A.nonZeros() != nnz_analysed_)
-    throw std::invalid_argument("SparseCholesky::factorize: the matrix pattern differs from the analysed one");
+    throw std::invalid_argument(
+        "SparseCholesky::factorize: the matrix pattern differs from the analysed one");
   const auto t0 = std::chrono::steady_clock::now();
   cholmod_sparse a = view_lower(A);
   factorized_ = false;
   const int ok = cholmod_factorize(&a, cm_->L, &cm_->c);
   stats_.factorize_s = seconds_since(t0);
   if (!ok || cm_->c.status < CHOLMOD_OK)
-    throw NumericalError(fmt::format("sparse Cholesky: factorisation failed (CHOLMOD status {}{})", cm_->c.status,
+    throw NumericalError(fmt::format("sparse Cholesky: factorisation failed (CHOLMOD status {}{})",
+                                     cm_->c.status,
                                      cm_->c.status == CHOLMOD_OUT_OF_MEMORY ? ": out of memory" : ""));
   if (cm_->c.status == CHOLMOD_NOT_POSDEF || cm_->L->minor < cm_->L->n)
-    throw NumericalError(fmt::format(
-        "sparse Cholesky: the matrix is not positive definite (the factorisation broke down at column {} of {} "
-        "in the permuted order); a preconditioner matrix must be symmetric positive definite",
-        cm_->L->minor, cm_->L->n));
+    throw NumericalError(
+        fmt::format("sparse Cholesky: the matrix is not positive definite (the factorisation broke down at "
+                    "column {} of {} "
+                    "in the permuted order); a preconditioner matrix must be symmetric positive definite",
+                    cm_->L->minor, cm_->L->n));
   factorized_ = true;
   stats_.supernodal = cm_->L->is_super != 0;
   stats_.stored_l = static_cast<double>(cm_->L->is_super ? cm_->L->xsize : cm_->L->nzmax);
@@ -185,7 +204,8 @@ void SparseCholesky::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
 }
 
 void SparseCholesky::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) {
-  if (B.rows() != rows_) throw std::invalid_argument("SparseCholesky::solve: right-hand sides of the wrong size");
+  if (B.rows() != rows_)
+    throw std::invalid_argument("SparseCholesky::solve: right-hand sides of the wrong size");
   if (!single_.empty() && factorized_) {
     const auto t0 = std::chrono::steady_clock::now();
     single_.solve(B, X);

@@ -21,7 +21,8 @@
 namespace vascsim {
 
 enum class CholeskyOrdering {
-  Default,  ///< CHOLMOD's choice: AMD, and METIS when AMD's fill is high (fl/nnz(L) >= 500 and nnz(L)/nnz(A) >= 5)
+  Default,  ///< CHOLMOD's choice: AMD, and METIS when AMD's fill is high (fl/nnz(L) >= 500 and nnz(L)/nnz(A)
+            ///< >= 5)
   Amd,      ///< approximate minimum degree
   Metis,    ///< METIS nested dissection
   Nesdis,   ///< CHOLMOD's nested dissection (node bisection + constrained minimum degree)
@@ -34,15 +35,15 @@ std::string to_string(CholeskyOrdering ordering);
 struct SparseCholeskyOptions {
   CholeskyOrdering ordering = CholeskyOrdering::Default;
   bool supernodal = true;  ///< false: CHOLMOD's simplicial (up-looking, no BLAS) LL^T
-  /// Solves run on a float copy of the supernodal factor (single_precision_factor.hpp: half the memory traffic,
-  /// about half the time; relative error about cond(A) * 1e-7). For preconditioners and the compliances built
-  /// from them.
+  /// Solves run on a float copy of the supernodal factor (single_precision_factor.hpp: half the memory
+  /// traffic, about half the time; relative error about cond(A) * 1e-7). For preconditioners and the
+  /// compliances built from them.
   bool single_precision_solves = false;
 };
 
 /// What the last analyse / factorize / solve did.
 struct SparseCholeskyStats {
-  std::string ordering;      ///< the ordering CHOLMOD used (after Default chose), as to_string
+  std::string ordering;  ///< the ordering CHOLMOD used (after Default chose), as to_string
   bool supernodal = false;
   double nnz_a = 0;          ///< nonzeros of A's lower triangle
   double nnz_l = 0;          ///< nonzeros of L (fill of the exact factor, without supernodal padding)
@@ -72,8 +73,8 @@ class SparseCholesky {
   /// x = A^{-1} b (with the float copy of the factor when the options ask for it). Needs a factor
   /// (std::logic_error otherwise).
   void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x);
-  /// X = A^{-1} B for several right-hand sides at once (the supernodal solve then runs in BLAS-3 kernels; with
-  /// the float copy when the options ask for it).
+  /// X = A^{-1} B for several right-hand sides at once (the supernodal solve then runs in BLAS-3 kernels;
+  /// with the float copy when the options ask for it).
   void solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X);
 
   bool analysed() const;

@@ -19,7 +19,8 @@ Eigen::AlignedBox3d bounds(const Vec3Array& pts) {
 }  // namespace
 
 SpatialGrid::SpatialGrid(const Vec3Array& points, double cell_size) : points_(points) {
-  if (!(cell_size > 0.0) || !std::isfinite(cell_size)) throw NumericalError("spatial grid: cell size must be > 0");
+  if (!(cell_size > 0.0) || !std::isfinite(cell_size))
+    throw NumericalError("spatial grid: cell size must be > 0");
   for (const auto& p : points_)
     if (!p.allFinite()) throw InputError("spatial grid: a node position is not finite");
   const auto box = points_.empty() ? Eigen::AlignedBox3d(Vec3::Zero(), Vec3::Zero()) : bounds(points_);
@@ -35,8 +36,8 @@ SpatialGrid::SpatialGrid(const Vec3Array& points, double cell_size) : points_(po
   for (std::size_t i = 0; i < points_.size(); ++i) {
     const Eigen::Vector3i c = cell_of(points_[i]);
     key[i] = static_cast<std::size_t>(c[0]) +
-             static_cast<std::size_t>(dims_[0]) * (static_cast<std::size_t>(c[1]) +
-                                                   static_cast<std::size_t>(dims_[1]) * c[2]);
+             static_cast<std::size_t>(dims_[0]) *
+                 (static_cast<std::size_t>(c[1]) + static_cast<std::size_t>(dims_[1]) * c[2]);
     ++count[key[i] + 1];
   }
   for (std::size_t c = 0; c < ncell; ++c) count[c + 1] += count[c];
@@ -73,7 +74,7 @@ void SpatialGrid::for_each_within(const Vec3& p, double radius,
 
 double SpatialGrid::nearest_distance(Index i, double max_search) const {
   double best = std::numeric_limits<double>::infinity();
-  for (double r = cell_; ; r *= 2.0) {
+  for (double r = cell_;; r *= 2.0) {
     const double radius = std::min(r, max_search);
     for_each_within(points_[i], radius, [&](Index j, double d) {
       if (j != i && d < best) best = d;
@@ -92,7 +93,8 @@ std::vector<double> nearest_spacings(const Vec3Array& points) {
   SpatialGrid grid(points, cell);
   std::vector<double> d(points.size());
 #pragma omp parallel for schedule(static)
-  for (std::size_t i = 0; i < points.size(); ++i) d[i] = grid.nearest_distance(static_cast<Index>(i), 2.0 * diag);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    d[i] = grid.nearest_distance(static_cast<Index>(i), 2.0 * diag);
   return d;
 }
 }  // namespace

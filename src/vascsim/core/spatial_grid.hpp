@@ -33,7 +33,8 @@ class SpatialGrid {
   std::vector<Index> cell_items_;
 };
 
-/// Mean nearest-neighbour spacing (the Delta-bar of docs/model/03-neighbourhoods.md), m. Requires >= 2 points.
+/// Mean nearest-neighbour spacing (the Delta-bar of docs/model/03-neighbourhoods.md), m. Requires >= 2
+/// points.
 double mean_nearest_spacing(const Vec3Array& points);
 
 /// Smallest nearest-neighbour spacing, m.

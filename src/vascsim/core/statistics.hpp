@@ -18,6 +18,8 @@ inline double quantile(std::vector<double> samples, double q) {
   return samples[i] + (position - static_cast<double>(i)) * (samples[i + 1] - samples[i]);
 }
 
-inline double median(std::vector<double> samples) { return quantile(std::move(samples), 0.5); }
+inline double median(std::vector<double> samples) {
+  return quantile(std::move(samples), 0.5);
+}
 
 }  // namespace vascsim

@@ -13,7 +13,9 @@ inline double seconds_between(SteadyClock::time_point a, SteadyClock::time_point
 }
 
 /// Seconds since `start`.
-inline double seconds_since(SteadyClock::time_point start) { return seconds_between(start, SteadyClock::now()); }
+inline double seconds_since(SteadyClock::time_point start) {
+  return seconds_between(start, SteadyClock::now());
+}
 
 /// Measures the time since it was made (or last restarted).
 class Stopwatch {

@@ -7,8 +7,8 @@
 namespace vascsim {
 
 /// cof(F) = det(F) F^{-T} = dJ/dF, columns [F_1 x F_2, F_2 x F_0, F_0 x F_1] (F_c = column c). Not
-/// adj(F) = cof(F)^T, which differs for every non-symmetric F (docs/model/09-volume-term-and-stabiliser.md section 9.1).
-/// Defined for every F, including singular and inverted ones.
+/// adj(F) = cof(F)^T, which differs for every non-symmetric F (docs/model/09-volume-term-and-stabiliser.md
+/// section 9.1). Defined for every F, including singular and inverted ones.
 inline Mat3 cofactor(const Mat3& F) {
   Mat3 C;
   C.col(0) = F.col(1).cross(F.col(2));

@@ -1,10 +1,10 @@
 #include "vascsim/experiments/ahp_evaluation.hpp"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <fmt/format.h>
-#include <fmt/ranges.h>
 #include <fstream>
 #include <set>
 #include <stdexcept>
@@ -13,14 +13,14 @@
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/json_reader.hpp"
 
-
 namespace vascsim::ahp {
 
 namespace {
 
 nlohmann::json read_json(const std::filesystem::path& path, const std::string& what) {
   std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("{}: cannot open the {} (missing or unreadable)", path.string(), what));
+  if (!in)
+    throw InputError(fmt::format("{}: cannot open the {} (missing or unreadable)", path.string(), what));
   try {
     return nlohmann::json::parse(in, nullptr, true, /*ignore_comments=*/true);
   } catch (const nlohmann::json::parse_error& e) {
@@ -40,7 +40,8 @@ std::string checked_id(JsonReader& r, const std::string& key) {
   return id;
 }
 
-std::vector<double> number_array(JsonReader& r, const std::string& key, std::size_t size, const std::string& what) {
+std::vector<double> number_array(JsonReader& r, const std::string& key, std::size_t size,
+                                 const std::string& what) {
   const auto* v = r.raw(key);
   if (!v) r.fail(key, fmt::format("missing; {} is required", what));
   if (!v->is_array() || v->size() != size) r.fail(key, fmt::format("expected {}", what));
@@ -52,7 +53,8 @@ std::vector<double> number_array(JsonReader& r, const std::string& key, std::siz
   return out;
 }
 
-std::vector<std::string> string_array(JsonReader& r, const std::string& key, std::size_t size, const std::string& what) {
+std::vector<std::string> string_array(JsonReader& r, const std::string& key, std::size_t size,
+                                      const std::string& what) {
   const auto* v = r.raw(key);
   if (!v) r.fail(key, fmt::format("missing; {} is required", what));
   if (!v->is_array() || v->size() != size) r.fail(key, fmt::format("expected {}", what));
@@ -76,8 +78,8 @@ PairwiseAnalysis read_matrix(JsonReader& r, const std::string& key, const std::v
   const auto* v = r.raw(key);
   if (!v) {
     if (labels.size() > 1)
-      r.fail(key, fmt::format("missing; the {}x{} pairwise comparison matrix of {} is required", labels.size(),
-                              labels.size(), fmt::join(labels, ", ")));
+      r.fail(key, fmt::format("missing; the {}x{} pairwise comparison matrix of {} is required",
+                              labels.size(), labels.size(), fmt::join(labels, ", ")));
     used = Eigen::MatrixXd::Ones(1, 1);
     return analyse_pairwise(used);
   }
@@ -122,7 +124,8 @@ Hierarchy parse_hierarchy(const nlohmann::json& doc, const std::string& file) {
     for (auto& i : ind) {
       Indicator in;
       in.id = checked_id(i, "id");
-      if (!ids.insert(in.id).second) i.fail("id", fmt::format("'{}' is used twice; ids must be unique", in.id));
+      if (!ids.insert(in.id).second)
+        i.fail("id", fmt::format("'{}' is used twice; ids must be unique", in.id));
       in.name = i.required_string("name");
       in.criterion = cr.id;
       in.key = i.path();
@@ -159,11 +162,13 @@ Hierarchy load_hierarchy(const std::filesystem::path& path) {
 // -------------------------------------------------------------------------- evaluation standard (Table 2)
 const std::vector<MeasureSpec>& measure_specs() {
   static const std::vector<MeasureSpec> specs = {
-      {"visual_refresh_rate_hz", "Hz", "frames rendered per second during the interaction (paper Fig. 12)", 1e-9, 1e5},
+      {"visual_refresh_rate_hz", "Hz", "frames rendered per second during the interaction (paper Fig. 12)",
+       1e-9, 1e5},
       {"haptic_rate_hz", "Hz", "achieved rate of the haptic (force feedback) loop", 1e-9, 1e6},
       {"update_time_ms", "ms", "wall time of one deformation update (paper Fig. 11)", 1e-9, 1e6},
       {"force_rms_error_percent", "%",
-       "RMS of (F - F_ref) over the force-displacement samples, divided by the RMS of F_ref, times 100", 0.0, 1e4},
+       "RMS of (F - F_ref) over the force-displacement samples, divided by the RMS of F_ref, times 100", 0.0,
+       1e4},
   };
   return specs;
 }
@@ -181,20 +186,24 @@ Standard parse_standard(const nlohmann::json& doc, const std::string& file) {
   s.description = root.string("description", "");
   {
     JsonReader b = root.object("score_bands");
-    if (!root.has("score_bands")) root.fail("score_bands", "missing; {edges, labels, step_scores} is required");
+    if (!root.has("score_bands"))
+      root.fail("score_bands", "missing; {edges, labels, step_scores} is required");
     const auto* e = b.raw("edges");
-    if (!e || !e->is_array() || e->size() < 3) b.fail("edges", "expected an array of at least 3 increasing scores from 0 to 100");
+    if (!e || !e->is_array() || e->size() < 3)
+      b.fail("edges", "expected an array of at least 3 increasing scores from 0 to 100");
     const std::size_t nb = e->size() - 1;
     s.score_edges = number_array(b, "edges", nb + 1, "an array of increasing scores from 0 to 100");
     if (s.score_edges.front() != 0.0 || s.score_edges.back() != 100.0 ||
         !std::is_sorted(s.score_edges.begin(), s.score_edges.end(), std::less_equal<>()))
       b.fail("edges", "the score edges must increase strictly from 0 to 100");
-    s.score_labels = string_array(b, "labels", nb, fmt::format("an array of {} band labels (one per band)", nb));
-    s.step_scores = number_array(b, "step_scores", nb, fmt::format("an array of {} scores, one inside each band", nb));
+    s.score_labels =
+        string_array(b, "labels", nb, fmt::format("an array of {} band labels (one per band)", nb));
+    s.step_scores =
+        number_array(b, "step_scores", nb, fmt::format("an array of {} scores, one inside each band", nb));
     for (std::size_t k = 0; k < nb; ++k)
       if (s.step_scores[k] < s.score_edges[k] || s.step_scores[k] > s.score_edges[k + 1])
-        b.fail("step_scores", fmt::format("{} is outside its band [{}, {}]", s.step_scores[k], s.score_edges[k],
-                                          s.score_edges[k + 1]));
+        b.fail("step_scores", fmt::format("{} is outside its band [{}, {}]", s.step_scores[k],
+                                          s.score_edges[k], s.score_edges[k + 1]));
     b.finish();
   }
   const std::size_t nb = s.score_labels.size();
@@ -212,14 +221,16 @@ Standard parse_standard(const nlohmann::json& doc, const std::string& file) {
     is.edges_source = r.string("edges_source", "");
     r.string("note", "");
     if (is.measured()) {
-      is.edges = number_array(r, "edges", nb + 1,
-                              fmt::format("an array of {} band edges in {}, from the worst end to the best end", nb + 1,
-                                          find_measure(is.measure)->unit));
+      is.edges =
+          number_array(r, "edges", nb + 1,
+                       fmt::format("an array of {} band edges in {}, from the worst end to the best end",
+                                   nb + 1, find_measure(is.measure)->unit));
       const bool up = is.edges.back() > is.edges.front();
       for (std::size_t k = 0; k + 1 < is.edges.size(); ++k)
         if (!(up ? is.edges[k + 1] > is.edges[k] : is.edges[k + 1] < is.edges[k]))
-          r.fail("edges", "the edges must be strictly monotone (increasing when higher is better, decreasing when "
-                          "lower is better)");
+          r.fail("edges",
+                 "the edges must be strictly monotone (increasing when higher is better, decreasing when "
+                 "lower is better)");
       is.rule = r.string("rule", "linear", {"linear", "step"}) == "step" ? BandRule::step : BandRule::linear;
     } else {
       for (const char* k : {"edges", "rule"})
@@ -269,7 +280,8 @@ BandScore score_measured(const Standard& s, const IndicatorStandard& ind, double
 }
 
 // ---------------------------------------------------------------------------------- ratings, measurements
-Ratings parse_ratings(const nlohmann::json& doc, const std::string& file, const Hierarchy& h, const Standard& s) {
+Ratings parse_ratings(const nlohmann::json& doc, const std::string& file, const Hierarchy& h,
+                      const Standard& s) {
   Ratings out;
   out.file = file;
   JsonReader root(doc, "", file);
@@ -290,11 +302,13 @@ Ratings parse_ratings(const nlohmann::json& doc, const std::string& file, const 
       JsonReader sc = m.object("scores");
       for (const auto& [key, value] : m.raw("scores")->items()) {
         if (!h.find(key))
-          sc.fail(key, fmt::format("unknown indicator; the hierarchy {} has {}", h.file, fmt::join(ids, ", ")));
+          sc.fail(key,
+                  fmt::format("unknown indicator; the hierarchy {} has {}", h.file, fmt::join(ids, ", ")));
         const auto it = s.indicators.find(key);
         if (value.is_string()) {
           const std::string label = value.get<std::string>();
-          if (it == s.indicators.end()) sc.fail(key, fmt::format("the bands file {} has no levels for it", s.file));
+          if (it == s.indicators.end())
+            sc.fail(key, fmt::format("the bands file {} has no levels for it", s.file));
           const auto& lv = it->second.levels;
           const auto pos = std::find(lv.begin(), lv.end(), label);
           if (pos == lv.end())
@@ -349,16 +363,21 @@ Measurements load_measurements(const std::filesystem::path& path) {
 // -------------------------------------------------------------------------------------------- scoring
 double comprehensive_score(const Eigen::VectorXd& weights, const Eigen::VectorXd& scores) {
   if (weights.size() != scores.size())
-    throw std::invalid_argument(fmt::format("comprehensive_score: {} weights but {} scores", weights.size(), scores.size()));
+    throw std::invalid_argument(
+        fmt::format("comprehensive_score: {} weights but {} scores", weights.size(), scores.size()));
   return weights.dot(scores);
 }
 
 std::string to_string(ScoreSource source) {
   switch (source) {
-    case ScoreSource::measured: return "measured";
-    case ScoreSource::rated: return "rated";
-    case ScoreSource::paper: return "paper";
-    case ScoreSource::missing: return "missing";
+    case ScoreSource::measured:
+      return "measured";
+    case ScoreSource::rated:
+      return "rated";
+    case ScoreSource::paper:
+      return "paper";
+    case ScoreSource::missing:
+      return "missing";
   }
   return "?";
 }
@@ -371,12 +390,12 @@ void check_bands_match(const Hierarchy& h, const Standard& s) {
   for (const auto& i : h.indicators) ids.push_back(i.id);
   for (const auto& i : h.indicators)
     if (!s.indicators.count(i.id))
-      throw InputError(fmt::format("{}: key 'indicators.{}': missing; the hierarchy {} has indicator {} ({})", s.file,
-                                   i.id, h.file, i.id, i.name));
+      throw InputError(fmt::format("{}: key 'indicators.{}': missing; the hierarchy {} has indicator {} ({})",
+                                   s.file, i.id, h.file, i.id, i.name));
   for (const auto& [id, is] : s.indicators)
     if (!h.find(id))
-      throw InputError(fmt::format("{}: key 'indicators.{}': not an indicator of the hierarchy {} ({})", s.file, id,
-                                   h.file, fmt::join(ids, ", ")));
+      throw InputError(fmt::format("{}: key 'indicators.{}': not an indicator of the hierarchy {} ({})",
+                                   s.file, id, h.file, fmt::join(ids, ", ")));
 }
 
 // W_i of every indicator: the hierarchy's (from its matrices) or Table 1's printed ones.
@@ -386,9 +405,10 @@ Eigen::VectorXd indicator_weights(const Hierarchy& h, bool paper_weights) {
   for (Eigen::Index i = 0; i < n; ++i) {
     const Indicator& in = h.indicators[static_cast<std::size_t>(i)];
     if (paper_weights && !in.paper_global_weight)
-      throw InputError(fmt::format("{}: key '{}.paper_global_weight': missing; the paper's weights (Table 1's W_i) "
-                                   "are needed for every indicator of {}",
-                                   h.file, in.key, in.id));
+      throw InputError(
+          fmt::format("{}: key '{}.paper_global_weight': missing; the paper's weights (Table 1's W_i) "
+                      "are needed for every indicator of {}",
+                      h.file, in.key, in.id));
     w[i] = paper_weights ? *in.paper_global_weight : in.global_weight;
   }
   return w;
@@ -496,6 +516,8 @@ AhpReport run_ahp(const AhpInputs& in) {
   return evaluate(h, s, r, m ? &*m : nullptr, in.paper_weights);
 }
 
-std::filesystem::path default_data_dir() { return bundled_file("data/ahp"); }
+std::filesystem::path default_data_dir() {
+  return bundled_file("data/ahp");
+}
 
 }  // namespace vascsim::ahp

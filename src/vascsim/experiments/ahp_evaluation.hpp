@@ -32,8 +32,8 @@ struct Criterion {
   double weight = 0.0;  ///< W_Ci
   std::optional<double> paper_weight;
   JudgementScale scale = JudgementScale::saaty;
-  Eigen::MatrixXd matrix;             ///< as used (validated, exact reciprocals)
-  PairwiseAnalysis analysis;          ///< of the indicator matrix
+  Eigen::MatrixXd matrix;               ///< as used (validated, exact reciprocals)
+  PairwiseAnalysis analysis;            ///< of the indicator matrix
   std::vector<std::size_t> indicators;  ///< indices into Hierarchy::indicators
 };
 
@@ -76,9 +76,9 @@ struct IndicatorStandard {
 
 struct Standard {
   std::string file, description;
-  std::vector<double> score_edges;  ///< increasing, from 0 to 100: [0, 60, 70, 80, 90, 100]
+  std::vector<double> score_edges;        ///< increasing, from 0 to 100: [0, 60, 70, 80, 90, 100]
   std::vector<std::string> score_labels;  ///< "<=60", "60~70", ...
-  std::vector<double> step_scores;  ///< the score of a band for the step rule and for a level label
+  std::vector<double> step_scores;        ///< the score of a band for the step rule and for a level label
   std::map<std::string, IndicatorStandard> indicators;
 };
 
@@ -133,18 +133,18 @@ struct IndicatorScore {
   std::string indicator;
   std::optional<double> score;
   ScoreSource source = ScoreSource::missing;
-  std::optional<double> value;  ///< the measured figure (measured scores)
-  std::string measure, unit;    ///< of the measured figure
-  std::string band;             ///< the Table 2 level of the score ("fluent", "65~85 Hz", ...)
+  std::optional<double> value;          ///< the measured figure (measured scores)
+  std::string measure, unit;            ///< of the measured figure
+  std::string band;                     ///< the Table 2 level of the score ("fluent", "65~85 Hz", ...)
   std::optional<double> unused_rating;  ///< a rating that a measurement took precedence over
 };
 
 struct ModelResult {
   std::string id, name, reference;
-  std::vector<IndicatorScore> scores;  ///< one per indicator, in Hierarchy::indicators order
-  std::optional<double> comprehensive_score;  ///< Eq. 40; none if any indicator has no score
-  double weight_covered = 0.0;  ///< sum of W_i over the indicators that have a score
-  std::vector<std::string> missing;  ///< indicators without a score
+  std::vector<IndicatorScore> scores;               ///< one per indicator, in Hierarchy::indicators order
+  std::optional<double> comprehensive_score;        ///< Eq. 40; none if any indicator has no score
+  double weight_covered = 0.0;                      ///< sum of W_i over the indicators that have a score
+  std::vector<std::string> missing;                 ///< indicators without a score
   std::optional<double> paper_comprehensive_score;  ///< Table 3, if the ratings file gives it
 };
 
@@ -162,7 +162,7 @@ struct AhpReport {
   std::string ratings_file, ratings_source, ratings_description;
   std::string measurements_file, measurements_source;  ///< empty without measurements
   bool paper_weights = false;
-  Eigen::VectorXd weights;  ///< the W_i used in Eq. 40, Hierarchy::indicators order
+  Eigen::VectorXd weights;          ///< the W_i used in Eq. 40, Hierarchy::indicators order
   std::vector<ModelResult> models;  ///< ratings-file order, then models found only in the measurements
 };
 

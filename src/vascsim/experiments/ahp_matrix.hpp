@@ -50,10 +50,10 @@ struct PairwiseAnalysis {
 struct MatrixSource {
   std::string file;
   std::string key;
-  std::string name;                 ///< what the matrix compares, e.g. "C2 indicators" (optional)
-  std::vector<std::string> labels;  ///< the compared elements, in row order (optional)
-  std::string where() const;                ///< "<file>: key '<key>' (<name>)"
-  std::string entry(int i, int j) const;    ///< "entry (I1, I3)" (labels) or "entry [1][3]" (1-based)
+  std::string name;                       ///< what the matrix compares, e.g. "C2 indicators" (optional)
+  std::vector<std::string> labels;        ///< the compared elements, in row order (optional)
+  std::string where() const;              ///< "<file>: key '<key>' (<name>)"
+  std::string entry(int i, int j) const;  ///< "entry (I1, I3)" (labels) or "entry [1][3]" (1-based)
 };
 
 /// Checks a matrix: square, 1..kMaxMatrixSize rows (as many as labels, if labels are given), finite

@@ -3,13 +3,12 @@
 #include "vascsim/experiments/plot_script.hpp"
 #include "vascsim/run/output_writer.hpp"
 
-#include <cstdlib>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <cstdlib>
 #include <fstream>
 
 #include "vascsim/core/error.hpp"
-
 
 namespace vascsim::ahp {
 
@@ -31,7 +30,9 @@ std::string md_opt(const std::optional<double>& v, const char* format) {
   return v ? fmt::format(fmt::runtime(format), *v) : std::string("–");
 }
 
-nlohmann::json json_opt(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
+nlohmann::json json_opt(const std::optional<double>& v) {
+  return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
 
 struct MatrixRow {
   std::string name, scale;
@@ -43,7 +44,8 @@ std::vector<MatrixRow> matrices(const Hierarchy& h) {
   std::vector<MatrixRow> rows;
   rows.push_back({"criteria", to_string(h.scale), &h.analysis, static_cast<long>(h.matrix.rows())});
   for (const auto& c : h.criteria)
-    rows.push_back({c.id + " indicators", to_string(c.scale), &c.analysis, static_cast<long>(c.matrix.rows())});
+    rows.push_back(
+        {c.id + " indicators", to_string(c.scale), &c.analysis, static_cast<long>(c.matrix.rows())});
   return rows;
 }
 
@@ -55,10 +57,14 @@ const Criterion& criterion_of(const Hierarchy& h, const Indicator& in) {
 
 char source_letter(ScoreSource s) {
   switch (s) {
-    case ScoreSource::measured: return 'm';
-    case ScoreSource::rated: return 'r';
-    case ScoreSource::paper: return 'p';
-    case ScoreSource::missing: return '-';
+    case ScoreSource::measured:
+      return 'm';
+    case ScoreSource::rated:
+      return 'r';
+    case ScoreSource::paper:
+      return 'p';
+    case ScoreSource::missing:
+      return '-';
   }
   return '?';
 }
@@ -73,9 +79,10 @@ std::string weights_csv(const AhpReport& r) {
   for (std::size_t i = 0; i < h.indicators.size(); ++i) {
     const Indicator& in = h.indicators[i];
     const Criterion& c = criterion_of(h, in);
-    s += fmt::format("{},{},{},{:.6f},{:.6f},{:.6f},{},{},{},{:.6f}\n", in.id, csv_field(in.name), c.id, c.weight,
-                     in.local_weight, in.global_weight, opt(c.paper_weight, "{:.3f}"), opt(in.paper_local_weight, "{:.3f}"),
-                     opt(in.paper_global_weight, "{:.3f}"), r.weights[static_cast<Eigen::Index>(i)]);
+    s += fmt::format("{},{},{},{:.6f},{:.6f},{:.6f},{},{},{},{:.6f}\n", in.id, csv_field(in.name), c.id,
+                     c.weight, in.local_weight, in.global_weight, opt(c.paper_weight, "{:.3f}"),
+                     opt(in.paper_local_weight, "{:.3f}"), opt(in.paper_global_weight, "{:.3f}"),
+                     r.weights[static_cast<Eigen::Index>(i)]);
   }
   return s;
 }
@@ -83,8 +90,8 @@ std::string weights_csv(const AhpReport& r) {
 std::string consistency_csv(const AhpReport& r) {
   std::string s = "matrix,scale,n,lambda_max,ci,ri,cr\n";
   for (const auto& m : matrices(r.hierarchy))
-    s += fmt::format("{},{},{},{:.6f},{:.6f},{:.2f},{:.6f}\n", csv_field(m.name), m.scale, m.n, m.a->lambda_max, m.a->ci,
-                     m.a->random_index, m.a->cr);
+    s += fmt::format("{},{},{},{:.6f},{:.6f},{:.2f},{:.6f}\n", csv_field(m.name), m.scale, m.n,
+                     m.a->lambda_max, m.a->ci, m.a->random_index, m.a->cr);
   return s;
 }
 
@@ -94,8 +101,8 @@ std::string scores_csv(const AhpReport& r) {
   s += "\n";
   for (const auto& m : r.models) {
     s += fmt::format("{},{},{},{},{},{:.6f},{}", m.id, csv_field(m.name), csv_field(m.reference),
-                     opt(m.comprehensive_score, "{:.3f}"), opt(m.paper_comprehensive_score, "{:.3f}"), m.weight_covered,
-                     fmt::join(m.missing, " "));
+                     opt(m.comprehensive_score, "{:.3f}"), opt(m.paper_comprehensive_score, "{:.3f}"),
+                     m.weight_covered, fmt::join(m.missing, " "));
     for (const auto& sc : m.scores) s += fmt::format(",{},{}", opt(sc.score, "{:.3f}"), to_string(sc.source));
     s += "\n";
   }
@@ -117,8 +124,8 @@ std::string indicator_scores_csv(const AhpReport& r) {
 std::string markdown(const AhpReport& r) {
   const Hierarchy& h = r.hierarchy;
   std::string s = "# AHP force-tactile perception evaluation (Zhang et al. 2021, Tables 1-3, Eq. 40)\n\n";
-  s += fmt::format("- hierarchy: {}\n- bands (Table 2): {}\n- ratings: {} (source: {})\n", h.file, r.standard.file,
-                   r.ratings_file, r.ratings_source == "paper" ? "the paper" : "a study");
+  s += fmt::format("- hierarchy: {}\n- bands (Table 2): {}\n- ratings: {} (source: {})\n", h.file,
+                   r.standard.file, r.ratings_file, r.ratings_source == "paper" ? "the paper" : "a study");
   s += fmt::format("- measurements: {}\n", r.measurements_file.empty() ? "none" : r.measurements_file);
   s += fmt::format("- weights in Eq. 40: {}\n\n",
                    r.paper_weights ? "Table 1's printed W_i" : "computed from the pairwise matrices");
@@ -129,16 +136,18 @@ std::string markdown(const AhpReport& r) {
   for (const auto& c : h.criteria)
     for (std::size_t k = 0; k < c.indicators.size(); ++k) {
       const Indicator& in = h.indicators[c.indicators[k]];
-      s += fmt::format("| {} | {} | {} | {} {} | {:.4f} | {} | {:.4f} | {} |\n", k == 0 ? c.id + " " + c.name : "",
-                       k == 0 ? fmt::format("{:.4f}", c.weight) : "", k == 0 ? md_opt(c.paper_weight, "{:.3f}") : "",
-                       in.id, in.name, in.local_weight, md_opt(in.paper_local_weight, "{:.3f}"), in.global_weight,
+      s += fmt::format("| {} | {} | {} | {} {} | {:.4f} | {} | {:.4f} | {} |\n",
+                       k == 0 ? c.id + " " + c.name : "", k == 0 ? fmt::format("{:.4f}", c.weight) : "",
+                       k == 0 ? md_opt(c.paper_weight, "{:.3f}") : "", in.id, in.name, in.local_weight,
+                       md_opt(in.paper_local_weight, "{:.3f}"), in.global_weight,
                        md_opt(in.paper_global_weight, "{:.3f}"));
     }
 
-  s += "\n## Consistency\n\n| matrix | scale | n | lambda_max | CI | RI | CR |\n|---|---|---|---|---|---|---|\n";
+  s += "\n## Consistency\n\n| matrix | scale | n | lambda_max | CI | RI | CR "
+       "|\n|---|---|---|---|---|---|---|\n";
   for (const auto& m : matrices(h))
-    s += fmt::format("| {} | {} | {} | {:.4f} | {:.4f} | {:.2f} | {:.4f} |\n", m.name, m.scale, m.n, m.a->lambda_max,
-                     m.a->ci, m.a->random_index, m.a->cr);
+    s += fmt::format("| {} | {} | {} | {:.4f} | {:.4f} | {:.2f} | {:.4f} |\n", m.name, m.scale, m.n,
+                     m.a->lambda_max, m.a->ci, m.a->random_index, m.a->cr);
 
   s += "\n## Scores (Eq. 40: G = sum W_i beta_i)\n\n";
   s += "Per indicator: the score on 0-100 and its source (m measured, r rated by a study, p the paper's). "
@@ -156,13 +165,15 @@ std::string markdown(const AhpReport& r) {
   }
 
   bool any = false;
-  std::string t = "\n## Measured figures (Table 2 bands)\n\n| model | indicator | value | level | score |\n|---|---|---|---|---|\n";
+  std::string t =
+      "\n## Measured figures (Table 2 bands)\n\n| model | indicator | value | level | score "
+      "|\n|---|---|---|---|---|\n";
   for (const auto& m : r.models)
     for (const auto& sc : m.scores)
       if (sc.source == ScoreSource::measured) {
         any = true;
-        t += fmt::format("| {} | {} | {:.4g} {} | {} | {:.3f} |\n", m.id, sc.indicator, *sc.value, sc.unit, sc.band,
-                         *sc.score);
+        t += fmt::format("| {} | {} | {:.4g} {} | {} | {:.3f} |\n", m.id, sc.indicator, *sc.value, sc.unit,
+                         sc.band, *sc.score);
       }
   if (any) s += t;
   return s;
@@ -175,25 +186,37 @@ nlohmann::json to_json(const AhpReport& r) {
                  {"bands", r.standard.file},
                  {"ratings", r.ratings_file},
                  {"ratings_source", r.ratings_source},
-                 {"measurements", r.measurements_file.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.measurements_file)},
+                 {"measurements", r.measurements_file.empty() ? nlohmann::json(nullptr)
+                                                              : nlohmann::json(r.measurements_file)},
                  {"weights_in_eq40", r.paper_weights ? "paper" : "computed"}};
   j["goal"] = h.goal;
   nlohmann::json cons = nlohmann::json::array();
   for (const auto& m : matrices(h))
-    cons.push_back({{"matrix", m.name}, {"scale", m.scale}, {"n", m.n}, {"lambda_max", m.a->lambda_max},
-                    {"ci", m.a->ci}, {"ri", m.a->random_index}, {"cr", m.a->cr}});
+    cons.push_back({{"matrix", m.name},
+                    {"scale", m.scale},
+                    {"n", m.n},
+                    {"lambda_max", m.a->lambda_max},
+                    {"ci", m.a->ci},
+                    {"ri", m.a->random_index},
+                    {"cr", m.a->cr}});
   j["consistency"] = cons;
   nlohmann::json crit = nlohmann::json::array();
   for (const auto& c : h.criteria) {
     nlohmann::json ind = nlohmann::json::array();
     for (auto k : c.indicators) {
       const Indicator& in = h.indicators[k];
-      ind.push_back({{"id", in.id}, {"name", in.name}, {"local_weight", in.local_weight},
-                     {"global_weight", in.global_weight}, {"paper_local_weight", json_opt(in.paper_local_weight)},
+      ind.push_back({{"id", in.id},
+                     {"name", in.name},
+                     {"local_weight", in.local_weight},
+                     {"global_weight", in.global_weight},
+                     {"paper_local_weight", json_opt(in.paper_local_weight)},
                      {"paper_global_weight", json_opt(in.paper_global_weight)},
                      {"weight_used", r.weights[static_cast<Eigen::Index>(k)]}});
     }
-    crit.push_back({{"id", c.id}, {"name", c.name}, {"weight", c.weight}, {"paper_weight", json_opt(c.paper_weight)},
+    crit.push_back({{"id", c.id},
+                    {"name", c.name},
+                    {"weight", c.weight},
+                    {"paper_weight", json_opt(c.paper_weight)},
                     {"indicators", ind}});
   }
   j["criteria"] = crit;
@@ -201,16 +224,22 @@ nlohmann::json to_json(const AhpReport& r) {
   for (const auto& m : r.models) {
     nlohmann::json scores = nlohmann::json::array();
     for (const auto& sc : m.scores) {
-      nlohmann::json e = {{"indicator", sc.indicator}, {"score", json_opt(sc.score)}, {"source", to_string(sc.source)},
+      nlohmann::json e = {{"indicator", sc.indicator},
+                          {"score", json_opt(sc.score)},
+                          {"source", to_string(sc.source)},
                           {"level", sc.band.empty() ? nlohmann::json(nullptr) : nlohmann::json(sc.band)}};
       if (sc.value) e["measured"] = {{"measure", sc.measure}, {"value", *sc.value}, {"unit", sc.unit}};
       if (sc.unused_rating) e["unused_rating"] = *sc.unused_rating;
       scores.push_back(e);
     }
-    models.push_back({{"id", m.id}, {"name", m.name}, {"reference", m.reference},
+    models.push_back({{"id", m.id},
+                      {"name", m.name},
+                      {"reference", m.reference},
                       {"comprehensive_score", json_opt(m.comprehensive_score)},
                       {"paper_comprehensive_score", json_opt(m.paper_comprehensive_score)},
-                      {"weight_covered", m.weight_covered}, {"missing", m.missing}, {"scores", scores}});
+                      {"weight_covered", m.weight_covered},
+                      {"missing", m.missing},
+                      {"scores", scores}});
   }
   j["models"] = models;
   return j;
@@ -230,10 +259,11 @@ Outputs write_outputs(const AhpReport& r, const OutputOptions& o) {
   write("ahp_report.md", markdown(r));
   write("ahp_report.json", to_json(r).dump(2) + "\n");
   if (o.plot) {
-    const std::filesystem::path script = o.plot_script.empty() ? bundled_script("plot_ahp.py") : o.plot_script;
+    const std::filesystem::path script =
+        o.plot_script.empty() ? bundled_script("plot_ahp.py") : o.plot_script;
     const std::filesystem::path png = folder.path("ahp_scores.png");
-    const PlotOutcome plot =
-        run_plot_script(script, {folder.path("ahp_scores.csv").string(), "--out", png.string()}, png, o.python);
+    const PlotOutcome plot = run_plot_script(
+        script, {folder.path("ahp_scores.csv").string(), "--out", png.string()}, png, o.python);
     out.png = plot.png;
     out.plot_problem = plot.problem;
   }

@@ -3,8 +3,8 @@
 #include <chrono>
 
 #include "vascsim/core/beam_theory.hpp"
-#include "vascsim/scene/scene.hpp"
 #include "vascsim/run/simulation.hpp"
+#include "vascsim/scene/scene.hpp"
 
 namespace vascsim {
 
@@ -23,14 +23,25 @@ nlohmann::json cantilever_scene(const CantileverCase& c) {
       {"name", "cantilever"},
       {"model", "quasi_static"},
       {"geometry",
-       {{"type", "beam"}, {"length_m", kLength}, {"width_m", kWidth}, {"height_m", kWidth},
-        {"node_spacing_m", delta}, {"clamp_layers", 3}}},
-      {"material", {{"youngs_modulus_pa", kYoungs}, {"poisson_ratio", c.poisson_ratio}, {"density_kg_m3", 1060.0}}},
+       {{"type", "beam"},
+        {"length_m", kLength},
+        {"width_m", kWidth},
+        {"height_m", kWidth},
+        {"node_spacing_m", delta},
+        {"clamp_layers", 3}}},
+      {"material",
+       {{"youngs_modulus_pa", kYoungs}, {"poisson_ratio", c.poisson_ratio}, {"density_kg_m3", 1060.0}}},
       {"discretization",
-       {{"support_radius_factor", c.support_radius_factor}, {"min_neighbours", c.min_neighbours}, {"volume", c.volume}}},
-      {"energy", {{"strain", c.strain}, {"stabilizer_alpha", c.stabilizer_alpha}, {"stabilizer_fit", c.stabilizer_fit}}},
+       {{"support_radius_factor", c.support_radius_factor},
+        {"min_neighbours", c.min_neighbours},
+        {"volume", c.volume}}},
+      {"energy",
+       {{"strain", c.strain},
+        {"stabilizer_alpha", c.stabilizer_alpha},
+        {"stabilizer_fit", c.stabilizer_fit}}},
       {"regions",
-       {{{"name", "clamp"}, {"select", {{"type", "box"}, {"max_m", {1e-9, 1.0, 1.0}}, {"min_m", {-1.0, -1.0, -1.0}}}},
+       {{{"name", "clamp"},
+         {"select", {{"type", "box"}, {"max_m", {1e-9, 1.0, 1.0}}, {"min_m", {-1.0, -1.0, -1.0}}}},
          {"bc", {{"type", "fixed"}}}},
         {{"name", "tip"},
          {"select", {{"type", "box"}, {"min_m", {kLength - 1e-9, -1.0, -1.0}}, {"max_m", {1.0, 1.0, 1.0}}}},
@@ -46,23 +57,25 @@ std::vector<CantileverConfiguration> cantilever_table_configurations() {
     change(c);
     return c;
   };
-  return {{"sound, nu = 0.3", with([](auto& c) { c.poisson_ratio = 0.3; })},
-          {"sound, nu = 0.45", sound},
-          {"sound, K_min = 4 (no support growth at edges), nu = 0.3", with([](auto& c) {
-             c.poisson_ratio = 0.3;
-             c.min_neighbours = 4;
-           })},
-          {"sound, K_min = 4 (no support growth at edges), nu = 0.45", with([](auto& c) { c.min_neighbours = 4; })},
-          {"sound without stabiliser (alpha_hg = 0), nu = 0.45", with([](auto& c) { c.stabilizer_alpha = 0.0; })},
-          {"stabiliser on the quadratic fit's residuals, nu = 0.45",
-           with([](auto& c) { c.stabilizer_fit = "quadratic"; })},
-          {"h = 1.5 Delta, nu = 0.45", with([](auto& c) { c.support_radius_factor = 1.5; })},
-          {"alpha_hg = 0.5, nu = 0.45", with([](auto& c) { c.stabilizer_alpha = 0.5; })},
-          {"Mueller-kernel volumes, nu = 0.45", with([](auto& c) { c.volume = "mueller_kernel"; })},
-          {"literal strain (no 1/2), alpha_hg = 0, nu = 0.45", with([](auto& c) {
-             c.strain = "mueller_no_half";
-             c.stabilizer_alpha = 0.0;
-           })}};
+  return {
+      {"sound, nu = 0.3", with([](auto& c) { c.poisson_ratio = 0.3; })},
+      {"sound, nu = 0.45", sound},
+      {"sound, K_min = 4 (no support growth at edges), nu = 0.3", with([](auto& c) {
+         c.poisson_ratio = 0.3;
+         c.min_neighbours = 4;
+       })},
+      {"sound, K_min = 4 (no support growth at edges), nu = 0.45",
+       with([](auto& c) { c.min_neighbours = 4; })},
+      {"sound without stabiliser (alpha_hg = 0), nu = 0.45", with([](auto& c) { c.stabilizer_alpha = 0.0; })},
+      {"stabiliser on the quadratic fit's residuals, nu = 0.45",
+       with([](auto& c) { c.stabilizer_fit = "quadratic"; })},
+      {"h = 1.5 Delta, nu = 0.45", with([](auto& c) { c.support_radius_factor = 1.5; })},
+      {"alpha_hg = 0.5, nu = 0.45", with([](auto& c) { c.stabilizer_alpha = 0.5; })},
+      {"Mueller-kernel volumes, nu = 0.45", with([](auto& c) { c.volume = "mueller_kernel"; })},
+      {"literal strain (no 1/2), alpha_hg = 0, nu = 0.45", with([](auto& c) {
+         c.strain = "mueller_no_half";
+         c.stabilizer_alpha = 0.0;
+       })}};
 }
 
 CantileverResult run_cantilever(const CantileverCase& c) {

@@ -10,10 +10,11 @@
 namespace vascsim {
 
 struct CantileverCase {
-  int cells_across = 4;            ///< n = b / Delta
+  int cells_across = 4;  ///< n = b / Delta
   double poisson_ratio = 0.45;
   double support_radius_factor = 2.0;
-  int min_neighbours = 12;         ///< K_min of the support-radius guard (docs/model/00-design-decisions.md, decision 7)
+  int min_neighbours =
+      12;  ///< K_min of the support-radius guard (docs/model/00-design-decisions.md, decision 7)
   double stabilizer_alpha = 0.1;
   std::string stabilizer_fit = "basis";  ///< or "quadratic" (energy.stabilizer_fit)
   std::string volume = "tet_partition";  ///< or "mueller_kernel"

@@ -1,12 +1,12 @@
 #include "vascsim/experiments/cost_model.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "vascsim/core/error.hpp"
 #include "vascsim/core/bundled_files.hpp"
+#include "vascsim/core/error.hpp"
 
 namespace vascsim {
 
@@ -28,7 +28,9 @@ double PowerLaw::operator()(double x, bool tools) const {
   return std::exp(c0 + c1 * std::log(x) + (tools ? c_tools : 0.0));
 }
 
-double PowerLaw::factor() const { return std::exp(log_sigma); }
+double PowerLaw::factor() const {
+  return std::exp(log_sigma);
+}
 
 CostCalibration CostCalibration::read(const std::filesystem::path& file) {
   std::ifstream in(file);
@@ -50,22 +52,25 @@ CostCalibration CostCalibration::read(const std::filesystem::path& file) {
       c.models[name] = cost;
     }
   } catch (const nlohmann::json::exception& e) {
-    throw InputError(fmt::format("{}: not a cost calibration ({}); regenerate it with "
-                                 "scripts/calibrate_cost_model.py",
-                                 file.string(), e.what()));
+    throw InputError(
+        fmt::format("{}: not a cost calibration ({}); regenerate it with "
+                    "scripts/calibrate_cost_model.py",
+                    file.string(), e.what()));
   }
   return c;
 }
 
-std::filesystem::path CostCalibration::default_file() { return bundled_file("data/calibration/cost_model.json"); }
+std::filesystem::path CostCalibration::default_file() {
+  return bundled_file("data/calibration/cost_model.json");
+}
 
 const ModelCost* CostCalibration::find(const std::string& model) const {
   const auto it = models.find(model);
   return it == models.end() ? nullptr : &it->second;
 }
 
-std::optional<CostEstimate> estimate_cost(const CostCalibration& calibration, const std::string& model, double pairs,
-                                          double steps, bool tools) {
+std::optional<CostEstimate> estimate_cost(const CostCalibration& calibration, const std::string& model,
+                                          double pairs, double steps, bool tools) {
   const ModelCost* m = calibration.find(model);
   if (m == nullptr || !(pairs > 0.0)) return std::nullopt;
   CostEstimate e;
@@ -91,9 +96,10 @@ std::string human_duration(double seconds) {
 }
 
 std::string describe_cost(const CostEstimate& e) {
-  return fmt::format("{:.4g} {}s x {} = {} (within a factor {:.2g} either way: 1 sigma of {} calibration runs{})",
-                     e.steps, e.step, human_duration(e.seconds_per_step), human_duration(e.total_s), e.factor, e.runs,
-                     e.extrapolated ? "; this size is outside the calibrated ones" : "");
+  return fmt::format(
+      "{:.4g} {}s x {} = {} (within a factor {:.2g} either way: 1 sigma of {} calibration runs{})", e.steps,
+      e.step, human_duration(e.seconds_per_step), human_duration(e.total_s), e.factor, e.runs,
+      e.extrapolated ? "; this size is outside the calibrated ones" : "");
 }
 
 }  // namespace vascsim

@@ -17,13 +17,14 @@ namespace vascsim {
 struct PowerLaw {
   double c0 = 0.0, c1 = 0.0;
   /// ln of the cost of a run whose scene has tools against one without, at the same size: contact changes the
-  /// tangent and refactors the preconditioner (quasi_static's catheter runs against bonded ones: about 3.9x). 0 when
-  /// the calibration has no such runs.
+  /// tangent and refactors the preconditioner (quasi_static's catheter runs against bonded ones: about 3.9x).
+  /// 0 when the calibration has no such runs.
   double c_tools = 0.0;
   double log_sigma = 0.0;  ///< standard deviation of ln(measured / fitted)
   int runs = 0;
   double operator()(double x, bool tools = false) const;
-  /// exp(log_sigma): the measured values lay within this factor of the fit, either way (one standard deviation).
+  /// exp(log_sigma): the measured values lay within this factor of the fit, either way (one standard
+  /// deviation).
   double factor() const;
 };
 
@@ -55,18 +56,18 @@ struct CostEstimate {
   double steps = 0.0;             ///< model steps in the run
   double seconds_per_step = 0.0;  ///< wall time of one, s
   double total_s = 0.0;           ///< steps x seconds_per_step (set-up not included)
-  double factor = 1.0;            ///< multiplicative uncertainty of both (one standard deviation of the calibration)
-  double peak_bytes = 0.0;        ///< the run's peak resident memory
+  double factor = 1.0;  ///< multiplicative uncertainty of both (one standard deviation of the calibration)
+  double peak_bytes = 0.0;  ///< the run's peak resident memory
   double memory_factor = 1.0;
-  bool extrapolated = false;      ///< pairs outside the calibrated range
-  bool tools = false;             ///< the run's scene has tools (the calibration's c_tools applied)
-  int runs = 0;                   ///< calibration runs behind the time fit
+  bool extrapolated = false;  ///< pairs outside the calibrated range
+  bool tools = false;         ///< the run's scene has tools (the calibration's c_tools applied)
+  int runs = 0;               ///< calibration runs behind the time fit
 };
 
-/// The estimate for `model` with `pairs` neighbour pairs and `steps` model steps, for a scene with tools or without;
-/// nullopt when the model is not calibrated.
-std::optional<CostEstimate> estimate_cost(const CostCalibration& calibration, const std::string& model, double pairs,
-                                          double steps, bool tools = false);
+/// The estimate for `model` with `pairs` neighbour pairs and `steps` model steps, for a scene with tools or
+/// without; nullopt when the model is not calibrated.
+std::optional<CostEstimate> estimate_cost(const CostCalibration& calibration, const std::string& model,
+                                          double pairs, double steps, bool tools = false);
 
 /// "12 load steps x 1.9 s = 23 s (within a factor 1.4 either way: ...)", for messages.
 std::string describe_cost(const CostEstimate& e);

@@ -1,13 +1,13 @@
 #include "vascsim/experiments/force_accuracy.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "vascsim/core/error.hpp"
 #include "vascsim/core/bundled_files.hpp"
+#include "vascsim/core/error.hpp"
 
 namespace vascsim {
 
@@ -22,9 +22,10 @@ AccuracyCase read_case(const nlohmann::json& j) {
   c.outer_radius_m = j.at("outer_radius_m").get<double>();
   c.wall_thickness_m = j.at("wall_thickness_m").get<double>();
   for (const auto& r : j.at("rows"))
-    c.rows.push_back({r.at("spacing_m").get<double>(), r.at("nodes").get<double>(), r.at("force_n").get<double>(),
-                      r.at("error").get<double>()});
-  std::sort(c.rows.begin(), c.rows.end(), [](const AccuracyRow& a, const AccuracyRow& b) { return a.nodes < b.nodes; });
+    c.rows.push_back({r.at("spacing_m").get<double>(), r.at("nodes").get<double>(),
+                      r.at("force_n").get<double>(), r.at("error").get<double>()});
+  std::sort(c.rows.begin(), c.rows.end(),
+            [](const AccuracyRow& a, const AccuracyRow& b) { return a.nodes < b.nodes; });
   if (j.contains("finest_row_against")) {
     const auto& i = j.at("finest_row_against");
     c.independent = IndependentCheck{i.at("reference").get<std::string>(), i.at("error").get<double>(),
@@ -33,7 +34,9 @@ AccuracyCase read_case(const nlohmann::json& j) {
   return c;
 }
 
-bool same(double a, double b) { return std::abs(a - b) <= 0.01 * std::max(std::abs(a), std::abs(b)); }
+bool same(double a, double b) {
+  return std::abs(a - b) <= 0.01 * std::max(std::abs(a), std::abs(b));
+}
 
 // The scene's local-fit basis as the table names it (the quadratic fit with the through-wall cube,
 // quasi_static's default on walls, is a fit of its own with rows of its own).
@@ -70,7 +73,9 @@ ForceAccuracyTable ForceAccuracyTable::read(const std::filesystem::path& file) {
   return t;
 }
 
-std::filesystem::path ForceAccuracyTable::default_file() { return bundled_file("data/calibration/force_accuracy.json"); }
+std::filesystem::path ForceAccuracyTable::default_file() {
+  return bundled_file("data/calibration/force_accuracy.json");
+}
 
 AccuracyEstimate estimate_accuracy(const ForceAccuracyTable& table, const Scene& scene, double nodes) {
   AccuracyEstimate e;
@@ -120,38 +125,46 @@ AccuracyEstimate estimate_accuracy(const ForceAccuracyTable& table, const Scene&
 
 std::string describe_accuracy(const ForceAccuracyTable& table, const AccuracyEstimate& e) {
   if (e.graded)
-    return "not covered: the table's rows are uniform lattices, and a graded lattice's node count does not say how "
+    return "not covered: the table's rows are uniform lattices, and a graded lattice's node count does not "
+           "say how "
            "fine it is where the load acts (geometry.refine; docs/validation.md, 'Graded lattices')";
   if (e.match == nullptr) {
     if (e.nearest == nullptr)
-      return fmt::format("not covered: the table's {} cases are vessels (tubes and swept vessels)", table.cases.size());
+      return fmt::format("not covered: the table's {} cases are vessels (tubes and swept vessels)",
+                         table.cases.size());
     const AccuracyCase& c = *e.nearest;
     std::string line = fmt::format(
-        "not covered: no case of the accuracy table has this vessel, loading and local-fit basis; the nearest is '{}' "
+        "not covered: no case of the accuracy table has this vessel, loading and local-fit basis; the "
+        "nearest is '{}' "
         "({}, outer radius {:.3g} mm, wall {:.3g} mm, {})",
         c.name, c.scene, 1e3 * c.outer_radius_m, 1e3 * c.wall_thickness_m,
-        c.basis == "quadratic_cube" ? "the quadratic fit with the through-wall cube" : "the " + c.basis + " fit");
+        c.basis == "quadratic_cube" ? "the quadratic fit with the through-wall cube"
+                                    : "the " + c.basis + " fit");
     if (c.independent)
       line += fmt::format(", whose finest row is {:+.1f} % against {}", 100.0 * c.independent->error,
                           c.independent->reference);
     return line;
   }
-  auto row = [](const AccuracyRow& r) { return fmt::format("{:.3g} mm, {:.0f} nodes: {:+.1f} %", 1e3 * r.spacing_m, r.nodes, 100.0 * r.error); };
+  auto row = [](const AccuracyRow& r) {
+    return fmt::format("{:.3g} mm, {:.0f} nodes: {:+.1f} %", 1e3 * r.spacing_m, r.nodes, 100.0 * r.error);
+  };
   std::string from;
   if (e.below && e.above)
-    from = fmt::format("interpolated in log(nodes) between the rows [{}] and [{}]", row(*e.below), row(*e.above));
+    from = fmt::format("interpolated in log(nodes) between the rows [{}] and [{}]", row(*e.below),
+                       row(*e.above));
   else if (e.above && std::abs(e.nodes / e.above->nodes - 1.0) < 0.005)
     from = fmt::format("the coarsest row [{}]", row(*e.above));
   else if (e.above)
     from = fmt::format("coarser than the coarsest row [{}]: expect at least this error", row(*e.above));
   else
     from = fmt::format("as fine as or finer than the finest row [{}], the reference", row(*e.below));
-  std::string line = fmt::format("{:+.1f} % against the {} of case '{}' ({}; {})", 100.0 * e.error, table.reference,
-                                 e.match->name, e.match->scene, from);
+  std::string line = fmt::format("{:+.1f} % against the {} of case '{}' ({}; {})", 100.0 * e.error,
+                                 table.reference, e.match->name, e.match->scene, from);
   // The two errors compound: force / reference = (1 + e) (1 + e_finest).
   if (const auto& i = e.match->independent)
-    line += fmt::format("; that finest row is itself {:+.1f} % against {} ({}), so about {:+.1f} % against that reference",
-                        100.0 * i->error, i->reference, i->where, 100.0 * ((1.0 + e.error) * (1.0 + i->error) - 1.0));
+    line += fmt::format(
+        "; that finest row is itself {:+.1f} % against {} ({}), so about {:+.1f} % against that reference",
+        100.0 * i->error, i->reference, i->where, 100.0 * ((1.0 + e.error) * (1.0 + i->error) - 1.0));
   return line;
 }
 

@@ -29,19 +29,20 @@ struct ForceDisplacementOptions {
 };
 
 struct ForceDisplacementResult {
-  nlohmann::json summary;      ///< summary.json of the run, with a "force_displacement" entry
-  std::filesystem::path csv;   ///< force_displacement.csv
-  std::filesystem::path png;   ///< empty if not plotted
-  std::string plot_problem;    ///< why there is no PNG (empty if plotted or not asked for)
+  nlohmann::json summary;     ///< summary.json of the run, with a "force_displacement" entry
+  std::filesystem::path csv;  ///< force_displacement.csv
+  std::filesystem::path png;  ///< empty if not plotted
+  std::string plot_problem;   ///< why there is no PNG (empty if plotted or not asked for)
 };
 
 /// Throws InputError if the scene has no such tool, or the tool does not move.
 ForceDisplacementResult run_force_displacement(const Scene& scene, const ForceDisplacementOptions& options);
 
 /// The columns of force_displacement.csv. displacement_m is the tool's travel along its push (m); force_n is
-/// summary.json's and probes.csv's: the force the tool exerts on the tissue along its push, N (positive while it
-/// presses; the tissue resists the tool with as much). force_x_n .. force_z_n and torque_x_n_m .. torque_z_n_m
-/// are the force and torque the tissue exerts on the tool (N, N m about the tool point), as in force_history.csv.
+/// summary.json's and probes.csv's: the force the tool exerts on the tissue along its push, N (positive while
+/// it presses; the tissue resists the tool with as much). force_x_n .. force_z_n and torque_x_n_m ..
+/// torque_z_n_m are the force and torque the tissue exerts on the tool (N, N m about the tool point), as in
+/// force_history.csv.
 std::vector<std::string> force_displacement_columns();
 
 }  // namespace vascsim

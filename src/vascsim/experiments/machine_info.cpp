@@ -3,10 +3,10 @@
 #include "vascsim/core/build_info.hpp"
 
 #include <omp.h>
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <ctime>
-#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <limits>

@@ -37,11 +37,12 @@ nlohmann::json ahp_measurements(const std::vector<TimingPoint>& points, const nl
   }
   nlohmann::json list = nlohmann::json::array();
   for (const auto& id : order) list.push_back(models[id]);
-  return {{"source", source},
-          {"description", fmt::format("update time and frames per second at each model's largest timed node count"
-                                      "{}",
-                                      reference.empty() ? "" : "; force RMS error against " + reference)},
-          {"models", list}};
+  return {
+      {"source", source},
+      {"description", fmt::format("update time and frames per second at each model's largest timed node count"
+                                  "{}",
+                                  reference.empty() ? "" : "; force RMS error against " + reference)},
+      {"models", list}};
 }
 
 }  // namespace vascsim

@@ -1,24 +1,25 @@
 #include "vascsim/experiments/mls_validation.hpp"
 
-#include <chrono>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <chrono>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/spatial_grid.hpp"
 #include "vascsim/mapping/mls_checks.hpp"
-#include "vascsim/scene/scene.hpp"
 #include "vascsim/run/simulation.hpp"
+#include "vascsim/scene/scene.hpp"
 
 namespace vascsim {
 
-nlohmann::json validate_mls(const std::vector<std::string>& scene_files, const std::vector<std::string>& overrides,
-                            double tight_factor) {
+nlohmann::json validate_mls(const std::vector<std::string>& scene_files,
+                            const std::vector<std::string>& overrides, double tight_factor) {
   nlohmann::json rows = nlohmann::json::array();
   for (const std::string& file : scene_files) {
     const Scene scene = load_scene(file, overrides);
     const Body body = build_body(scene.geometry);
-    if (!body.surface) throw InputError(fmt::format("{}: geometry '{}' has no render surface", file, scene.geometry.type));
+    if (!body.surface)
+      throw InputError(fmt::format("{}: geometry '{}' has no render surface", file, scene.geometry.type));
     const Vec3Array& X = body.cloud.positions;
     const double delta = mean_nearest_spacing(X);
     const auto t0 = std::chrono::steady_clock::now();
@@ -74,24 +75,27 @@ nlohmann::json validate_mls(const std::vector<std::string>& scene_files, const s
 
 std::string mls_validation_table(const nlohmann::json& rows) {
   std::string s =
-      "| scene | nodes | vertices | max abs(sum phi - 1) | linear / Delta | affine / Delta | rigid / Delta | float32 / "
+      "| scene | nodes | vertices | max abs(sum phi - 1) | linear / Delta | affine / Delta | rigid / Delta | "
+      "float32 / "
       "Delta (/ eps max abs(u)) | max cond | abs(S) min / mean | grown | T11 | T15 (tight r) |\n"
       "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
     const auto& g = r["t15"];
     const std::string t15 =
         g["outcome"] == "grown"
-            ? fmt::format("{:.2f} Delta: {} grown, cond {:.3g}, T11 {}", g["support_radius_factor"].get<double>(),
-                          g["grown_vertices"].get<long>(), g["max_cond"].get<double>(),
-                          g["t11_pass"].get<bool>() ? "pass" : "fail")
+            ? fmt::format("{:.2f} Delta: {} grown, cond {:.3g}, T11 {}",
+                          g["support_radius_factor"].get<double>(), g["grown_vertices"].get<long>(),
+                          g["max_cond"].get<double>(), g["t11_pass"].get<bool>() ? "pass" : "fail")
             : fmt::format("{:.2f} Delta: fails loudly", g["support_radius_factor"].get<double>());
-    s += fmt::format("| {} | {} | {} | {:.1e} | {:.1e} | {:.1e} | {:.1e} | {:.1e} ({:.2f}) | {:.3g} | {} / {:.1f} | {} | {} | {} |\n",
-                     r["scene"].get<std::string>(), r["nodes"].get<long>(), r["vertices"].get<long>(),
-                     r["unity"].get<double>(), r["linear_over_delta"].get<double>(), r["affine_over_delta"].get<double>(),
-                     std::max(r["rigid90_over_delta"].get<double>(), r["rigid_random_over_delta"].get<double>()),
-                     r["f32_over_delta"].get<double>(), r["f32_over_input_rounding"].get<double>(), r["max_cond"].get<double>(), r["min_support"].get<long>(),
-                     r["mean_support"].get<double>(), r["grown_vertices"].get<long>(),
-                     r["t11_pass"].get<bool>() ? "pass" : "FAIL", t15);
+    s += fmt::format(
+        "| {} | {} | {} | {:.1e} | {:.1e} | {:.1e} | {:.1e} | {:.1e} ({:.2f}) | {:.3g} | {} / {:.1f} | {} | "
+        "{} | {} |\n",
+        r["scene"].get<std::string>(), r["nodes"].get<long>(), r["vertices"].get<long>(),
+        r["unity"].get<double>(), r["linear_over_delta"].get<double>(), r["affine_over_delta"].get<double>(),
+        std::max(r["rigid90_over_delta"].get<double>(), r["rigid_random_over_delta"].get<double>()),
+        r["f32_over_delta"].get<double>(), r["f32_over_input_rounding"].get<double>(),
+        r["max_cond"].get<double>(), r["min_support"].get<long>(), r["mean_support"].get<double>(),
+        r["grown_vertices"].get<long>(), r["t11_pass"].get<bool>() ? "pass" : "FAIL", t15);
   }
   return s;
 }

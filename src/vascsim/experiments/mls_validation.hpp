@@ -12,8 +12,8 @@ namespace vascsim {
 /// the scene's mapping options and measures T11; then rebuilds it with a deliberately small support
 /// (factor `tight_factor`) to exercise T15: the guard must grow r (reported) or fail naming a vertex
 /// (reported), never accept an ill-conditioned vertex. Returns one JSON object per scene.
-nlohmann::json validate_mls(const std::vector<std::string>& scene_files, const std::vector<std::string>& overrides,
-                            double tight_factor);
+nlohmann::json validate_mls(const std::vector<std::string>& scene_files,
+                            const std::vector<std::string>& overrides, double tight_factor);
 
 /// A Markdown table of validate_mls's result.
 std::string mls_validation_table(const nlohmann::json& rows);

@@ -1,8 +1,8 @@
 #include "vascsim/experiments/model_comparison.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -83,14 +83,16 @@ ModelCurve run_one(const std::string& scene_path, const std::string& model, cons
   fd.python = o.python;
   if (o.on_step) fd.on_step = [&](const StepRecord& r, int total) { o.on_step(model, r, total); };
   run_force_displacement(scene, fd);
-  if (!read_finished(dir, c)) throw std::runtime_error("force-displacement: no curve written in " + dir.string());
+  if (!read_finished(dir, c))
+    throw std::runtime_error("force-displacement: no curve written in " + dir.string());
   return c;
 }
 
 double interpolate(const std::vector<double>& x, const std::vector<double>& y, double at) {
   // x non-decreasing (load steps).
   for (std::size_t i = 1; i < x.size(); ++i)
-    if (at <= x[i] && x[i] > x[i - 1]) return y[i - 1] + (y[i] - y[i - 1]) * (at - x[i - 1]) / (x[i] - x[i - 1]);
+    if (at <= x[i] && x[i] > x[i - 1])
+      return y[i - 1] + (y[i] - y[i - 1]) * (at - x[i - 1]) / (x[i] - x[i - 1]);
   return y.back();
 }
 
@@ -120,7 +122,8 @@ void compare_to_reference(const ModelCurve& reference, ModelCurve& c) {
   for (std::size_t i = 0; i < c.displacement_m.size(); ++i) {
     const double d = c.displacement_m[i];
     if (!(d > 0.0) || d > d_max * (1.0 + 1e-9)) continue;
-    if (i + 1 < c.displacement_m.size() && c.displacement_m[i + 1] == d) continue;  // a held point: keep the last
+    if (i + 1 < c.displacement_m.size() && c.displacement_m[i + 1] == d)
+      continue;  // a held point: keep the last
     const double f_ref = interpolate(ref.displacement_m, ref.force_n, d);
     sum2 += std::pow(c.force_n[i] - f_ref, 2);
     ref2 += f_ref * f_ref;
@@ -158,40 +161,54 @@ ModelComparisonResult run_model_comparison(const std::string& scene_path, const 
   res.curves.front().max_force_ratio = self.max_force_ratio;
 
   const OutputWriter out(o.out_dir);
-  CsvTable csv = out.table("force_displacement_models.csv", {"model", "displacement_m", "force_n", "converged"},
-                           fmt::format("{}: tool displacement (m) and the force the tissue exerts on it along the "
-                                       "reversed push (N), per model, and whether the step converged (1/0); reference {}",
-                                       scene_path, o.reference));
+  CsvTable csv = out.table(
+      "force_displacement_models.csv", {"model", "displacement_m", "force_n", "converged"},
+      fmt::format("{}: tool displacement (m) and the force the tissue exerts on it along the "
+                  "reversed push (N), per model, and whether the step converged (1/0); reference {}",
+                  scene_path, o.reference));
   for (const auto& c : res.curves)
     for (std::size_t i = 0; i < c.displacement_m.size(); ++i)
       csv.add_row(fmt::format("{},{:.9g},{:.9g},{}", c.model, c.displacement_m[i], c.force_n[i],
                               c.converged.empty() || c.converged[i] ? 1 : 0));
   res.csv = csv.file();
-  CsvTable rms = out.table("rms_error.csv",
-                           {"model", "nodes", "points", "rms_error_n", "rms_relative", "rms_percent", "max_depth_force_n",
-                            "max_depth_force_ratio", "wall_s"},
-                           fmt::format("{}: RMS of F - F_ref (N) at each model's displacements, relative to max "
-                                       "|F_ref| and in % of RMS(F_ref) there (docs/ahp.md I7); the force at the deepest point (N) and its ratio to the reference; "
-                                       "wall time (s); reference {}",
-                                       scene_path, o.reference));
+  CsvTable rms =
+      out.table("rms_error.csv",
+                {"model", "nodes", "points", "rms_error_n", "rms_relative", "rms_percent",
+                 "max_depth_force_n", "max_depth_force_ratio", "wall_s"},
+                fmt::format("{}: RMS of F - F_ref (N) at each model's displacements, relative to max "
+                            "|F_ref| and in % of RMS(F_ref) there (docs/ahp.md I7); the force at the deepest "
+                            "point (N) and its ratio to the reference; "
+                            "wall time (s); reference {}",
+                            scene_path, o.reference));
   nlohmann::json table = nlohmann::json::array();
   for (const auto& c : res.curves) {
     rms.add_row(fmt::format("{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g}", c.model, c.nodes, c.points,
-                            c.rms_error_n, c.rms_relative, c.rms_percent, c.max_force_n, c.max_force_ratio, c.wall_s));
-    table.push_back({{"model", c.model}, {"nodes", c.nodes}, {"points", c.points}, {"rms_error_n", c.rms_error_n},
-                     {"rms_relative", c.rms_relative}, {"rms_percent", c.rms_percent}, {"max_depth_force_n", c.max_force_n},
-                     {"max_depth_force_ratio", c.max_force_ratio}, {"wall_s", c.wall_s}, {"reused", c.reused}});
+                            c.rms_error_n, c.rms_relative, c.rms_percent, c.max_force_n, c.max_force_ratio,
+                            c.wall_s));
+    table.push_back({{"model", c.model},
+                     {"nodes", c.nodes},
+                     {"points", c.points},
+                     {"rms_error_n", c.rms_error_n},
+                     {"rms_relative", c.rms_relative},
+                     {"rms_percent", c.rms_percent},
+                     {"max_depth_force_n", c.max_force_n},
+                     {"max_depth_force_ratio", c.max_force_ratio},
+                     {"wall_s", c.wall_s},
+                     {"reused", c.reused}});
   }
   res.rms_csv = rms.file();
   out.write_json("rms_error.json", {{"scene", scene_path}, {"reference", o.reference}, {"models", table}});
   res.rms_json = o.out_dir / "rms_error.json";
   if (o.plot) {
     std::vector<std::string> args;
-    for (const auto& c : res.curves) args.push_back((o.out_dir / c.model / "force_displacement.csv").string());
+    for (const auto& c : res.curves)
+      args.push_back((o.out_dir / c.model / "force_displacement.csv").string());
     for (const auto& c : res.curves) args.insert(args.end(), {"--label", c.model});
     const fs::path png = o.out_dir / "force_displacement_models.png";
-    args.insert(args.end(), {"--reference", "--out", png.string(), "--title", fs::path(scene_path).stem().string()});
-    const PlotOutcome plot = run_plot_script(bundled_script("plot_force_displacement.py"), args, png, o.python);
+    args.insert(args.end(),
+                {"--reference", "--out", png.string(), "--title", fs::path(scene_path).stem().string()});
+    const PlotOutcome plot =
+        run_plot_script(bundled_script("plot_force_displacement.py"), args, png, o.python);
     res.png = plot.png;
     res.plot_problem = plot.problem;
   }
@@ -199,13 +216,13 @@ ModelComparisonResult run_model_comparison(const std::string& scene_path, const 
 }
 
 std::string model_comparison_table(const ModelComparisonResult& r) {
-  std::string s = fmt::format("{:<18} {:>7} {:>6} {:>12} {:>9} {:>8} {:>14} {:>9} {:>9}\n", "model", "nodes", "points",
-                              "rms_err_mN", "rms/Fmax", "rms_%", "F_deepest_mN", "F/F_ref", "wall_s");
+  std::string s =
+      fmt::format("{:<18} {:>7} {:>6} {:>12} {:>9} {:>8} {:>14} {:>9} {:>9}\n", "model", "nodes", "points",
+                  "rms_err_mN", "rms/Fmax", "rms_%", "F_deepest_mN", "F/F_ref", "wall_s");
   for (const auto& c : r.curves)
-    s += fmt::format("{:<18} {:>7} {:>6} {:>12.4g} {:>9.3f} {:>8.1f} {:>14.4g} {:>9.3f} {:>9.1f}{}\n", c.model, c.nodes,
-                     c.points, c.rms_error_n * 1e3, c.rms_relative, c.rms_percent, c.max_force_n * 1e3, c.max_force_ratio,
-                     c.wall_s,
-                     c.reused ? " (reused)" : "");
+    s += fmt::format("{:<18} {:>7} {:>6} {:>12.4g} {:>9.3f} {:>8.1f} {:>14.4g} {:>9.3f} {:>9.1f}{}\n",
+                     c.model, c.nodes, c.points, c.rms_error_n * 1e3, c.rms_relative, c.rms_percent,
+                     c.max_force_n * 1e3, c.max_force_ratio, c.wall_s, c.reused ? " (reused)" : "");
   return s;
 }
 

@@ -1,7 +1,7 @@
 #include "vascsim/experiments/plot_script.hpp"
 
-#include <cstdlib>
 #include <fmt/format.h>
+#include <cstdlib>
 
 #include "vascsim/core/bundled_files.hpp"
 
@@ -24,7 +24,9 @@ std::string shell_quote(const std::string& s) {
 
 }  // namespace
 
-std::filesystem::path bundled_script(const std::string& name) { return bundled_file("scripts/" + name); }
+std::filesystem::path bundled_script(const std::string& name) {
+  return bundled_file("scripts/" + name);
+}
 
 PlotOutcome run_plot_script(const std::filesystem::path& script, const std::vector<std::string>& args,
                             const std::filesystem::path& png, const std::string& python) {

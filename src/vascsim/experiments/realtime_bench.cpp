@@ -55,8 +55,9 @@ void validate(const RealtimeBenchOptions& o) {
   for (const ModelEntry& e : model_registry())
     if (e.capabilities.dynamic) dynamic.push_back(e.name);
   if (std::find(dynamic.begin(), dynamic.end(), o.model) == dynamic.end())
-    throw InputError(fmt::format("bench: model '{}' is not a dynamic model with a time step to time; use one of {}",
-                                 o.model, fmt::join(dynamic, ", ")));
+    throw InputError(
+        fmt::format("bench: model '{}' is not a dynamic model with a time step to time; use one of {}",
+                    o.model, fmt::join(dynamic, ", ")));
   if (o.target_nodes.empty()) throw InputError("bench: --nodes needs at least one node count");
   for (int n : o.target_nodes)
     if (n < 1 || n > kMaxTargetNodes)
@@ -148,8 +149,8 @@ std::vector<std::string> timed_scene_overrides(const std::string& model, const s
   std::vector<std::string> s = {kBenchDefaultOverride, kBenchLayersOverride};
   s.insert(s.end(), user.begin(), user.end());
   s.push_back("model=" + model);
-  // The plain lattice whose spacing find_tube_resolution chose (a scene may fit its lattice to a patch, which sets
-  // the counts of columns and cross-sections itself).
+  // The plain lattice whose spacing find_tube_resolution chose (a scene may fit its lattice to a patch, which
+  // sets the counts of columns and cross-sections itself).
   s.push_back("geometry.fit_lattice_to_patch=none");
   s.push_back(fmt::format("geometry.node_spacing_m={:.17g}", spacing_m));
   s.push_back(fmt::format("{}.output_interval_s={:.17g}", model, kBenchStepS));
@@ -167,8 +168,8 @@ TubeResolution find_tube_resolution(const GeometrySpec& geometry, int target_nod
                     geometry.type));
   if (target_nodes < 1) throw InputError(fmt::format("bench: node count {} must be >= 1", target_nodes));
   GeometrySpec g = geometry;
-  // The plain lattice of each spacing (timed_scene_overrides asks for it too): a lattice fitted to a patch fixes its
-  // counts of columns and cross-sections.
+  // The plain lattice of each spacing (timed_scene_overrides asks for it too): a lattice fitted to a patch
+  // fixes its counts of columns and cross-sections.
   g.fit_lattice_to_patch = "none";
   g.tube.angular_nodes = g.tube.axial_nodes = 0;
   auto count = [&](double spacing) {
@@ -224,7 +225,8 @@ RealtimeBenchReport run_realtime_bench(const RealtimeBenchOptions& o) {
         {"omp_num_procs", omp_get_num_procs()},
         {"omp_max_threads", restore.previous},
         {"load_average_1min_start", load_average_1min()}}},
-      {"build", {{"type", machine["build_type"]}, {"ndebug", machine["ndebug"]}, {"compiler", machine["compiler"]}}},
+      {"build",
+       {{"type", machine["build_type"]}, {"ndebug", machine["ndebug"]}, {"compiler", machine["compiler"]}}},
       {"scene", o.scene_path},
       {"scene_name", base.name},
       {"model", o.model},
@@ -299,7 +301,8 @@ nlohmann::json realtime_bench_json(const RealtimeBenchReport& report) {
 
 std::string realtime_bench_csv(const RealtimeBenchReport& report) {
   std::string s =
-      "target_nodes,nodes,node_spacing_m,mean_neighbours,threads,substeps,iterations,warmup_steps,steps,median_ms,"
+      "target_nodes,nodes,node_spacing_m,mean_neighbours,threads,substeps,iterations,warmup_steps,steps,"
+      "median_ms,"
       "p10_ms,p90_ms,mean_ms,max_ms,steps_per_s,realtime_factor,meets_haptic,meets_visual,setup_s\n";
   for (const auto& r : report.rows)
     s += fmt::format(

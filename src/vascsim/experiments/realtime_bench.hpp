@@ -65,15 +65,16 @@ inline constexpr double kBenchStepS = 1e-3;
 /// A resolution farther than this (relative) from its target is reported with a warning.
 inline constexpr double kBenchNodeTolerance = 0.10;
 
-/// Three node layers through the wall, the real-time scenes' count, whatever the scene asks (a user's --set wins): the
-/// timing sweeps go down to a few hundred nodes, where four layers under 8 columns are too flat for any support (the
-/// bundled quasi_static wall scenes have four), and the timings stay comparable with those recorded before.
+/// Three node layers through the wall, the real-time scenes' count, whatever the scene asks (a user's --set
+/// wins): the timing sweeps go down to a few hundred nodes, where four layers under 8 columns are too flat
+/// for any support (the bundled quasi_static wall scenes have four), and the timings stay comparable with
+/// those recorded before.
 inline constexpr const char* kBenchLayersOverride = "geometry.min_layers=3";
 
-/// The scene keys that make a tube scene a timing case: the benchmark's defaults (more support growths for coarse
-/// vein clouds, kBenchLayersOverride), then the user's overrides, then model=`model`, the spacing,
-/// output_interval_s = one 1 ms step, duration_s = total_steps steps, and the model's ramp kept but finished within
-/// the run (these win).
+/// The scene keys that make a tube scene a timing case: the benchmark's defaults (more support growths for
+/// coarse vein clouds, kBenchLayersOverride), then the user's overrides, then model=`model`, the spacing,
+/// output_interval_s = one 1 ms step, duration_s = total_steps steps, and the model's ramp kept but finished
+/// within the run (these win).
 std::vector<std::string> timed_scene_overrides(const std::string& model, const std::vector<std::string>& user,
                                                int total_steps, double ramp_s, double spacing_m);
 

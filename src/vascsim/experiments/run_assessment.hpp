@@ -19,17 +19,18 @@ namespace vascsim {
 double headless_model_steps(const Scene& scene, Simulation& sim, const ModelCost* cost);
 
 /// The expected cost of a built run with `steps` model steps; nullopt when the model is not calibrated.
-std::optional<CostEstimate> estimate_run_cost(const CostCalibration& calibration, const Scene& scene, Simulation& sim,
-                                              double steps);
+std::optional<CostEstimate> estimate_run_cost(const CostCalibration& calibration, const Scene& scene,
+                                              Simulation& sim, double steps);
 
-/// The scene's own warnings (Scene::warnings: implausible sizes, a lattice coarse for its wall, node contact by
-/// node_radius_m), then one line per rule of the table the scene's model breaks (e.g. xpbd with a large
+/// The scene's own warnings (Scene::warnings: implausible sizes, a lattice coarse for its wall, node contact
+/// by node_radius_m), then one line per rule of the table the scene's model breaks (e.g. xpbd with a large
 /// per-substep stiffness ratio), and linear_fit_layers_warning's line.
-std::vector<std::string> model_accuracy_warnings(const ForceAccuracyTable& table, const Scene& scene, Simulation& sim);
+std::vector<std::string> model_accuracy_warnings(const ForceAccuracyTable& table, const Scene& scene,
+                                                 Simulation& sim);
 
-/// The linear fit with the layers reach on a wall of four or more node layers is stiff (docs/validation.md, "Layers
-/// through the wall": a surface node's fit sees fewer layers than the wall has): the warning, or "" where it does
-/// not apply.
+/// The linear fit with the layers reach on a wall of four or more node layers is stiff (docs/validation.md,
+/// "Layers through the wall": a surface node's fit sees fewer layers than the wall has): the warning, or ""
+/// where it does not apply.
 std::string linear_fit_layers_warning(const Scene& scene, const Simulation& sim);
 
 /// The calibration and the accuracy table of this source tree, read once; nullptr (with a debug log line)

@@ -1,11 +1,11 @@
 #include "vascsim/experiments/timing_sweep.hpp"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <omp.h>
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <fmt/format.h>
-#include <fmt/ranges.h>
 #include <fstream>
 
 #include "vascsim/core/error.hpp"
@@ -52,10 +52,10 @@ TimingPoint run_timing_point(const TimingSweepOptions& o, const std::string& mod
   p.threads = o.threads;
   p.machine = machine_info();
   p.load_average_start = load_average_1min();
-  // Coarse vein clouds (about 1k nodes) have only the wall's three layers: the MLS map needs more growths there,
-  // as the discretisation does (timed_scene_overrides); the user's overrides still win.
-  // The node count is found on the lattice the timed run builds, so the base scene takes the benchmark's layer count
-  // too (timed_scene_overrides).
+  // Coarse vein clouds (about 1k nodes) have only the wall's three layers: the MLS map needs more growths
+  // there, as the discretisation does (timed_scene_overrides); the user's overrides still win. The node count
+  // is found on the lattice the timed run builds, so the base scene takes the benchmark's layer count too
+  // (timed_scene_overrides).
   std::vector<std::string> user = {kTimingMapOverride, kBenchLayersOverride};
   user.insert(user.end(), o.overrides.begin(), o.overrides.end());
   std::vector<std::string> base_sets = user;
@@ -67,7 +67,8 @@ TimingPoint run_timing_point(const TimingSweepOptions& o, const std::string& mod
   // The loads ramp over the whole run, so every timed step moves the indenter: a model that converges at once
   // on a held load (implicit) is timed at work, as the explicit ones always are.
   const double ramp_s = total * kBenchStepS;
-  Simulation sim(load_scene(o.scene_path, timed_scene_overrides(model, user, total, ramp_s, res.node_spacing_m)));
+  Simulation sim(
+      load_scene(o.scene_path, timed_scene_overrides(model, user, total, ramp_s, res.node_spacing_m)));
   p.setup_s = sim.setup_seconds();
   p.nodes = static_cast<int>(sim.discretization().num_nodes());
   Model& m = sim.model();
@@ -127,16 +128,24 @@ nlohmann::json timing_point_json(const TimingPoint& p) {
 TimingPoint timing_point_from_json(const nlohmann::json& j) {
   TimingPoint p;
   p.model = j.at("model").get<std::string>();
-  for (auto [key, field] : {std::pair{"target_nodes", &p.target_nodes}, {"nodes", &p.nodes},
-                            {"surface_vertices", &p.surface_vertices}, {"steps", &p.steps},
-                            {"warmup_steps", &p.warmup_steps}, {"threads", &p.threads}})
+  for (auto [key, field] : {std::pair{"target_nodes", &p.target_nodes},
+                            {"nodes", &p.nodes},
+                            {"surface_vertices", &p.surface_vertices},
+                            {"steps", &p.steps},
+                            {"warmup_steps", &p.warmup_steps},
+                            {"threads", &p.threads}})
     *field = j.at(key).get<int>();
-  for (auto [key, field] :
-       {std::pair{"node_spacing_m", &p.node_spacing_m}, {"step_s", &p.step_s},
-        {"simulation_median_ms", &p.simulation_median_ms}, {"simulation_p10_ms", &p.simulation_p10_ms},
-        {"simulation_p90_ms", &p.simulation_p90_ms}, {"surface_map_median_ms", &p.surface_map_median_ms},
-        {"steps_per_s", &p.steps_per_s}, {"frames_per_s", &p.frames_per_s}, {"setup_s", &p.setup_s},
-        {"load_average_start", &p.load_average_start}, {"load_average_end", &p.load_average_end}})
+  for (auto [key, field] : {std::pair{"node_spacing_m", &p.node_spacing_m},
+                            {"step_s", &p.step_s},
+                            {"simulation_median_ms", &p.simulation_median_ms},
+                            {"simulation_p10_ms", &p.simulation_p10_ms},
+                            {"simulation_p90_ms", &p.simulation_p90_ms},
+                            {"surface_map_median_ms", &p.surface_map_median_ms},
+                            {"steps_per_s", &p.steps_per_s},
+                            {"frames_per_s", &p.frames_per_s},
+                            {"setup_s", &p.setup_s},
+                            {"load_average_start", &p.load_average_start},
+                            {"load_average_end", &p.load_average_end}})
     *field = j.at(key).get<double>();
   p.model_info = j.value("model_info", nlohmann::json::object());
   p.machine = j.value("machine", nlohmann::json::object());
@@ -147,7 +156,8 @@ std::vector<TimingPoint> merge_timing_points(const std::string& dir, const std::
   namespace fs = std::filesystem;
   std::vector<TimingPoint> points;
   const fs::path folder = fs::path(dir) / "points";
-  if (!fs::is_directory(folder)) throw InputError(fmt::format("timing: no folder {} to merge", folder.string()));
+  if (!fs::is_directory(folder))
+    throw InputError(fmt::format("timing: no folder {} to merge", folder.string()));
   for (const auto& entry : fs::directory_iterator(folder)) {
     if (entry.path().extension() != ".json") continue;
     std::ifstream in(entry.path());
@@ -170,25 +180,28 @@ std::vector<TimingPoint> merge_timing_points(const std::string& dir, const std::
 
 std::string timing_csv(const std::vector<TimingPoint>& points) {
   std::string s =
-      "model,target_nodes,nodes,surface_vertices,node_spacing_m,step_s,threads,warmup_steps,steps,simulation_median_ms,"
-      "simulation_p10_ms,simulation_p90_ms,surface_map_median_ms,steps_per_s,frames_per_s,setup_s,load_average_start,"
+      "model,target_nodes,nodes,surface_vertices,node_spacing_m,step_s,threads,warmup_steps,steps,simulation_"
+      "median_ms,"
+      "simulation_p10_ms,simulation_p90_ms,surface_map_median_ms,steps_per_s,frames_per_s,setup_s,load_"
+      "average_start,"
       "load_average_end\n";
   for (const auto& p : points)
-    s += fmt::format("{},{},{},{},{:.6g},{:.6g},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g},{:.3g},{:.3g}\n",
-                     p.model, p.target_nodes, p.nodes, p.surface_vertices, p.node_spacing_m, p.step_s, p.threads,
-                     p.warmup_steps, p.steps, p.simulation_median_ms, p.simulation_p10_ms, p.simulation_p90_ms,
-                     p.surface_map_median_ms, p.steps_per_s, p.frames_per_s, p.setup_s, p.load_average_start,
-                     p.load_average_end);
+    s += fmt::format(
+        "{},{},{},{},{:.6g},{:.6g},{},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g},{:.3g},{:.3g}\n",
+        p.model, p.target_nodes, p.nodes, p.surface_vertices, p.node_spacing_m, p.step_s, p.threads,
+        p.warmup_steps, p.steps, p.simulation_median_ms, p.simulation_p10_ms, p.simulation_p90_ms,
+        p.surface_map_median_ms, p.steps_per_s, p.frames_per_s, p.setup_s, p.load_average_start,
+        p.load_average_end);
   return s;
 }
 
 std::string timing_table(const std::vector<TimingPoint>& points) {
-  std::string s = fmt::format("{:<18} {:>7} {:>8} {:>12} {:>12} {:>10} {:>9} {:>11}\n", "model", "nodes", "step_ms",
-                              "sim_ms", "map_ms", "steps/s", "fps", "load 1min");
+  std::string s = fmt::format("{:<18} {:>7} {:>8} {:>12} {:>12} {:>10} {:>9} {:>11}\n", "model", "nodes",
+                              "step_ms", "sim_ms", "map_ms", "steps/s", "fps", "load 1min");
   for (const auto& p : points)
-    s += fmt::format("{:<18} {:>7} {:>8.3g} {:>12.4g} {:>12.4g} {:>10.4g} {:>9.4g} {:>5.2f}-{:<5.2f}\n", p.model, p.nodes,
-                     p.step_s * 1e3, p.simulation_median_ms, p.surface_map_median_ms, p.steps_per_s, p.frames_per_s,
-                     p.load_average_start, p.load_average_end);
+    s += fmt::format("{:<18} {:>7} {:>8.3g} {:>12.4g} {:>12.4g} {:>10.4g} {:>9.4g} {:>5.2f}-{:<5.2f}\n",
+                     p.model, p.nodes, p.step_s * 1e3, p.simulation_median_ms, p.surface_map_median_ms,
+                     p.steps_per_s, p.frames_per_s, p.load_average_start, p.load_average_end);
   return s;
 }
 

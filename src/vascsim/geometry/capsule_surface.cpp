@@ -48,7 +48,9 @@ RenderSurface capsule_surface(const Vec3& a, const Vec3& b, double radius_m, int
     }
   add_vertex(b + radius_m * axis, axis);
 
-  const auto ring_start = [&](std::size_t r) { return static_cast<Index>(1 + r * static_cast<std::size_t>(segments)); };
+  const auto ring_start = [&](std::size_t r) {
+    return static_cast<Index>(1 + r * static_cast<std::size_t>(segments));
+  };
   const Index last = static_cast<Index>(s.rest_vertices.size() - 1);
   for (int j = 0; j < segments; ++j) {  // fan around the a pole
     const Index j1 = (j + 1) % segments;
@@ -75,7 +77,8 @@ void append_surface(RenderSurface& whole, const RenderSurface& part) {
   const auto offset = static_cast<Index>(whole.rest_vertices.size());
   whole.rest_vertices.insert(whole.rest_vertices.end(), part.rest_vertices.begin(), part.rest_vertices.end());
   whole.rest_normals.insert(whole.rest_normals.end(), part.rest_normals.begin(), part.rest_normals.end());
-  for (const auto& t : part.triangles) whole.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  for (const auto& t : part.triangles)
+    whole.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
   whole.outer.insert(whole.outer.end(), part.outer.begin(), part.outer.end());
 }
 

@@ -1,7 +1,7 @@
 #include "vascsim/geometry/generators.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 #include <numbers>
 #include <random>
 
@@ -42,7 +42,8 @@ NodeCloud make_box(const BoxSpec& spec) {
   cloud.positions.reserve(static_cast<std::size_t>(n.prod()));
   for (int k = 0; k < n[2]; ++k)
     for (int j = 0; j < n[1]; ++j)
-      for (int i = 0; i < n[0]; ++i) cloud.positions.push_back(spec.min_m + Vec3(i * step[0], j * step[1], k * step[2]));
+      for (int i = 0; i < n[0]; ++i)
+        cloud.positions.push_back(spec.min_m + Vec3(i * step[0], j * step[1], k * step[2]));
   // Tets are oriented on the regular lattice, then the nodes are jittered: a jitter that inverts a
   // tet is an error, never silently "fixed" by re-orienting it (that would overlap its neighbours).
   for (int k = 0; k + 1 < n[2]; ++k)
@@ -55,10 +56,12 @@ NodeCloud make_box(const BoxSpec& spec) {
   if (spec.jitter > 0.0) {
     for (auto& p : cloud.positions) p += spec.jitter * step.cwiseProduct(Vec3(uni(rng), uni(rng), uni(rng)));
     for (const Tet& t : cloud.tets)
-      if (!(signed_volume(cloud.positions[t[0]], cloud.positions[t[1]], cloud.positions[t[2]], cloud.positions[t[3]]) > 0.0))
-        throw InputError(fmt::format("box: jitter {} inverts a virtual tetrahedron (seed {}); use a smaller jitter "
-                                     "(<= 0.2 is always safe in practice) or another seed",
-                                     spec.jitter, spec.seed));
+      if (!(signed_volume(cloud.positions[t[0]], cloud.positions[t[1]], cloud.positions[t[2]],
+                          cloud.positions[t[3]]) > 0.0))
+        throw InputError(
+            fmt::format("box: jitter {} inverts a virtual tetrahedron (seed {}); use a smaller jitter "
+                        "(<= 0.2 is always safe in practice) or another seed",
+                        spec.jitter, spec.seed));
   }
   return cloud;
 }
@@ -71,7 +74,8 @@ double lattice_phase_rad(double lattice_angle_deg, int columns) {
 }
 
 int lattice_columns(double r_mid_m, double spacing_m, int asked) {
-  return std::max(8, asked > 0 ? asked : static_cast<int>(std::lround(2.0 * std::numbers::pi * r_mid_m / spacing_m)));
+  return std::max(
+      8, asked > 0 ? asked : static_cast<int>(std::lround(2.0 * std::numbers::pi * r_mid_m / spacing_m)));
 }
 
 int lattice_cross_sections(double length_m, double spacing_m, int asked) {
@@ -91,11 +95,13 @@ NodeCloud make_tube(const TubeSpec& s) {
   require(std::isfinite(s.lattice_angle_deg), "lattice angle must be finite");
   const double r_in = s.outer_radius_m - s.wall_thickness_m;
   const double r_mid = 0.5 * (r_in + s.outer_radius_m);
-  const int nr = std::max(s.min_layers, static_cast<int>(std::ceil(s.wall_thickness_m / s.node_spacing_m - 1e-9)) + 1);
+  const int nr =
+      std::max(s.min_layers, static_cast<int>(std::ceil(s.wall_thickness_m / s.node_spacing_m - 1e-9)) + 1);
   const int nt = lattice_columns(r_mid, s.node_spacing_m, s.angular_nodes);
   const int nz = lattice_cross_sections(s.length_m, s.node_spacing_m, s.axial_nodes);
   const double total = static_cast<double>(nr) * nt * nz;
-  require(total <= 5e7, fmt::format("{:.0f} nodes requested; the limit is 5e7 (increase node_spacing_m)", total));
+  require(total <= 5e7,
+          fmt::format("{:.0f} nodes requested; the limit is 5e7 (increase node_spacing_m)", total));
 
   NodeCloud cloud;
   cloud.kind = "tube";

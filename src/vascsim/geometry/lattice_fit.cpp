@@ -26,8 +26,9 @@ double extent_error(int selected, double step, double asked, PatchFit mode) {
   return steps * step / asked - 1.0;
 }
 
-// The cross-sections at s_k = k L / (nz - 1) within half_length of the centre: as strips (clipped at the vessel's
-// ends), their count times the step against the asked length; edge to edge, the larger of the two edges' misses.
+// The cross-sections at s_k = k L / (nz - 1) within half_length of the centre: as strips (clipped at the
+// vessel's ends), their count times the step against the asked length; edge to edge, the larger of the two
+// edges' misses.
 double cross_section_error(double centre, double half_length, double length, int nz, PatchFit mode) {
   const double step = length / (nz - 1), tol = 1e-6 * step;
   int n = 0;
@@ -46,17 +47,20 @@ double cross_section_error(double centre, double half_length, double length, int
 
 }  // namespace
 
-LatticeFit fit_lattice_to_patch(const TubeSpec& tube, const PatchExtent& patch, double length_m, PatchFit mode) {
+LatticeFit fit_lattice_to_patch(const TubeSpec& tube, const PatchExtent& patch, double length_m,
+                                PatchFit mode) {
   LatticeFit fit;
   const double r_mid = tube.outer_radius_m - 0.5 * tube.wall_thickness_m;
   const int nt0 = lattice_columns(r_mid, tube.node_spacing_m);
   const int nz0 = lattice_cross_sections(length_m, tube.node_spacing_m);
   const double width = 2.0 * patch.angle_half_width_deg;
   double best = 1e300;
-  for (int nt = std::max(8, static_cast<int>(std::ceil(0.75 * nt0))); nt <= static_cast<int>(1.5 * nt0); ++nt) {
+  for (int nt = std::max(8, static_cast<int>(std::ceil(0.75 * nt0))); nt <= static_cast<int>(1.5 * nt0);
+       ++nt) {
     const double step = 360.0 / nt;
     for (bool on_column : {true, false}) {
-      const double err = extent_error(columns_selected(patch.angle_half_width_deg, step, on_column), step, width, mode);
+      const double err =
+          extent_error(columns_selected(patch.angle_half_width_deg, step, on_column), step, width, mode);
       const double score = std::abs(err) + 1e-6 * std::abs(nt - nt0);
       if (score < best) {
         best = score;
@@ -68,7 +72,8 @@ LatticeFit fit_lattice_to_patch(const TubeSpec& tube, const PatchExtent& patch, 
   }
   const double centre = patch.s_center_m;
   best = 1e300;
-  for (int nz = std::max(2, static_cast<int>(std::ceil(0.75 * nz0))); nz <= static_cast<int>(1.5 * nz0); ++nz) {
+  for (int nz = std::max(2, static_cast<int>(std::ceil(0.75 * nz0))); nz <= static_cast<int>(1.5 * nz0);
+       ++nz) {
     const double err = cross_section_error(centre, patch.s_half_length_m, length_m, nz, mode);
     const double score = std::abs(err) + 1e-6 * std::abs(nz - nz0);
     if (score < best) {
@@ -78,7 +83,8 @@ LatticeFit fit_lattice_to_patch(const TubeSpec& tube, const PatchExtent& patch, 
     }
   }
   fit.summary = fmt::format(
-      "lattice fitted to the first wall patch's {}: {} columns ({} from the spacing) and {} cross-sections ({}); the "
+      "lattice fitted to the first wall patch's {}: {} columns ({} from the spacing) and {} cross-sections "
+      "({}); the "
       "patch selects {:+.1f} % of its angle and {:+.1f} % of its length",
       mode == PatchFit::Strips ? "strips" : "edges", fit.angular_nodes, nt0, fit.axial_nodes, nz0,
       100.0 * fit.angle_error, 100.0 * fit.length_error);

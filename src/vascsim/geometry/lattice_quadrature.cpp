@@ -35,7 +35,8 @@ double layer_factor(const std::vector<double>& simpson, int k) {
 int nearest_index(double x, double step, int n, Index node) {
   const int k = static_cast<int>(std::lround(x / step));
   if (k < 0 || k >= n)
-    throw InputError(fmt::format("Simpson volumes: node {} lies off its lattice (layer {} of {})", node, k, n));
+    throw InputError(
+        fmt::format("Simpson volumes: node {} lies off its lattice (layer {} of {})", node, k, n));
   return k;
 }
 }  // namespace
@@ -49,8 +50,8 @@ std::vector<double> simpson_volume_factors(const Body& body) {
     const int layers = static_cast<int>(std::lround(w.thickness_m / w.layer_spacing_m)) + 1;
     const std::vector<double> simpson = cubic_exact_weights(layers);
     for (Index i = 0; i < nodes; ++i)
-      factor[static_cast<std::size_t>(i)] =
-          layer_factor(simpson, nearest_index(w.depth_m[static_cast<std::size_t>(i)], w.layer_spacing_m, layers, i));
+      factor[static_cast<std::size_t>(i)] = layer_factor(
+          simpson, nearest_index(w.depth_m[static_cast<std::size_t>(i)], w.layer_spacing_m, layers, i));
     return factor;
   }
   if ((cloud.box_cells.array() >= 1).all()) {
@@ -65,8 +66,9 @@ std::vector<double> simpson_volume_factors(const Body& body) {
     }
     return factor;
   }
-  throw InputError("key 'discretization.volume': 'simpson' needs a lattice with node layers (geometry type 'tube', "
-                   "'vessel', 'box' or 'beam'); use 'tet_partition'");
+  throw InputError(
+      "key 'discretization.volume': 'simpson' needs a lattice with node layers (geometry type 'tube', "
+      "'vessel', 'box' or 'beam'); use 'tet_partition'");
 }
 
 }  // namespace vascsim

@@ -13,8 +13,8 @@
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/spatial_grid.hpp"
 #include "vascsim/core/stopwatch.hpp"
-#include "vascsim/geometry/vertex_normals.hpp"
 #include "vascsim/geometry/kuhn.hpp"
+#include "vascsim/geometry/vertex_normals.hpp"
 
 namespace vascsim {
 
@@ -203,17 +203,22 @@ struct Lattice {
   std::int64_t id(std::int64_t i, std::int64_t j, std::int64_t k) const { return i + nx * (j + ny * k); }
   Vec3 point(std::int64_t id) const {
     const std::int64_t i = id % nx, j = (id / nx) % ny, k = id / (nx * ny);
-    return Vec3(origin + delta * Vec3(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k)));
+    return Vec3(origin +
+                delta * Vec3(static_cast<double>(i), static_cast<double>(j), static_cast<double>(k)));
   }
 };
 
-[[noreturn]] void fail(const std::string& source, const std::string& what) { throw InputError(source + ": " + what); }
+[[noreturn]] void fail(const std::string& source, const std::string& what) {
+  throw InputError(source + ": " + what);
+}
 
 void check_spec(const MeshWallSpec& spec) {
   const std::string& name = spec.source;
   if (spec.kind != "lumen" && spec.kind != "closed_wall")
     fail(name, fmt::format("mesh wall kind '{}' is unknown; use \"lumen\" or \"closed_wall\"", spec.kind));
-  if (spec.min_layers < 2) fail(name, "min_layers must be >= 2 (3 or more recommended, docs/model/00-design-decisions.md, decision 2)");
+  if (spec.min_layers < 2)
+    fail(name,
+         "min_layers must be >= 2 (3 or more recommended, docs/model/00-design-decisions.md, decision 2)");
   if (!(std::isfinite(spec.node_spacing_m) && spec.node_spacing_m > 0.0))
     fail(name, "node_spacing_m must be finite and > 0");
   if (spec.kind == "lumen" && !(std::isfinite(spec.wall_thickness_m) && spec.wall_thickness_m > 0.0))
@@ -227,11 +232,13 @@ double split_closed_wall(const TriangleMesh& mesh, const MeshComponents& comps, 
   TriangleMesh outer_mesh;
   inner_mesh.vertices = outer_mesh.vertices = mesh.vertices;
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f)
-    (comps.nesting_depth[comps.of_triangle[f]] % 2 ? inner_mesh : outer_mesh).triangles.push_back(mesh.triangles[f]);
+    (comps.nesting_depth[comps.of_triangle[f]] % 2 ? inner_mesh : outer_mesh)
+        .triangles.push_back(mesh.triangles[f]);
   if (inner_mesh.triangles.empty())
-    fail(name, fmt::format("closed_wall needs an inner surface inside the outer one, but none of the {} closed "
-                           "components lies inside another (use kind \"lumen\" for a lumen surface)",
-                           comps.count()));
+    fail(name,
+         fmt::format("closed_wall needs an inner surface inside the outer one, but none of the {} closed "
+                     "components lies inside another (use kind \"lumen\" for a lumen surface)",
+                     comps.count()));
   const double t = thinnest_wall(inner_mesh, outer_mesh);
   if (!(t > 0.0)) fail(name, "the inner and outer surfaces touch (thinnest wall 0)");
   return t;
@@ -248,9 +255,10 @@ Lattice make_lattice(const TriangleMesh& mesh, double pad, double delta, const s
   const Vec3 extent = box.max() + Vec3::Constant(pad) - L.origin;
   L.dims_real = (extent / delta).array().floor() + 2.0;
   if (!(L.total() <= kMaxLatticePoints))
-    fail(name, fmt::format("the lattice at spacing {:.4g} m would have {:.3g} points; the limit is {:.0g} (increase "
-                           "node_spacing_m or wall_thickness_m)",
-                           delta, L.total(), kMaxLatticePoints));
+    fail(name, fmt::format(
+                   "the lattice at spacing {:.4g} m would have {:.3g} points; the limit is {:.0g} (increase "
+                   "node_spacing_m or wall_thickness_m)",
+                   delta, L.total(), kMaxLatticePoints));
   const Eigen::Vector3i dims = L.dims_real.cast<int>().matrix();
   L.nx = dims[0];
   L.ny = dims[1];
@@ -266,7 +274,8 @@ std::vector<std::int64_t> band_candidates(const TriangleMesh& mesh, const Lattic
     Eigen::AlignedBox3d tb;
     for (const Index v : tri) tb.extend(mesh.vertices[v]);
     const Eigen::Array3d lo = ((tb.min().array() - reach - L.origin.array()) / L.delta).ceil().max(0.0);
-    const Eigen::Array3d hi = ((tb.max().array() + reach - L.origin.array()) / L.delta).floor().min(L.dims_real - 1.0);
+    const Eigen::Array3d hi =
+        ((tb.max().array() + reach - L.origin.array()) / L.delta).floor().min(L.dims_real - 1.0);
     for (auto k = static_cast<std::int64_t>(lo[2]); k <= static_cast<std::int64_t>(hi[2]); ++k)
       for (auto j = static_cast<std::int64_t>(lo[1]); j <= static_cast<std::int64_t>(hi[1]); ++j)
         for (auto i = static_cast<std::int64_t>(lo[0]); i <= static_cast<std::int64_t>(hi[0]); ++i)
@@ -290,14 +299,15 @@ struct LatticeNodes {
 
 // Evaluated in parallel chunks (bounded memory), numbered serially in lattice order (deterministic for any
 // thread count). `candidates` empty: every lattice point.
-LatticeNodes collect_nodes(const WallSolid& solid, const Lattice& L, const std::vector<std::int64_t>& candidates,
-                           bool all_points) {
+LatticeNodes collect_nodes(const WallSolid& solid, const Lattice& L,
+                           const std::vector<std::int64_t>& candidates, bool all_points) {
   using State = WallSolid::State;
   LatticeNodes nodes;
   nodes.node_of.assign(static_cast<std::size_t>(L.total()), -1);
   constexpr std::int64_t kChunk = 1 << 16;
   std::vector<WallSolid::NodeInfo> info(static_cast<std::size_t>(kChunk));
-  const auto ncand = all_points ? static_cast<std::int64_t>(L.total()) : static_cast<std::int64_t>(candidates.size());
+  const auto ncand =
+      all_points ? static_cast<std::int64_t>(L.total()) : static_cast<std::int64_t>(candidates.size());
   auto candidate = [&](std::int64_t c) { return all_points ? c : candidates[static_cast<std::size_t>(c)]; };
   for (std::int64_t c0 = 0; c0 < ncand; c0 += kChunk) {
     const std::int64_t c1 = std::min(ncand, c0 + kChunk);
@@ -362,15 +372,16 @@ std::vector<Index> merge_snapped_nodes(const LatticeNodes& nodes, const Lattice&
 
 // The eight corner nodes (after merging) of the lattice cell whose lowest corner is node n; -1 where the
 // cell leaves the lattice or a corner is no node.
-std::array<Index, 8> cell_corners(const LatticeNodes& nodes, const Lattice& L, const std::vector<Index>& alias,
-                                  std::int64_t n) {
+std::array<Index, 8> cell_corners(const LatticeNodes& nodes, const Lattice& L,
+                                  const std::vector<Index>& alias, std::int64_t n) {
   std::array<Index, 8> corner;
   corner.fill(-1);
   const std::int64_t id = nodes.lattice[n];
   const std::int64_t i = id % L.nx, j = (id / L.nx) % L.ny, k = id / (L.nx * L.ny);
   if (i + 1 >= L.nx || j + 1 >= L.ny || k + 1 >= L.nz) return corner;
   for (int m = 0; m < 8; ++m) {
-    const Index v = nodes.node_of[static_cast<std::size_t>(L.id(i + (m & 1), j + ((m >> 1) & 1), k + ((m >> 2) & 1)))];
+    const Index v =
+        nodes.node_of[static_cast<std::size_t>(L.id(i + (m & 1), j + ((m >> 1) & 1), k + ((m >> 2) & 1)))];
     corner[m] = v < 0 ? v : alias[v];
   }
   return corner;
@@ -470,10 +481,11 @@ void build_wall_surface(const TriangleMesh& mesh, const MeshComponents& comps, b
   }
   lumen_wall_surface(mesh, t, w);
   // The fold-overs touch only the drawn outer surface (the nodes and the mechanics are the wall's own). A few
-  // local ones, where a real segmentation's lumen bends tighter than the wall is thick, are information; above 1 %
-  // of the triangles the picture is visibly wrong and the user should know.
+  // local ones, where a real segmentation's lumen bends tighter than the wall is thick, are information;
+  // above 1 % of the triangles the picture is visibly wrong and the user should know.
   if (w.outer_foldovers > 0) {
-    const bool many = static_cast<double>(w.outer_foldovers) > 0.01 * static_cast<double>(mesh.triangles.size());
+    const bool many =
+        static_cast<double>(w.outer_foldovers) > 0.01 * static_cast<double>(mesh.triangles.size());
     spdlog::log(many ? spdlog::level::warn : spdlog::level::info,
                 "{}: {} of {} outer-surface triangles fold over (the lumen curves tighter than the wall "
                 "thickness {:.4g} m there); the rendering surface self-intersects locally",
@@ -523,15 +535,17 @@ MeshWall make_mesh_wall(const TriangleMesh& input, const MeshWallSpec& spec) {
   const std::vector<Index> alias = merge_snapped_nodes(nodes, lattice, merged);
   std::vector<Tet> tets = keep_tets(solid, nodes, lattice, alias, dropped_low_quality);
   if (tets.empty())
-    fail(name, fmt::format("the wall keeps no tetrahedron at lattice spacing {:.4g} m (wall thickness {:.4g} m); "
-                           "decrease node_spacing_m",
-                           delta, t));
+    fail(name,
+         fmt::format("the wall keeps no tetrahedron at lattice spacing {:.4g} m (wall thickness {:.4g} m); "
+                     "decrease node_spacing_m",
+                     delta, t));
   build_wall_cloud(nodes, std::move(tets), delta, w);
   build_wall_surface(mesh, comps, closed_wall, t, name, w);
-  spdlog::info("{}: mesh wall ({}{}): {} nodes ({} snapped nodes merged), {} tets ({} below quality {} dropped), "
-               "lattice spacing {:.4g} m, wall {:.4g} m, {} nominal layers, {:.2f} s",
-               name, spec.kind, open ? ", open ends" : "", w.cloud.positions.size(), merged, w.cloud.tets.size(),
-               dropped_low_quality, kMinQuality, delta, t, w.nominal_layers, clock.seconds());
+  spdlog::info(
+      "{}: mesh wall ({}{}): {} nodes ({} snapped nodes merged), {} tets ({} below quality {} dropped), "
+      "lattice spacing {:.4g} m, wall {:.4g} m, {} nominal layers, {:.2f} s",
+      name, spec.kind, open ? ", open ends" : "", w.cloud.positions.size(), merged, w.cloud.tets.size(),
+      dropped_low_quality, kMinQuality, delta, t, w.nominal_layers, clock.seconds());
   return w;
 }
 

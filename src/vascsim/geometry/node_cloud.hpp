@@ -23,25 +23,27 @@ struct TubeShape {
   int radial_layers = 0;  ///< node layers through the wall, inner and outer surface included
 };
 
-/// How a structured wall lattice numbers its nodes (tubes and swept vessels): node (layer, column, section) has
-/// index layer + layers (column + columns section). Columns run around the centre-line and close on themselves
-/// (column `columns` is column 0); sections run along it from one end to the other; layers go from the inner
-/// (lumen) surface to the outer one. Coarser levels of a solver read the lattice from it (wall_coarse_space.hpp).
+/// How a structured wall lattice numbers its nodes (tubes and swept vessels): node (layer, column, section)
+/// has index layer + layers (column + columns section). Columns run around the centre-line and close on
+/// themselves (column `columns` is column 0); sections run along it from one end to the other; layers go from
+/// the inner (lumen) surface to the outer one. Coarser levels of a solver read the lattice from it
+/// (wall_coarse_space.hpp).
 struct WallLatticeNumbering {
   int layers = 0, columns = 0, sections = 0;
   Index id(int layer, int column, int section) const {
-    return static_cast<Index>(layer + layers * (((column % columns) + columns) % columns + columns * section));
+    return static_cast<Index>(layer +
+                              layers * (((column % columns) + columns) % columns + columns * section));
   }
 };
 
 struct NodeCloud {
-  Vec3Array positions;       ///< rest positions X_i, #N, m
-  std::vector<Tet> tets;     ///< virtual tetrahedra, positively oriented
-  double spacing_m = 0.0;    ///< the generator's nominal node spacing Delta, m
-  std::string kind;          ///< "box", "tube", ...
-  std::optional<TubeShape> tube;  ///< set for tubes (region selectors use it)
-  std::optional<WallLatticeNumbering> wall_lattice;  ///< set for tubes and swept vessels
-  Eigen::AlignedBox3d box;   ///< set for boxes: the rest bounding box, m
+  Vec3Array positions;                                  ///< rest positions X_i, #N, m
+  std::vector<Tet> tets;                                ///< virtual tetrahedra, positively oriented
+  double spacing_m = 0.0;                               ///< the generator's nominal node spacing Delta, m
+  std::string kind;                                     ///< "box", "tube", ...
+  std::optional<TubeShape> tube;                        ///< set for tubes (region selectors use it)
+  std::optional<WallLatticeNumbering> wall_lattice;     ///< set for tubes and swept vessels
+  Eigen::AlignedBox3d box;                              ///< set for boxes: the rest bounding box, m
   Eigen::Vector3i box_cells = Eigen::Vector3i::Zero();  ///< set for boxes: lattice cells per axis
 };
 

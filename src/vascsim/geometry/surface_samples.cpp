@@ -1,8 +1,8 @@
 #include "vascsim/geometry/surface_samples.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 
 #include "vascsim/core/error.hpp"
 
@@ -11,7 +11,7 @@ namespace vascsim {
 namespace {
 
 constexpr double kCreaseCos = 0.8660254037844386;  // cos 30 deg
-constexpr double kShape = 0.5;                      // Phong tessellation's shape factor (see the header)
+constexpr double kShape = 0.5;                     // Phong tessellation's shape factor (see the header)
 
 // Phong tessellation: the linear point p projected onto each vertex's tangent plane, the projections blended
 // with the barycentric weights, and the result blended with p by the shape factor.
@@ -26,7 +26,8 @@ Vec3 lifted(const std::array<Vec3, 3>& P, const std::array<Vec3, 3>& N, const Ve
 
 SurfaceSamples sample_surface(const RenderSurface& surface, double spacing_m, double own_edge_fraction) {
   if (!(spacing_m > 0.0) || !std::isfinite(spacing_m))
-    throw InputError(fmt::format("surface samples: the spacing must be a positive length in metres (got {})", spacing_m));
+    throw InputError(
+        fmt::format("surface samples: the spacing must be a positive length in metres (got {})", spacing_m));
   if (!(own_edge_fraction >= 0.0) || !std::isfinite(own_edge_fraction))
     throw InputError(fmt::format(
         "surface samples: the fraction of a triangle's own edge must be >= 0 (got {})", own_edge_fraction));
@@ -48,8 +49,8 @@ SurfaceSamples sample_surface(const RenderSurface& surface, double spacing_m, do
     count += static_cast<double>(m_of[t]) * m_of[t];
   }
   if (count > 2e7)
-    throw InputError(fmt::format("surface samples: {:.3g} samples at a spacing of {:.3g} m; use a larger spacing",
-                                 count, spacing_m));
+    throw InputError(fmt::format(
+        "surface samples: {:.3g} samples at a spacing of {:.3g} m; use a larger spacing", count, spacing_m));
   SurfaceSamples out;
   out.spacing_min_m = finest;
   out.positions.reserve(static_cast<std::size_t>(count));

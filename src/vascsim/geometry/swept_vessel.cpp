@@ -15,14 +15,22 @@ namespace vascsim {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& what) { throw InputError("swept vessel: " + what); }
+[[noreturn]] void fail(const std::string& what) {
+  throw InputError("swept vessel: " + what);
+}
 
 void check_spec(const Centerline& cl, const SweptVesselSpec& s) {
-  if (!(std::isfinite(s.outer_radius_m) && s.outer_radius_m > 0.0)) fail("outer radius must be finite and > 0");
-  if (!(std::isfinite(s.wall_thickness_m) && s.wall_thickness_m > 0.0 && s.wall_thickness_m < s.outer_radius_m))
+  if (!(std::isfinite(s.outer_radius_m) && s.outer_radius_m > 0.0))
+    fail("outer radius must be finite and > 0");
+  if (!(std::isfinite(s.wall_thickness_m) && s.wall_thickness_m > 0.0 &&
+        s.wall_thickness_m < s.outer_radius_m))
     fail("wall thickness must be > 0 and < outer radius");
-  if (!(std::isfinite(s.node_spacing_m) && s.node_spacing_m > 0.0)) fail("node spacing must be finite and > 0");
-  if (s.min_layers < 3) fail("at least 3 node layers through the wall are needed (docs/model/00-design-decisions.md, hollow vessels)");
+  if (!(std::isfinite(s.node_spacing_m) && s.node_spacing_m > 0.0))
+    fail("node spacing must be finite and > 0");
+  if (s.min_layers < 3)
+    fail(
+        "at least 3 node layers through the wall are needed (docs/model/00-design-decisions.md, hollow "
+        "vessels)");
   if (!std::isfinite(s.lattice_angle_deg)) fail("lattice angle must be finite");
   if (s.refine.enabled) {
     const WallRefinement& r = s.refine;
@@ -31,12 +39,14 @@ void check_spec(const Centerline& cl, const SweptVesselSpec& s) {
                        r.node_spacing_m, s.node_spacing_m));
     if (!(r.angle_half_width_deg > 0.0 && r.s_half_length_m > 0.0 && r.margin_m >= 0.0))
       fail("the refined window needs a half width > 0 deg, a half length > 0 m and a margin >= 0 m");
-    if (s.angular_nodes > 0 || s.axial_nodes > 0) fail("a graded lattice chooses its own counts; leave them out");
+    if (s.angular_nodes > 0 || s.axial_nodes > 0)
+      fail("a graded lattice chooses its own counts; leave them out");
   }
   if (!(cl.min_radius_of_curvature() > s.outer_radius_m))
-    fail(fmt::format("the centre-line's smallest radius of curvature {:.6g} m must exceed the outer radius {:.6g} m "
-                     "(the wall would fold over itself)",
-                     cl.min_radius_of_curvature(), s.outer_radius_m));
+    fail(fmt::format(
+        "the centre-line's smallest radius of curvature {:.6g} m must exceed the outer radius {:.6g} m "
+        "(the wall would fold over itself)",
+        cl.min_radius_of_curvature(), s.outer_radius_m));
 }
 
 // The (r, theta, s) lattice of the sweep: nr layers through the wall, nt around, nz along the centre-line.
@@ -55,8 +65,8 @@ struct SweepLattice {
   }
 };
 
-// The graded lattice's columns (angles, rad) and cross-sections (arc lengths, m): fine over the window and its
-// margin, graded outside (graded_axis.hpp); around the centre-line as arc length at the mid-wall radius.
+// The graded lattice's columns (angles, rad) and cross-sections (arc lengths, m): fine over the window and
+// its margin, graded outside (graded_axis.hpp); around the centre-line as arc length at the mid-wall radius.
 void graded_axes(const SweptVesselSpec& s, double r_mid, SweepLattice& g) {
   const WallRefinement& r = s.refine;
   const AxisGrading grading{r.node_spacing_m, s.node_spacing_m, r.growth};
@@ -64,11 +74,12 @@ void graded_axes(const SweptVesselSpec& s, double r_mid, SweepLattice& g) {
                w = r.angle_half_width_deg * std::numbers::pi / 180.0 * r_mid;
   if (!(2.0 * (w + r.margin_m) < 2.0 * std::numbers::pi * r_mid))
     fail("the refined window and its margins go all the way round the vessel; use a uniform lattice");
-  const std::vector<double> around =
-      graded_circle(2.0 * std::numbers::pi * r_mid, {c - w - r.margin_m, c - w, c + w, c + w + r.margin_m}, grading);
+  const std::vector<double> around = graded_circle(
+      2.0 * std::numbers::pi * r_mid, {c - w - r.margin_m, c - w, c + w, c + w + r.margin_m}, grading);
   for (double x : around) g.theta.push_back(x / r_mid);
-  g.s = graded_line(g.length, {r.s_center_m - r.s_half_length_m - r.margin_m, r.s_center_m - r.s_half_length_m,
-                               r.s_center_m + r.s_half_length_m, r.s_center_m + r.s_half_length_m + r.margin_m},
+  g.s = graded_line(g.length,
+                    {r.s_center_m - r.s_half_length_m - r.margin_m, r.s_center_m - r.s_half_length_m,
+                     r.s_center_m + r.s_half_length_m, r.s_center_m + r.s_half_length_m + r.margin_m},
                     grading);
   g.nt = static_cast<int>(g.theta.size());
   g.nz = static_cast<int>(g.s.size());
@@ -85,7 +96,8 @@ SweepLattice sweep_lattice(const Centerline& cl, const SweptVesselSpec& s) {
   g.graded = s.refine.enabled;
   if (g.graded) {
     graded_axes(s, r_mid, g);
-    if (!(static_cast<double>(g.nr) * g.nt * g.nz <= 5e7)) fail("more than 5e7 nodes requested (coarsen the spacings)");
+    if (!(static_cast<double>(g.nr) * g.nt * g.nz <= 5e7))
+      fail("more than 5e7 nodes requested (coarsen the spacings)");
   } else {
     g.nt = lattice_columns(r_mid, s.node_spacing_m, s.angular_nodes);
     const double nz_real = g.length / s.node_spacing_m;
@@ -139,10 +151,11 @@ void sweep_tets(const SweepLattice& g, NodeCloud& cloud) {
           if (swap[k]) std::swap(tet[2], tet[3]);
           const double v = signed_volume(X[tet[0]], X[tet[1]], X[tet[2]], X[tet[3]]);
           if (!(v > 0.0))
-            fail(fmt::format("virtual tetrahedron {} (Kuhn tet {} of lattice cell radial {}, angular {}, axial {} at "
-                             "s = {:.6g} m) has volume {:.3g} m^3 <= 0 after sweeping; the bend is too tight for this "
-                             "outer radius and node spacing",
-                             cloud.tets.size(), k, ir, it, iz, g.s_at(iz), v));
+            fail(fmt::format(
+                "virtual tetrahedron {} (Kuhn tet {} of lattice cell radial {}, angular {}, axial {} at "
+                "s = {:.6g} m) has volume {:.3g} m^3 <= 0 after sweeping; the bend is too tight for this "
+                "outer radius and node spacing",
+                cloud.tets.size(), k, ir, it, iz, g.s_at(iz), v));
           cloud.tets.push_back(tet);
         }
       }
@@ -181,7 +194,8 @@ void sweep_surface(const SweepLattice& g, SweptVessel& out) {
       const Index a = outer(it, iz), b = outer(it + 1, iz), c = outer(it + 1, iz + 1), d = outer(it, iz + 1);
       tri.push_back({a, b, c});
       tri.push_back({a, c, d});
-      const Index ai = inner(it, iz), bi = inner(it + 1, iz), ci = inner(it + 1, iz + 1), di = inner(it, iz + 1);
+      const Index ai = inner(it, iz), bi = inner(it + 1, iz), ci = inner(it + 1, iz + 1),
+                  di = inner(it, iz + 1);
       tri.push_back({ai, ci, bi});
       tri.push_back({ai, di, ci});
     }

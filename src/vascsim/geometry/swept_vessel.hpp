@@ -11,28 +11,31 @@
 
 namespace vascsim {
 
-/// A graded lattice (geometry.refine, docs/scene-format.md): node_spacing_m inside a window of the wall and a margin
-/// around it, coarsening by `growth` per step outside it up to the spec's own node_spacing_m. The window's edges and
-/// the margin's are lattice lines, so a wall patch of the window's extent has its outermost nodes on its edges.
+/// A graded lattice (geometry.refine, docs/scene-format.md): node_spacing_m inside a window of the wall and a
+/// margin around it, coarsening by `growth` per step outside it up to the spec's own node_spacing_m. The
+/// window's edges and the margin's are lattice lines, so a wall patch of the window's extent has its
+/// outermost nodes on its edges.
 struct WallRefinement {
   bool enabled = false;
   double angle_center_deg = 0.0, angle_half_width_deg = 0.0;  ///< around the centre-line, from N towards B
   double s_center_m = 0.0, s_half_length_m = 0.0;             ///< along it (arc length)
   double node_spacing_m = 0.0;  ///< the fine spacing (along the wall and through it)
-  double margin_m = 0.0;        ///< fine beyond the window's edges (at the mid-wall radius around the centre-line)
-  double growth = 1.2;          ///< ratio of successive steps outside, in (1, 3]
+  double margin_m = 0.0;  ///< fine beyond the window's edges (at the mid-wall radius around the centre-line)
+  double growth = 1.2;    ///< ratio of successive steps outside, in (1, 3]
 };
 
 struct SweptVesselSpec {
   double outer_radius_m = 1.5e-3;
   double wall_thickness_m = 0.3e-3;
   double node_spacing_m = 0.15e-3;  ///< target spacing Delta along all three directions
-  int min_layers = 3;               ///< minimum node layers through the wall (docs/model/00-design-decisions.md, decision 2), >= 3
+  int min_layers =
+      3;  ///< minimum node layers through the wall (docs/model/00-design-decisions.md, decision 2), >= 3
   /// A lattice line runs at this angle around the centre-line, deg (from N towards B); see TubeSpec.
   double lattice_angle_deg = 0.0;
   /// Lattice counts around and along the centre-line when > 0 (see TubeSpec); 0: from node_spacing_m.
   int angular_nodes = 0, axial_nodes = 0;
-  WallRefinement refine;  ///< a graded lattice instead of a uniform one (counts and lattice angle then unused)
+  WallRefinement
+      refine;  ///< a graded lattice instead of a uniform one (counts and lattice angle then unused)
 };
 
 struct SweptVessel {

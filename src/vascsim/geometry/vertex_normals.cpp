@@ -1,7 +1,7 @@
 #include "vascsim/geometry/vertex_normals.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 
 #include "vascsim/core/error.hpp"
 
@@ -13,9 +13,11 @@ void vertex_normals(const std::vector<std::array<Index, 3>>& triangles, const Ve
   normals.assign(positions_m.size(), Vec3::Zero());
   for (const auto& t : triangles) {
     for (Index k : t)
-      if (k < 0 || k >= nv) throw InputError(fmt::format("vertex normals: triangle vertex {} out of range", k));
+      if (k < 0 || k >= nv)
+        throw InputError(fmt::format("vertex normals: triangle vertex {} out of range", k));
     const Vec3& a = positions_m[static_cast<std::size_t>(t[0])];
-    const Vec3 c = (positions_m[static_cast<std::size_t>(t[1])] - a).cross(positions_m[static_cast<std::size_t>(t[2])] - a);
+    const Vec3 c = (positions_m[static_cast<std::size_t>(t[1])] - a)
+                       .cross(positions_m[static_cast<std::size_t>(t[2])] - a);
     const double len = c.norm();
     if (!(len > 0.0)) continue;  // degenerate: no direction to contribute
     const Vec3 unit = c / len;

@@ -23,7 +23,8 @@ void vertex_normals(const std::vector<std::array<Index, 3>>& triangles, const Ve
                     Vec3Array& normals);
 
 /// The same, returned.
-inline Vec3Array vertex_normals(const std::vector<std::array<Index, 3>>& triangles, const Vec3Array& positions_m) {
+inline Vec3Array vertex_normals(const std::vector<std::array<Index, 3>>& triangles,
+                                const Vec3Array& positions_m) {
   Vec3Array n;
   vertex_normals(triangles, positions_m, n);
   return n;

@@ -15,15 +15,16 @@ namespace {
 
 // A triangle is on the outer wall when its three vertices are.
 template <class IsOuterVertex>
-std::vector<char> outer_triangles(const std::vector<std::array<Index, 3>>& triangles, IsOuterVertex&& is_outer) {
+std::vector<char> outer_triangles(const std::vector<std::array<Index, 3>>& triangles,
+                                  IsOuterVertex&& is_outer) {
   std::vector<char> out;
   out.reserve(triangles.size());
   for (const auto& t : triangles) out.push_back(is_outer(t[0]) && is_outer(t[1]) && is_outer(t[2]) ? 1 : 0);
   return out;
 }
 
-// Column k's angle, rad, continued past the seam (k = -1 is the last column one turn back, k = nt the first one
-// turn on).
+// Column k's angle, rad, continued past the seam (k = -1 is the last column one turn back, k = nt the first
+// one turn on).
 double column_angle(const SweptVessel& v, int k) {
   const int nt = v.angular_nodes;
   const int wrapped = ((k % nt) + nt) % nt;
@@ -94,7 +95,8 @@ Body body_from_swept_vessel(SweptVessel v, std::shared_ptr<const Centerline> cen
   // The surface vertices are the outer (ir = nr-1) and inner (ir = 0) node layers; take them from the
   // cloud so a caller that substitutes an equivalent cloud (make_tube) stays bit-consistent.
   for (std::size_t k = 0; k < nsurf; ++k) {
-    surf.rest_vertices[k] = v.cloud.positions[static_cast<std::size_t>(nr) * k + static_cast<std::size_t>(nr - 1)];
+    surf.rest_vertices[k] =
+        v.cloud.positions[static_cast<std::size_t>(nr) * k + static_cast<std::size_t>(nr - 1)];
     surf.rest_vertices[nsurf + k] = v.cloud.positions[static_cast<std::size_t>(nr) * k];
   }
   surf.rest_normals = std::move(v.normals);
@@ -144,7 +146,7 @@ Body body_from_mesh_wall(MeshWall m) {
   surf.rest_normals = std::move(m.normals);
   surf.triangles = std::move(m.triangles);
   surf.outer = outer_triangles(surf.triangles,
-                                [&](Index v) { return m.surface_is_outer[static_cast<std::size_t>(v)] != 0; });
+                               [&](Index v) { return m.surface_is_outer[static_cast<std::size_t>(v)] != 0; });
   Body b;
   b.cloud = std::move(m.cloud);
   b.wall = std::move(w);

@@ -18,10 +18,12 @@ struct SweptVessel;
 struct MeshWall;
 
 /// Per-node position inside a vessel wall (rest configuration).
-/// A node's cell along a graded wall (geometry.refine): half-way to its neighbouring columns and cross-sections.
+/// A node's cell along a graded wall (geometry.refine): half-way to its neighbouring columns and
+/// cross-sections.
 struct LatticeCell {
-  double theta_lo_deg = 0.0, theta_hi_deg = 0.0;  ///< the cell's sides around the centre-line, from the node's angle
-  double s_lo_m = 0.0, s_hi_m = 0.0;              ///< its ends along the centre-line (arc length)
+  double theta_lo_deg = 0.0,
+         theta_hi_deg = 0.0;          ///< the cell's sides around the centre-line, from the node's angle
+  double s_lo_m = 0.0, s_hi_m = 0.0;  ///< its ends along the centre-line (arc length)
 };
 
 struct WallCoordinates {
@@ -46,8 +48,8 @@ struct WallCoordinates {
   /// arc length between cross-sections, m. A node stands for the strip of half a step on either side.
   double angle_step_deg = 0.0;
   double s_step_m = 0.0;
-  /// Per node, on a graded lattice only (empty on a uniform one, whose steps above are every node's): its cell.
-  /// The steps above are then the finest.
+  /// Per node, on a graded lattice only (empty on a uniform one, whose steps above are every node's): its
+  /// cell. The steps above are then the finest.
   std::vector<LatticeCell> cells;
 
   /// Per node, when the generator knows it exactly (imported meshes: nodes snapped onto a surface):
@@ -68,8 +70,8 @@ struct WallCoordinates {
 /// A closed, outward-oriented triangle surface over rest vertices, rendered through the MLS map.
 struct RenderSurface {
   std::vector<std::array<Index, 3>> triangles;
-  Vec3Array rest_vertices;  ///< m
-  Vec3Array rest_normals;   ///< unit, outward of the solid
+  Vec3Array rest_vertices;          ///< m
+  Vec3Array rest_normals;           ///< unit, outward of the solid
   std::vector<Eigen::Vector2d> uv;  ///< texture coordinates (u along the centre-line, v around); may be empty
   std::vector<char> outer;          ///< per triangle: 1 on the outer wall (what a viewer draws), else 0
 };

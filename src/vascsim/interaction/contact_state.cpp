@@ -15,7 +15,8 @@ Vec3 ContactState::set_change_force(const Vec3& dp) const {
   for (int c = 0; c < m; ++c) {
     const auto i = static_cast<std::size_t>(c);
     lcp[i] = held[i] = candidate_force_n[i];
-    ndp[i] = candidate_normal[3 * i] * dp.x() + candidate_normal[3 * i + 1] * dp.y() + candidate_normal[3 * i + 2] * dp.z();
+    ndp[i] = candidate_normal[3 * i] * dp.x() + candidate_normal[3 * i + 1] * dp.y() +
+             candidate_normal[3 * i + 2] * dp.z();
   }
   for (int sweep = 0; sweep < kSweeps; ++sweep)
     for (int c = 0; c < m; ++c) {

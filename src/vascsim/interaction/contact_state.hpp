@@ -53,7 +53,8 @@ struct ContactState {
   /// The tool pose the step used (copied from the ToolPose it read). Its time_s is on the haptic clock,
   /// so (tick time - tool.time_s) is the age of this force: the force latency.
   ToolPose tool;
-  /// Force on the tool from the contact constraints, N (e.g. -sum lambda_c n_c / h^2, docs/model/19-position-based.md).
+  /// Force on the tool from the contact constraints, N (e.g. -sum lambda_c n_c / h^2,
+  /// docs/model/19-position-based.md).
   std::array<double, 3> force_n{};
   /// dF/d(-p): contact stiffness, N/m, row-major 3x3, symmetric positive semi-definite. For one
   /// contact of stiffness k along the unit normal n: k n n^T (normal_stiffness()).
@@ -61,8 +62,9 @@ struct ContactState {
   /// Unit contact normal, pointing from the tissue towards the tool (the direction the tissue pushes);
   /// zero when there is no single normal (then the extrapolation is not made one-sided).
   std::array<double, 3> normal{};
-  /// Candidate contacts (0: none; force_at uses K alone). Per candidate c: the unit normal out of the tool into
-  /// the tissue, its gap to the tool at p_sim (0 for a contact, m) and its normal force on the tissue (N).
+  /// Candidate contacts (0: none; force_at uses K alone). Per candidate c: the unit normal out of the tool
+  /// into the tissue, its gap to the tool at p_sim (0 for a contact, m) and its normal force on the tissue
+  /// (N).
   int candidates = 0;
   std::array<double, 3 * kMaxCandidates> candidate_normal{};
   std::array<double, kMaxCandidates> candidate_gap_m{};
@@ -110,13 +112,17 @@ struct ContactState {
     candidate_gap_m[static_cast<std::size_t>(c)] = gap_m;
     candidate_force_n[static_cast<std::size_t>(c)] = force_n;
   }
-  double& compliance(int c, int d) { return compliance_m_per_n[static_cast<std::size_t>(c * kMaxCandidates + d)]; }
+  double& compliance(int c, int d) {
+    return compliance_m_per_n[static_cast<std::size_t>(c * kMaxCandidates + d)];
+  }
   double compliance(int c, int d) const {
     return compliance_m_per_n[static_cast<std::size_t>(c * kMaxCandidates + d)];
   }
 };
 
 /// k n n^T: the stiffness of one frictionless contact of stiffness `k_n_per_m` along the unit `normal`.
-inline Mat3 normal_stiffness(const Vec3& normal, double k_n_per_m) { return k_n_per_m * normal * normal.transpose(); }
+inline Mat3 normal_stiffness(const Vec3& normal, double k_n_per_m) {
+  return k_n_per_m * normal * normal.transpose();
+}
 
 }  // namespace vascsim

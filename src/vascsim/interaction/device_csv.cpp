@@ -82,11 +82,11 @@ bool parse_header(const std::vector<std::string_view>& cells, Table& t) {
 
 // One data row into the table; `fail` throws naming the line.
 template <class Fail>
-void parse_row(const std::vector<std::string_view>& cells, const std::vector<std::string>& columns, int line_no,
-               Table& t, const Fail& fail) {
+void parse_row(const std::vector<std::string_view>& cells, const std::vector<std::string>& columns,
+               int line_no, Table& t, const Fail& fail) {
   if (cells.size() != columns.size())
-    fail(fmt::format("expected {} comma-separated values ({}), found {}", columns.size(), fmt::join(columns, ","),
-                     cells.size()));
+    fail(fmt::format("expected {} comma-separated values ({}), found {}", columns.size(),
+                     fmt::join(columns, ","), cells.size()));
   std::array<double, 11> v{};  // every column except buttons, in header order
   std::uint32_t buttons = 0;
   std::size_t nv = 0;
@@ -103,11 +103,11 @@ void parse_row(const std::vector<std::string_view>& cells, const std::vector<std
     double x = 0.0;
     const auto r = std::from_chars(cell.data(), end, x);
     if (cell.empty() || r.ec == std::errc::invalid_argument || r.ptr != end)
-      fail(fmt::format("column '{}': '{}' is not a number; every value must be a finite decimal number", columns[c],
-                       cell));
+      fail(fmt::format("column '{}': '{}' is not a number; every value must be a finite decimal number",
+                       columns[c], cell));
     if (r.ec == std::errc::result_out_of_range || !std::isfinite(x))
-      fail(fmt::format("column '{}': value '{}' is not finite; NaN and infinite values are not allowed", columns[c],
-                       cell));
+      fail(fmt::format("column '{}': value '{}' is not finite; NaN and infinite values are not allowed",
+                       columns[c], cell));
     v[nv++] = x;
   }
   DevicePose p;
@@ -130,13 +130,15 @@ Table read(const std::filesystem::path& file) {
   const std::string name = file.string();
   std::error_code ec;
   if (std::filesystem::exists(file, ec) && !std::filesystem::is_regular_file(file, ec))
-    throw InputError(fmt::format("{}: not a regular file (a folder, device or pipe); expected a CSV file with the "
-                                 "header {}",
-                                 name, kLayout));
+    throw InputError(
+        fmt::format("{}: not a regular file (a folder, device or pipe); expected a CSV file with the "
+                    "header {}",
+                    name, kLayout));
   std::ifstream in(file);
   if (!in)
     throw InputError(fmt::format(
-        "{}: cannot open the file (missing or unreadable); expected a CSV file with the header {}", name, kLayout));
+        "{}: cannot open the file (missing or unreadable); expected a CSV file with the header {}", name,
+        kLayout));
   Table t;
   std::vector<std::string> columns;
   std::string line;
@@ -160,7 +162,8 @@ Table read(const std::filesystem::path& file) {
   }
   if (in.bad()) throw InputError(fmt::format("{}: read error after line {}", name, line_no));
   if (columns.empty())
-    throw InputError(fmt::format("{}: the file is empty (no header line); expected the header {}", name, kLayout));
+    throw InputError(
+        fmt::format("{}: the file is empty (no header line); expected the header {}", name, kLayout));
   return t;
 }
 

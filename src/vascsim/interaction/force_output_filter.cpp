@@ -14,8 +14,9 @@ ForceOutputFilter::ForceOutputFilter(const ForceOutputSettings& settings) : sett
     throw InputError(fmt::format("force output filter: max_force_n = {} must be a positive finite number",
                                  settings_.max_force_n));
   if (!(std::isfinite(settings_.max_step_n_per_tick) && settings_.max_step_n_per_tick > 0.0))
-    throw InputError(fmt::format("force output filter: max_step_n_per_tick = {} must be a positive finite number",
-                                 settings_.max_step_n_per_tick));
+    throw InputError(
+        fmt::format("force output filter: max_step_n_per_tick = {} must be a positive finite number",
+                    settings_.max_step_n_per_tick));
 }
 
 ForceOutputFilter ForceOutputFilter::for_device(const DeviceLimits& limits) {

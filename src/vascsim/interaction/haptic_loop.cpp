@@ -7,8 +7,8 @@
 #include <stdexcept>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
+#include <nlohmann/json.hpp>
 
 #include "vascsim/core/error.hpp"
 
@@ -44,7 +44,8 @@ void to_json(nlohmann::json& json, const HapticStats& s) {
 }
 
 HapticLoop::HapticLoop(Device& device, VirtualCoupling coupling, ForceOutputFilter filter,
-                       LatestValue<ContactState>& from_sim, LatestValue<ToolPose>& to_sim, HapticLoopOptions options)
+                       LatestValue<ContactState>& from_sim, LatestValue<ToolPose>& to_sim,
+                       HapticLoopOptions options)
     : device_(device),
       coupling_(std::move(coupling)),
       filter_(std::move(filter)),
@@ -53,18 +54,22 @@ HapticLoop::HapticLoop(Device& device, VirtualCoupling coupling, ForceOutputFilt
       options_(options),
       period_s_(1.0 / options.rate_hz) {
   if (!(std::isfinite(options_.rate_hz) && options_.rate_hz > 0.0))
-    throw InputError(fmt::format("haptic loop: rate_hz = {} must be a positive finite number", options_.rate_hz));
+    throw InputError(
+        fmt::format("haptic loop: rate_hz = {} must be a positive finite number", options_.rate_hz));
   // The proxy steps by its own fixed h; a different tick would break the stability check it made.
   const double h = coupling_.settings().time_step_s;
   if (std::abs(h - period_s_) > 1e-9 * period_s_)
-    throw InputError(fmt::format("haptic loop: the virtual coupling's time_step_s = {} s must equal 1/rate_hz = {} s",
-                                 h, period_s_));
+    throw InputError(fmt::format(
+        "haptic loop: the virtual coupling's time_step_s = {} s must equal 1/rate_hz = {} s", h, period_s_));
   if (filter_.settings().max_force_n > device_.limits().max_peak_force_n)
     throw InputError(fmt::format("haptic loop: the force clamp {} N exceeds the {} device's peak force {} N",
-                                 filter_.settings().max_force_n, device_.name(), device_.limits().max_peak_force_n));
+                                 filter_.settings().max_force_n, device_.name(),
+                                 device_.limits().max_peak_force_n));
 }
 
-HapticLoop::~HapticLoop() { stop(); }
+HapticLoop::~HapticLoop() {
+  stop();
+}
 
 void HapticLoop::start() {
   if (running()) throw std::logic_error("HapticLoop::start: the loop already runs");
@@ -84,20 +89,24 @@ void HapticLoop::stop() {
   // The haptic thread only counts; its owner reports.
   const HapticStats s = stats();
   if (s.nan_events > 0)
-    spdlog::warn("haptic loop: {} non-finite forces were replaced by zero (of {} ticks)", s.nan_events, s.ticks);
+    spdlog::warn("haptic loop: {} non-finite forces were replaced by zero (of {} ticks)", s.nan_events,
+                 s.ticks);
   if (s.proxy_recoveries > 0)
     spdlog::warn("haptic loop: {} ticks had a non-finite contact force or proxy state", s.proxy_recoveries);
-  // Behind at the start only (the thread's start, the first frames' page faults) the hand felt one stalled tick
-  // before the session settled: information. Behind after it, the machine is too loaded for the loop: a warning.
+  // Behind at the start only (the thread's start, the first frames' page faults) the hand felt one stalled
+  // tick before the session settled: information. Behind after it, the machine is too loaded for the loop: a
+  // warning.
   if (s.late_restarts_after_startup > 0)
-    spdlog::warn("haptic loop: fell behind by more than one period {} times after its first {} ticks (and {} times "
-                 "before): each time the device kept its force a tick longer; a loaded machine (other processes on "
-                 "the haptic thread's core) is the usual cause",
-                 s.late_restarts_after_startup, kStartupTicks, s.late_restarts - s.late_restarts_after_startup);
+    spdlog::warn(
+        "haptic loop: fell behind by more than one period {} times after its first {} ticks (and {} times "
+        "before): each time the device kept its force a tick longer; a loaded machine (other processes on "
+        "the haptic thread's core) is the usual cause",
+        s.late_restarts_after_startup, kStartupTicks, s.late_restarts - s.late_restarts_after_startup);
   else if (s.late_restarts > 0)
-    spdlog::info("haptic loop: fell behind by more than one period {} times in its first {} ticks, while the session "
-                 "started; not after",
-                 s.late_restarts, kStartupTicks);
+    spdlog::info(
+        "haptic loop: fell behind by more than one period {} times in its first {} ticks, while the session "
+        "started; not after",
+        s.late_restarts, kStartupTicks);
 }
 
 void HapticLoop::run() {
@@ -166,7 +175,8 @@ HapticStats HapticLoop::stats() const {
   HapticStats s;
   s.nominal_rate_hz = options_.rate_hz;
   s.ticks = ticks_.load(std::memory_order_relaxed);
-  s.elapsed_s = s.ticks > 0 ? latest_time_s_.load(std::memory_order_relaxed) - first_time_s_.load(std::memory_order_relaxed)
+  s.elapsed_s = s.ticks > 0 ? latest_time_s_.load(std::memory_order_relaxed) -
+                                  first_time_s_.load(std::memory_order_relaxed)
                             : 0.0;
   s.contact_updates = contact_updates_.load(std::memory_order_relaxed);
   if (s.elapsed_s > 0.0) {

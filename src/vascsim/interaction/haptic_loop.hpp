@@ -54,17 +54,17 @@ inline constexpr std::uint64_t kStartupTicks = 100;
 struct HapticStats {
   double nominal_rate_hz = 0.0;
   std::uint64_t ticks = 0;
-  double elapsed_s = 0.0;          ///< last tick time - first tick time
-  double achieved_rate_hz = 0.0;   ///< (ticks - 1) / elapsed_s
+  double elapsed_s = 0.0;         ///< last tick time - first tick time
+  double achieved_rate_hz = 0.0;  ///< (ticks - 1) / elapsed_s
   /// |tick period - nominal period|, ms: median, 99th percentile (1 us bins), exact maximum.
   double jitter_p50_ms = 0.0, jitter_p99_ms = 0.0, jitter_max_ms = 0.0;
   /// Times the thread fell more than one period behind and skipped ahead instead of bursting.
   std::uint64_t late_restarts = 0;
-  /// Of them, those after the first kStartupTicks ticks (the thread's start, its first page faults and the model's
-  /// first frames are behind it): these are what a loaded machine costs the hand.
+  /// Of them, those after the first kStartupTicks ticks (the thread's start, its first page faults and the
+  /// model's first frames are behind it): these are what a loaded machine costs the hand.
   std::uint64_t late_restarts_after_startup = 0;
-  std::uint64_t contact_updates = 0;          ///< new ContactStates taken
-  double contact_update_rate_hz = 0.0;        ///< contact_updates / elapsed_s: the deformation rate seen
+  std::uint64_t contact_updates = 0;    ///< new ContactStates taken
+  double contact_update_rate_hz = 0.0;  ///< contact_updates / elapsed_s: the deformation rate seen
   /// Age of the contact state used, tick time - ContactState::tool.time_s, ms (ticks with a state only):
   /// mean, 99th percentile (0.1 ms bins), exact maximum.
   double force_latency_mean_ms = 0.0, force_latency_p99_ms = 0.0, force_latency_max_ms = 0.0;
@@ -73,7 +73,8 @@ struct HapticStats {
   std::uint64_t step_limit_events = 0;  ///< ticks whose force change was limited
   std::uint64_t proxy_recoveries = 0;   ///< ticks with a non-finite contact force or proxy state
   double max_force_sent_n = 0.0;
-  double last_force_sent_n = 0.0;  ///< the magnitude of the last tick's force (not in to_json: a moment's value)
+  double last_force_sent_n =
+      0.0;  ///< the magnitude of the last tick's force (not in to_json: a moment's value)
   /// What the haptic thread got from the scheduler (realtime_thread.hpp); "" before the thread ran.
   std::string scheduling;
 };
@@ -137,7 +138,8 @@ double FixedHistogram<Bins>::quantile(double q) const {
   std::uint64_t cumulative = 0;
   for (std::size_t i = 0; i < Bins; ++i) {
     cumulative += bins_[i].load(std::memory_order_relaxed);
-    if (static_cast<double>(cumulative) >= target) return std::min(static_cast<double>(i + 1) * width_, max());
+    if (static_cast<double>(cumulative) >= target)
+      return std::min(static_cast<double>(i + 1) * width_, max());
   }
   return max();
 }
@@ -147,7 +149,8 @@ class HapticLoop {
   /// Throws InputError if rate_hz is not positive, if the coupling's time step is not 1/rate_hz, or if
   /// the filter's clamp exceeds the device's peak force.
   HapticLoop(Device& device, VirtualCoupling coupling, ForceOutputFilter filter,
-             LatestValue<ContactState>& from_sim, LatestValue<ToolPose>& to_sim, HapticLoopOptions options = {});
+             LatestValue<ContactState>& from_sim, LatestValue<ToolPose>& to_sim,
+             HapticLoopOptions options = {});
   /// Stops the thread if it runs.
   ~HapticLoop();
   HapticLoop(const HapticLoop&) = delete;
@@ -190,14 +193,15 @@ class HapticLoop {
   std::atomic<bool> running_{false}, stop_requested_{false};
 
   // Statistics: written by the ticking thread only.
-  std::atomic<std::uint64_t> ticks_{0}, contact_updates_{0}, late_restarts_{0}, late_restarts_after_startup_{0};
+  std::atomic<std::uint64_t> ticks_{0}, contact_updates_{0}, late_restarts_{0},
+      late_restarts_after_startup_{0};
   std::atomic<std::uint64_t> proxy_recoveries_{0};  // mirrors coupling_.recoveries() for other threads
   std::atomic<double> first_time_s_{0.0}, latest_time_s_{0.0};
   // What the thread got from the scheduler: -1 not asked yet, then SCHED_FIFO priority or 0, and the refusal.
   std::atomic<int> sched_priority_{-1}, sched_error_{0};
   std::atomic<bool> sched_slack_{false};
-  FixedHistogram<5000> jitter_ms_{1e-3};   // 1 us bins up to 5 ms
-  FixedHistogram<1000> latency_ms_{0.1};   // 0.1 ms bins up to 100 ms
+  FixedHistogram<5000> jitter_ms_{1e-3};  // 1 us bins up to 5 ms
+  FixedHistogram<1000> latency_ms_{0.1};  // 0.1 ms bins up to 100 ms
 };
 
 }  // namespace vascsim

@@ -41,8 +41,8 @@ class LatestValue {
   /// Wait-free: one copy and one atomic exchange.
   void write(const T& value) {
     slots_[back_].value = value;
-    const std::uint8_t previous = middle_.exchange(static_cast<std::uint8_t>(back_ | kFresh),
-                                                   std::memory_order_acq_rel);
+    const std::uint8_t previous =
+        middle_.exchange(static_cast<std::uint8_t>(back_ | kFresh), std::memory_order_acq_rel);
     back_ = previous & kIndexMask;
   }
 

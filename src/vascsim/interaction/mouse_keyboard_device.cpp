@@ -42,7 +42,8 @@ MouseKeyboardSettings checked(MouseKeyboardSettings s) {
   s.view = orthonormal(s.view);
   if (s.orientation) {
     if (!(s.orientation->norm() > 0.0) || !s.orientation->coeffs().allFinite())
-      throw std::invalid_argument("MouseKeyboardSettings: the orientation must be a finite non-zero quaternion");
+      throw std::invalid_argument(
+          "MouseKeyboardSettings: the orientation must be a finite non-zero quaternion");
     s.orientation->normalize();
   }
   return s;
@@ -50,7 +51,8 @@ MouseKeyboardSettings checked(MouseKeyboardSettings s) {
 
 }  // namespace
 
-MouseKeyboardDevice::MouseKeyboardDevice(const MouseKeyboardSettings& settings) : settings_(checked(settings)) {
+MouseKeyboardDevice::MouseKeyboardDevice(const MouseKeyboardSettings& settings)
+    : settings_(checked(settings)) {
   restart();
   last_pose_.position_m = position_m_;
   last_pose_.orientation = orientation_;
@@ -148,10 +150,18 @@ void MouseKeyboardDevice::steer(double dx_px, double dy_px) {
 void MouseKeyboardDevice::set_key(ToolKey key, bool pressed) {
   const std::lock_guard lock(mutex_);
   switch (key) {
-    case ToolKey::insert: insert_held_ = pressed; break;
-    case ToolKey::retract: retract_held_ = pressed; break;
-    case ToolKey::twist_left: twist_left_held_ = pressed; break;
-    case ToolKey::twist_right: twist_right_held_ = pressed; break;
+    case ToolKey::insert:
+      insert_held_ = pressed;
+      break;
+    case ToolKey::retract:
+      retract_held_ = pressed;
+      break;
+    case ToolKey::twist_left:
+      twist_left_held_ = pressed;
+      break;
+    case ToolKey::twist_right:
+      twist_right_held_ = pressed;
+      break;
   }
   // The press time is unknown here: insertion starts counting from the next pose() call.
   if (pressed) has_last_time_ = false;

@@ -95,8 +95,8 @@ class MouseKeyboardDevice final : public Device {
   void reconfigure(const MouseKeyboardSettings& settings);
 
  private:
-  void move_clamped(const Vec3& delta_m);  // caller holds mutex_
-  Vec3 tool_axis() const;                  // caller holds mutex_: the direction the tool points
+  void move_clamped(const Vec3& delta_m);        // caller holds mutex_
+  Vec3 tool_axis() const;                        // caller holds mutex_: the direction the tool points
   void turn(const Eigen::AngleAxisd& rotation);  // caller holds mutex_
   void restart();                                // caller holds mutex_ (or constructs): back to the start
 

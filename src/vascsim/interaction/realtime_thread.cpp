@@ -4,9 +4,9 @@
 #include <sched.h>
 #include <sys/prctl.h>
 
+#include <fmt/format.h>
 #include <cerrno>
 #include <cstring>
-#include <fmt/format.h>
 
 namespace vascsim {
 

@@ -10,9 +10,9 @@
 namespace vascsim {
 
 struct RealtimeSchedulingResult {
-  bool fifo = false;       ///< SCHED_FIFO was granted
-  int priority = 0;        ///< its priority, if granted
-  int error = 0;           ///< errno of the refusal, if refused
+  bool fifo = false;         ///< SCHED_FIFO was granted
+  int priority = 0;          ///< its priority, if granted
+  int error = 0;             ///< errno of the refusal, if refused
   bool timer_slack = false;  ///< the 1 us timer slack was set
   /// e.g. "SCHED_FIFO priority 80, timer slack 1 us" or "SCHED_OTHER (SCHED_FIFO refused: ...)".
   std::string describe() const;

@@ -34,17 +34,22 @@ void SessionRecording::write_csv(const std::filesystem::path& file) const {
 void SessionRecording::write_ticks_csv(const std::filesystem::path& file) const {
   std::FILE* f = std::fopen(file.string().c_str(), "w");
   if (!f) throw InputError(fmt::format("{}: cannot write the tick table", file.string()));
-  std::fputs("time_s,device_x_m,device_y_m,device_z_m,tool_x_m,tool_y_m,tool_z_m,tissue_fx_n,tissue_fy_n,"
-             "tissue_fz_n,sent_fx_n,sent_fy_n,sent_fz_n\n",
-             f);
+  std::fputs(
+      "time_s,device_x_m,device_y_m,device_z_m,tool_x_m,tool_y_m,tool_z_m,tissue_fx_n,tissue_fy_n,"
+      "tissue_fz_n,sent_fx_n,sent_fy_n,sent_fz_n\n",
+      f);
   for (const auto& t : ticks_) {
     const Vec3& d = t.pose.position_m;
-    fmt::print(f, "{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g}\n",
-               t.pose.time_s, d.x(), d.y(), d.z(), t.tool_m.x(), t.tool_m.y(), t.tool_m.z(), t.tissue_force_n.x(),
-               t.tissue_force_n.y(), t.tissue_force_n.z(), t.force_n.x(), t.force_n.y(), t.force_n.z());
+    fmt::print(f,
+               "{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:."
+               "17g},{:.17g}\n",
+               t.pose.time_s, d.x(), d.y(), d.z(), t.tool_m.x(), t.tool_m.y(), t.tool_m.z(),
+               t.tissue_force_n.x(), t.tissue_force_n.y(), t.tissue_force_n.z(), t.force_n.x(), t.force_n.y(),
+               t.force_n.z());
   }
   const bool ok = std::ferror(f) == 0;
-  if (std::fclose(f) != 0 || !ok) throw InputError(fmt::format("{}: writing the tick table failed", file.string()));
+  if (std::fclose(f) != 0 || !ok)
+    throw InputError(fmt::format("{}: writing the tick table failed", file.string()));
 }
 
 RecordedSession read_session_recording(const std::filesystem::path& file) {

@@ -54,8 +54,9 @@ class SessionRecording {
   /// Writes time_s,x_m,y_m,z_m,qw,qx,qy,qz,buttons,fx_n,fy_n,fz_n with %.17g. The file reads back
   /// to the same doubles.
   void write_csv(const std::filesystem::path& file) const;
-  /// Writes the per-tick analysis table (haptic_ticks.csv): time_s, the device position (m), the tool position
-  /// (m), the tissue's force on the tool at that tick (N) and the force sent to the device (N), %.17g.
+  /// Writes the per-tick analysis table (haptic_ticks.csv): time_s, the device position (m), the tool
+  /// position (m), the tissue's force on the tool at that tick (N) and the force sent to the device (N),
+  /// %.17g.
   void write_ticks_csv(const std::filesystem::path& file) const;
 
  private:

@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 
 #include "vascsim/core/error.hpp"
-#include "vascsim/interaction/device_csv.hpp"
 #include "vascsim/core/json_file.hpp"
 #include "vascsim/core/json_reader.hpp"
+#include "vascsim/interaction/device_csv.hpp"
 
 namespace vascsim {
 
@@ -100,7 +100,8 @@ Trajectory read_trajectory_csv(const std::filesystem::path& file) {
 
 Trajectory read_trajectory_json(const std::filesystem::path& file) {
   const std::string name = file.string();
-  const nlohmann::json doc = read_json_file(file, "the file", "expected a JSON trajectory {\"samples\": [...]}");
+  const nlohmann::json doc =
+      read_json_file(file, "the file", "expected a JSON trajectory {\"samples\": [...]}");
 
   JsonReader root(doc, "", name);
   root.string("description", "");  // free text for people; ignored

@@ -27,9 +27,11 @@ VirtualCoupling::VirtualCoupling(const VirtualCouplingSettings& settings) : sett
   require_positive(settings_.proxy_mass_kg, "proxy_mass_kg");
   require_positive(settings_.stiffness_n_per_m, "stiffness_n_per_m");
   require_positive(settings_.time_step_s, "time_step_s");
-  if (!(std::isfinite(settings_.max_contact_stiffness_n_per_m) && settings_.max_contact_stiffness_n_per_m >= 0.0))
-    throw InputError(fmt::format("virtual coupling: max_contact_stiffness_n_per_m = {} must be finite and >= 0",
-                                 settings_.max_contact_stiffness_n_per_m));
+  if (!(std::isfinite(settings_.max_contact_stiffness_n_per_m) &&
+        settings_.max_contact_stiffness_n_per_m >= 0.0))
+    throw InputError(
+        fmt::format("virtual coupling: max_contact_stiffness_n_per_m = {} must be finite and >= 0",
+                    settings_.max_contact_stiffness_n_per_m));
   damping_ = settings_.damping_n_s_per_m < 0.0
                  ? 2.0 * std::sqrt(settings_.proxy_mass_kg * settings_.stiffness_n_per_m)
                  : settings_.damping_n_s_per_m;
@@ -61,7 +63,8 @@ Vec3 VirtualCoupling::step(const Vec3& device_position_m, const ContactState& co
 
   // Cap the contact stiffness: trace(K) >= its largest eigenvalue for a PSD K, so scaling the trace
   // down to kc_max keeps every direction within the bound checked at construction.
-  const double trace = contact.stiffness_n_per_m[0] + contact.stiffness_n_per_m[4] + contact.stiffness_n_per_m[8];
+  const double trace =
+      contact.stiffness_n_per_m[0] + contact.stiffness_n_per_m[4] + contact.stiffness_n_per_m[8];
   const double kc_max = settings_.max_contact_stiffness_n_per_m;
   const double scale = trace > kc_max ? kc_max / trace : 1.0;
   contact_force_ = contact.force_at(position_, scale);

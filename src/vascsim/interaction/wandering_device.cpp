@@ -1,7 +1,7 @@
 #include "vascsim/interaction/wandering_device.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 #include <numbers>
 
 #include "vascsim/core/error.hpp"
@@ -30,9 +30,10 @@ WanderingDevice::WanderingDevice(const DevicePose& start, const WanderingBounds&
     : start_(start), bounds_(bounds), limits_(limits) {
   if (!(std::isfinite(bounds.depth_m) && bounds.depth_m >= 0.0 && std::isfinite(bounds.lateral_m) &&
         bounds.lateral_m >= 0.0 && std::isfinite(bounds.segment_s) && bounds.segment_s > 0.0))
-    throw InputError(fmt::format("wandering device: depth_m = {} and lateral_m = {} must be finite and >= 0, "
-                                 "segment_s = {} finite and > 0",
-                                 bounds.depth_m, bounds.lateral_m, bounds.segment_s));
+    throw InputError(
+        fmt::format("wandering device: depth_m = {} and lateral_m = {} must be finite and >= 0, "
+                    "segment_s = {} finite and > 0",
+                    bounds.depth_m, bounds.lateral_m, bounds.segment_s));
   axis_ = start.orientation * Vec3(0.0, 0.0, -1.0);  // the tool points along its local -z (device.hpp)
   across_1_ = start.orientation * Vec3::UnitX();
   across_2_ = start.orientation * Vec3::UnitY();

@@ -12,9 +12,9 @@
 namespace vascsim {
 
 struct WanderingBounds {
-  double depth_m = 1.4e-3;    ///< along the tool's pointing direction (its local -z), from 0 to this, m
-  double lateral_m = 1e-3;    ///< across it, +- this in both directions, m
-  double segment_s = 0.5;     ///< time between waypoints, s
+  double depth_m = 1.4e-3;  ///< along the tool's pointing direction (its local -z), from 0 to this, m
+  double lateral_m = 1e-3;  ///< across it, +- this in both directions, m
+  double segment_s = 0.5;   ///< time between waypoints, s
   std::uint64_t seed = 1;
 };
 

@@ -71,8 +71,8 @@ void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent
       if (face.mNumIndices != 3) continue;  // points and lines carry no surface
       for (unsigned k = 0; k < 3; ++k)
         if (face.mIndices[k] >= mesh.mNumVertices)
-          fail(fmt::format("face {} refers to vertex {}, past the end of its {} vertices", f, face.mIndices[k],
-                           mesh.mNumVertices));
+          fail(fmt::format("face {} refers to vertex {}, past the end of its {} vertices", f,
+                           face.mIndices[k], mesh.mNumVertices));
       out.mesh.triangles.push_back(
           {local[face.mIndices[0]], local[face.mIndices[1]], local[face.mIndices[2]]});
     }

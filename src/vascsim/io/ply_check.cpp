@@ -1,5 +1,6 @@
 #include "vascsim/io/ply_check.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <bit>
 #include <cctype>
@@ -7,7 +8,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fmt/format.h>
 #include <vector>
 
 #include "vascsim/core/error.hpp"
@@ -77,7 +77,9 @@ class PlyChecker {
   }
 
  private:
-  [[noreturn]] void fail(const std::string& why) const { throw InputError(fmt::format("{}: PLY: {}", name_, why)); }
+  [[noreturn]] void fail(const std::string& why) const {
+    throw InputError(fmt::format("{}: PLY: {}", name_, why));
+  }
 
   std::string where(const Element& e, double item, const Property& p) const {
     return fmt::format("element '{}' item {} property '{}'", e.name, static_cast<long long>(item), p.name);
@@ -139,10 +141,14 @@ void PlyChecker::header_line(const std::vector<std::string_view>& w, int line_no
   if (w[0] == "format") {
     if (have_format_) bad("a second 'format' line");
     if (w.size() != 3) bad("expected 'format ascii|binary_little_endian|binary_big_endian 1.0'");
-    if (w[1] == "ascii") format_ = Format::ascii;
-    else if (w[1] == "binary_little_endian") format_ = Format::binary_le;
-    else if (w[1] == "binary_big_endian") format_ = Format::binary_be;
-    else bad(fmt::format("unknown format '{}'", w[1]));
+    if (w[1] == "ascii")
+      format_ = Format::ascii;
+    else if (w[1] == "binary_little_endian")
+      format_ = Format::binary_le;
+    else if (w[1] == "binary_big_endian")
+      format_ = Format::binary_be;
+    else
+      bad(fmt::format("unknown format '{}'", w[1]));
     have_format_ = true;
   } else if (w[0] == "element") {
     double count = -1;
@@ -162,7 +168,8 @@ void PlyChecker::header_line(const std::vector<std::string_view>& w, int line_no
       p.count_type = type_of(w[2]);
       p.type = type_of(w[3]);
       p.name = w[4];
-      if (p.count_type.bytes == 0 || p.count_type.is_float) bad("a list's count type must be an integer type");
+      if (p.count_type.bytes == 0 || p.count_type.is_float)
+        bad("a list's count type must be an integer type");
     } else {
       bad("expected 'property <type> <name>' or 'property list <count type> <item type> <name>'");
     }
@@ -170,9 +177,10 @@ void PlyChecker::header_line(const std::vector<std::string_view>& w, int line_no
     for (const char c : p.name)
       if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_'))
         bad("a property name must be letters, digits or '_'");
-    // assimp reads a face's vertices from its list property named vertex_indices (or vertex_index): any other list
-    // on a face would be indices this check does not bound.
-    if (elements_.back().name == "face" && p.is_list() && p.name != "vertex_indices" && p.name != "vertex_index")
+    // assimp reads a face's vertices from its list property named vertex_indices (or vertex_index): any other
+    // list on a face would be indices this check does not bound.
+    if (elements_.back().name == "face" && p.is_list() && p.name != "vertex_indices" &&
+        p.name != "vertex_index")
       bad(fmt::format("the face list '{}' is not 'vertex_indices'", p.name));
     elements_.back().properties.push_back(p);
   } else {
@@ -181,12 +189,14 @@ void PlyChecker::header_line(const std::vector<std::string_view>& w, int line_no
 }
 
 // Every number in the body: finite, an integer where the type is, a face's vertex index in range.
-void PlyChecker::check_value(double v, const Element& e, double item, const Property& p, bool list_item) const {
+void PlyChecker::check_value(double v, const Element& e, double item, const Property& p,
+                             bool list_item) const {
   if (!std::isfinite(v)) fail(fmt::format("{}: the value is not finite", where(e, item, p)));
-  if (!p.type.is_float && std::floor(v) != v) fail(fmt::format("{}: {} is not an integer", where(e, item, p), v));
+  if (!p.type.is_float && std::floor(v) != v)
+    fail(fmt::format("{}: {} is not an integer", where(e, item, p), v));
   if (list_item && is_face_indices(e, p) && !(v >= 0 && v < vertices_))
-    fail(fmt::format("{}: vertex index {} is outside [0, {}) (the file has {} vertices)", where(e, item, p), v,
-                     vertices_, vertices_));
+    fail(fmt::format("{}: vertex index {} is outside [0, {}) (the file has {} vertices)", where(e, item, p),
+                     v, vertices_, vertices_));
 }
 
 // A list's length: a whole number >= 0; a face's vertex list at least 3 (assimp's triangulation asserts on
@@ -202,7 +212,8 @@ double read_binary(const char* p, const Type& t, bool big_endian) {
   std::memcpy(b, p, static_cast<std::size_t>(t.bytes));
   if (big_endian != (std::endian::native == std::endian::big)) std::reverse(b, b + t.bytes);
   switch (t.bytes) {
-    case 1: return t.is_signed ? static_cast<double>(std::bit_cast<std::int8_t>(b[0])) : b[0];
+    case 1:
+      return t.is_signed ? static_cast<double>(std::bit_cast<std::int8_t>(b[0])) : b[0];
     case 2: {
       std::uint16_t u;
       std::memcpy(&u, b, 2);
@@ -226,9 +237,10 @@ void PlyChecker::walk_binary(std::size_t at) {
   const bool big = format_ == Format::binary_be;
   const auto take = [&](const Type& t, const Element& e, double item, const Property& p) {
     if (bytes_.size() - at < static_cast<std::size_t>(t.bytes))
-      fail(fmt::format("{}: the body ends here ({} elements declared; truncated, or an ASCII body under a binary "
-                       "header)",
-                       where(e, item, p), e.count));
+      fail(fmt::format(
+          "{}: the body ends here ({} elements declared; truncated, or an ASCII body under a binary "
+          "header)",
+          where(e, item, p), e.count));
     const double v = read_binary(bytes_.data() + at, t, big);
     at += static_cast<std::size_t>(t.bytes);
     return v;
@@ -253,8 +265,8 @@ void PlyChecker::walk_ascii(std::size_t at) {
   for (const Element& e : elements_)
     for (double item = 0; item < e.count; ++item) {
       const auto fail_item = [&](const std::string& why) {
-        fail(fmt::format("element '{}' item {} (body line {}): {}", e.name, static_cast<long long>(item), line_no,
-                         why));
+        fail(fmt::format("element '{}' item {} (body line {}): {}", e.name, static_cast<long long>(item),
+                         line_no, why));
       };
       if (at >= bytes_.size())
         fail(fmt::format("element '{}': {} items declared, the body ends after {}", e.name, e.count,
@@ -289,6 +301,8 @@ void PlyChecker::walk_ascii(std::size_t at) {
 
 }  // namespace
 
-void check_ply(std::string_view bytes, const std::string& name) { PlyChecker(bytes, name).run(); }
+void check_ply(std::string_view bytes, const std::string& name) {
+  PlyChecker(bytes, name).run();
+}
 
 }  // namespace vascsim

@@ -1,10 +1,10 @@
 #include "vascsim/io/stl_check.hpp"
 
+#include <fmt/format.h>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fmt/format.h>
 
 #include "vascsim/core/error.hpp"
 

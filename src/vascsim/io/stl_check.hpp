@@ -7,7 +7,8 @@
 
 namespace vascsim {
 
-/// Throws InputError("<name>: STL: ...") if a corner coordinate of `bytes` (binary or ASCII STL) is not finite.
+/// Throws InputError("<name>: STL: ...") if a corner coordinate of `bytes` (binary or ASCII STL) is not
+/// finite.
 void check_stl_numbers(std::string_view bytes, const std::string& name);
 
 }  // namespace vascsim

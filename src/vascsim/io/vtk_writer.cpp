@@ -16,11 +16,14 @@ struct Text {
   void print(fmt::format_string<Args...> format, Args&&... args) {
     fmt::format_to(std::back_inserter(buffer), format, std::forward<Args>(args)...);
   }
-  void write(const std::filesystem::path& file) const { write_file_atomically(file, {buffer.data(), buffer.size()}); }
+  void write(const std::filesystem::path& file) const {
+    write_file_atomically(file, {buffer.data(), buffer.size()});
+  }
 };
 
 void write_vectors(Text& out, const std::string& name, const Vec3Array& v) {
-  out.print("        <DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"3\" format=\"ascii\">\n", name);
+  out.print("        <DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"3\" format=\"ascii\">\n",
+            name);
   for (const auto& p : v) out.print("{:.10g} {:.10g} {:.10g}\n", p.x(), p.y(), p.z());
   out.print("        </DataArray>\n");
 }
@@ -35,8 +38,11 @@ void write_grid(const std::filesystem::path& file, const Vec3Array& points,
                 WritePointData&& point_data, WriteCellData&& cell_data) {
   Text out;
   {
-    out.print("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n");
-    out.print("  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", points.size(), cells.size());
+    out.print(
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+        "byte_order=\"LittleEndian\">\n");
+    out.print("  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", points.size(),
+              cells.size());
     out.print("      <PointData Vectors=\"{}\">\n", point_vectors);
     point_data(out);
     out.print("      </PointData>\n      <CellData>\n");
@@ -60,7 +66,8 @@ void write_grid(const std::filesystem::path& file, const Vec3Array& points,
 
 }  // namespace
 
-void write_vtu(const std::filesystem::path& file, const Vec3Array& X, const Vec3Array& x, const std::vector<Tet>& tets,
+void write_vtu(const std::filesystem::path& file, const Vec3Array& X, const Vec3Array& x,
+               const std::vector<Tet>& tets,
                const std::vector<std::pair<std::string, const Vec3Array*>>& extra) {
   Vec3Array u(x.size());
   for (std::size_t i = 0; i < x.size(); ++i) u[i] = x[i] - X[i];
@@ -80,7 +87,8 @@ void write_surface_vtu(const std::filesystem::path& file, const SurfaceVtu& s) {
         write_vectors(out, "displacement", *s.displacements);
         if (s.normals) write_vectors(out, "normal", *s.normals);
         if (s.uv && !s.uv->empty()) {
-          out.print("        <DataArray type=\"Float64\" Name=\"uv\" NumberOfComponents=\"2\" format=\"ascii\">\n");
+          out.print(
+              "        <DataArray type=\"Float64\" Name=\"uv\" NumberOfComponents=\"2\" format=\"ascii\">\n");
           for (const auto& t : *s.uv) out.print("{:.10g} {:.10g}\n", t.x(), t.y());
           out.print("        </DataArray>\n");
         }

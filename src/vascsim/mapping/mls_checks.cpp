@@ -18,8 +18,8 @@ Mat3 random_rotation(std::mt19937_64& rng) {
 
 // Maps x = A X + t through the map (double and float32); raises err / err_f32 to the worst error
 // against A S + t, in units of delta.
-void field_error(const MlsMap& map, const Vec3Array& X, const Mat3& A, const Vec3& t, double delta, double& err,
-                 double& err_f32, double& max_u) {
+void field_error(const MlsMap& map, const Vec3Array& X, const Mat3& A, const Vec3& t, double delta,
+                 double& err, double& err_f32, double& max_u) {
   Vec3Array x(X.size());
   std::vector<Eigen::Vector3f> u32(X.size());
   for (std::size_t i = 0; i < X.size(); ++i) {
@@ -72,7 +72,8 @@ MlsT11 measure_mls_t11(const MlsMap& map, const Vec3Array& X, double delta, std:
   field_error(map, X, R90, t, delta, m.rigid90, m.f32, m.max_displacement);
   field_error(map, X, random_rotation(rng), t, delta, m.rigid_rand, m.f32, m.max_displacement);
   m.max_displacement /= delta;
-  m.f32_over_input_rounding = m.f32 / (static_cast<double>(std::numeric_limits<float>::epsilon()) * m.max_displacement);
+  m.f32_over_input_rounding =
+      m.f32 / (static_cast<double>(std::numeric_limits<float>::epsilon()) * m.max_displacement);
   return m;
 }
 

@@ -20,8 +20,8 @@ struct MlsT11 {
   /// f32 / (eps_float * max_displacement): the float32 error against the rounding of the float input
   /// u itself (eps_float |u| is the spacing of floats at |u|; the map cannot do better than ~0.5).
   double f32_over_input_rounding = 0.0;
-  double max_cond = 0.0;    ///< largest cond(A^) accepted
-  Index min_support = 0;    ///< smallest |S(X)|
+  double max_cond = 0.0;  ///< largest cond(A^) accepted
+  Index min_support = 0;  ///< smallest |S(X)|
 
   /// The T11 criteria: unity <= 1e-12, linear/affine/rigid <= 1e-10 Delta, cond <= 1e3, |S| >= 8, and
   /// float32 <= 1e-5 Delta or, for fields whose displacements exceed ~100 Delta (where rounding the

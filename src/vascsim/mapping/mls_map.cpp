@@ -30,8 +30,8 @@ struct Trial {
   double cond = std::numeric_limits<double>::infinity();
 };
 
-// Scaled, shifted linear basis p^(Y) = [1, (Y - S)/r] (docs/model/20-mls-map.md): p^(S) = e1 and every entry of
-// p^(X_i) is in [-1, 1], so A^ is O(1) whatever the coordinates' offset and unit.
+// Scaled, shifted linear basis p^(Y) = [1, (Y - S)/r] (docs/model/20-mls-map.md): p^(S) = e1 and every entry
+// of p^(X_i) is in [-1, 1], so A^ is O(1) whatever the coordinates' offset and unit.
 Vec4 basis(const Vec3& y, const Vec3& s, double r) {
   Vec4 p;
   p << 1.0, (y - s) / r;
@@ -65,8 +65,8 @@ bool passes(const Trial& t, const MlsMapOptions& opt) {
 // The most growths the scene allows (mapping.max_growths is read in [0, 20]).
 constexpr int kMaxGrowthsTried = 20;
 
-// The smallest max_growths with which every failed vertex passes (0: none up to kMaxGrowthsTried does), so the
-// guard's message can name a value that works.
+// The smallest max_growths with which every failed vertex passes (0: none up to kMaxGrowthsTried does), so
+// the guard's message can name a value that works.
 int growths_needed(const Vec3Array& X, const Vec3Array& surface, const std::vector<char>& failed, double r0,
                    const MlsMapOptions& opt, const SpatialGrid& grid) {
   int needed = 0;
@@ -92,7 +92,8 @@ void check_inputs(const Vec3Array& nodes, const Vec3Array& surface, const MlsMap
   if (!(opt.cond_limit >= 1.0)) throw InputError("MLS map: cond_limit must be >= 1");
   if (!(opt.growth_factor > 1.0)) throw InputError("MLS map: growth_factor must be > 1");
   if (opt.max_growths < 0) throw InputError("MLS map: max_growths must be >= 0");
-  if (nodes.size() < 4) throw InputError(fmt::format("MLS map: {} nodes; at least 4 are needed", nodes.size()));
+  if (nodes.size() < 4)
+    throw InputError(fmt::format("MLS map: {} nodes; at least 4 are needed", nodes.size()));
   for (std::size_t i = 0; i < nodes.size(); ++i)
     if (!nodes[i].allFinite()) throw InputError(fmt::format("MLS map: node {} is not finite", i));
   for (std::size_t v = 0; v < surface.size(); ++v)
@@ -107,8 +108,8 @@ struct SupportSearch {
   std::vector<double> radius;
 };
 
-SupportSearch search_supports(const Vec3Array& X, const Vec3Array& surface, double r0, const SpatialGrid& grid,
-                              const MlsMapOptions& opt) {
+SupportSearch search_supports(const Vec3Array& X, const Vec3Array& surface, double r0,
+                              const SpatialGrid& grid, const MlsMapOptions& opt) {
   const Index nv = static_cast<Index>(surface.size());
   SupportSearch found{std::vector<Trial>(nv), std::vector<int>(nv, 0), std::vector<char>(nv, 0),
                       std::vector<double>(nv, r0)};
@@ -131,28 +132,34 @@ SupportSearch search_supports(const Vec3Array& X, const Vec3Array& surface, doub
 }
 
 // The guard's message for the first failed vertex, with the value of mapping.max_growths that fixes it.
-[[noreturn]] void throw_guard_failure(const Vec3Array& X, const Vec3Array& surface, const SupportSearch& found,
-                                      Index v, double r0, const SpatialGrid& grid, const MlsMapOptions& opt) {
+[[noreturn]] void throw_guard_failure(const Vec3Array& X, const Vec3Array& surface,
+                                      const SupportSearch& found, Index v, double r0, const SpatialGrid& grid,
+                                      const MlsMapOptions& opt) {
   const auto n_failed = std::count(found.failed.begin(), found.failed.end(), char{1});
   const Vec3& s = surface[v];
   const int needed = growths_needed(X, surface, found.failed, r0, opt, grid);
   const std::string growth =
-      needed > 0 ? fmt::format("let the support grow further: mapping.max_growths = {} makes every vertex pass (now {})",
-                               needed, opt.max_growths)
-                 : fmt::format("even {} growths do not help: the nodes near it are too few or coplanar (a single node "
-                               "layer through the wall?): use more node layers or keep the surface within about one "
-                               "spacing of the nodes",
-                               kMaxGrowthsTried);
+      needed > 0
+          ? fmt::format(
+                "let the support grow further: mapping.max_growths = {} makes every vertex pass (now {})",
+                needed, opt.max_growths)
+          : fmt::format(
+                "even {} growths do not help: the nodes near it are too few or coplanar (a single node "
+                "layer through the wall?): use more node layers or keep the surface within about one "
+                "spacing of the nodes",
+                kMaxGrowthsTried);
   // A lattice too coarse for its wall is fixed by a finer one: growths would make it run, inaccurately.
-  const std::string fix = opt.coarse_spacing_advice.empty()
-                              ? growth
-                              : fmt::format("{}; {}{}", opt.coarse_spacing_advice, needed > 0 ? "or " : "", growth);
+  const std::string fix =
+      opt.coarse_spacing_advice.empty()
+          ? growth
+          : fmt::format("{}; {}{}", opt.coarse_spacing_advice, needed > 0 ? "or " : "", growth);
   throw NumericalError(fmt::format(
       "MLS map: surface vertex {} at ({:.6g}, {:.6g}, {:.6g}) m has {} nodes in its support and cond(A^) "
-      "{:.3g} at support radius {:.4g} m after {} growths (need >= {} nodes and cond <= {:.3g}; {} of {} vertices "
+      "{:.3g} at support radius {:.4g} m after {} growths (need >= {} nodes and cond <= {:.3g}; {} of {} "
+      "vertices "
       "fail): {}",
-      v, s.x(), s.y(), s.z(), found.trials[v].nodes.size(), found.trials[v].cond, found.radius[v], opt.max_growths,
-      opt.min_nodes, opt.cond_limit, n_failed, surface.size(), fix));
+      v, s.x(), s.y(), s.z(), found.trials[v].nodes.size(), found.trials[v].cond, found.radius[v],
+      opt.max_growths, opt.min_nodes, opt.cond_limit, n_failed, surface.size(), fix));
 }
 
 }  // namespace
@@ -168,8 +175,8 @@ MlsMap::MlsMap(const Vec3Array& rest_nodes_m, const Vec3Array& rest_surface_m, c
   const SupportSearch found = search_supports(rest_nodes_, rest_surface_, r0, grid, opt);
   const auto failed = std::find(found.failed.begin(), found.failed.end(), char{1});
   if (failed != found.failed.end())
-    throw_guard_failure(rest_nodes_, rest_surface_, found, static_cast<Index>(failed - found.failed.begin()), r0,
-                        grid, opt);
+    throw_guard_failure(rest_nodes_, rest_surface_, found, static_cast<Index>(failed - found.failed.begin()),
+                        r0, grid, opt);
   radius_ = found.radius;
 
   const Index nv = num_vertices();
@@ -274,7 +281,9 @@ void MlsMap::map_displacements_f32(const std::vector<Eigen::Vector3f>& u_nodes_m
   x_surface_m.resize(rest_surface_.size());
   // float32 shape functions and data, summed in double (the product is bandwidth-bound, the sum is free).
   for_each_row(
-      [&](Index e, Index i) -> Vec3 { return static_cast<double>(val_f32_[e]) * u_nodes_m[i].cast<double>(); },
+      [&](Index e, Index i) -> Vec3 {
+        return static_cast<double>(val_f32_[e]) * u_nodes_m[i].cast<double>();
+      },
       [&](Index v, const Vec3& u) { x_surface_m[v] = (rest_surface_[v] + u).cast<float>(); });
 }
 

@@ -1,9 +1,9 @@
 #pragma once
 // Moving-least-squares map from the interior nodes to a surface mesh (paper Eqs. 25-39,
-// docs/model/20-mls-map.md): shape functions phi_vi with a linear basis shifted to the surface point and scaled by the
-// support radius, precomputed once at rest in double into a CSR matrix Phi (#V by #N); per frame one
-// sparse mat-vec x_s = S_v + Phi (x - X), and the transpose f_i = sum_v phi_vi f_v for contact and haptic
-// forces. Rest positions only: the map is never rebuilt during a run (total Lagrangian).
+// docs/model/20-mls-map.md): shape functions phi_vi with a linear basis shifted to the surface point and
+// scaled by the support radius, precomputed once at rest in double into a CSR matrix Phi (#V by #N); per
+// frame one sparse mat-vec x_s = S_v + Phi (x - X), and the transpose f_i = sum_v phi_vi f_v for contact and
+// haptic forces. Rest positions only: the map is never rebuilt during a run (total Lagrangian).
 
 #include <array>
 #include <string>
@@ -14,20 +14,22 @@
 namespace vascsim {
 
 struct MlsMapOptions {
-  /// r0 = factor * mean nearest-neighbour node spacing; docs/model/20-mls-map.md section 20.2 allows 2.0-2.5. Measured (vein tube
-  /// boundary vertices plus points up to Delta/2 off the wall; jittered box faces and corners): 2.25 needs
-  /// no growth anywhere, max cond(A^) 116 (8x below the limit), mean |S| 25 (the 15-30 budget of docs/model/20-mls-map.md);
-  /// 2.0 grows box corners and reaches cond 279 off the wall; 2.5 costs 50 % more nonzeros per frame.
+  /// r0 = factor * mean nearest-neighbour node spacing; docs/model/20-mls-map.md section 20.2 allows 2.0-2.5.
+  /// Measured (vein tube boundary vertices plus points up to Delta/2 off the wall; jittered box faces and
+  /// corners): 2.25 needs no growth anywhere, max cond(A^) 116 (8x below the limit), mean |S| 25 (the 15-30
+  /// budget of docs/model/20-mls-map.md); 2.0 grows box corners and reaches cond 279 off the wall; 2.5 costs
+  /// 50 % more nonzeros per frame.
   double support_radius_factor = 2.25;
   int min_nodes = 8;            ///< |S(X)| >= 8 (docs/model/20-mls-map.md section 20.2, T11)
   double cond_limit = 1e3;      ///< lambda_max / lambda_min of the scaled moment matrix A^ (4.3)
   double growth_factor = 1.25;  ///< r <- 1.25 r for a vertex that fails a guard (4.3)
-  /// Then throw NumericalError (T15). 6 (up to 3.8 r0): on a layered wall the nearest spacing is the layers' and the
-  /// columns can be 4x farther apart (four layers through the vein's 0.3 mm wall at 0.4 mm: 4 growths needed).
-  /// Each vertex keeps the smallest radius that passes the guard, so a vertex that passed at fewer is unchanged.
+  /// Then throw NumericalError (T15). 6 (up to 3.8 r0): on a layered wall the nearest spacing is the layers'
+  /// and the columns can be 4x farther apart (four layers through the vein's 0.3 mm wall at 0.4 mm: 4 growths
+  /// needed). Each vertex keeps the smallest radius that passes the guard, so a vertex that passed at fewer
+  /// is unchanged.
   int max_growths = 6;
-  /// Named before the growths when the guard fails: the fix a caller knows of (a scene whose lattice is coarse
-  /// for its wall: "reduce geometry.node_spacing_m (...)"); empty: none.
+  /// Named before the growths when the guard fails: the fix a caller knows of (a scene whose lattice is
+  /// coarse for its wall: "reduce geometry.node_spacing_m (...)"); empty: none.
   std::string coarse_spacing_advice;
 };
 

@@ -1,7 +1,7 @@
 #pragma once
-// The curvature correction of a surface's linear interpolation (docs/model/22-contact.md section 22.5, "quadratic"):
-// shape functions that, added to a point's barycentric weights on its triangle, make the interpolation exact
-// for every displacement quadratic along the surface, and still pass through the nodes.
+// The curvature correction of a surface's linear interpolation (docs/model/22-contact.md section 22.5,
+// "quadratic"): shape functions that, added to a point's barycentric weights on its triangle, make the
+// interpolation exact for every displacement quadratic along the surface, and still pass through the nodes.
 //
 // Why: a tool's dent in the wall is curved. Interpolated linearly between the nodes the displaced surface is
 // a set of chords, and a chord of a dent of radius R between nodes L apart cuts L^2 / (8 R) into the tool:

@@ -63,7 +63,8 @@ void node_stencils(const PairTable& pairs, std::vector<Index>& stencil_start, st
   nodes.reserve(pairs.col.size() + static_cast<std::size_t>(n));
   for (Index i = 0; i < n; ++i) {
     nodes.push_back(i);
-    nodes.insert(nodes.end(), pairs.col.begin() + pairs.row_start[i], pairs.col.begin() + pairs.row_start[i + 1]);
+    nodes.insert(nodes.end(), pairs.col.begin() + pairs.row_start[i],
+                 pairs.col.begin() + pairs.row_start[i + 1]);
     stencil_start.push_back(static_cast<Index>(nodes.size()));
   }
 }

@@ -1,10 +1,12 @@
 #pragma once
-// Greedy graph colouring of constraints for parallel Gauss-Seidel (docs/model/19-position-based.md; docs/performance.md): two constraints
-// conflict when their stencils (the nodes they read and move) share a node; constraints of one colour
-// share no node and can be projected concurrently without races. Computed once (total Lagrangian).
+// Greedy graph colouring of constraints for parallel Gauss-Seidel (docs/model/19-position-based.md;
+// docs/performance.md): two constraints conflict when their stencils (the nodes they read and move) share a
+// node; constraints of one colour share no node and can be projected concurrently without races. Computed
+// once (total Lagrangian).
 //
 // Stencils in use: virtual tets (4 nodes; ~30-40 colours), tet edges (2), and the meshless strain
-// constraint of node i, whose stencil is {i} u N_i (conflicts reach 2h; 60-100 colours, docs/model/19-position-based.md).
+// constraint of node i, whose stencil is {i} u N_i (conflicts reach 2h; 60-100 colours,
+// docs/model/19-position-based.md).
 
 #include <vector>
 

@@ -1,9 +1,9 @@
 #pragma once
 // Frictionless one-sided contact between the problem's tools and the free nodes, by an active set (the
-// equilibrium solvers, docs/model/22-contact.md section 22.3): a node that enters a tool is put on its surface and its
-// normal degree of freedom is held there; residuals, search directions and preconditioned vectors are
-// filtered by I - n n^T (the "modified PCG" of Baraff & Witkin 1998), so it can still slide along the tool.
-// A contact whose normal reaction lambda = -r.n pulls on the tool is released. The tool force is
+// equilibrium solvers, docs/model/22-contact.md section 22.3): a node that enters a tool is put on its
+// surface and its normal degree of freedom is held there; residuals, search directions and preconditioned
+// vectors are filtered by I - n n^T (the "modified PCG" of Baraff & Witkin 1998), so it can still slide along
+// the tool. A contact whose normal reaction lambda = -r.n pulls on the tool is released. The tool force is
 // sum lambda n over its contacts.
 
 #include <vector>
@@ -37,7 +37,8 @@ class ContactActiveSet {
   /// Releases the contacts whose reaction pulls (lambda = -r.n < 0); returns how many.
   int release_pulling(const Vec3Array& r);
   /// Per tool: sum lambda n (force on the tissue), its moment about tool_points[o], the contact count.
-  std::vector<ObstacleLoad> loads(const Vec3Array& r, const Vec3Array& x, const std::vector<Vec3>& tool_points) const;
+  std::vector<ObstacleLoad> loads(const Vec3Array& r, const Vec3Array& x,
+                                  const std::vector<Vec3>& tool_points) const;
 
   bool in_contact(Index i) const { return contact_of_[static_cast<std::size_t>(i)] >= 0; }
   int tool_of(Index i) const { return contact_of_[static_cast<std::size_t>(i)]; }

@@ -32,7 +32,8 @@ bool ContactCorrection::update(const EquilibriumPreconditioner& preconditioner, 
     version_ = preconditioner.version();
   }
   Nb_ = Eigen::MatrixXd::Zero(m, 3 * m);
-  for (Eigen::Index c = 0; c < m; ++c) Nb_.block<1, 3>(c, 3 * c) = contacts_.normal(nodes_[static_cast<std::size_t>(c)]).transpose();
+  for (Eigen::Index c = 0; c < m; ++c)
+    Nb_.block<1, 3>(c, 3 * c) = contacts_.normal(nodes_[static_cast<std::size_t>(c)]).transpose();
   W_ = Nb_ * C_ * Nb_.transpose();
   W_ldlt_.compute(W_);
   valid_ = W_ldlt_.info() == Eigen::Success;
@@ -46,7 +47,8 @@ void ContactCorrection::apply(Vec3Array& z) const {
   for (Eigen::Index c = 0; c < m; ++c)
     nz[c] = contacts_.normal(nodes_[static_cast<std::size_t>(c)]).dot(z[nodes_[static_cast<std::size_t>(c)]]);
   const Eigen::VectorXd dz = Z_ * (Nb_.transpose() * W_ldlt_.solve(nz));
-  for (std::size_t a = 0; a < free_.nodes.size(); ++a) z[free_.nodes[a]] -= dz.segment<3>(3 * static_cast<Eigen::Index>(a));
+  for (std::size_t a = 0; a < free_.nodes.size(); ++a)
+    z[free_.nodes[a]] -= dz.segment<3>(3 * static_cast<Eigen::Index>(a));
 }
 
 Mat3 ContactCorrection::curvature(Index node, const Vec3& x) const {
@@ -70,16 +72,17 @@ Mat3 ContactCorrection::curvature(Index node, const Vec3& x) const {
 Mat3 ContactCorrection::tool_stiffness(const std::vector<char>& mask, const Vec3Array& x) const {
   // Unknowns: the contact nodes' displacements u (3m) and normal force changes dl (m), for a tool translation
   // dp. The only loads that change are the contact forces, g_c = dl_c n_c + lambda_c H_c (u_c - dp) on the
-  // masked contacts (the others keep their normal, g_c = dl_c n_c, and do not move with the tool), so u = C g;
-  // the masked contacts follow the tool in their normal direction, n_c . u_c = n_c . dp, the others stay shut,
-  // n_c . u_c = 0. The force change is sum_c g_c over the masked contacts, for dp = e_x, e_y, e_z.
+  // masked contacts (the others keep their normal, g_c = dl_c n_c, and do not move with the tool), so u = C
+  // g; the masked contacts follow the tool in their normal direction, n_c . u_c = n_c . dp, the others stay
+  // shut, n_c . u_c = 0. The force change is sum_c g_c over the masked contacts, for dp = e_x, e_y, e_z.
   if (!valid_) return Mat3::Zero();
   const auto m = static_cast<Eigen::Index>(nodes_.size());
   Eigen::MatrixXd LH = Eigen::MatrixXd::Zero(3 * m, 3 * m), D = Eigen::MatrixXd::Zero(3 * m, 3);
   for (Eigen::Index c = 0; c < m; ++c) {
     const Index node = nodes_[static_cast<std::size_t>(c)];
     if (!mask[static_cast<std::size_t>(c)]) continue;
-    LH.block<3, 3>(3 * c, 3 * c) = contacts_.lambda(node) * curvature(node, x[static_cast<std::size_t>(node)]);
+    LH.block<3, 3>(3 * c, 3 * c) =
+        contacts_.lambda(node) * curvature(node, x[static_cast<std::size_t>(node)]);
     D.block<3, 3>(3 * c, 0) = Mat3::Identity();
   }
   // [I - C LH, -C Nb^T] [u ]   [-C LH D]

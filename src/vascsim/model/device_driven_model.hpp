@@ -35,10 +35,11 @@ struct ToolLinearization {
 class DeviceDrivenModel {
  public:
   virtual ~DeviceDrivenModel() = default;
-  /// Poses tool `tool` (an index into Problem::tools()) for the end of the next frame: its tool point moves to
-  /// `position_m` and it is rotated by `orientation` (rigid_obstacle.hpp obstacle_posed). From the first call
-  /// on, the tool ignores its load-factor motion. Throws std::out_of_range for a bad index.
-  virtual void set_tool_pose(std::size_t tool, const Vec3& position_m, const Eigen::Quaterniond& orientation) = 0;
+  /// Poses tool `tool` (an index into Problem::tools()) for the end of the next frame: its tool point moves
+  /// to `position_m` and it is rotated by `orientation` (rigid_obstacle.hpp obstacle_posed). From the first
+  /// call on, the tool ignores its load-factor motion. Throws std::out_of_range for a bad index.
+  virtual void set_tool_pose(std::size_t tool, const Vec3& position_m,
+                             const Eigen::Quaterniond& orientation) = 0;
   /// Advances one frame of frame_length_s() simulated time.
   virtual StepReport step() = 0;
   /// Simulated time at the end of the last frame, s.
@@ -51,13 +52,16 @@ class DeviceDrivenModel {
   /// real-time model follows a fast device in bounded steps); nullopt: at the pose given. The driver reports
   /// the force with this position, so the haptic thread extrapolates from where the force belongs.
   virtual std::optional<Vec3> tool_position_used(std::size_t /*tool*/) const { return std::nullopt; }
-  /// Where tool `tool`'s point was in the last frame's solve, m (the device's pose unless the model trails it);
-  /// tool_position_used may differ when the last frame's force is not its own (a real-time frame that ended far
-  /// from equilibrium hands on the last equilibrium's force with that equilibrium's pose). nullopt: at the pose.
+  /// Where tool `tool`'s point was in the last frame's solve, m (the device's pose unless the model trails
+  /// it); tool_position_used may differ when the last frame's force is not its own (a real-time frame that
+  /// ended far from equilibrium hands on the last equilibrium's force with that equilibrium's pose). nullopt:
+  /// at the pose.
   virtual std::optional<Vec3> tool_position_solved(std::size_t /*tool*/) const { return std::nullopt; }
-  /// The wall's linearised response at tool `tool` after the last frame, when the model computes one; nullopt:
-  /// the driver estimates it (a secant along the contact normal).
-  virtual std::optional<ToolLinearization> tool_linearization(std::size_t /*tool*/) const { return std::nullopt; }
+  /// The wall's linearised response at tool `tool` after the last frame, when the model computes one;
+  /// nullopt: the driver estimates it (a secant along the contact normal).
+  virtual std::optional<ToolLinearization> tool_linearization(std::size_t /*tool*/) const {
+    return std::nullopt;
+  }
   /// A realtime driver (wall-clock haptic session, viewer) lets the model trade determinism for latency: time
   /// budgets per frame, background refactorisation. Off by default: every frame is then a deterministic
   /// function of the inputs, so lockstep sessions replay bit for bit.

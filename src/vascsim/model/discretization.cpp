@@ -1,12 +1,12 @@
 #include "vascsim/model/discretization.hpp"
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <numeric>
-#include <spdlog/spdlog.h>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/kernels.hpp"
@@ -25,15 +25,17 @@ struct NeighbourhoodTrial {
 
 namespace {
 
-// The fitted monomials of X_ij for node i: the quadratic basis's (global frame), or the wall-quadratic basis's in the
-// frame of the node's wall normal (local_fit.hpp).
+// The fitted monomials of X_ij for node i: the quadratic basis's (global frame), or the wall-quadratic
+// basis's in the frame of the node's wall normal (local_fit.hpp).
 Vec9 fit_monomials(GradientBasis basis, const Vec3& X, double h, const Vec3* normal) {
-  return basis == GradientBasis::WallQuadratic ? wall_quadratic_monomials(X, h, *normal) : quadratic_monomials(X, h);
+  return basis == GradientBasis::WallQuadratic ? wall_quadratic_monomials(X, h, *normal)
+                                               : quadratic_monomials(X, h);
 }
 
 // B_i = sum_j w_ij p_ij p_ij^T of a curvature-fitting basis (local_fit.hpp), monomials scaled by h. The
-// wall-quadratic basis has 8 monomials: its unused ninth row and column get the mean eigenvalue, so that B_i stays
-// invertible (its inverse leaves the ninth coefficient zero) and its eigenvalue ratio is the 8 x 8 block's.
+// wall-quadratic basis has 8 monomials: its unused ninth row and column get the mean eigenvalue, so that B_i
+// stays invertible (its inverse leaves the ninth coefficient zero) and its eigenvalue ratio is the 8 x 8
+// block's.
 Mat9 quadratic_moment(const Vec3Array& X, Index i, const NeighbourhoodTrial& t, double h, GradientBasis basis,
                       const Vec3* normal) {
   Mat9 B = Mat9::Zero();
@@ -52,24 +54,26 @@ double eigen_ratio_of(const Mat9& B) {
   return es.eigenvalues().maxCoeff() > 0.0 ? es.eigenvalues().minCoeff() / es.eigenvalues().maxCoeff() : 0.0;
 }
 
-// The distance that measures a node's support: |X| (isotropic), or, for a support that follows the wall, radius h
-// through the wall and stretch h along it: with the nodes' wall depths d, the through-wall part of X_ij is
-// d_j - d_i and the rest lies along the wall (so a layer of a curved wall stays one layer at any distance);
-// without depths, the part along the node's normal n (the tangent plane of a flat wall).
-// The through-wall distance may be scaled by across_scale <= 1 (WallReach::Thickness), so that the support holds the
-// whole wall while its reach along the wall stays.
+// The distance that measures a node's support: |X| (isotropic), or, for a support that follows the wall,
+// radius h through the wall and stretch h along it: with the nodes' wall depths d, the through-wall part of
+// X_ij is d_j - d_i and the rest lies along the wall (so a layer of a curved wall stays one layer at any
+// distance); without depths, the part along the node's normal n (the tangent plane of a flat wall). The
+// through-wall distance may be scaled by across_scale <= 1 (WallReach::Thickness), so that the support holds
+// the whole wall while its reach along the wall stays.
 struct SupportMetric {
   const Vec3* normal = nullptr;
   double stretch = 1.0;
   const std::vector<double>* depth = nullptr;  ///< per node, m (empty: use the normal)
   Index i = 0;
   double across_scale = 1.0;
-  const Vec3* axis = nullptr;  ///< a direction in the wall with its own stretch (null: one stretch in the wall)
+  const Vec3* axis =
+      nullptr;  ///< a direction in the wall with its own stretch (null: one stretch in the wall)
   double axial_stretch = 1.0;
   double operator()(const Vec3& X, Index j) const {
     if (!normal) return X.norm();
-    const double across = depth ? (*depth)[static_cast<std::size_t>(j)] - (*depth)[static_cast<std::size_t>(i)]
-                                : X.dot(*normal);
+    const double across = depth
+                              ? (*depth)[static_cast<std::size_t>(j)] - (*depth)[static_cast<std::size_t>(i)]
+                              : X.dot(*normal);
     const double along2 = std::max(0.0, X.squaredNorm() - across * across);
     const double c = across_scale * across;
     if (!axis) return std::sqrt(c * c + along2 / (stretch * stretch));
@@ -103,8 +107,8 @@ double largest_stretch(const DiscretizationOptions& opt) {
   return s;
 }
 
-// WallReach::Thickness: the wall's far surface at this fraction of h_0 (poly6 weight 8 % of the centre's), inside the
-// support so that a fit across the wall is conditioned, the nearer layers still weighing most.
+// WallReach::Thickness: the wall's far surface at this fraction of h_0 (poly6 weight 8 % of the centre's),
+// inside the support so that a fit across the wall is conditioned, the nearer layers still weighing most.
 constexpr double kThicknessReach = 0.75;
 
 // DiscretizationOptions::wall_cube: the through-wall cube counts as resolved when the support holds at least
@@ -131,12 +135,13 @@ int support_depths(Index i, const std::vector<Index>& nbr, const DiscretizationO
   return layers;
 }
 
-NeighbourhoodTrial evaluate(const Vec3Array& X, Index i, double h, const SpatialGrid& grid, GradientBasis basis,
-                            const SupportMetric& metric, const Vec3* fit_normal) {
+NeighbourhoodTrial evaluate(const Vec3Array& X, Index i, double h, const SpatialGrid& grid,
+                            GradientBasis basis, const SupportMetric& metric, const Vec3* fit_normal) {
   NeighbourhoodTrial t;
   grid.for_each_within(X[i], metric.reach(h), [&](Index j, double) {
-    // A wall lattice puts whole layers and rows exactly on the ellipsoid's edge, where the weight is zero: they are
-    // left out (within rounding), not kept as neighbours of weight ~1e-30 that would only widen the stencils.
+    // A wall lattice puts whole layers and rows exactly on the ellipsoid's edge, where the weight is zero:
+    // they are left out (within rounding), not kept as neighbours of weight ~1e-30 that would only widen the
+    // stencils.
     if (j != i && (!metric.normal || metric(X[j] - X[i], j) < h * (1.0 - 1e-9))) t.nbr.push_back(j);
   });
   std::sort(t.nbr.begin(), t.nbr.end());
@@ -175,14 +180,16 @@ PairTable transpose(const PairTable& p, Index n) {
       t.col[slot] = i;  // rows i are visited in order, so every transposed row is sorted
       t.d[slot] = p.d[e];
       t.w[slot] = p.w[e];
-      for (std::size_t k = 0; k < G; ++k) t.e[static_cast<std::size_t>(slot) * G + k] = p.e[static_cast<std::size_t>(e) * G + k];
+      for (std::size_t k = 0; k < G; ++k)
+        t.e[static_cast<std::size_t>(slot) * G + k] = p.e[static_cast<std::size_t>(e) * G + k];
     }
   return t;
 }
 
 // The neighbours a support needs: the linear basis's minimum, or the quadratic fit's when that is larger. The
-// wall-quadratic fit keeps the linear minimum (docs/model/05-local-fit.md section 5.2: asking it 18 grew a third of the vein's
-// supports and changed its force by 0.3 %); its conditioning test alone guards its 8 unknowns.
+// wall-quadratic fit keeps the linear minimum (docs/model/05-local-fit.md section 5.2: asking it 18 grew a
+// third of the vein's supports and changed its force by 0.3 %); its conditioning test alone guards its 8
+// unknowns.
 int needed_neighbours(const DiscretizationOptions& opt) {
   return opt.basis == GradientBasis::Quadratic ? std::max(opt.min_neighbours, opt.quadratic_min_neighbours)
                                                : opt.min_neighbours;
@@ -198,15 +205,22 @@ bool accepted(const NeighbourhoodTrial& t, const DiscretizationOptions& opt) {
 
 Discretization::Discretization(const NodeCloud& cloud, const Material& material,
                                const DiscretizationOptions& options)
-    : cloud_(cloud), material_(material), X_(cloud.positions), tets_(cloud.tets),
+    : cloud_(cloud),
+      material_(material),
+      X_(cloud.positions),
+      tets_(cloud.tets),
       wall_stretch_(options.wall_normals.empty() ? 0.0 : options.wall_stretch) {
-  if (X_.size() < 5) throw InputError(fmt::format("discretization: {} nodes; at least 5 are needed", X_.size()));
-  if (!(options.support_radius_factor > 0.0)) throw InputError("discretization: support radius factor must be > 0");
+  if (X_.size() < 5)
+    throw InputError(fmt::format("discretization: {} nodes; at least 5 are needed", X_.size()));
+  if (!(options.support_radius_factor > 0.0))
+    throw InputError("discretization: support radius factor must be > 0");
   for (std::size_t i = 0; i < X_.size(); ++i)
-    if (!X_[i].allFinite()) throw InputError(fmt::format("discretization: node {} has a non-finite position", i));
+    if (!X_[i].allFinite())
+      throw InputError(fmt::format("discretization: node {} has a non-finite position", i));
   for (const Tet& t : tets_)
     for (Index v : t)
-      if (v < 0 || v >= num_nodes()) throw InputError("discretization: a tetrahedron references a missing node");
+      if (v < 0 || v >= num_nodes())
+        throw InputError("discretization: a tetrahedron references a missing node");
   mean_spacing_ = mean_nearest_spacing(X_);
   min_spacing_ = min_nearest_spacing(X_);
   if (!(min_spacing_ > 1e-9 * mean_spacing_))
@@ -220,16 +234,18 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
   const double h0 = opt.support_radius_factor * mean_spacing_;
   const bool wall = opt.support == DiscretizationOptions::Support::Wall;
   if (wall && (opt.wall_normals.size() != static_cast<std::size_t>(n) || !(opt.wall_stretch >= 1.0)))
-    throw InputError(fmt::format("discretization: wall-aligned supports need one wall normal per node ({} for {} nodes) "
-                                 "and a stretch >= 1 ({})",
-                                 opt.wall_normals.size(), n, opt.wall_stretch));
+    throw InputError(
+        fmt::format("discretization: wall-aligned supports need one wall normal per node ({} for {} nodes) "
+                    "and a stretch >= 1 ({})",
+                    opt.wall_normals.size(), n, opt.wall_stretch));
   if (wall && (opt.wall_axes.size() != opt.wall_axial_stretches.size() ||
                (!opt.wall_axes.empty() && opt.wall_axes.size() != opt.wall_stretches.size()) ||
                !std::all_of(opt.wall_axial_stretches.begin(), opt.wall_axial_stretches.end(),
                             [](double v) { return v >= 1.0; })))
-    throw InputError(fmt::format("discretization: {} wall axes and {} axial stretches (each >= 1) for {} per-node "
-                                 "stretches",
-                                 opt.wall_axes.size(), opt.wall_axial_stretches.size(), opt.wall_stretches.size()));
+    throw InputError(
+        fmt::format("discretization: {} wall axes and {} axial stretches (each >= 1) for {} per-node "
+                    "stretches",
+                    opt.wall_axes.size(), opt.wall_axial_stretches.size(), opt.wall_stretches.size()));
   if (wall && !opt.wall_stretches.empty() &&
       (opt.wall_stretches.size() != static_cast<std::size_t>(n) ||
        !std::all_of(opt.wall_stretches.begin(), opt.wall_stretches.end(), [](double v) { return v >= 1.0; })))
@@ -239,7 +255,8 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
     throw InputError(fmt::format("discretization: {} wall depths for {} nodes", opt.wall_depths.size(), n));
   if (wall && opt.wall_reach == DiscretizationOptions::WallReach::Thickness) {
     if (!(opt.wall_thickness_m > 0.0))
-      throw InputError("discretization: a support that reaches through the wall's thickness needs the wall's thickness");
+      throw InputError(
+          "discretization: a support that reaches through the wall's thickness needs the wall's thickness");
     wall_across_scale_ = std::min(1.0, kThicknessReach * h0 / opt.wall_thickness_m);
   }
   const double hmax = h0 * std::pow(opt.growth_factor, opt.max_growths) *
@@ -252,8 +269,10 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
   const int min_neighbours = needed_neighbours(opt);
   if (opt.basis == GradientBasis::WallQuadratic) {
     if (opt.wall_normals.size() != static_cast<std::size_t>(n))
-      throw InputError(fmt::format("discretization: the wall-quadratic basis needs one wall normal per node ({} for {} "
-                                   "nodes)", opt.wall_normals.size(), n));
+      throw InputError(
+          fmt::format("discretization: the wall-quadratic basis needs one wall normal per node ({} for {} "
+                      "nodes)",
+                      opt.wall_normals.size(), n));
     fit_normals_ = opt.wall_normals;
   }
   place_wall_points(opt);
@@ -276,9 +295,10 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
   if (first_failed != failed.end()) {
     const Index i = static_cast<Index>(first_failed - failed.begin());
     const Vec3& p = X_[i];
-    const std::string fit = quadratic ? fmt::format(", ratio {:.3g} of the quadratic fit's B_i/tr(B_i) (need >= {:.1g})",
-                                                    trials[i].fit_ratio, opt.quadratic_min_eigen_ratio)
-                                      : std::string();
+    const std::string fit =
+        quadratic ? fmt::format(", ratio {:.3g} of the quadratic fit's B_i/tr(B_i) (need >= {:.1g})",
+                                trials[i].fit_ratio, opt.quadratic_min_eigen_ratio)
+                  : std::string();
     throw NumericalError(fmt::format(
         "discretization: node {} at ({:.6g}, {:.6g}, {:.6g}) m has {} neighbours and eigenvalue ratio {:.3g} "
         "of A_i/tr(A_i){} even at support radius {:.4g} m (need >= {} neighbours and ratio >= {:.1g}): its "
@@ -295,8 +315,8 @@ void Discretization::build_neighbourhoods(const DiscretizationOptions& opt) {
   transposed_ = transpose(pairs_, n);
 }
 
-// What fixes a failed support guard, for its message: the smallest discretization.max_growths (the key is read
-// in [0, kMaxGrowthsAllowed]) with which every failed node passes, or, when none does, a finer spacing.
+// What fixes a failed support guard, for its message: the smallest discretization.max_growths (the key is
+// read in [0, kMaxGrowthsAllowed]) with which every failed node passes, or, when none does, a finer spacing.
 std::string Discretization::growth_advice(const std::vector<int>& failed, double h0,
                                           const DiscretizationOptions& opt) const {
   constexpr int kMaxGrowthsAllowed = 10;
@@ -313,9 +333,8 @@ std::string Discretization::growth_advice(const std::vector<int>& failed, double
         needed = g;
         break;
       }
-      const NeighbourhoodTrial t =
-          evaluate(X_, static_cast<Index>(i), h0 * std::pow(opt.growth_factor, g), grid, opt.basis, metric,
-                   fit_normal(static_cast<Index>(i)));
+      const NeighbourhoodTrial t = evaluate(X_, static_cast<Index>(i), h0 * std::pow(opt.growth_factor, g),
+                                            grid, opt.basis, metric, fit_normal(static_cast<Index>(i)));
       if (accepted(t, opt)) {
         needed = std::max(needed, g);
         break;
@@ -325,12 +344,13 @@ std::string Discretization::growth_advice(const std::vector<int>& failed, double
   // A lattice too coarse for its wall is fixed by a finer one: growths would make it run, inaccurately.
   const std::string first = opt.coarse_spacing_advice.empty() ? "" : opt.coarse_spacing_advice + "; ";
   if (needed <= kMaxGrowthsAllowed)
-    return fmt::format("{}{}let the support grow further: discretization.max_growths = {} makes every node pass (now "
-                       "{})",
-                       first, first.empty() ? "" : "or ", needed, opt.max_growths);
+    return fmt::format(
+        "{}{}let the support grow further: discretization.max_growths = {} makes every node pass (now "
+        "{})",
+        first, first.empty() ? "" : "or ", needed, opt.max_growths);
   return fmt::format(
-      "{}even discretization.max_growths = {} does not help (now {}): use a finer geometry.node_spacing_m", first,
-      kMaxGrowthsAllowed, opt.max_growths);
+      "{}even discretization.max_growths = {} does not help (now {}): use a finer geometry.node_spacing_m",
+      first, kMaxGrowthsAllowed, opt.max_growths);
 }
 
 // The accepted neighbourhoods as the pair tables: d_ij (linear or quadratic fit), w_ij, d_ii and the moments.
@@ -340,7 +360,8 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
   const Index n = num_nodes();
   const bool quadratic = fits_curvature(basis);
   pairs_.row_start.assign(static_cast<std::size_t>(n) + 1, 0);
-  for (Index i = 0; i < n; ++i) pairs_.row_start[i + 1] = pairs_.row_start[i] + static_cast<Index>(trials[i].nbr.size());
+  for (Index i = 0; i < n; ++i)
+    pairs_.row_start[i + 1] = pairs_.row_start[i] + static_cast<Index>(trials[i].nbr.size());
   const std::size_t npairs = static_cast<std::size_t>(pairs_.row_start[n]);
   pairs_.col.resize(npairs);
   pairs_.d.resize(npairs);
@@ -370,7 +391,9 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
     moment_trace_[i] = t.A.trace();
     moment_[i] = t.A;
     Mat9 Binv;
-    if (quadratic) Binv = quadratic_moment(X_, i, t, h_[i], basis, fit_normal(i)).inverse();  // conditioned by the guard (double)
+    if (quadratic)
+      Binv = quadratic_moment(X_, i, t, h_[i], basis, fit_normal(i))
+                 .inverse();  // conditioned by the guard (double)
     Vec3 dsum = Vec3::Zero();
     std::array<Vec3, kMaxPointDirections> esum;
     esum.fill(Vec3::Zero());
@@ -415,14 +438,15 @@ void Discretization::store_gradient_vectors(const std::vector<NeighbourhoodTrial
   cube_nodes_ = cubes;
 }
 
-// DiscretizationOptions::wall_cube for node i (docs/model/05-local-fit.md section 5.3): the least-squares fit over the
-// quadratic monomials p and the cube m = (z / h)^3 of the through-wall coordinate z = X_ij . n, by
+// DiscretizationOptions::wall_cube for node i (docs/model/05-local-fit.md section 5.3): the least-squares fit
+// over the quadratic monomials p and the cube m = (z / h)^3 of the through-wall coordinate z = X_ij . n, by
 // eliminating m's coefficient. With m~ the residual of m after the quadratic fit (orthogonal to p in the
 // weights w), the cube's coefficient is c(y) = sum_j beta_j (y_j - y_i) with
 // beta_j = w_j m~_j / sum_l w_l m~_l^2, and every quadratic coefficient loses c(y) times the quadratic fit's
 // coefficient of m: the node's gradient vectors d_ij and their derivatives e_ij,k lose beta_j times the
 // quadratic fit's gradient (and derivatives) of m. The cube's own gradient is zero at the node and
-// 3 o^2 / h^3 n at a point offset o along n: the first point direction after the linear ones, whose offset is o^2.
+// 3 o^2 / h^3 n at a point offset o along n: the first point direction after the linear ones, whose offset is
+// o^2.
 bool Discretization::add_wall_cube(Index i, const Vec3& normal, const std::vector<Index>& nbr,
                                    const DiscretizationOptions& opt) {
   if (opt.wall_depths.size() == static_cast<std::size_t>(num_nodes()) &&
@@ -462,20 +486,23 @@ bool Discretization::add_wall_cube(Index i, const Vec3& normal, const std::vecto
     const double beta = pairs_.w[e] * residual[a] / S;
     pairs_.d[e] -= beta * gm;
     for (std::size_t k = 0; k < G; ++k) pairs_.e[e * G + k] -= beta * em[k];
-    // The cube's gradient 3 o^2 / h^3 n at the offset o along n: its own direction, the first after the linear ones.
+    // The cube's gradient 3 o^2 / h^3 n at the offset o along n: its own direction, the first after the
+    // linear ones.
     if (G > 0) pairs_.e[e * G + static_cast<std::size_t>(linear_directions_)] += beta * 3.0 / h3 * normal;
   }
   return true;
 }
 
 namespace {
-// The wall frame's coordinates (z through the wall, s1 and s2 along the cell's edges) as exponents: the six cubics
-// with a through-wall factor, z^3 (add_wall_cube's) first, and the six products of two coordinates, in the order of
-// the point directions after the linear ones. (The cubics along the wall alone, s1^3 ..., are left out: a support
-// that spans three columns along the wall cannot tell s^3 from s.)
+// The wall frame's coordinates (z through the wall, s1 and s2 along the cell's edges) as exponents: the six
+// cubics with a through-wall factor, z^3 (add_wall_cube's) first, and the six products of two coordinates, in
+// the order of the point directions after the linear ones. (The cubics along the wall alone, s1^3 ..., are
+// left out: a support that spans three columns along the wall cannot tell s^3 from s.)
 using Exponents = std::array<int, 3>;
-constexpr std::array<Exponents, 6> kCubics{{{3, 0, 0}, {2, 1, 0}, {2, 0, 1}, {1, 2, 0}, {1, 1, 1}, {1, 0, 2}}};
-constexpr std::array<Exponents, 6> kSquares{{{2, 0, 0}, {1, 1, 0}, {1, 0, 1}, {0, 2, 0}, {0, 1, 1}, {0, 0, 2}}};
+constexpr std::array<Exponents, 6> kCubics{
+    {{3, 0, 0}, {2, 1, 0}, {2, 0, 1}, {1, 2, 0}, {1, 1, 1}, {1, 0, 2}}};
+constexpr std::array<Exponents, 6> kSquares{
+    {{2, 0, 0}, {1, 1, 0}, {1, 0, 1}, {0, 2, 0}, {0, 1, 1}, {0, 0, 2}}};
 
 double monomial(const Exponents& e, const Vec3& c) {
   double v = 1.0;
@@ -491,13 +518,14 @@ int square_index(const Exponents& e) {
 }
 }  // namespace
 
-// DiscretizationOptions::WallCubics::ThroughWall for node i (docs/model/05-local-fit.md section 5.4): add_wall_cube's
-// elimination with R monomials m_r at once. With M~ the residuals of the m_r after the quadratic fit, the cubics'
-// coefficients are c_r(y) = sum_j beta_rj (y_j - y_i) with beta = S^-1 (w M~)^T, S = M~^T W M~ (R x R); every
-// quadratic coefficient loses sum_r c_r(y) times the quadratic fit's of m_r. A cubic's gradient is zero at the node
-// and quadratic in a point's offset: its derivatives go to the directions of the offsets' products. z^3 joins only
-// where the support holds four depths (add_wall_cube).
-bool Discretization::add_wall_cubics(Index i, const std::vector<Index>& nbr, const DiscretizationOptions& opt) {
+// DiscretizationOptions::WallCubics::ThroughWall for node i (docs/model/05-local-fit.md section 5.4):
+// add_wall_cube's elimination with R monomials m_r at once. With M~ the residuals of the m_r after the
+// quadratic fit, the cubics' coefficients are c_r(y) = sum_j beta_rj (y_j - y_i) with beta = S^-1 (w M~)^T, S
+// = M~^T W M~ (R x R); every quadratic coefficient loses sum_r c_r(y) times the quadratic fit's of m_r. A
+// cubic's gradient is zero at the node and quadratic in a point's offset: its derivatives go to the
+// directions of the offsets' products. z^3 joins only where the support holds four depths (add_wall_cube).
+bool Discretization::add_wall_cubics(Index i, const std::vector<Index>& nbr,
+                                     const DiscretizationOptions& opt) {
   const std::size_t ii = static_cast<std::size_t>(i), G = static_cast<std::size_t>(point_directions_);
   const std::size_t L = static_cast<std::size_t>(linear_directions_);
   if (L != 3 || G != L + kSquares.size()) return false;  // the cell's points (checked by place_wall_points)
@@ -533,9 +561,9 @@ bool Discretization::add_wall_cubics(Index i, const std::vector<Index>& nbr, con
   if (!(eig.eigenvalues()(0) > kCubeResolvable)) return false;
   Eigen::MatrixXd beta = S.ldlt().solve(residual.transpose() * w.asDiagonal());  // R x K
   // The cubics' coefficients vanish on every quadratic field in exact arithmetic; the quadratic fit's B_i^-1
-  // (conditioned to 1e6) leaves a rounding of it that the elimination amplifies (a rigid motion's forces 200 times
-  // the cube's). Projecting each row of beta out of the span of the quadratic monomials over the stencil, with
-  // Householder's orthogonal basis of it, restores it to rounding.
+  // (conditioned to 1e6) leaves a rounding of it that the elimination amplifies (a rigid motion's forces 200
+  // times the cube's). Projecting each row of beta out of the span of the quadratic monomials over the
+  // stencil, with Householder's orthogonal basis of it, restores it to rounding.
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(Pq);
   const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(K, 9);
   beta -= (beta * Q) * Q.transpose();
@@ -570,37 +598,48 @@ bool Discretization::add_wall_cubics(Index i, const std::vector<Index>& nbr, con
   return true;
 }
 
-// Gauss points (WallQuadrature::Gauss): node i stands for the depths within half a layer step of its own, clipped to
-// the wall ([d_i - D/2, d_i + D/2] and [0, t]), and its two Gauss points lie at the slab's centre -+ half its width /
-// sqrt 3, as offsets along the wall normal (the direction of growing depth). WallQuadrature::GaussCell crosses these
-// with the two-point rule along each of the cell's edges along the wall (offsets -+ half the edge / sqrt 3 about the
-// node): 2 x 2 x 2 points, the product rule that integrates a cubic exactly over the cell.
+// Gauss points (WallQuadrature::Gauss): node i stands for the depths within half a layer step of its own,
+// clipped to the wall ([d_i - D/2, d_i + D/2] and [0, t]), and its two Gauss points lie at the slab's centre
+// -+ half its width / sqrt 3, as offsets along the wall normal (the direction of growing depth).
+// WallQuadrature::GaussCell crosses these with the two-point rule along each of the cell's edges along the
+// wall (offsets -+ half the edge / sqrt 3 about the node): 2 x 2 x 2 points, the product rule that integrates
+// a cubic exactly over the cell.
 void Discretization::place_wall_points(const DiscretizationOptions& opt) {
   using WQ = DiscretizationOptions::WallQuadrature;
   if (opt.wall_quadrature == WQ::Nodes) return;
   const Index n = num_nodes();
   if (!fits_curvature(opt.basis))
-    throw InputError("discretization: Gauss points need a basis that fits curvature (quadratic or wall_quadratic): "
-                     "the linear fit's gradient does not change across a node's cell");
-  if (opt.support != DiscretizationOptions::Support::Wall || opt.wall_depths.size() != static_cast<std::size_t>(n) ||
-      !(opt.wall_thickness_m > 0.0) || !(opt.wall_layer_spacing_m > 0.0))
-    throw InputError("discretization: Gauss points need a wall support with a depth per node, the wall's thickness "
-                     "and its layer spacing (a geometry of type 'tube' or 'vessel')");
+    throw InputError(
+        "discretization: Gauss points need a basis that fits curvature (quadratic or wall_quadratic): "
+        "the linear fit's gradient does not change across a node's cell");
+  if (opt.support != DiscretizationOptions::Support::Wall ||
+      opt.wall_depths.size() != static_cast<std::size_t>(n) || !(opt.wall_thickness_m > 0.0) ||
+      !(opt.wall_layer_spacing_m > 0.0))
+    throw InputError(
+        "discretization: Gauss points need a wall support with a depth per node, the wall's thickness "
+        "and its layer spacing (a geometry of type 'tube' or 'vessel')");
   const bool cell = opt.wall_quadrature == WQ::GaussCell;
   if (cell && opt.wall_cells.size() != static_cast<std::size_t>(n))
-    throw InputError(fmt::format("discretization: Gauss points over the cell need each node's cell along the wall ({} "
-                                 "for {} nodes)", opt.wall_cells.size(), n));
+    throw InputError(
+        fmt::format("discretization: Gauss points over the cell need each node's cell along the wall ({} "
+                    "for {} nodes)",
+                    opt.wall_cells.size(), n));
   energy_points_ = cell ? 8 : 2;
   const bool mixed = opt.wall_cube && opt.wall_cubics != DiscretizationOptions::WallCubics::Cube;
   if (mixed && !cell)
-    throw InputError("discretization: the cubics with a through-wall factor (wall_cubics) need Gauss points over "
-                     "each node's cell (wall_quadrature 'gauss_cell'): their gradients vary along the wall");
+    throw InputError(
+        "discretization: the cubics with a through-wall factor (wall_cubics) need Gauss points over "
+        "each node's cell (wall_quadrature 'gauss_cell'): their gradients vary along the wall");
   linear_directions_ = cell ? 3 : 1;
-  point_directions_ = linear_directions_ + (mixed ? static_cast<int>(kSquares.size()) : opt.wall_cube ? 1 : 0);
-  const std::size_t P = static_cast<std::size_t>(energy_points_), G = static_cast<std::size_t>(point_directions_);
+  point_directions_ = linear_directions_ + (mixed           ? static_cast<int>(kSquares.size())
+                                            : opt.wall_cube ? 1
+                                                            : 0);
+  const std::size_t P = static_cast<std::size_t>(energy_points_),
+                    G = static_cast<std::size_t>(point_directions_);
   point_offset_.assign(static_cast<std::size_t>(n) * P * G, 0.0);
   point_axes_.resize(static_cast<std::size_t>(n) * G);
-  const double t = opt.wall_thickness_m, half_step = 0.5 * opt.wall_layer_spacing_m, gauss = 1.0 / std::sqrt(3.0);
+  const double t = opt.wall_thickness_m, half_step = 0.5 * opt.wall_layer_spacing_m,
+               gauss = 1.0 / std::sqrt(3.0);
   for (Index i = 0; i < n; ++i) {
     const std::size_t ii = static_cast<std::size_t>(i);
     const double d = opt.wall_depths[ii];
@@ -614,7 +653,8 @@ void Discretization::place_wall_points(const DiscretizationOptions& opt) {
       for (std::size_t k = 0; k < 2; ++k) {
         const Vec3& edge = opt.wall_cells[ii].edges[k];
         const double len = edge.norm();
-        if (!(len > 0.0)) throw InputError(fmt::format("discretization: node {}'s cell has an empty edge along the wall", i));
+        if (!(len > 0.0))
+          throw InputError(fmt::format("discretization: node {}'s cell has an empty edge along the wall", i));
         point_axes_[ii * G + 1 + k] = edge / len;
         half_edge[k] = 0.5 * len * gauss;
         along_centre[k] = opt.wall_cells[ii].centre[k];
@@ -631,7 +671,8 @@ void Discretization::place_wall_points(const DiscretizationOptions& opt) {
         const std::size_t L = static_cast<std::size_t>(linear_directions_);
         Vec3 P = Vec3::Zero();
         for (std::size_t k = 0; k < L; ++k) P += o[k] * point_axes_[ii * G + k];
-        const Vec3 c(P.dot(point_axes_[ii * G]), P.dot(point_axes_[ii * G + 1]), P.dot(point_axes_[ii * G + 2]));
+        const Vec3 c(P.dot(point_axes_[ii * G]), P.dot(point_axes_[ii * G + 1]),
+                     P.dot(point_axes_[ii * G + 2]));
         for (std::size_t a = 0; a < kSquares.size(); ++a) o[L + a] = monomial(kSquares[a], c);
       } else if (opt.wall_cube) {
         o[G - 1] = o[0] * o[0];  // the cube's direction (add_wall_cube)
@@ -648,7 +689,8 @@ void Discretization::compute_volumes(const DiscretizationOptions& opt) {
   for (std::size_t t = 0; t < tets_.size(); ++t) {
     const Tet& T = tets_[t];
     const double v = signed_volume(X_[T[0]], X_[T[1]], X_[T[2]], X_[T[3]]);
-    if (!(v > 0.0)) throw InputError(fmt::format("discretization: virtual tetrahedron {} is inverted or flat", t));
+    if (!(v > 0.0))
+      throw InputError(fmt::format("discretization: virtual tetrahedron {} is inverted or flat", t));
     tet_volume_ += v;
     if (opt.volume != VolumeRule::MuellerKernel)
       for (Index a : T) V_[a] += 0.25 * v;
@@ -662,23 +704,28 @@ void Discretization::compute_volumes(const DiscretizationOptions& opt) {
   if (opt.volume != VolumeRule::MuellerKernel) {
     for (Index i = 0; i < n; ++i)
       if (!(V_[i] > 0.0))
-        throw InputError(fmt::format(
-            "discretization: node {} belongs to no virtual tetrahedron, so it has no volume (tet-partition rule)", i));
+        throw InputError(
+            fmt::format("discretization: node {} belongs to no virtual tetrahedron, so it has no volume "
+                        "(tet-partition rule)",
+                        i));
   } else {
     // Mueller et al. 2004 (docs/model/04-volumes.md): rbar_i = mean distance to the 10 nearest neighbours,
     // m_i = s rbar_i^3 rho with s normalising the density estimate, V_i = m_i / rho_i.
     std::vector<double> rbar3(n);
     for (Index i = 0; i < n; ++i) {
       std::vector<double> dist;
-      for (Index e = pairs_.row_start[i]; e < pairs_.row_start[i + 1]; ++e) dist.push_back((X_[pairs_.col[e]] - X_[i]).norm());
+      for (Index e = pairs_.row_start[i]; e < pairs_.row_start[i + 1]; ++e)
+        dist.push_back((X_[pairs_.col[e]] - X_[i]).norm());
       const std::size_t k = std::min<std::size_t>(10, dist.size());
       std::partial_sort(dist.begin(), dist.begin() + static_cast<std::ptrdiff_t>(k), dist.end());
-      const double r = std::accumulate(dist.begin(), dist.begin() + static_cast<std::ptrdiff_t>(k), 0.0) / static_cast<double>(k);
+      const double r = std::accumulate(dist.begin(), dist.begin() + static_cast<std::ptrdiff_t>(k), 0.0) /
+                       static_cast<double>(k);
       rbar3[i] = r * r * r;
     }
     auto kernel_sum = [&](Index i, const std::vector<double>& q) {
       double s = q[i] * kernels::poly6(0.0, h_[i]);
-      for (Index e = pairs_.row_start[i]; e < pairs_.row_start[i + 1]; ++e) s += q[pairs_.col[e]] * pairs_.w[e];
+      for (Index e = pairs_.row_start[i]; e < pairs_.row_start[i + 1]; ++e)
+        s += q[pairs_.col[e]] * pairs_.w[e];
       return s;
     };
     double s = 0.0;
@@ -693,7 +740,9 @@ void Discretization::compute_volumes(const DiscretizationOptions& opt) {
   for (Index i = 0; i < n; ++i) m_[i] = rho * V_[i];
 }
 
-double Discretization::total_volume() const { return std::accumulate(V_.begin(), V_.end(), 0.0); }
+double Discretization::total_volume() const {
+  return std::accumulate(V_.begin(), V_.end(), 0.0);
+}
 
 double Discretization::mean_neighbours() const {
   return static_cast<double>(pairs_.col.size()) / static_cast<double>(num_nodes());
@@ -704,7 +753,8 @@ Eigen::MatrixXd Discretization::fit_residual_operator(Index i, bool quadratic) c
   // fit_il . p(X_ij / h_i) (quadratic), y_ij = y_j - y_i: R = (I - Q) [-1 | I].
   const Index K = pairs_.row_size(i);
   const Index e0 = pairs_.row_start[i];
-  // The wall-quadratic fit leaves the through-wall square out; the stabiliser on a quadratic fit must still ignore it.
+  // The wall-quadratic fit leaves the through-wall square out; the stabiliser on a quadratic fit must still
+  // ignore it.
   if (quadratic && basis_ != GradientBasis::Quadratic) return quadratic_residual_operator(i);
   const bool curved = fits_curvature(basis_);
   Eigen::MatrixXd R(K, K + 1);
@@ -725,16 +775,17 @@ Eigen::MatrixXd Discretization::fit_residual_operator(Index i, bool quadratic) c
 }
 
 Eigen::MatrixXd Discretization::quadratic_residual_operator(Index i) const {
-  // The weighted least-squares projection onto the quadratic monomials: with M (K x 9) the monomials p(X_ij / h_i)
-  // and W = diag(w_ij), Q = M B^+ M^T W, B = M^T W M. B^+ is a pseudo-inverse (eigenvalues below 1e-10 of the
-  // largest dropped): on a wall with two layers in the support z^2 is not independent of z, and the projection
-  // is then onto what the neighbourhood can represent, still exact for every quadratic field.
+  // The weighted least-squares projection onto the quadratic monomials: with M (K x 9) the monomials p(X_ij /
+  // h_i) and W = diag(w_ij), Q = M B^+ M^T W, B = M^T W M. B^+ is a pseudo-inverse (eigenvalues below 1e-10
+  // of the largest dropped): on a wall with two layers in the support z^2 is not independent of z, and the
+  // projection is then onto what the neighbourhood can represent, still exact for every quadratic field.
   const Index K = pairs_.row_size(i);
   const Index e0 = pairs_.row_start[i];
   Eigen::MatrixXd M(K, 9);
   Eigen::VectorXd w(K);
   for (Index j = 0; j < K; ++j) {
-    M.row(j) = quadratic_monomials(X_[static_cast<std::size_t>(pairs_.col[e0 + j])] - X_[static_cast<std::size_t>(i)], h_[i]);
+    M.row(j) = quadratic_monomials(
+        X_[static_cast<std::size_t>(pairs_.col[e0 + j])] - X_[static_cast<std::size_t>(i)], h_[i]);
     w(j) = pairs_.w[static_cast<std::size_t>(e0 + j)];
   }
   const Mat9 B = M.transpose() * w.asDiagonal() * M;
@@ -762,7 +813,8 @@ void Discretization::deformation_gradient_derivatives(Index i, const Vec3Array& 
   const Vec3 xi = x[i];
   for (Index e = pairs_.row_start[i], end = pairs_.row_start[i + 1]; e < end; ++e) {
     const Vec3 dx = x[pairs_.col[e]] - xi;
-    for (std::size_t k = 0; k < G; ++k) D[k].noalias() += dx * pairs_.e[static_cast<std::size_t>(e) * G + k].transpose();
+    for (std::size_t k = 0; k < G; ++k)
+      D[k].noalias() += dx * pairs_.e[static_cast<std::size_t>(e) * G + k].transpose();
   }
 }
 

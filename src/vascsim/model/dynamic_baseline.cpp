@@ -1,7 +1,7 @@
 #include "vascsim/model/dynamic_baseline.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 
 #include "vascsim/core/error.hpp"
 
@@ -20,13 +20,18 @@ ModelEntry baseline_entry(const std::string& name, const std::string& summary,
   ModelEntry e;
   e.name = name;
   e.summary = summary;
-  e.capabilities = {.dynamic = true, .takes_tools = true, .device_driven = true, .releases_regions = false, .quadratic_basis = true};
+  e.capabilities = {.dynamic = true,
+                    .takes_tools = true,
+                    .device_driven = true,
+                    .releases_regions = false,
+                    .quadratic_basis = true};
   e.schedule = [frames_of](const std::any& settings) { return frames_of(settings).schedule; };
-  // Every baseline has its own material rule from E and nu (docs/model/25-baselines.md): the scene's law is the
-  // point-primitive model's, which they do not use.
+  // Every baseline has its own material rule from E and nu (docs/model/25-baselines.md): the scene's law is
+  // the point-primitive model's, which they do not use.
   e.law_restriction = [name](const std::any&, const std::string& law) -> std::string {
     if (law == "svk") return "";
-    return fmt::format("{} derives its own elasticity from E and nu; material.law '{}' is not used by it", name, law);
+    return fmt::format("{} derives its own elasticity from E and nu; material.law '{}' is not used by it",
+                       name, law);
   };
   return e;
 }
@@ -37,7 +42,8 @@ DynamicBaseline::DynamicBaseline(const Problem& problem, std::string name, const
   if (!(sc.duration_s > 0.0) || !(sc.output_interval_s > 0.0) || !(frames.frame_s > 0.0))
     throw InputError(fmt::format("{}: duration_s, output_interval_s and frame_s must be > 0", name_));
   // Whole frames per output interval, so output times are exact.
-  const double per_output = static_cast<double>(whole_steps_per_output(sc, frames.frame_s, name_ + ".frame_s"));
+  const double per_output =
+      static_cast<double>(whole_steps_per_output(sc, frames.frame_s, name_ + ".frame_s"));
   h_ = sc.output_interval_s / per_output;
   num_steps_ = output_count(sc);
   x_ = problem.discretization().rest_positions();
@@ -50,7 +56,8 @@ double DynamicBaseline::load_factor_at(double t) const {
   return ramped_load_factor(t, frames_settings_.schedule.ramp_time_s);
 }
 
-void DynamicBaseline::set_tool_pose(std::size_t tool, const Vec3& position_m, const Eigen::Quaterniond& orientation) {
+void DynamicBaseline::set_tool_pose(std::size_t tool, const Vec3& position_m,
+                                    const Eigen::Quaterniond& orientation) {
   tools_.pose(tool, position_m, orientation);
 }
 
@@ -66,10 +73,12 @@ void DynamicBaseline::filter_free(Vec3Array& v, const ContactActiveSet& contacts
   contacts.filter(v);
 }
 
-void DynamicBaseline::reset_loads() { loads_.assign(problem_.tools().size(), ObstacleLoad{}); }
+void DynamicBaseline::reset_loads() {
+  loads_.assign(problem_.tools().size(), ObstacleLoad{});
+}
 
-void DynamicBaseline::project_tool_contacts(Vec3Array& x, const std::vector<double>& mass, double dt, double s,
-                                            double weight) {
+void DynamicBaseline::project_tool_contacts(Vec3Array& x, const std::vector<double>& mass, double dt,
+                                            double s, double weight) {
   const std::size_t no = tools_.size();
   if (no == 0) return;
   std::vector<constraints::Capsule> geometry(no);
@@ -108,7 +117,8 @@ StepReport DynamicBaseline::step() {
   iterations_ += r.iterations;
   if (!r.converged) ++unconverged_;
   for (const Vec3& x : x_)
-    if (!x.allFinite()) throw NumericalError(fmt::format("{}: the state became non-finite at t = {:.6g} s", name_, t_));
+    if (!x.allFinite())
+      throw NumericalError(fmt::format("{}: the state became non-finite at t = {:.6g} s", name_, t_));
   r.time_s = t_;
   r.load_factor = s_;
   return r;

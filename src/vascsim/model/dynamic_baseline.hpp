@@ -1,7 +1,7 @@
 #pragma once
 // What the five comparison baselines of the paper's section 3.3 (mass_spring, fem_quasi_newton, tensor_mass,
-// filling, pbd_viscoelastic; docs/model/25-baselines.md) have in common, so that each baseline file holds only its
-// method: a time-stepping Model and DeviceDrivenModel over the problem's nodes with
+// filling, pbd_viscoelastic; docs/model/25-baselines.md) have in common, so that each baseline file holds
+// only its method: a time-stepping Model and DeviceDrivenModel over the problem's nodes with
 //   - frames of length frame_s (the haptic tick, 1 ms by default), each advanced by the baseline's frame();
 //   - loads, prescribed displacements and tool motion ramped in by the load factor as in xpbd and implicit
 //     (TimeSchedule), or the tools posed by a device (ToolPlacement);
@@ -11,8 +11,8 @@
 //
 // Contact helper for the position-based and explicit baselines: project_tool_contacts() puts a free node that
 // entered a tool back on its surface and books the impulse m dx / h^2 as the tool's force on the tissue (the
-// xpbd contact with alpha = 0, docs/model/22-contact.md section 22.2). The implicit baselines hold contacts inside their
-// solve (ContactActiveSet) instead.
+// xpbd contact with alpha = 0, docs/model/22-contact.md section 22.2). The implicit baselines hold contacts
+// inside their solve (ContactActiveSet) instead.
 
 #include <nlohmann/json.hpp>
 #include <string>
@@ -69,7 +69,8 @@ class DynamicBaseline : public Model, public DeviceDrivenModel {
   std::vector<ObstacleLoad> obstacle_loads() const override { return loads_; }
   DeviceDrivenModel* device_driven() override { return this; }
 
-  void set_tool_pose(std::size_t tool, const Vec3& position_m, const Eigen::Quaterniond& orientation) override;
+  void set_tool_pose(std::size_t tool, const Vec3& position_m,
+                     const Eigen::Quaterniond& orientation) override;
   StepReport step() override;
   double time() const override { return t_; }
   double frame_length_s() const override { return h_; }
@@ -86,11 +87,12 @@ class DynamicBaseline : public Model, public DeviceDrivenModel {
   /// The baseline's own entries for info() (parameters as derived from E, nu, and the solver's).
   virtual nlohmann::json method_info() const = 0;
 
-  /// Every free node with mass that entered a tool (placed at load factor s) is put back on the surface of the
-  /// deepest one; weight * mass[i] dx / dt^2, the force that tool exerted on the tissue over the (sub)step, is
-  /// added to its load in loads_ (the contact count is that of this call). A frame of n substeps calls it once
-  /// per substep with weight 1/n after reset_loads(), so loads_ is the frame's mean.
-  void project_tool_contacts(Vec3Array& x, const std::vector<double>& mass, double dt, double s, double weight);
+  /// Every free node with mass that entered a tool (placed at load factor s) is put back on the surface of
+  /// the deepest one; weight * mass[i] dx / dt^2, the force that tool exerted on the tissue over the
+  /// (sub)step, is added to its load in loads_ (the contact count is that of this call). A frame of n
+  /// substeps calls it once per substep with weight 1/n after reset_loads(), so loads_ is the frame's mean.
+  void project_tool_contacts(Vec3Array& x, const std::vector<double>& mass, double dt, double s,
+                             double weight);
   void reset_loads();
   /// Zeroes v at the prescribed nodes and removes its normal component at the nodes in contact (the filter of
   /// Baraff & Witkin's modified PCG, contact_active_set.hpp), for the implicit baselines' solvers.

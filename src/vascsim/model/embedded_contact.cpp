@@ -5,14 +5,15 @@
 
 namespace vascsim {
 
-EmbeddedContact::EmbeddedContact(const ContactSurface& surface, const Vec3Array& rest_nodes_m, std::size_t tools)
+EmbeddedContact::EmbeddedContact(const ContactSurface& surface, const Vec3Array& rest_nodes_m,
+                                 std::size_t tools)
     : surface_(surface), rest_nodes_(rest_nodes_m), geometry_(tools) {}
 
 template <class F>
 void EmbeddedContact::for_each_penetration(const Vec3Array& x, F&& f) const {
   if (geometry_.empty()) return;
-  // |x_v - S_v| <= phi_l1_v max_i |u_i| and the distance is 1-Lipschitz: a sample farther than that from every
-  // tool at rest cannot touch one now (most of the surface, at no cost beyond a distance per tool).
+  // |x_v - S_v| <= phi_l1_v max_i |u_i| and the distance is 1-Lipschitz: a sample farther than that from
+  // every tool at rest cannot touch one now (most of the surface, at no cost beyond a distance per tool).
   double u_max2 = 0.0;
   for (std::size_t i = 0; i < x.size(); ++i) u_max2 = std::max(u_max2, (x[i] - rest_nodes_[i]).squaredNorm());
   const double u_max = std::sqrt(u_max2);
@@ -43,7 +44,8 @@ void EmbeddedContact::for_each_penetration(const Vec3Array& x, F&& f) const {
 double EmbeddedContact::energy(const Vec3Array& x) const {
   double e = 0.0;
   for_each_penetration(x, [&](Index v, int, const Vec3&, const constraints::ContactConstraint& c) {
-    e += 0.5 * surface_.stiffness_pa_per_m * surface_.area_m2[static_cast<std::size_t>(v)] * c.value * c.value;
+    e +=
+        0.5 * surface_.stiffness_pa_per_m * surface_.area_m2[static_cast<std::size_t>(v)] * c.value * c.value;
   });
   return e;
 }

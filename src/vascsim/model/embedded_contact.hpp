@@ -1,11 +1,11 @@
 #pragma once
-// Frictionless contact between the tools and the wall's surface, not its nodes (docs/model/22-contact.md section 22.5):
-// a penalty on the penetration of the surface's quadrature points (contact_surface.hpp),
+// Frictionless contact between the tools and the wall's surface, not its nodes (docs/model/22-contact.md
+// section 22.5): a penalty on the penetration of the surface's quadrature points (contact_surface.hpp),
 //   U_c(x) = sum_v (k a_v / 2) max(0, -C(x_v))^2,   x_v = S_v + sum_i phi_vi (x_i - X_i),
 // C the tool's signed distance, k the contact stiffness (Pa/m) and a_v the sample's area. The tool's force is
-// the sum of the samples' pressures times their areas, and the nodes receive phi_vi times each sample's force,
-// so the reaction is consistent with the map (virtual work). The surface is smooth between the nodes, so the
-// force does not depend on where the nodes fall under the tool, as it does for contact at the nodes.
+// the sum of the samples' pressures times their areas, and the nodes receive phi_vi times each sample's
+// force, so the reaction is consistent with the map (virtual work). The surface is smooth between the nodes,
+// so the force does not depend on where the nodes fall under the tool, as it does for contact at the nodes.
 //
 // Used by the equilibrium solve (newton_equilibrium.hpp) as one more energy term: value, forces at a
 // linearisation point, and Hessian-vector products there.
@@ -19,7 +19,8 @@ namespace vascsim {
 
 class EmbeddedContact {
  public:
-  /// `surface` (with the rest node positions X it was built on) must outlive this; `tools` the number of tools.
+  /// `surface` (with the rest node positions X it was built on) must outlive this; `tools` the number of
+  /// tools.
   EmbeddedContact(const ContactSurface& surface, const Vec3Array& rest_nodes_m, std::size_t tools);
 
   void place(std::size_t o, const constraints::Capsule& geometry) { geometry_.at(o) = geometry; }
@@ -29,16 +30,17 @@ class EmbeddedContact {
   double energy(const Vec3Array& x) const;
   /// Finds the penetrating samples at x; forces, Hessian products and loads then refer to x.
   void linearize(const Vec3Array& x);
-  /// Re-linearises at x (the tools placed anew) the samples that were in contact at the last linearisation, and
-  /// only those (the ones the tools left drop out): the contact set carried into a frame whose tools moved, so that
-  /// its first Newton step answers their move without the samples the moved tools sweep through, most of
-  /// which the wall's response takes out of contact again.
+  /// Re-linearises at x (the tools placed anew) the samples that were in contact at the last linearisation,
+  /// and only those (the ones the tools left drop out): the contact set carried into a frame whose tools
+  /// moved, so that its first Newton step answers their move without the samples the moved tools sweep
+  /// through, most of which the wall's response takes out of contact again.
   void relinearize_carried(const Vec3Array& x);
   /// Adds the contact forces on the nodes (-dU_c/dx at the linearisation), N.
   void add_forces(Vec3Array& f) const;
-  /// Adds (d^2 U_c/dx^2) p at the linearisation; with `normal_only`, only its positive semi-definite normal part
-  /// k a_v n n^T (for_each_stiffness): a tool that moved into the wall since the linearisation penetrates deep,
-  /// and the full Hessian's softening along the surface (depth / distance to the core) then outweighs the wall.
+  /// Adds (d^2 U_c/dx^2) p at the linearisation; with `normal_only`, only its positive semi-definite normal
+  /// part k a_v n n^T (for_each_stiffness): a tool that moved into the wall since the linearisation
+  /// penetrates deep, and the full Hessian's softening along the surface (depth / distance to the core) then
+  /// outweighs the wall.
   void add_hessian_product(const Vec3Array& p, Vec3Array& Hp, bool normal_only = false) const;
   /// Per tool at the linearisation: the force on the tissue, its moment about tool_points[o] and the number
   /// of samples in contact.
@@ -46,10 +48,10 @@ class EmbeddedContact {
   /// Sum over tools of |force on the tissue|^2 at the linearisation, N^2 (the equilibrium residual's scale).
   double squared_force() const;
   int active() const { return static_cast<int>(active_.size()); }
-  /// Calls f(sample, k a_v, n) for every penetrating sample at the linearisation: its penalty stiffness (N/m) and
-  /// unit normal out of the tool. k a_v n n^T is the normal part of d^2 U_c / dx_v^2, positive semi-definite (the
-  /// whole Hessian softens along the surface by depth / distance to the tool's core, which a preconditioner need not
-  /// see). The sample's nodes and weights are row `sample` of surface().
+  /// Calls f(sample, k a_v, n) for every penetrating sample at the linearisation: its penalty stiffness (N/m)
+  /// and unit normal out of the tool. k a_v n n^T is the normal part of d^2 U_c / dx_v^2, positive
+  /// semi-definite (the whole Hessian softens along the surface by depth / distance to the tool's core, which
+  /// a preconditioner need not see). The sample's nodes and weights are row `sample` of surface().
   template <class F>
   void for_each_contact(F&& f) const {
     for (const Contact& c : active_) f(c.sample, c.normal.dot(c.stiffness * c.normal), c.normal);
@@ -64,7 +66,7 @@ class EmbeddedContact {
     Vec3 normal;     // out of the tool
     double depth;    // penetration, m (> 0)
     Vec3 force;      // k a_v depth n: the sample's force on the tissue, N
-    Mat3 stiffness;       // d^2 U_c / dx_v^2, N/m
+    Mat3 stiffness;  // d^2 U_c / dx_v^2, N/m
   };
   Contact make_contact(Index v, int o, const Vec3& xv, const constraints::ContactConstraint& c) const;
   // Calls f(v, o, x_v, C) for every sample that may penetrate a tool at x (bounded by the largest node

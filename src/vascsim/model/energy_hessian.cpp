@@ -2,9 +2,9 @@
 
 #include <omp.h>
 
+#include <fmt/format.h>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
-#include <fmt/format.h>
 #include <limits>
 
 #include "vascsim/core/error.hpp"
@@ -28,7 +28,9 @@ Mat3 psd_sqrt(const Mat3& A) {
 }  // namespace
 
 // Stencil of node i: i itself, then N_i (the order of PairTable row i).
-Index EnergyHessian::stencil_size(Index i) const { return 1 + energy_.discretization().pairs().row_size(i); }
+Index EnergyHessian::stencil_size(Index i) const {
+  return 1 + energy_.discretization().pairs().row_size(i);
+}
 Index EnergyHessian::stencil_node(Index i, Index a) const {
   const PairTable& P = energy_.discretization().pairs();
   return a == 0 ? i : P.col[static_cast<std::size_t>(P.row_start[i] + a - 1)];
@@ -46,7 +48,8 @@ EnergyHessian::EnergyHessian(const PointPrimitiveEnergy& energy, const EnergyHes
   stab_.assign(static_cast<std::size_t>(nblocks), 0.0);
   if (energy.options().stabilizer_alpha > 0.0) add_stabilizer_blocks();
   skip_unstored_blocks();
-  tangent_.resize(static_cast<std::size_t>(energy.discretization().num_nodes() * energy.discretization().energy_points()));
+  tangent_.resize(static_cast<std::size_t>(energy.discretization().num_nodes() *
+                                           energy.discretization().energy_points()));
 }
 
 // The block row of every kept node (node_slot, or node order), and the node of every block row.
@@ -67,7 +70,6 @@ void EnergyHessian::number_block_rows() {
       throw std::invalid_argument("EnergyHessian: node slots must number the kept nodes 0..n-1, each once");
     if (s >= 0) row_node_[static_cast<std::size_t>(s)] = i;
   }
-
 }
 
 // Pass 1: per block row, the coupled block columns (the union of the stencils that hold the row's node), the
@@ -100,9 +102,10 @@ std::vector<std::vector<Index>> EnergyHessian::couple_block_rows(std::vector<std
       for (Index s : c) mark[static_cast<std::size_t>(s)] = 0;
       std::sort(c.begin(), c.end());
       if (c.size() >= kSkip)
-        throw std::invalid_argument(fmt::format("EnergyHessian: block row of node {} couples {} blocks (limit {})", k,
-                                                c.size(), kSkip - 1));
-      row_start_[static_cast<std::size_t>(r) + 1] = row_start_[static_cast<std::size_t>(r)] + static_cast<std::int64_t>(c.size());
+        throw std::invalid_argument(fmt::format(
+            "EnergyHessian: block row of node {} couples {} blocks (limit {})", k, c.size(), kSkip - 1));
+      row_start_[static_cast<std::size_t>(r) + 1] =
+          row_start_[static_cast<std::size_t>(r)] + static_cast<std::int64_t>(c.size());
       contrib_start_[static_cast<std::size_t>(r) + 1] =
           contrib_start_[static_cast<std::size_t>(r)] + 1 + T.row_size(k);
       map_count[static_cast<std::size_t>(r) + 1] += map_count[static_cast<std::size_t>(r)];
@@ -145,7 +148,8 @@ void EnergyHessian::build_scatter_map(const std::vector<std::vector<Index>>& col
         if (c[p] == r) row_diag_[static_cast<std::size_t>(r)] = static_cast<Index>(p);
       }
       if (opt_.stencil == HessianStencil::Compact) {
-        // Kept: the diagonal and the stencil pairs, l in N_k (row k of the pairs) or k in N_l (transposed row).
+        // Kept: the diagonal and the stencil pairs, l in N_k (row k of the pairs) or k in N_l (transposed
+        // row).
         row_keep_[static_cast<std::size_t>(base + row_diag_[static_cast<std::size_t>(r)])] = 1;
         for (const PairTable* tab : {&P, &T})
           for (Index e = tab->row_start[k]; e < tab->row_start[k + 1]; ++e) {
@@ -166,7 +170,8 @@ void EnergyHessian::build_scatter_map(const std::vector<std::vector<Index>>& col
           map_[static_cast<std::size_t>(m++)] = s >= 0 ? pos[static_cast<std::size_t>(s)] : kSkip;
         }
       };
-      add_term(k, disc.self_d()[static_cast<std::size_t>(k)], G ? &disc.self_e()[static_cast<std::size_t>(k) * G] : nullptr);
+      add_term(k, disc.self_d()[static_cast<std::size_t>(k)],
+               G ? &disc.self_e()[static_cast<std::size_t>(k) * G] : nullptr);
       for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e)
         add_term(T.col[e], T.d[e], G ? &T.e[static_cast<std::size_t>(e) * G] : nullptr);
       for (Index s : c) pos[static_cast<std::size_t>(s)] = kSkip;
@@ -186,14 +191,17 @@ void EnergyHessian::build_pattern() {
   std::vector<std::int64_t> col_base(static_cast<std::size_t>(nrows) + 1, 0);
   for (Index r = 0; r < nrows; ++r) {
     Index stored = 0;
-    for (std::int64_t b = row_start_[static_cast<std::size_t>(r)]; b < row_start_[static_cast<std::size_t>(r) + 1]; ++b)
-      if (row_keep_[static_cast<std::size_t>(b)] && (!opt_.lower_triangle_only || row_col_[static_cast<std::size_t>(b)] >= r))
+    for (std::int64_t b = row_start_[static_cast<std::size_t>(r)];
+         b < row_start_[static_cast<std::size_t>(r) + 1]; ++b)
+      if (row_keep_[static_cast<std::size_t>(b)] &&
+          (!opt_.lower_triangle_only || row_col_[static_cast<std::size_t>(b)] >= r))
         row_dest_[static_cast<std::size_t>(b)] = col_base[static_cast<std::size_t>(r)] + 3 * stored++;
     col_stride_[static_cast<std::size_t>(r)] = 3 * stored;
     col_base[static_cast<std::size_t>(r) + 1] = col_base[static_cast<std::size_t>(r)] + 9 * stored;
   }
   if (col_base.back() > std::numeric_limits<int>::max())
-    throw std::invalid_argument(fmt::format("EnergyHessian: {} nonzeros exceed the 32-bit index range", col_base.back()));
+    throw std::invalid_argument(
+        fmt::format("EnergyHessian: {} nonzeros exceed the 32-bit index range", col_base.back()));
   const Eigen::Index dim = 3 * static_cast<Eigen::Index>(nrows);
   H_.resize(dim, dim);
   H_.resizeNonZeros(static_cast<Eigen::Index>(col_base.back()));
@@ -203,22 +211,23 @@ void EnergyHessian::build_pattern() {
     const std::int64_t base = col_base[static_cast<std::size_t>(r)];
     const Index stride = col_stride_[static_cast<std::size_t>(r)];
     for (int b = 0; b < 3; ++b) outer[3 * r + b] = static_cast<int>(base + b * stride);
-    for (std::int64_t q = row_start_[static_cast<std::size_t>(r)]; q < row_start_[static_cast<std::size_t>(r) + 1]; ++q) {
+    for (std::int64_t q = row_start_[static_cast<std::size_t>(r)];
+         q < row_start_[static_cast<std::size_t>(r) + 1]; ++q) {
       const std::int64_t dest = row_dest_[static_cast<std::size_t>(q)];
       if (dest < 0) continue;
       for (int b = 0; b < 3; ++b)
-        for (int a = 0; a < 3; ++a) inner[dest + b * stride + a] = 3 * row_col_[static_cast<std::size_t>(q)] + a;
+        for (int a = 0; a < 3; ++a)
+          inner[dest + b * stride + a] = 3 * row_col_[static_cast<std::size_t>(q)] + a;
     }
   }
   outer[dim] = static_cast<int>(col_base.back());
   std::fill(H_.valuePtr(), H_.valuePtr() + H_.nonZeros(), 0.0);
-
 }
 
 void EnergyHessian::add_stabilizer_blocks() {
-  // docs/model/09-volume-term-and-stabiliser.md section 9.2: U_hg,i = c_i/2 sum_j w_ij |r_ij|^2 with r_ij the residual of node i's fit (affine or
-  // quadratic). Over the stencil (i, N_i) the residuals are r = R x (Discretization::fit_residual_operator), so
-  // the Hessian is c_i R^T W R (times I_3): constant.
+  // docs/model/09-volume-term-and-stabiliser.md section 9.2: U_hg,i = c_i/2 sum_j w_ij |r_ij|^2 with r_ij the
+  // residual of node i's fit (affine or quadratic). Over the stencil (i, N_i) the residuals are r = R x
+  // (Discretization::fit_residual_operator), so the Hessian is c_i R^T W R (times I_3): constant.
   const Discretization& disc = energy_.discretization();
   const PairTable& P = disc.pairs();
   const Index n = disc.num_nodes();
@@ -226,15 +235,20 @@ void EnergyHessian::add_stabilizer_blocks() {
   const bool quadratic_residual = energy_.options().stabilizer_fit == StabilizerFit::Quadratic;
   // Where term (row of stencil node a, energy i) sits: scan the rows once, indexed by (i, a).
   std::vector<std::int64_t> stencil_start(static_cast<std::size_t>(n) + 1, 0);
-  for (Index i = 0; i < n; ++i) stencil_start[static_cast<std::size_t>(i) + 1] = stencil_start[static_cast<std::size_t>(i)] + 1 + P.row_size(i);
+  for (Index i = 0; i < n; ++i)
+    stencil_start[static_cast<std::size_t>(i) + 1] =
+        stencil_start[static_cast<std::size_t>(i)] + 1 + P.row_size(i);
   std::vector<std::int64_t> term_of(static_cast<std::size_t>(stencil_start.back()), -1);
   for (Index r = 0; r < num_block_rows(); ++r) {
     const Index k = row_node_[static_cast<std::size_t>(r)];
-    for (std::int64_t t = contrib_start_[static_cast<std::size_t>(r)]; t < contrib_start_[static_cast<std::size_t>(r) + 1]; ++t) {
+    for (std::int64_t t = contrib_start_[static_cast<std::size_t>(r)];
+         t < contrib_start_[static_cast<std::size_t>(r) + 1]; ++t) {
       const Index i = contrib_node_[static_cast<std::size_t>(t)];
       Index a = 0;
-      if (k != i) a = 1 + static_cast<Index>(std::lower_bound(P.col.begin() + P.row_start[i], P.col.begin() + P.row_start[i + 1], k) -
-                                              (P.col.begin() + P.row_start[i]));
+      if (k != i)
+        a = 1 + static_cast<Index>(
+                    std::lower_bound(P.col.begin() + P.row_start[i], P.col.begin() + P.row_start[i + 1], k) -
+                    (P.col.begin() + P.row_start[i]));
       term_of[static_cast<std::size_t>(stencil_start[static_cast<std::size_t>(i)] + a)] = t;
     }
   }
@@ -246,26 +260,30 @@ void EnergyHessian::add_stabilizer_blocks() {
     const Eigen::Map<const Eigen::VectorXd> w(P.w.data() + e0, K);
     S.noalias() = c[static_cast<std::size_t>(i)] * R.transpose() * w.asDiagonal() * R;
     for (Index a = 0; a <= K; ++a) {
-      const std::int64_t t = term_of[static_cast<std::size_t>(stencil_start[static_cast<std::size_t>(i)] + a)];
+      const std::int64_t t =
+          term_of[static_cast<std::size_t>(stencil_start[static_cast<std::size_t>(i)] + a)];
       if (t < 0) continue;  // node a of the stencil is eliminated
       const Index r = slot_[static_cast<std::size_t>(a == 0 ? i : P.col[e0 + a - 1])];
       const std::uint16_t* m = map_.data() + contrib_map_[static_cast<std::size_t>(t)];
       for (Index b = 0; b <= K; ++b)
-        if (m[b] != kSkip) stab_[static_cast<std::size_t>(row_start_[static_cast<std::size_t>(r)] + m[b])] += S(a, b);
+        if (m[b] != kSkip)
+          stab_[static_cast<std::size_t>(row_start_[static_cast<std::size_t>(r)] + m[b])] += S(a, b);
     }
   }
 }
 
-// With the lower triangle only and the full stencil, a block that is not stored is never read (the compact stencil
-// lumps its dropped blocks, so it needs them all): its scatter-map entries become kSkip, and the refill computes
-// about half the blocks. Runs after add_stabilizer_blocks, which fills every coupled block through the map.
+// With the lower triangle only and the full stencil, a block that is not stored is never read (the compact
+// stencil lumps its dropped blocks, so it needs them all): its scatter-map entries become kSkip, and the
+// refill computes about half the blocks. Runs after add_stabilizer_blocks, which fills every coupled block
+// through the map.
 void EnergyHessian::skip_unstored_blocks() {
   if (!opt_.lower_triangle_only || opt_.stencil != HessianStencil::Full) return;
   const Index nrows = num_block_rows();
 #pragma omp parallel for schedule(dynamic, 64) if (nrows >= kParallelMinRows)
   for (Index r = 0; r < nrows; ++r) {
     const std::int64_t b0 = row_start_[static_cast<std::size_t>(r)];
-    for (std::int64_t t = contrib_start_[static_cast<std::size_t>(r)]; t < contrib_start_[static_cast<std::size_t>(r) + 1]; ++t) {
+    for (std::int64_t t = contrib_start_[static_cast<std::size_t>(r)];
+         t < contrib_start_[static_cast<std::size_t>(r) + 1]; ++t) {
       const Index i = contrib_node_[static_cast<std::size_t>(t)];
       std::uint16_t* m = map_.data() + contrib_map_[static_cast<std::size_t>(t)];
       for (Index a = 0; a < stencil_size(i); ++a)
@@ -274,13 +292,16 @@ void EnergyHessian::skip_unstored_blocks() {
   }
 }
 
-void EnergyHessian::compute_tangents(const Vec3Array& x) { energy_tangents(energy_, x, opt_.project_psd, tangent_); }
+void EnergyHessian::compute_tangents(const Vec3Array& x) {
+  energy_tangents(energy_, x, opt_.project_psd, tangent_);
+}
 
 void EnergyHessian::assemble(const Vec3Array& x, const std::vector<double>& diagonal_shift) {
   const Discretization& disc = energy_.discretization();
   const PairTable& P = disc.pairs();
   if (x.size() != static_cast<std::size_t>(disc.num_nodes()))
-    throw std::invalid_argument(fmt::format("EnergyHessian::assemble: {} positions for {} nodes", x.size(), disc.num_nodes()));
+    throw std::invalid_argument(
+        fmt::format("EnergyHessian::assemble: {} positions for {} nodes", x.size(), disc.num_nodes()));
   if (!diagonal_shift.empty() && diagonal_shift.size() != x.size())
     throw std::invalid_argument("EnergyHessian::assemble: diagonal_shift needs one value per node");
   compute_tangents(x);
@@ -300,12 +321,14 @@ void EnergyHessian::assemble(const Vec3Array& x, const std::vector<double>& diag
       const std::int64_t b0 = row_start_[static_cast<std::size_t>(r)];
       const std::size_t len = static_cast<std::size_t>(row_start_[static_cast<std::size_t>(r) + 1] - b0);
       row.resize(std::max(row.size(), len));
-      for (std::size_t p = 0; p < len; ++p) row[p] = stab_[static_cast<std::size_t>(b0) + p] * Mat3::Identity();
+      for (std::size_t p = 0; p < len; ++p)
+        row[p] = stab_[static_cast<std::size_t>(b0) + p] * Mat3::Identity();
       // Gather: every energy i whose stencil holds this row's node k adds, for each l of its stencil,
       // H_kl^(i) = sum_d d_il[d] U_d with U = sum_c d_ik[c] C_i[(., c), (., .)] (3 x 9).
       // With Gauss points each point q of energy i adds its own term, with the gradient vectors
       // d + sum_c o_qc e_c of that point.
-      for (std::int64_t t = contrib_start_[static_cast<std::size_t>(r)]; t < contrib_start_[static_cast<std::size_t>(r) + 1]; ++t) {
+      for (std::int64_t t = contrib_start_[static_cast<std::size_t>(r)];
+           t < contrib_start_[static_cast<std::size_t>(r) + 1]; ++t) {
         const Index i = contrib_node_[static_cast<std::size_t>(t)];
         const std::uint16_t* m = map_.data() + contrib_map_[static_cast<std::size_t>(t)];
         const Index e0 = P.row_start[i], K = P.row_size(i);
@@ -316,8 +339,10 @@ void EnergyHessian::assemble(const Vec3Array& x, const std::vector<double>& diag
             for (std::size_t c = 0; c < G; ++c) d += disc.point_offset(i, q, static_cast<int>(c)) * e[c];
             return d;
           };
-          const Vec3 dk = at_point(contrib_d_[static_cast<std::size_t>(t)], G ? &contrib_e_[static_cast<std::size_t>(t) * G] : nullptr);
-          const Eigen::Matrix<double, 3, 9> U = dk[0] * C.middleRows<3>(0) + dk[1] * C.middleRows<3>(3) + dk[2] * C.middleRows<3>(6);
+          const Vec3 dk = at_point(contrib_d_[static_cast<std::size_t>(t)],
+                                   G ? &contrib_e_[static_cast<std::size_t>(t) * G] : nullptr);
+          const Eigen::Matrix<double, 3, 9> U =
+              dk[0] * C.middleRows<3>(0) + dk[1] * C.middleRows<3>(3) + dk[2] * C.middleRows<3>(6);
           auto add = [&](std::uint16_t p, const Vec3& dl) {
             row[p] += dl[0] * U.middleCols<3>(0) + dl[1] * U.middleCols<3>(3) + dl[2] * U.middleCols<3>(6);
           };
@@ -328,20 +353,25 @@ void EnergyHessian::assemble(const Vec3Array& x, const std::vector<double>& diag
               if (m[1 + a] != kSkip) add(m[1 + a], P.d[static_cast<std::size_t>(e0 + a)]);
           } else {
             if (m[0] != kSkip)
-              add(m[0], at_point(disc.self_d()[static_cast<std::size_t>(i)], &disc.self_e()[static_cast<std::size_t>(i) * G]));
+              add(m[0], at_point(disc.self_d()[static_cast<std::size_t>(i)],
+                                 &disc.self_e()[static_cast<std::size_t>(i) * G]));
             for (Index a = 0; a < K; ++a)
               if (m[1 + a] != kSkip)
-                add(m[1 + a], at_point(P.d[static_cast<std::size_t>(e0 + a)], &P.e[static_cast<std::size_t>(e0 + a) * G]));
+                add(m[1 + a], at_point(P.d[static_cast<std::size_t>(e0 + a)],
+                                       &P.e[static_cast<std::size_t>(e0 + a) * G]));
           }
         }
       }
       const std::size_t diag = static_cast<std::size_t>(row_diag_[static_cast<std::size_t>(r)]);
       if (!diagonal_shift.empty())
-        row[diag].diagonal().array() += diagonal_shift[static_cast<std::size_t>(row_node_[static_cast<std::size_t>(r)])];
+        row[diag].diagonal().array() +=
+            diagonal_shift[static_cast<std::size_t>(row_node_[static_cast<std::size_t>(r)])];
       if (compact && opt_.lumping == CompactLumping::Polar) {
-        // Lump every dropped block B = H_kl as (B B^T)^(1/2) on this diagonal; row l adds (B^T B)^(1/2) to its own.
+        // Lump every dropped block B = H_kl as (B B^T)^(1/2) on this diagonal; row l adds (B^T B)^(1/2) to
+        // its own.
         for (std::size_t p = 0; p < len; ++p)
-          if (!row_keep_[static_cast<std::size_t>(b0) + p]) row[diag] += psd_sqrt(row[p] * row[p].transpose());
+          if (!row_keep_[static_cast<std::size_t>(b0) + p])
+            row[diag] += psd_sqrt(row[p] * row[p].transpose());
       } else if (compact && opt_.lumping == CompactLumping::RowSum) {
         Mat3 dropped = Mat3::Zero();
         for (std::size_t p = 0; p < len; ++p)

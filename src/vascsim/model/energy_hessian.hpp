@@ -20,8 +20,8 @@
 // - project_psd: each node's 9x9 tangent C_i (strain and k_v terms) has its negative eigenvalues set to
 //   zero, so H is positive semi-definite at any configuration (SVK under compression is indefinite).
 // - Compact stencil: keeps only the blocks of stencil pairs (l in N_k or k in N_l) and the diagonal. Each
-//   dropped block B = H_kl is lumped onto the diagonal as (B B^T)^(1/2) on node k and (B^T B)^(1/2) on node l.
-//   The change [[(B B^T)^(1/2), -B], [-B^T, (B^T B)^(1/2)]] = [U; -V] Sigma [U; -V]^T (B = U Sigma V^T) is
+//   dropped block B = H_kl is lumped onto the diagonal as (B B^T)^(1/2) on node k and (B^T B)^(1/2) on node
+//   l. The change [[(B B^T)^(1/2), -B], [-B^T, (B^T B)^(1/2)]] = [U; -V] Sigma [U; -V]^T (B = U Sigma V^T) is
 //   positive semi-definite, so H_compact >= H: positive (semi-)definiteness of H carries over (the
 //   smallest such correction that does not depend on the vector it acts on).
 
@@ -52,8 +52,8 @@ struct EnergyHessianOptions {
   bool project_psd = false;
   /// Store only the block lower triangle (block row >= block column; diagonal blocks whole): all a
   /// Cholesky factorisation reads (it reads the scalar lower triangle); about half the memory and the write
-  /// traffic. With the full stencil the refill also computes only the stored blocks (about half the arithmetic;
-  /// each stored block's sum is the same, term by term, as in the full matrix).
+  /// traffic. With the full stencil the refill also computes only the stored blocks (about half the
+  /// arithmetic; each stored block's sum is the same, term by term, as in the full matrix).
   bool lower_triangle_only = false;
   CompactLumping lumping = CompactLumping::Polar;  ///< Compact only
 };
@@ -83,12 +83,13 @@ class EnergyHessian {
   std::int64_t num_stored_blocks() const { return static_cast<std::int64_t>(H_.nonZeros() / 9); }
 
  private:
-  Index stencil_size(Index i) const;            // 1 + |N_i|
-  Index stencil_node(Index i, Index a) const;   // node a of S_i: i, then N_i
+  Index stencil_size(Index i) const;           // 1 + |N_i|
+  Index stencil_node(Index i, Index a) const;  // node a of S_i: i, then N_i
   // The symbolic step (the constructor), in order:
   void number_block_rows();
   std::vector<std::vector<Index>> couple_block_rows(std::vector<std::int64_t>& map_count);
-  void build_scatter_map(const std::vector<std::vector<Index>>& cols, const std::vector<std::int64_t>& map_count);
+  void build_scatter_map(const std::vector<std::vector<Index>>& cols,
+                         const std::vector<std::int64_t>& map_count);
   void build_pattern();
   void add_stabilizer_blocks();
   void skip_unstored_blocks();
@@ -102,11 +103,12 @@ class EnergyHessian {
   // Block row r (node k) couples the sorted block columns row_col_[row_start_[r] .. row_start_[r+1]).
   std::vector<std::int64_t> row_start_;
   std::vector<Index> row_col_;
-  std::vector<Index> row_diag_;         // per row: position of the diagonal block in the row
-  std::vector<std::int64_t> row_dest_;  // per coupled block: index of its (0,0) entry in H_'s values, -1 not stored
-  std::vector<Index> col_stride_;       // per block column: 3 x stored blocks (distance between its 3 columns)
-  std::vector<char> row_keep_;          // per coupled block: kept by the stencil (Compact); all 1 for Full
-  std::vector<double> stab_;            // per coupled block: the constant stabiliser block / I_3, N/m
+  std::vector<Index> row_diag_;  // per row: position of the diagonal block in the row
+  std::vector<std::int64_t>
+      row_dest_;  // per coupled block: index of its (0,0) entry in H_'s values, -1 not stored
+  std::vector<Index> col_stride_;  // per block column: 3 x stored blocks (distance between its 3 columns)
+  std::vector<char> row_keep_;     // per coupled block: kept by the stencil (Compact); all 1 for Full
+  std::vector<double> stab_;       // per coupled block: the constant stabiliser block / I_3, N/m
 
   // Terms of block row r: the energies i whose stencil holds node k (contrib_start_ range), each with
   // d_ik and, per node l of S_i (in the order i, N_i), the position of block (k, l) in the row (kSkip:
@@ -120,7 +122,7 @@ class EnergyHessian {
   static constexpr std::uint16_t kSkip = 0xFFFF;
 
   Mat9Array tangent_;  // per node (and point): V d^2 psi/dF^2 (+ k_v), N m (energy_tangents.hpp)
-  std::vector<std::vector<Mat3>> scratch_;                     // per thread: one block row
+  std::vector<std::vector<Mat3>> scratch_;  // per thread: one block row
   Eigen::SparseMatrix<double> H_;
 };
 

@@ -11,7 +11,9 @@ namespace vascsim {
 namespace {
 
 // vec index of a 3x3 entry (a, c): column-major, as Eigen stores Mat3.
-constexpr int vec_index(int a, int c) { return a + 3 * c; }
+constexpr int vec_index(int a, int c) {
+  return a + 3 * c;
+}
 
 // The 9x9 matrix of a linear map dF -> dP, column (b, d) = vec(dP(e_b e_d^T)).
 template <class Fn>
@@ -31,12 +33,14 @@ Mat9 point_tangent(const PointPrimitiveEnergy& energy, Index i, const Mat3& F, i
   const Discretization& disc = energy.discretization();
   const EnergyOptions& eo = energy.options();
   const double lambda = energy.strain_lambda(), mu = energy.shear_modulus(), kv = eo.volume_stiffness_pa;
-  // Literal strain (docs/model/07-strain-stress-energy.md): eps = 2E and sigma = 2S, so U_lit = 4 U_SVK and its tangent is 4x.
+  // Literal strain (docs/model/07-strain-stress-energy.md): eps = 2E and sigma = 2S, so U_lit = 4 U_SVK and
+  // its tangent is 4x.
   const double svk_scale = eo.strain == StrainMeasure::GreenHalf ? 1.0 : 4.0;
   const Mat3 I = Mat3::Identity();
   Mat9 C;
   if (eo.law) {
-    const materials::MaterialFrame* frame = eo.frames.empty() ? nullptr : &eo.frames[static_cast<std::size_t>(i)];
+    const materials::MaterialFrame* frame =
+        eo.frames.empty() ? nullptr : &eo.frames[static_cast<std::size_t>(i)];
     C = tangent_of([&](const Mat3& dF) { return eo.law->first_piola_derivative(F, dF, frame); });
   } else {
     // SVK: P = F S, S = lambda tr(E) I + 2 mu E, E = 1/2 (F^T F - I) (Eqs. 5-7 with the 1/2).
@@ -48,7 +52,8 @@ Mat9 point_tangent(const PointPrimitiveEnergy& energy, Index i, const Mat3& F, i
         });
   }
   if (kv > 0.0) {
-    // docs/model/09-volume-term-and-stabiliser.md section 9.1: P_v = k_v (J - 1) cof(F), dP_v = k_v [(cof : dF) cof + (J - 1) dcof[dF]].
+    // docs/model/09-volume-term-and-stabiliser.md section 9.1: P_v = k_v (J - 1) cof(F), dP_v = k_v [(cof :
+    // dF) cof + (J - 1) dcof[dF]].
     const double J = F.determinant();
     const Mat3 cof = cofactor(F);
     C += tangent_of([&](const Mat3& dF) {
@@ -87,13 +92,14 @@ void energy_tangents(const PointPrimitiveEnergy& energy, const Vec3Array& x, boo
   const Index n = disc.num_nodes();
   out.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(disc.energy_points()));
   const std::size_t count = nodes ? nodes->size() : static_cast<std::size_t>(n);
-#pragma omp parallel for schedule(static) if (count >= static_cast<std::size_t>(kParallelMinNodes))
+#pragma omp parallel for schedule(static) if (count >= static_cast <std::size_t>(kParallelMinNodes))
   for (std::size_t k = 0; k < count; ++k)
     node_tangents(energy, x, project_psd, nodes ? (*nodes)[k] : static_cast<Index>(k), out);
 }
 
 Mat3 tangent_block(const Mat9& C, const Vec3& dk, const Vec3& dl) {
-  const Eigen::Matrix<double, 3, 9> U = dk[0] * C.middleRows<3>(0) + dk[1] * C.middleRows<3>(3) + dk[2] * C.middleRows<3>(6);
+  const Eigen::Matrix<double, 3, 9> U =
+      dk[0] * C.middleRows<3>(0) + dk[1] * C.middleRows<3>(3) + dk[2] * C.middleRows<3>(6);
   return dl[0] * U.middleCols<3>(0) + dl[1] * U.middleCols<3>(3) + dl[2] * U.middleCols<3>(6);
 }
 

@@ -1,9 +1,10 @@
 #pragma once
-// The per-node material tangents of the point-primitive energy (docs/model/10-hessian-product.md): for node i (and each
-// of its energy points q), the 9 x 9 matrix
+// The per-node material tangents of the point-primitive energy (docs/model/10-hessian-product.md): for node i
+// (and each of its energy points q), the 9 x 9 matrix
 //     C_iq = (V_i / points) d^2 psi / dF^2 (F_iq)   [+ the volume term k_v],   N m,
-// the second derivative of the point's strain energy with respect to its deformation gradient. Every assembled
-// form of the Hessian is built from them: node i's stencil S_i = {i} + N_i couples nodes k, l of S_i by the block
+// the second derivative of the point's strain energy with respect to its deformation gradient. Every
+// assembled form of the Hessian is built from them: node i's stencil S_i = {i} + N_i couples nodes k, l of
+// S_i by the block
 //     H_kl^(i) [a][b] = sum_{c,d} C_i[(a,c),(b,d)] d_ik[c] d_il[d]
 // (energy_hessian.hpp assembles the whole matrix; wall_multigrid.hpp its diagonal, a window of it and its
 // Galerkin coarse form).
@@ -17,10 +18,10 @@ namespace vascsim {
 
 using Mat9Array = std::vector<Mat9, Eigen::aligned_allocator<Mat9>>;
 
-/// Fills out[i * points + q] for every energy point q of the nodes in `nodes` (null: every node) at configuration
-/// x (m). Symmetrised; with project_psd, negative eigenvalues are set to zero (SVK under compression is
-/// indefinite, and a preconditioner must be positive definite). `out` is resized to all nodes' points; entries of
-/// other nodes are left as they were. Parallel over nodes (OpenMP) when there are many.
+/// Fills out[i * points + q] for every energy point q of the nodes in `nodes` (null: every node) at
+/// configuration x (m). Symmetrised; with project_psd, negative eigenvalues are set to zero (SVK under
+/// compression is indefinite, and a preconditioner must be positive definite). `out` is resized to all nodes'
+/// points; entries of other nodes are left as they were. Parallel over nodes (OpenMP) when there are many.
 void energy_tangents(const PointPrimitiveEnergy& energy, const Vec3Array& x, bool project_psd, Mat9Array& out,
                      const std::vector<Index>* nodes = nullptr);
 

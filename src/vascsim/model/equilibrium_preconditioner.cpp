@@ -14,9 +14,9 @@ TetStiffnessPreconditioner::TetStiffnessPreconditioner(const Problem& problem, c
     throw InputError("quasi_static: the tet preconditioner must be cholesky, incomplete_cholesky or none");
   const auto& disc = problem.discretization();
   const auto& E = problem.energy();
-  const Eigen::SparseMatrix<double> K = linear_tet_stiffness(disc.rest_positions(), disc.tets(),
-                                                             E.strain_lambda() + E.options().volume_stiffness_pa,
-                                                             E.shear_modulus());
+  const Eigen::SparseMatrix<double> K =
+      linear_tet_stiffness(disc.rest_positions(), disc.tets(),
+                           E.strain_lambda() + E.options().volume_stiffness_pa, E.shear_modulus());
   std::vector<Eigen::Triplet<double>> trip;
   for (int c = 0; c < K.outerSize(); ++c)
     for (Eigen::SparseMatrix<double>::InnerIterator it(K, c); it; ++it) {
@@ -34,15 +34,17 @@ TetStiffnessPreconditioner::TetStiffnessPreconditioner(const Problem& problem, c
     ready_ = incomplete_.info() == Eigen::Success;
   }
   if (nf > 0 && kind != "none" && !ready_)
-    spdlog::warn("quasi_static: the tetrahedral preconditioner is singular (is every part of the body "
-                 "supported?); using no preconditioner");
+    spdlog::warn(
+        "quasi_static: the tetrahedral preconditioner is singular (is every part of the body "
+        "supported?); using no preconditioner");
 }
 
 bool TetStiffnessPreconditioner::apply(const Vec3Array& r, Vec3Array& z) const {
   if (!ready_) return false;
   Eigen::VectorXd b;
   free_.pack(r, b);
-  const Eigen::VectorXd y = kind_ == "cholesky" ? Eigen::VectorXd(cholesky_.solve(b)) : Eigen::VectorXd(incomplete_.solve(b));
+  const Eigen::VectorXd y =
+      kind_ == "cholesky" ? Eigen::VectorXd(cholesky_.solve(b)) : Eigen::VectorXd(incomplete_.solve(b));
   z.assign(r.size(), Vec3::Zero());
   free_.unpack(y, z);
   return true;

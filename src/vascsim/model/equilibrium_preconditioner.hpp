@@ -31,10 +31,11 @@ class EquilibriumPreconditioner {
   /// Changes whenever P does (a refactorisation), unique over every preconditioner of the process, so cached
   /// products with P^{-1} can tell they are stale.
   virtual long long version() const { return 0; }
-  /// A preconditioner that smooths with the Newton matrix itself (multigrid) gets it from the solver before each
-  /// conjugate-gradient solve (null after it); the others ignore it.
+  /// A preconditioner that smooths with the Newton matrix itself (multigrid) gets it from the solver before
+  /// each conjugate-gradient solve (null after it); the others ignore it.
   virtual void set_operator(const NewtonOperator* /*op*/) const {}
-  /// True when apply() already respects the contacts' constraints (the solver then adds no contact correction).
+  /// True when apply() already respects the contacts' constraints (the solver then adds no contact
+  /// correction).
   virtual bool handles_contacts() const { return false; }
 };
 

@@ -1,8 +1,8 @@
 #include "vascsim/model/explicit_model.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <cmath>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/parallel.hpp"
@@ -30,7 +30,11 @@ ModelEntry explicit_model_entry() {
   ModelEntry e;
   e.name = "explicit";
   e.summary = "symplectic Euler below the stability limit: the verification reference";
-  e.capabilities = {.dynamic = true, .takes_tools = false, .device_driven = false, .releases_regions = false, .quadratic_basis = true};
+  e.capabilities = {.dynamic = true,
+                    .takes_tools = false,
+                    .device_driven = false,
+                    .releases_regions = false,
+                    .quadratic_basis = true};
   e.read_settings = [](JsonReader& block) { return std::any(read_explicit_settings(block)); };
   e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
     return std::make_unique<ExplicitModel>(problem, settings_as<ExplicitSettings>(settings));
@@ -84,20 +88,21 @@ ExplicitModel::ExplicitModel(const Problem& problem, const ExplicitSettings& s) 
   if (!(s.duration_s > 0.0)) throw InputError("explicit: duration_s must be > 0");
   if (!(s.output_interval_s > 0.0)) throw InputError("explicit: output_interval_s must be > 0");
   int iters = 0;
-  omega_max_ = max_angular_frequency(problem, problem.discretization().rest_positions(), s.power_iterations, 1e-4,
-                                     &iters);
+  omega_max_ = max_angular_frequency(problem, problem.discretization().rest_positions(), s.power_iterations,
+                                     1e-4, &iters);
   // Power iteration approaches omega_max from below; 5 % margin keeps dt <= safety * dt_crit.
   dt_stability_ = omega_max_ > 0.0 ? 2.0 / (1.05 * omega_max_) : INFINITY;
   dt_cfl_ = cfl_time_step(problem.energy(), s.cfl_coefficient);
   const double dt_auto = std::min(s.safety * dt_stability_, dt_cfl_);
   if (s.dt_s > 0.0) {
     if (s.dt_s > dt_stability_)
-      throw InputError(fmt::format("key 'explicit.dt_s': {:.3g} s exceeds the stability limit 2/(1.05 omega_max) = {:.3g} s; "
-                                   "use dt_s <= {:.3g} s or 0 (automatic)",
-                                   s.dt_s, dt_stability_, dt_auto));
+      throw InputError(fmt::format(
+          "key 'explicit.dt_s': {:.3g} s exceeds the stability limit 2/(1.05 omega_max) = {:.3g} s; "
+          "use dt_s <= {:.3g} s or 0 (automatic)",
+          s.dt_s, dt_stability_, dt_auto));
     if (s.dt_s > dt_auto)
-      spdlog::warn("explicit: dt_s = {:.3g} s is above the safe step {:.3g} s (stability limit {:.3g} s)", s.dt_s,
-                   dt_auto, dt_stability_);
+      spdlog::warn("explicit: dt_s = {:.3g} s is above the safe step {:.3g} s (stability limit {:.3g} s)",
+                   s.dt_s, dt_auto, dt_stability_);
     dt_ = s.dt_s;
   } else {
     dt_ = dt_auto;
@@ -108,13 +113,16 @@ ExplicitModel::ExplicitModel(const Problem& problem, const ExplicitSettings& s) 
       whole_steps_per_output(schedule, dt_, s.dt_s > 0.0 ? "explicit.dt_s" : "explicit.duration_s");
   dt_ = s.output_interval_s / static_cast<double>(per_output);
   num_steps_ = output_count(schedule);
-  spdlog::info("explicit: stability limit 2/omega_max = {:.4g} s ({} power iterations), CFL rule {:.4g} s; "
-               "substep dt = {:.4g} s, {} substeps per output, {} outputs",
-               dt_stability_, iters, dt_cfl_, dt_, per_output, num_steps_);
+  spdlog::info(
+      "explicit: stability limit 2/omega_max = {:.4g} s ({} power iterations), CFL rule {:.4g} s; "
+      "substep dt = {:.4g} s, {} substeps per output, {} outputs",
+      dt_stability_, iters, dt_cfl_, dt_, per_output, num_steps_);
   integrator_ = std::make_unique<ExplicitIntegrator>(problem, dt_, s.damping_per_s, s.eq10_literal_sign);
 }
 
-double ExplicitModel::load_factor_at(double t) const { return ramped_load_factor(t, settings_.ramp_time_s); }
+double ExplicitModel::load_factor_at(double t) const {
+  return ramped_load_factor(t, settings_.ramp_time_s);
+}
 
 StepReport ExplicitModel::advance(int k) {
   const double t_end = std::min(k * settings_.output_interval_s, settings_.duration_s);
@@ -128,7 +136,8 @@ StepReport ExplicitModel::advance(int k) {
   s_ = load_factor_at(t_);
   for (const auto& x : integrator_->positions())
     if (!x.allFinite())
-      throw NumericalError(fmt::format("explicit: the state became non-finite at t = {:.6g} s (unstable)", t_));
+      throw NumericalError(
+          fmt::format("explicit: the state became non-finite at t = {:.6g} s (unstable)", t_));
   r.time_s = t_;
   r.load_factor = s_;
   return r;

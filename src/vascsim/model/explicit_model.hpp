@@ -1,8 +1,9 @@
 #pragma once
-// `explicit`: symplectic Euler on the point-primitive forces (docs/model/12-equation-of-motion.md), the verification
-// reference. The substep is chosen automatically below the stability limit of docs/model/12-equation-of-motion.md:
-// dt = min(safety * 2 / (1.05 omega_max), C * Delta_min / c_p), with mass-proportional damping
-// v <- v exp(-c dt). Paper Eq. 10 with the sign fixed (E6): a = (f_ext + f_int) / m.
+// `explicit`: symplectic Euler on the point-primitive forces (docs/model/12-equation-of-motion.md), the
+// verification reference. The substep is chosen automatically below the stability limit of
+// docs/model/12-equation-of-motion.md: dt = min(safety * 2 / (1.05 omega_max), C * Delta_min / c_p), with
+// mass-proportional damping v <- v exp(-c dt). Paper Eq. 10 with the sign fixed (E6): a = (f_ext + f_int) /
+// m.
 
 #include "vascsim/model/model.hpp"
 #include "vascsim/model/registry.hpp"
@@ -13,12 +14,13 @@ struct ExplicitSettings {
   double duration_s = 0.02;         ///< simulated time, s
   double ramp_time_s = 0.01;        ///< loads ramp linearly to full over this time, then hold (0: at once), s
   double output_interval_s = 1e-3;  ///< time between output points, s
-  double damping_per_s = 10.0;      ///< mass-proportional damping c, 1/s (docs/model/12-equation-of-motion.md: 5-20)
-  double dt_s = 0.0;                ///< substep; 0 = automatic. Must not exceed 2/(1.05 omega_max)
-  double safety = 0.5;              ///< automatic dt = safety * 2/omega_max (docs/model/12-equation-of-motion.md rule)
-  double cfl_coefficient = 0.4;     ///< and dt <= C Delta_min / c_p (halved with the literal strain)
-  int power_iterations = 60;        ///< power iterations for omega_max
-  bool eq10_literal_sign = false;   ///< a = (f_ext - f_int)/m as printed (negative test E6 only)
+  double damping_per_s =
+      10.0;             ///< mass-proportional damping c, 1/s (docs/model/12-equation-of-motion.md: 5-20)
+  double dt_s = 0.0;    ///< substep; 0 = automatic. Must not exceed 2/(1.05 omega_max)
+  double safety = 0.5;  ///< automatic dt = safety * 2/omega_max (docs/model/12-equation-of-motion.md rule)
+  double cfl_coefficient = 0.4;    ///< and dt <= C Delta_min / c_p (halved with the literal strain)
+  int power_iterations = 60;       ///< power iterations for omega_max
+  bool eq10_literal_sign = false;  ///< a = (f_ext - f_int)/m as printed (negative test E6 only)
 };
 
 /// Reads the `explicit` block of a scene (docs/scene-format.md).
@@ -30,7 +32,8 @@ ModelEntry explicit_model_entry();
 /// Symplectic Euler state and substep, usable on its own (tests, experiments).
 class ExplicitIntegrator {
  public:
-  ExplicitIntegrator(const Problem& problem, double dt_s, double damping_per_s, bool eq10_literal_sign = false);
+  ExplicitIntegrator(const Problem& problem, double dt_s, double damping_per_s,
+                     bool eq10_literal_sign = false);
   /// One substep to load factor s_next: v += dt (f_int + f_ext)/m, v *= exp(-c dt), x += dt v;
   /// constrained nodes follow their prescribed positions.
   void substep(double s_next);
@@ -40,8 +43,8 @@ class ExplicitIntegrator {
   const Vec3Array& velocities() const { return v_; }
   const Vec3Array& internal_forces() const { return f_int_; }  ///< at the start of the last substep
   const Vec3Array& external_forces() const { return f_ext_; }
-  double elastic_energy() const { return last_energy_; }       ///< at the start of the last substep, J
-  double kinetic_energy() const;                                ///< 1/2 sum m |v|^2 (half-step velocities), J
+  double elastic_energy() const { return last_energy_; }  ///< at the start of the last substep, J
+  double kinetic_energy() const;                          ///< 1/2 sum m |v|^2 (half-step velocities), J
   double dt() const { return dt_; }
 
  private:

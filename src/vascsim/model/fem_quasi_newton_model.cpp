@@ -1,8 +1,8 @@
 #include "vascsim/model/fem_quasi_newton_model.hpp"
 
+#include <spdlog/spdlog.h>
 #include <cmath>
 #include <limits>
-#include <spdlog/spdlog.h>
 
 #include "vascsim/model/tet_stiffness.hpp"
 
@@ -29,7 +29,8 @@ FemQuasiNewtonSettings read_fem_quasi_newton_settings(JsonReader& b) {
 ModelEntry fem_quasi_newton_model_entry() {
   return make_baseline_entry<FemQuasiNewtonModel, FemQuasiNewtonSettings>(
       "fem_quasi_newton",
-      "baseline [23] Liu & Yao 2018 (interpretation): implicit neo-Hookean tet FEM by L-BFGS with a prefactored "
+      "baseline [23] Liu & Yao 2018 (interpretation): implicit neo-Hookean tet FEM by L-BFGS with a "
+      "prefactored "
       "initial Hessian",
       &read_fem_quasi_newton_settings);
 }
@@ -55,12 +56,12 @@ FemQuasiNewtonModel::FemQuasiNewtonModel(const Problem& problem, const FemQuasiN
   std::vector<Eigen::Triplet<double>> trip;
   for (Eigen::Index c = 0; c < K.outerSize(); ++c)
     for (Eigen::SparseMatrix<double>::InnerIterator it(K, c); it; ++it) {
-      const Index a = free_.slot[static_cast<std::size_t>(it.row() / 3)], b = free_.slot[static_cast<std::size_t>(c / 3)];
+      const Index a = free_.slot[static_cast<std::size_t>(it.row() / 3)],
+                  b = free_.slot[static_cast<std::size_t>(c / 3)];
       if (a >= 0 && b >= 0) trip.emplace_back(3 * a + it.row() % 3, 3 * b + c % 3, it.value());
     }
   for (std::size_t a = 0; a < free_.nodes.size(); ++a)
-    for (int c = 0; c < 3; ++c)
-      trip.emplace_back(3 * a + c, 3 * a + c, mass_[free_.nodes[a]] / (h_ * h_));
+    for (int c = 0; c < 3; ++c) trip.emplace_back(3 * a + c, 3 * a + c, mass_[free_.nodes[a]] / (h_ * h_));
   Eigen::SparseMatrix<double> H(free_.size(), free_.size());
   H.setFromTriplets(trip.begin(), trip.end());
   H.makeCompressed();
@@ -84,7 +85,8 @@ double FemQuasiNewtonModel::elastic_energy(const Vec3Array& x, Vec3Array* grad) 
     const double J = F.determinant();
     if (!(J > 0.0)) return std::numeric_limits<double>::infinity();
     const double lnJ = std::log(J);
-    U += rest_volume_[t] * (0.5 * mu_ * ((F.transpose() * F).trace() - 3.0) - mu_ * lnJ + 0.5 * lambda_ * lnJ * lnJ);
+    U += rest_volume_[t] *
+         (0.5 * mu_ * ((F.transpose() * F).trace() - 3.0) - mu_ * lnJ + 0.5 * lambda_ * lnJ * lnJ);
     if (!grad) continue;
     const Mat3 FinvT = F.inverse().transpose();
     const Mat3 P = mu_ * (F - FinvT) + lambda_ * lnJ * FinvT;
@@ -215,8 +217,9 @@ StepReport FemQuasiNewtonModel::frame(double /*s_prev*/, double s) {
 }
 
 nlohmann::json FemQuasiNewtonModel::method_info() const {
-  return {{"method", "implicit neo-Hookean tet FEM, L-BFGS with prefactored M/h^2 + K_0 (interpretation of Liu & Yao "
-                     "2018, [23], after Liu, Bouaziz, Kavan 2017)"},
+  return {{"method",
+           "implicit neo-Hookean tet FEM, L-BFGS with prefactored M/h^2 + K_0 (interpretation of Liu & Yao "
+           "2018, [23], after Liu, Bouaziz, Kavan 2017)"},
           {"interpretation", true},
           {"tets", dm_inv_.size()},
           {"lame_lambda_pa", lambda_},

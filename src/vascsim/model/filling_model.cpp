@@ -1,7 +1,7 @@
 #include "vascsim/model/filling_model.hpp"
 
-#include <cmath>
 #include <spdlog/spdlog.h>
+#include <cmath>
 
 #include "vascsim/constraints/distance_constraint.hpp"
 #include "vascsim/constraints/tet_volume_constraint.hpp"
@@ -21,7 +21,8 @@ FillingSettings read_filling_settings(JsonReader& b) {
 ModelEntry filling_model_entry() {
   return make_baseline_entry<FillingModel, FillingSettings>(
       "filling",
-      "baseline [27] Ye et al. 2018 (interpretation): particle-filled lattice, XPBD springs + one global volume "
+      "baseline [27] Ye et al. 2018 (interpretation): particle-filled lattice, XPBD springs + one global "
+      "volume "
       "constraint",
       &read_filling_settings);
 }
@@ -32,7 +33,8 @@ FillingModel::FillingModel(const Problem& problem, const FillingSettings& settin
   const Material& mat = disc.material();
   mass_ = disc.masses();
   inv_mass_.resize(mass_.size());
-  for (std::size_t i = 0; i < mass_.size(); ++i) inv_mass_[i] = problem.constrained()[i] ? 0.0 : 1.0 / mass_[i];
+  for (std::size_t i = 0; i < mass_.size(); ++i)
+    inv_mass_[i] = problem.constrained()[i] ? 0.0 : 1.0 / mass_[i];
   lattice_ = tet_edge_springs(disc.rest_positions(), disc.tets(), mat.youngs_modulus_pa, 0.0);
   spring_lambda_.assign(lattice_.size(), 0.0);
   rest_volume_ = enclosed_volume();
@@ -47,7 +49,8 @@ FillingModel::FillingModel(const Problem& problem, const FillingSettings& settin
 
 double FillingModel::enclosed_volume() const {
   double V = 0.0;
-  for (const Tet& t : problem_.discretization().tets()) V += signed_volume(x_[t[0]], x_[t[1]], x_[t[2]], x_[t[3]]);
+  for (const Tet& t : problem_.discretization().tets())
+    V += signed_volume(x_[t[0]], x_[t[1]], x_[t[2]], x_[t[3]]);
   return V;
 }
 
@@ -99,7 +102,8 @@ void FillingModel::substep(double s, double weight) {
       const auto c = constraints::distance_constraint(x_[a], x_[b], lattice_.rest_m[e]);
       par.compliance = 1.0 / lattice_.stiffness[e];
       std::array<Vec3, 2> dp;
-      const double dl = constraints::xpbd_project(c, {inv_mass_[a], inv_mass_[b]}, {}, par, spring_lambda_[e], dp);
+      const double dl =
+          constraints::xpbd_project(c, {inv_mass_[a], inv_mass_[b]}, {}, par, spring_lambda_[e], dp);
       x_[a] += dp[0];
       x_[b] += dp[1];
       f_int_[a] += (weight * dl * inv_dt2) * c.grad[0];
@@ -124,8 +128,9 @@ StepReport FillingModel::frame(double s_prev, double s_next) {
 }
 
 nlohmann::json FillingModel::method_info() const {
-  return {{"method", "particle-filled lattice: XPBD springs + a global volume constraint (interpretation of Ye et al. "
-                     "2018, [27])"},
+  return {{"method",
+           "particle-filled lattice: XPBD springs + a global volume constraint (interpretation of Ye et al. "
+           "2018, [27])"},
           {"interpretation", true},
           {"lattice_springs", lattice_.size()},
           {"rest_volume_m3", rest_volume_},

@@ -27,11 +27,13 @@ struct FreeDofs {
   /// v (per node) -> packed (free nodes only).
   void pack(const Vec3Array& v, Eigen::VectorXd& packed) const {
     packed.resize(size());
-    for (std::size_t a = 0; a < nodes.size(); ++a) packed.segment<3>(3 * static_cast<Eigen::Index>(a)) = v[nodes[a]];
+    for (std::size_t a = 0; a < nodes.size(); ++a)
+      packed.segment<3>(3 * static_cast<Eigen::Index>(a)) = v[nodes[a]];
   }
   /// packed -> v (per node; prescribed nodes left as they are).
   void unpack(const Eigen::VectorXd& packed, Vec3Array& v) const {
-    for (std::size_t a = 0; a < nodes.size(); ++a) v[nodes[a]] = packed.segment<3>(3 * static_cast<Eigen::Index>(a));
+    for (std::size_t a = 0; a < nodes.size(); ++a)
+      v[nodes[a]] = packed.segment<3>(3 * static_cast<Eigen::Index>(a));
   }
 };
 

@@ -24,9 +24,11 @@ bool HapticCandidates::fill(std::size_t tool, const ContactActiveSet& contacts, 
     const auto c = obstacle_contact(g, x[static_cast<std::size_t>(i)]);
     if (c.value > 0.0 && c.value <= reach_) near.push_back({i, c.normal, c.value, 0.0});
   }
-  std::sort(touching.begin(), touching.end(), [](const Entry& a, const Entry& b) { return a.force > b.force; });
+  std::sort(touching.begin(), touching.end(),
+            [](const Entry& a, const Entry& b) { return a.force > b.force; });
   std::sort(near.begin(), near.end(), [](const Entry& a, const Entry& b) { return a.gap < b.gap; });
-  std::vector<Entry> chosen(touching.begin(), touching.begin() + std::min<std::ptrdiff_t>(touching.size(), max_));
+  std::vector<Entry> chosen(touching.begin(),
+                            touching.begin() + std::min<std::ptrdiff_t>(touching.size(), max_));
   for (const Entry& e : near) {
     if (static_cast<int>(chosen.size()) >= max_) break;
     chosen.push_back(e);

@@ -2,11 +2,11 @@
 
 #include <omp.h>
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 #include "vascsim/core/blas_control.hpp"
 #include "vascsim/core/error.hpp"
@@ -17,8 +17,8 @@ namespace vascsim {
 // A factor of the Newton matrix at a state, and the tools' linearisations computed with it.
 struct ImplicitModel::Factor {
   std::unique_ptr<MeshlessFactor> factor;
-  Vec3Array x;                                          // the state it was built at
-  std::vector<Vec3> tool_points;                        // the tools' points then
+  Vec3Array x;                    // the state it was built at
+  std::vector<Vec3> tool_points;  // the tools' points then
 };
 
 ImplicitSettings read_implicit_settings(JsonReader& b) {
@@ -59,8 +59,8 @@ NewtonSettings newton_settings(const ImplicitSettings& s) {
   n.max_cg_iterations = s.max_cg_iterations;
   n.max_contact_passes = 50;
   n.line_search = s.line_search;
-  // Contacts at the nodes that pull are let go below a residual of 1e-3 (releasing at any residual was measured
-  // no better: docs/performance.md section 12).
+  // Contacts at the nodes that pull are let go below a residual of 1e-3 (releasing at any residual was
+  // measured no better: docs/performance.md section 12).
   n.release_below_residual = 1e-3;
   // A frame's tool enters the wall by a whole frame's travel before the first Newton step (embedded contact).
   n.contact_normal_stiffness_only = true;
@@ -72,11 +72,17 @@ NewtonSettings newton_settings(const ImplicitSettings& s) {
 ModelEntry implicit_model_entry() {
   ModelEntry e;
   e.name = "implicit";
-  e.summary = "real-time equilibrium: backward Euler solved by Newton-CG with a sparse Cholesky factor of the "
-              "meshless Hessian (the real-time default)";
-  e.capabilities = {.dynamic = true, .takes_tools = true, .device_driven = true, .releases_regions = false,
-                    .quadratic_basis = true, .wall_support_default = true,
-                    .quadratic_stabilizer_default = true, .embedded_contact = true};
+  e.summary =
+      "real-time equilibrium: backward Euler solved by Newton-CG with a sparse Cholesky factor of the "
+      "meshless Hessian (the real-time default)";
+  e.capabilities = {.dynamic = true,
+                    .takes_tools = true,
+                    .device_driven = true,
+                    .releases_regions = false,
+                    .quadratic_basis = true,
+                    .wall_support_default = true,
+                    .quadratic_stabilizer_default = true,
+                    .embedded_contact = true};
   e.read_settings = [](JsonReader& block) { return std::any(read_implicit_settings(block)); };
   e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
     return std::make_unique<ImplicitModel>(problem, settings_as<ImplicitSettings>(settings));
@@ -101,7 +107,8 @@ ImplicitModel::ImplicitModel(const Problem& problem, const ImplicitSettings& set
   if (problem.num_constrained() == 0)
     throw InputError("key 'regions': the implicit model needs a fixed or displacement region (supports)");
   // Whole frames per output interval, so output times are exact.
-  const long long per_output = static_cast<long long>(std::ceil(settings.output_interval_s / settings.frame_s - 1e-9));
+  const long long per_output =
+      static_cast<long long>(std::ceil(settings.output_interval_s / settings.frame_s - 1e-9));
   h_ = settings.output_interval_s / static_cast<double>(per_output);
   num_steps_ = static_cast<int>(std::ceil(settings.duration_s / settings.output_interval_s - 1e-9));
   v_.assign(x_.size(), Vec3::Zero());
@@ -121,8 +128,9 @@ ImplicitModel::ImplicitModel(const Problem& problem, const ImplicitSettings& set
   std::string kind = settings.preconditioner;
   if (kind == "auto") kind = WallMultigrid::supports(problem) ? "multigrid" : "meshless";
   if (kind == "multigrid" && !WallMultigrid::supports(problem))
-    throw InputError("key 'implicit.preconditioner': \"multigrid\" needs a wall whose nodes form a lattice (geometry "
-                     "type vessel or tube) with one energy point per node; use \"meshless\"");
+    throw InputError(
+        "key 'implicit.preconditioner': \"multigrid\" needs a wall whose nodes form a lattice (geometry "
+        "type vessel or tube) with one energy point per node; use \"meshless\"");
   std::string described;
   if (kind == "tet") {
     tet_ = std::make_unique<TetStiffnessPreconditioner>(problem, free_, "cholesky");
@@ -140,15 +148,15 @@ ImplicitModel::ImplicitModel(const Problem& problem, const ImplicitSettings& set
       newton_.set_single_precision(single_.get());
     }
     described = fmt::format("wall multigrid, {} coarse nodes, level built in {:.2f} s{}",
-                            multigrid_->info()["coarse_nodes"].get<long long>(), multigrid_->last_level_seconds(),
-                            single_ ? ", single-precision products" : "");
+                            multigrid_->info()["coarse_nodes"].get<long long>(),
+                            multigrid_->last_level_seconds(), single_ ? ", single-precision products" : "");
   } else {
     install(build_factor(x_));
     described = fmt::format("meshless factor, nnz(L) {:.3g}, {:.2f} s", factor_->factor->stats().nnz_l,
                             factor_->factor->build_seconds());
   }
-  spdlog::info("implicit: frame {:.4g} s, {} frames per output, {} outputs; preconditioner {}", h_, per_output,
-               num_steps_, described);
+  spdlog::info("implicit: frame {:.4g} s, {} frames per output, {} outputs; preconditioner {}", h_,
+               per_output, num_steps_, described);
 }
 
 ImplicitModel::~ImplicitModel() {
@@ -199,7 +207,8 @@ void ImplicitModel::advance_tools() {
   }
 }
 
-void ImplicitModel::set_tool_pose(std::size_t tool, const Vec3& position_m, const Eigen::Quaterniond& orientation) {
+void ImplicitModel::set_tool_pose(std::size_t tool, const Vec3& position_m,
+                                  const Eigen::Quaterniond& orientation) {
   tools_.pose(tool, position_m, orientation);
 }
 
@@ -222,15 +231,17 @@ std::unique_ptr<ImplicitModel::Factor> ImplicitModel::build_factor(const Vec3Arr
 void ImplicitModel::linearize() {
   // With the contact compliance W = N P^{-1} N^T of the last frame's contacts (contact_correction.hpp), a
   // translation dp of tool o closes its contacts' gaps by n_c . dp; they answer with d lambda = W^{-1} N_o dp
-  // while the other contacts hold, so the tissue's force changes by K dp, K = N_o^T W^{-1} N_o (docs/model/24-implicit.md
-  // 24.3). P is the factor in use: exact when it was built at this state, otherwise off by its drift.
+  // while the other contacts hold, so the tissue's force changes by K dp, K = N_o^T W^{-1} N_o
+  // (docs/model/24-implicit.md 24.3). P is the factor in use: exact when it was built at this state,
+  // otherwise off by its drift.
   const auto& tools = problem_.tools();
   linearization_.assign(tools.size(), std::nullopt);
-  const EquilibriumPreconditioner* P = factor_ ? static_cast<const EquilibriumPreconditioner*>(factor_->factor.get())
-                                               : multigrid_.get();
+  const EquilibriumPreconditioner* P =
+      factor_ ? static_cast<const EquilibriumPreconditioner*>(factor_->factor.get()) : multigrid_.get();
   // With the tools on the wall's surface the driver estimates the stiffness (a secant along the normal).
   if (P == nullptr || tools.empty() || embedded_) return;
-  // The multigrid's solves leave the correction alone (it holds the contacts itself): build it for the hand-off.
+  // The multigrid's solves leave the correction alone (it holds the contacts itself): build it for the
+  // hand-off.
   if (multigrid_) newton_.update_contact_correction();
   const ContactCorrection& w = newton_.contact_correction();
   for (std::size_t o = 0; o < tools.size(); ++o) {
@@ -238,7 +249,8 @@ void ImplicitModel::linearize() {
     if (w.valid() && !w.nodes().empty()) {
       std::vector<char> mask(w.nodes().size(), 0);
       for (std::size_t c = 0; c < mask.size(); ++c)
-        mask[c] = contacts_.in_contact(w.nodes()[c]) && contacts_.tool_of(w.nodes()[c]) == static_cast<int>(o);
+        mask[c] =
+            contacts_.in_contact(w.nodes()[c]) && contacts_.tool_of(w.nodes()[c]) == static_cast<int>(o);
       lin.stiffness_n_per_m = w.tool_stiffness(mask, x_);
     }
     // The direction the tissue pushes the tool: against the force the tool exerts on it.
@@ -294,7 +306,8 @@ void ImplicitModel::maybe_refactor(const NewtonResult& r) {
   // The job refills the spare factor (no frame uses it) at a copy of the state: the frames go on meanwhile.
   auto job = [this, x = x_, points, reuse = std::move(spare_), background = realtime_]() mutable {
     // In the background this thread alone builds with one thread, so the frames keep the other core; run in
-    // line (offline), it must leave the caller's thread count alone (it once set the whole run to one thread).
+    // line (offline), it must leave the caller's thread count alone (it once set the whole run to one
+    // thread).
     if (background) omp_set_num_threads(1);
     auto f = build_factor(x, std::move(reuse));
     f->tool_points = points;
@@ -308,10 +321,12 @@ void ImplicitModel::maybe_refactor(const NewtonResult& r) {
 }
 
 void ImplicitModel::poll_multigrid() {
-  if (level_pending_.valid() && level_pending_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+  if (level_pending_.valid() &&
+      level_pending_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
     level_spare_ = multigrid_->install(level_pending_.get());
     ++factorisations_;
-    spdlog::debug("implicit: multigrid level installed (built in {:.1f} ms)", multigrid_->last_level_seconds() * 1e3);
+    spdlog::debug("implicit: multigrid level installed (built in {:.1f} ms)",
+                  multigrid_->last_level_seconds() * 1e3);
   }
 }
 
@@ -350,7 +365,8 @@ void ImplicitModel::approach_tools(double s, const Vec3Array& f_ext) {
     for (std::size_t o = 0; o < tools_.size(); ++o) far = std::max(far, tools_.distance_to_target(o));
     if (!(settings_.contact_substep > 0.0) || far <= step * (1.0 + 1e-9)) break;
     // Every tool a step's fraction of its way, so that they arrive together.
-    for (std::size_t o = 0; o < tools_.size(); ++o) tools_.advance(o, step / far * tools_.distance_to_target(o));
+    for (std::size_t o = 0; o < tools_.size(); ++o)
+      tools_.advance(o, step / far * tools_.distance_to_target(o));
     place_tools(s);
     embedded_->relinearize_carried(x_);
     if (multigrid_) multigrid_->prepare_window(x_);
@@ -370,8 +386,9 @@ void ImplicitModel::prepare_frame(double s, const Vec3Array& f_ext) {
   anchor_.resize(x_.size());
   for (Index i = 0; i < n; ++i) {
     anchor_[i] = x_[i] + h_ * v_[i];
-    // Tools on the wall's surface: the frame starts from x_n (the carried first step answers the tools' move); at
-    // the nodes, from the inertial prediction, the nodes the tools entered projected onto their surfaces.
+    // Tools on the wall's surface: the frame starts from x_n (the carried first step answers the tools'
+    // move); at the nodes, from the inertial prediction, the nodes the tools entered projected onto their
+    // surfaces.
     x_[i] = problem_.constrained()[i] ? problem_.prescribed_position(i, s) : embedded_ ? x_[i] : anchor_[i];
   }
   approach_tools(s, f_ext);
@@ -380,7 +397,8 @@ void ImplicitModel::prepare_frame(double s, const Vec3Array& f_ext) {
   // (A hundredth of a node spacing is no move: a hand held still jitters by less.)
   tools_moved_ = false;
   const std::vector<Vec3> after = tools_.points(s);
-  for (std::size_t o = 0; o < after.size(); ++o) tools_moved_ = tools_moved_ || (after[o] - before[o]).norm() > 1e-2 * spacing_;
+  for (std::size_t o = 0; o < after.size(); ++o)
+    tools_moved_ = tools_moved_ || (after[o] - before[o]).norm() > 1e-2 * spacing_;
   if (embedded_) embedded_->relinearize_carried(x_);
   if (multigrid_) multigrid_->prepare_window(x_);
 }
@@ -405,9 +423,11 @@ StepReport ImplicitModel::step() {
   split_.solve_s += phase.seconds();
   for (std::size_t i = 0; i < x_.size(); ++i) v_[i] = (x_[i] - x_old_[i]) / h_;
   // The frame's loads are handed on when the frame is near enough its equilibrium, with no contact that pulls
-  // (held, such a contact makes the pushing ones carry more: +128 % measured at a residual of 6e-3); otherwise the
-  // last one that was keeps serving with its own tool pose (contact reactions far from equilibrium are not a force).
-  const bool handoff = r.converged || (r.residual <= settings_.handoff_max_residual && contacts_.pulling() == 0) ||
+  // (held, such a contact makes the pushing ones carry more: +128 % measured at a residual of 6e-3);
+  // otherwise the last one that was keeps serving with its own tool pose (contact reactions far from
+  // equilibrium are not a force).
+  const bool handoff = r.converged ||
+                       (r.residual <= settings_.handoff_max_residual && contacts_.pulling() == 0) ||
                        (embedded_ && r.residual <= settings_.handoff_surface_residual);
   if (handoff) {
     if (!contacts_.empty()) loads_ = contacts_.loads(newton_.last_residual(), x_, tools_.points(s_next));
@@ -422,7 +442,8 @@ StepReport ImplicitModel::step() {
   t_ = t_next;
   s_ = s_next;
   for (const auto& p : x_)
-    if (!p.allFinite()) throw NumericalError(fmt::format("implicit: the state became non-finite at t = {:.6g} s", t_));
+    if (!p.allFinite())
+      throw NumericalError(fmt::format("implicit: the state became non-finite at t = {:.6g} s", t_));
   ++frames_;
   newton_total_ += r.iterations;
   cg_total_ += r.cg_iterations;

@@ -1,6 +1,6 @@
 #pragma once
-// `implicit`: the real-time equilibrium model (docs/model/24-implicit.md). Every frame of length h it minimises
-// the backward-Euler energy of the point-primitive model,
+// `implicit`: the real-time equilibrium model (docs/model/24-implicit.md). Every frame of length h it
+// minimises the backward-Euler energy of the point-primitive model,
 //     x_{n+1} = argmin  1/(2 h^2) |x - a|^2_M + U(x) - f_ext . x,      a = x_n + h v_n,
 // with the prescribed boundary conditions and the tools' frictionless contact, by Newton-PCG
 // (newton_equilibrium.hpp) warm-started at a. At haptic time scales the vessel wall is quasi-static (its
@@ -34,36 +34,37 @@
 namespace vascsim {
 
 struct ImplicitSettings {
-  double duration_s = 0.02;          ///< simulated time, s
-  double ramp_time_s = 0.01;         ///< loads ramp linearly to full over this time, then hold (0: at once), s
-  double output_interval_s = 0.01;   ///< time between output points, s (rounded to whole frames)
-  double frame_s = 0.01;             ///< backward-Euler step h, one frame, s
-  /// Relative force residual at which a frame stops. Measured on the real-time vein session: the tool force is
-  /// then the equilibrium force to about 2.5x this fraction (1e-3: 0.26 %, far inside the 5 % a real-time frame
-  /// must reach, with a third of the Newton steps and a quarter of the CG iterations of 1e-6; 1e-2: 2.7 %).
+  double duration_s = 0.02;         ///< simulated time, s
+  double ramp_time_s = 0.01;        ///< loads ramp linearly to full over this time, then hold (0: at once), s
+  double output_interval_s = 0.01;  ///< time between output points, s (rounded to whole frames)
+  double frame_s = 0.01;            ///< backward-Euler step h, one frame, s
+  /// Relative force residual at which a frame stops. Measured on the real-time vein session: the tool force
+  /// is then the equilibrium force to about 2.5x this fraction (1e-3: 0.26 %, far inside the 5 % a real-time
+  /// frame must reach, with a third of the Newton steps and a quarter of the CG iterations of 1e-6; 1e-2: 2.7
+  /// %).
   double rel_tolerance = 1e-3;
-  int max_newton_iterations = 8;     ///< per frame
-  int max_cg_iterations = 20;        ///< per Newton iteration (more means a stale factor: see refactor_*)
-  /// Realtime sessions: a frame stops at this wall time, partially converged, and the next one goes on from there
-  /// (0: no budget), s.
+  int max_newton_iterations = 8;  ///< per frame
+  int max_cg_iterations = 20;     ///< per Newton iteration (more means a stale factor: see refactor_*)
+  /// Realtime sessions: a frame stops at this wall time, partially converged, and the next one goes on from
+  /// there (0: no budget), s.
   double time_budget_s = 0.03;
-  /// A frame that ends above this relative residual, or unconverged with a contact that pulls, does not hand its
-  /// force to the haptic thread (its contact reactions are not yet the equilibrium's): the last frame that did keeps
-  /// serving, from its own tool pose.
+  /// A frame that ends above this relative residual, or unconverged with a contact that pulls, does not hand
+  /// its force to the haptic thread (its contact reactions are not yet the equilibrium's): the last frame
+  /// that did keeps serving, from its own tool pose.
   double handoff_max_residual = 1e-2;
-  /// With the tools on the wall's surface (contact.surface "embedded"): a frame whose tools moved farther than this
-  /// many mean node spacings since the last one gets there in steps of at most this length, each one linear
-  /// response of the wall with the contact set carried from the step before (a few conjugate-gradient iterations
-  /// round the tool), before its Newton iterations (0: in one step). The tools still end every frame at the device's
-  /// pose.
+  /// With the tools on the wall's surface (contact.surface "embedded"): a frame whose tools moved farther
+  /// than this many mean node spacings since the last one gets there in steps of at most this length, each
+  /// one linear response of the wall with the contact set carried from the step before (a few
+  /// conjugate-gradient iterations round the tool), before its Newton iterations (0: in one step). The tools
+  /// still end every frame at the device's pose.
   double contact_substep = 0.5;
-  /// With the tools on the wall's surface (contact.surface "embedded") a frame hands its force on below this relative
-  /// residual instead of handoff_max_residual: such contacts never pull, so the residual bounds the force's error
-  /// (on the real-time vein frames below 0.05 were within 0.4-1.7 % of their equilibrium's force, and frames stopped
-  /// by the budget rarely get below 1e-2 while the hand moves).
+  /// With the tools on the wall's surface (contact.surface "embedded") a frame hands its force on below this
+  /// relative residual instead of handoff_max_residual: such contacts never pull, so the residual bounds the
+  /// force's error (on the real-time vein frames below 0.05 were within 0.4-1.7 % of their equilibrium's
+  /// force, and frames stopped by the budget rarely get below 1e-2 while the hand moves).
   double handoff_surface_residual = 0.05;
-  /// Newton steps every frame takes before time_budget_s can end it, with the tools on the wall's surface (0: the
-  /// budget alone decides).
+  /// Newton steps every frame takes before time_budget_s can end it, with the tools on the wall's surface (0:
+  /// the budget alone decides).
   int min_newton_iterations = 0;
   /// "auto": the wall multigrid where the nodes form a wall lattice (wall_multigrid.hpp), else "meshless" (a
   /// factor of the Hessian); "multigrid", "meshless", or "tet" (linear tets, for comparison).
@@ -74,19 +75,19 @@ struct ImplicitSettings {
   /// With the multigrid, the coarse level is rebuilt every this many frames (in the background in a realtime
   /// session).
   int level_refresh_frames = 6;
-  bool line_search = true;           ///< Armijo line search in every Newton iteration (off: whole steps)
-  int haptic_candidates = 24;        ///< contacts and near contacts handed to the haptic thread (0: K only)
+  bool line_search = true;     ///< Armijo line search in every Newton iteration (off: whole steps)
+  int haptic_candidates = 24;  ///< contacts and near contacts handed to the haptic thread (0: K only)
   /// Refactor when CG reduced the residual by less than this per iteration (NewtonResult::cg_rate: about 0.1
   /// with a fresh factor, towards 1 as it goes stale),
   double refactor_cg_rate = 0.3;
-  int refactor_cg_iterations = 12;   ///< ... or a Newton iteration needed more CG iterations than this,
-  double refactor_residual = 0.0;    ///< ... or a frame ended above this relative residual (0: not a trigger),
-  double refactor_travel = 0.5;      ///< ... or a tool travelled this many node spacings since the factor
-  /// A device-posed tool in contact moves by at most this many node spacings per frame; one out of contact goes
-  /// at once as far as its way touches no node, then by at most this much (0: always at once, the default: every
-  /// frame solves at the device's pose, and a frame the budget stops is continued by the next). With a bound, a
-  /// frame never starts from a tool that jumped deep into the wall, but under a fast hand or a slow frame the
-  /// model's tool trails the device.
+  int refactor_cg_iterations = 12;  ///< ... or a Newton iteration needed more CG iterations than this,
+  double refactor_residual = 0.0;   ///< ... or a frame ended above this relative residual (0: not a trigger),
+  double refactor_travel = 0.5;     ///< ... or a tool travelled this many node spacings since the factor
+  /// A device-posed tool in contact moves by at most this many node spacings per frame; one out of contact
+  /// goes at once as far as its way touches no node, then by at most this much (0: always at once, the
+  /// default: every frame solves at the device's pose, and a frame the budget stops is continued by the
+  /// next). With a bound, a frame never starts from a tool that jumped deep into the wall, but under a fast
+  /// hand or a slow frame the model's tool trails the device.
   double max_tool_step = 0.0;
 };
 
@@ -109,37 +110,43 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   std::vector<ObstacleLoad> obstacle_loads() const override { return loads_; }
   DeviceDrivenModel* device_driven() override { return this; }
 
-  void set_tool_pose(std::size_t tool, const Vec3& position_m, const Eigen::Quaterniond& orientation) override;
+  void set_tool_pose(std::size_t tool, const Vec3& position_m,
+                     const Eigen::Quaterniond& orientation) override;
   StepReport step() override;
   double time() const override { return t_; }
   double frame_length_s() const override { return h_; }
   std::vector<ObstacleLoad> tool_loads() const override { return loads_; }
   std::optional<Vec3> tool_position_used(std::size_t tool) const override { return handoff_points_.at(tool); }
-  std::optional<Vec3> tool_position_solved(std::size_t tool) const override { return tools_.points(s_).at(tool); }
+  std::optional<Vec3> tool_position_solved(std::size_t tool) const override {
+    return tools_.points(s_).at(tool);
+  }
   std::optional<ToolLinearization> tool_linearization(std::size_t tool) const override;
   void set_realtime(bool realtime) override;
 
   const Vec3Array& velocities() const { return v_; }
   /// Factors built so far (the one at rest included).
   int factorisations() const { return factorisations_; }
-  /// Recomputes every tool's linearisation now, with a factor built at the current state (tests, experiments).
+  /// Recomputes every tool's linearisation now, with a factor built at the current state (tests,
+  /// experiments).
   void relinearize_now();
 
  private:
   struct Factor;  // a factor and the linearisation computed with it
   void place_tools(double s);
-  void advance_tools();                         // towards the device poses, in bounded steps where they meet tissue
-  double free_travel(std::size_t tool) const;   // how far a tool can go towards its pose before it touches a node, m
+  void advance_tools();  // towards the device poses, in bounded steps where they meet tissue
+  double free_travel(
+      std::size_t tool) const;  // how far a tool can go towards its pose before it touches a node, m
   void prepare_frame(double s, const Vec3Array& f_ext);  // prescribed nodes, warm start, tools, contacts
-  void approach_tools(double s, const Vec3Array& f_ext);  // contact_substep's continuation to the device poses
-  void maybe_refactor(const NewtonResult& r);  // the drift triggers
+  void approach_tools(double s,
+                      const Vec3Array& f_ext);  // contact_substep's continuation to the device poses
+  void maybe_refactor(const NewtonResult& r);   // the drift triggers
   /// A factor at x, refilling `reuse` (a factor no frame uses any more) when given.
   std::unique_ptr<Factor> build_factor(const Vec3Array& x, std::unique_ptr<Factor> reuse = nullptr) const;
   void install(std::unique_ptr<Factor> f);
   void poll_background();
-  void linearize();                             // every tool's linearisation from the contact compliance
-  void refresh_multigrid();                     // the multigrid's coarse level, at the refresh rate
-  void poll_multigrid();                        // install a level built in the background
+  void linearize();          // every tool's linearisation from the contact compliance
+  void refresh_multigrid();  // the multigrid's coarse level, at the refresh rate
+  void poll_multigrid();     // install a level built in the background
 
   const Problem& problem_;
   ImplicitSettings settings_;
@@ -148,7 +155,8 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   double t_ = 0.0, s_ = 0.0;
   bool realtime_ = false;
   Vec3Array x_, v_, anchor_, x_old_;
-  bool tools_moved_ = false;  // a tool moved since the last frame (its first Newton step carries the contacts)
+  bool tools_moved_ =
+      false;  // a tool moved since the last frame (its first Newton step carries the contacts)
   FreeDofs free_;
   ContactActiveSet contacts_;
   std::optional<EmbeddedContact> embedded_;  // the tools meet the wall's surface (contact.surface "embedded")
@@ -160,14 +168,15 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   std::future<std::unique_ptr<WallMultigrid::Level>> level_pending_;
   std::unique_ptr<SinglePrecisionHessian> single_;  // single-precision products with the multigrid
   long long frames_since_level_ = 0;
-  std::unique_ptr<Factor> factor_;                  // "meshless": the factor in use
-  std::unique_ptr<Factor> spare_;                   // the one it replaced, refilled by the next refactorisation
-  std::future<std::unique_ptr<Factor>> pending_;    // a factor being built in the background
-  std::vector<Vec3> factor_tool_points_;  // tool points when the factor in use was built
-  std::vector<ObstacleLoad> loads_;               // the handed-on loads (the last frame below handoff_max_residual)
-  std::vector<Vec3> handoff_points_;              // the tools' points of that frame
+  std::unique_ptr<Factor> factor_;                // "meshless": the factor in use
+  std::unique_ptr<Factor> spare_;                 // the one it replaced, refilled by the next refactorisation
+  std::future<std::unique_ptr<Factor>> pending_;  // a factor being built in the background
+  std::vector<Vec3> factor_tool_points_;          // tool points when the factor in use was built
+  std::vector<ObstacleLoad> loads_;   // the handed-on loads (the last frame below handoff_max_residual)
+  std::vector<Vec3> handoff_points_;  // the tools' points of that frame
   long long stale_handoffs_ = 0;
-  long long substeps_ = 0;                        // contact_substep's continuation steps, all frames                  // frames that kept an older frame's hand-off
+  long long substeps_ = 0;  // contact_substep's continuation steps, all frames                  // frames
+                            // that kept an older frame's hand-off
   std::vector<std::optional<ToolLinearization>> linearization_;  // per tool, after the last frame
   std::unique_ptr<HapticCandidates> candidates_;
   double spacing_ = 0.0;

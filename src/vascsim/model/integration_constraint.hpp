@@ -2,11 +2,11 @@
 // The integration constraint (the discrete divergence theorem) of the point-primitive quadrature. Under a
 // uniform stress sigma (Pa) the internal force on node k is -sigma c_k with
 //   c_k = sum_i sum_q W_iq dF_iq/dx_k = sum_i sum_q W_iq (d_ik + sum_g o_iqg e_ik,g)        (m^2)
-// (W_iq = V_i / points, docs/model/04-volumes.md section 4.4 and docs/model/08-forces.md). A Galerkin-consistent quadrature has c_k = 0 at
-// every node inside the body and c_k = the boundary integral of the node's share of the outward normal on its
-// surface, so a uniformly stressed body is in equilibrium under its surface tractions alone. Where c_k != 0
-// inside, the quadrature adds spurious body forces proportional to the stress (docs/validation.md, "The
-// integration constraint through the wall").
+// (W_iq = V_i / points, docs/model/04-volumes.md section 4.4 and docs/model/08-forces.md). A
+// Galerkin-consistent quadrature has c_k = 0 at every node inside the body and c_k = the boundary integral of
+// the node's share of the outward normal on its surface, so a uniformly stressed body is in equilibrium under
+// its surface tractions alone. Where c_k != 0 inside, the quadrature adds spurious body forces proportional
+// to the stress (docs/validation.md, "The integration constraint through the wall").
 
 #include <vector>
 

@@ -17,8 +17,8 @@ std::string InversionReport::describe() const {
   if (inverted_tets > 0)
     s = fmt::format("{} virtual tetrahedra inverted (the first: {})", inverted_tets, first_tet);
   if (inverted_nodes > 0)
-    s += fmt::format("{}{} nodes with det F <= 0 (the first: node {}; smallest det F = {:.3g})", s.empty() ? "" : ", ",
-                     inverted_nodes, first_node, min_det_f);
+    s += fmt::format("{}{} nodes with det F <= 0 (the first: node {}; smallest det F = {:.3g})",
+                     s.empty() ? "" : ", ", inverted_nodes, first_node, min_det_f);
   return s;
 }
 

@@ -1,10 +1,10 @@
 #include "vascsim/model/mass_spring_model.hpp"
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <map>
-#include <spdlog/spdlog.h>
 
 #include "vascsim/constraints/dihedral_angle.hpp"
 #include "vascsim/core/error.hpp"
@@ -54,14 +54,16 @@ MassSpringModel::MassSpringModel(const Problem& problem, const MassSpringSetting
   springs_.add_row_sums(0.0, k_rows, c_rows);
   add_hinge_rows(k_rows);
   max_rates(mass_, k_rows, c_rows, omega2, gamma);
-  const double dt_max = symplectic_euler_step(omega2, gamma + settings.damping_per_s, settings.time_step_safety);
+  const double dt_max =
+      symplectic_euler_step(omega2, gamma + settings.damping_per_s, settings.time_step_safety);
   substeps_ = std::max(1, static_cast<int>(std::ceil(h_ / dt_max - 1e-9)));
   dt_ = h_ / substeps_;
   f_.assign(X.size(), Vec3::Zero());
-  spdlog::info("mass_spring: {} surface nodes of {}, shell t_s = {:.4g} m, {} structural springs + {} flexion hinges, "
-               "dt {:.4g} s ({} substeps per frame)",
-               std::count(on_surface_.begin(), on_surface_.end(), 1), X.size(), thickness_, structural_, flexion_, dt_,
-               substeps_);
+  spdlog::info(
+      "mass_spring: {} surface nodes of {}, shell t_s = {:.4g} m, {} structural springs + {} flexion hinges, "
+      "dt {:.4g} s ({} substeps per frame)",
+      std::count(on_surface_.begin(), on_surface_.end(), 1), X.size(), thickness_, structural_, flexion_, dt_,
+      substeps_);
 }
 
 void MassSpringModel::build_springs(const std::vector<Triangle>& faces) {
@@ -93,7 +95,8 @@ void MassSpringModel::build_springs(const std::vector<Triangle>& faces) {
     const double k = E * thickness_ * ef.area / (X[e[0]] - X[e[1]]).squaredNorm();
     springs_.add(X, e[0], e[1], k, 2.0 * settings_.damping_ratio * std::sqrt(k * reduced_mass(e[0], e[1])));
     ++structural_;
-    if (settings_.flexion_scale <= 0.0 || ef.opposite.size() != 2) continue;  // closed surface: two faces per edge
+    if (settings_.flexion_scale <= 0.0 || ef.opposite.size() != 2)
+      continue;  // closed surface: two faces per edge
     Hinge hg{ef.opposite[0], ef.opposite[1], e[0], e[1], 0.0, 0.0};
     hg.theta0 = constraints::dihedral_angle(X[hg.x1], X[hg.x2], X[hg.x3], X[hg.x4]).value;
     hg.k = settings_.flexion_scale * D * (X[e[0]] - X[e[1]]).squaredNorm() / (ef.area / 3.0);
@@ -162,7 +165,8 @@ void MassSpringModel::map_inner(double s) {
       continue;
     }
     Vec3 u = Vec3::Zero();
-    for (Index e = map_start_[r]; e < map_start_[r + 1]; ++e) u += map_weight_[e] * (x_[map_node_[e]] - X[map_node_[e]]);
+    for (Index e = map_start_[r]; e < map_start_[r + 1]; ++e)
+      u += map_weight_[e] * (x_[map_node_[e]] - X[map_node_[e]]);
     x_[i] = X[i] + u;
   }
 }
@@ -179,7 +183,8 @@ StepReport MassSpringModel::frame(double s_prev, double s_next) {
     problem_.external_forces(s, f_ext_);
     // Loads on the inner nodes go to the surface nodes they follow (the transpose of the map).
     for (std::size_t r = 0; r < inner_.size(); ++r)
-      for (Index e = map_start_[r]; e < map_start_[r + 1]; ++e) f_ext_[map_node_[e]] += map_weight_[e] * f_ext_[inner_[r]];
+      for (Index e = map_start_[r]; e < map_start_[r + 1]; ++e)
+        f_ext_[map_node_[e]] += map_weight_[e] * f_ext_[inner_[r]];
     std::fill(f_.begin(), f_.end(), Vec3::Zero());
     springs_.add_forces(x_, v_, f_);
     add_hinge_forces(x_, f_);

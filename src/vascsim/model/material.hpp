@@ -1,5 +1,6 @@
 #pragma once
-// Linear-elastic constants of an isotropic material (docs/model/01-notation.md). Inputs E [Pa], nu [-], rho [kg/m^3].
+// Linear-elastic constants of an isotropic material (docs/model/01-notation.md). Inputs E [Pa], nu [-], rho
+// [kg/m^3].
 
 #include <cmath>
 

@@ -10,13 +10,14 @@ namespace {
 EnergyHessianOptions hessian_options(const MeshlessFactorOptions& o) {
   EnergyHessianOptions h;
   h.stencil = o.stencil;
-  h.project_psd = true;            // a preconditioner must be SPD; SVK under compression is indefinite
-  h.lower_triangle_only = true;    // all a Cholesky factorisation reads
+  h.project_psd = true;          // a preconditioner must be SPD; SVK under compression is indefinite
+  h.lower_triangle_only = true;  // all a Cholesky factorisation reads
   return h;
 }
 }  // namespace
 
-MeshlessFactor::MeshlessFactor(const Problem& problem, const FreeDofs& free, const MeshlessFactorOptions& options)
+MeshlessFactor::MeshlessFactor(const Problem& problem, const FreeDofs& free,
+                               const MeshlessFactorOptions& options)
     : free_(free),
       options_(options),
       hessian_(problem.energy(), hessian_options(options), free.slot),
@@ -48,18 +49,21 @@ bool MeshlessFactor::apply(const Vec3Array& r, Vec3Array& z) const {
   return true;
 }
 
-void MeshlessFactor::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) const { cholesky_.solve(B, X); }
+void MeshlessFactor::solve(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) const {
+  cholesky_.solve(B, X);
+}
 
 nlohmann::json MeshlessFactor::info() const {
   const SparseCholeskyStats& s = cholesky_.stats();
-  return {{"matrix", options_.stencil == HessianStencil::Full ? "meshless Hessian" : "compact meshless Hessian"},
-          {"inertia_shift", options_.inv_h2 > 0.0},
-          {"ordering", s.ordering},
-          {"nnz_a", s.nnz_a},
-          {"nnz_l", s.nnz_l},
-          {"factorisations", builds_},
-          {"last_build_s", build_s_},
-          {"last_factorize_s", s.factorize_s}};
+  return {
+      {"matrix", options_.stencil == HessianStencil::Full ? "meshless Hessian" : "compact meshless Hessian"},
+      {"inertia_shift", options_.inv_h2 > 0.0},
+      {"ordering", s.ordering},
+      {"nnz_a", s.nnz_a},
+      {"nnz_l", s.nnz_l},
+      {"factorisations", builds_},
+      {"last_build_s", build_s_},
+      {"last_factorize_s", s.factorize_s}};
 }
 
 }  // namespace vascsim

@@ -1,7 +1,7 @@
 #pragma once
 // The preconditioner of the real-time equilibrium solver (docs/model/24-implicit.md): a supernodal sparse
-// Cholesky factor (CHOLMOD) of the assembled point-primitive Hessian plus the inertia shift, restricted to the
-// free nodes,
+// Cholesky factor (CHOLMOD) of the assembled point-primitive Hessian plus the inertia shift, restricted to
+// the free nodes,
 //     P = K(x_f) + M/h^2,      K = d^2U/dx^2 with every node's 9x9 tangent projected to PSD,
 // built at a configuration x_f (the rest state, then wherever the solver refactors). Close to the Newton
 // matrix, so preconditioned CG needs a handful of iterations while x stays near x_f (measured: 6-10 on the
@@ -23,8 +23,8 @@ struct MeshlessFactorOptions {
   HessianStencil stencil = HessianStencil::Full;
   CholeskyOrdering ordering = CholeskyOrdering::Default;
   double inv_h2 = 0.0;  ///< the inertia shift M/h^2 (1/s^2); 0 for a static solve
-  /// Solves (apply() and the multi-column solves of the contact compliances) run on a float copy of the factor
-  /// (about half the time; core/single_precision_factor.hpp).
+  /// Solves (apply() and the multi-column solves of the contact compliances) run on a float copy of the
+  /// factor (about half the time; core/single_precision_factor.hpp).
   bool single_precision_solves = true;
 };
 

@@ -39,9 +39,10 @@ class Model {
   /// Solver parameters as used (dt, tolerances, stability limits), for summary.json.
   virtual nlohmann::json info() const = 0;
   /// The force (N per node) the model's elastic terms and constraints exerted on every node over the last
-  /// substep, for reaction forces: position-based models return sum_c lambda_c grad C_c / h^2 (docs/model/19-position-based.md),
-  /// so a support or a tool feels exactly what the solver applied. nullptr (the default): the caller
-  /// evaluates the point-primitive energy's forces at positions() instead (exact for force-based models).
+  /// substep, for reaction forces: position-based models return sum_c lambda_c grad C_c / h^2
+  /// (docs/model/19-position-based.md), so a support or a tool feels exactly what the solver applied. nullptr
+  /// (the default): the caller evaluates the point-primitive energy's forces at positions() instead (exact
+  /// for force-based models).
   virtual const Vec3Array* constraint_forces() const { return nullptr; }
   /// Per rigid obstacle of the scene (in scene order): the force it exerted on the tissue (over the last
   /// substep for dynamic models, at equilibrium for quasi_static), its moment and contacts. Empty for

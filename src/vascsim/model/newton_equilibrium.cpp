@@ -1,9 +1,9 @@
 #include "vascsim/model/newton_equilibrium.hpp"
 
-#include <algorithm>
-#include <cmath>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <algorithm>
+#include <cmath>
 
 #include "vascsim/core/error.hpp"
 
@@ -19,13 +19,18 @@ double dot(const Vec3Array& a, const Vec3Array& b) {
 
 NewtonEquilibrium::NewtonEquilibrium(const Problem& problem, const FreeDofs& free, ContactActiveSet& contacts,
                                      const NewtonSettings& settings)
-    : problem_(problem), free_(free), contacts_(contacts), settings_(settings), compliance_(free),
+    : problem_(problem),
+      free_(free),
+      contacts_(contacts),
+      settings_(settings),
+      compliance_(free),
       correction_(free, contacts) {
   const Discretization& disc = problem.discretization();
   force_floor_ = 1e-8 * disc.material().youngs_modulus_pa * disc.mean_spacing() * disc.mean_spacing();
-  // The rest state's own forces are rounding (each fit carries its conditioning into F - I, a quadratic fit's up to
-  // 1e4 times the unit roundoff): an unloaded step must be converged there, not iterate on that noise, so the floor
-  // is at least 10 / rel_tolerance times it (about 1e-7 N on the vein at 0.3 mm, where the loads are mN).
+  // The rest state's own forces are rounding (each fit carries its conditioning into F - I, a quadratic fit's
+  // up to 1e4 times the unit roundoff): an unloaded step must be converged there, not iterate on that noise,
+  // so the floor is at least 10 / rel_tolerance times it (about 1e-7 N on the vein at 0.3 mm, where the loads
+  // are mN).
   Vec3Array f_rest;
   problem.energy().forces(disc.rest_positions(), f_rest);
   double noise2 = 0.0;
@@ -39,7 +44,8 @@ double NewtonEquilibrium::residual_norm(const Vec3Array& r) const {
   return std::sqrt(s);
 }
 
-double NewtonEquilibrium::potential(const Vec3Array& x, const Vec3Array& f_ext, const InertiaTerm& inertia) const {
+double NewtonEquilibrium::potential(const Vec3Array& x, const Vec3Array& f_ext,
+                                    const InertiaTerm& inertia) const {
   const Vec3Array& X = problem_.discretization().rest_positions();
   double work = 0.0;
   for (std::size_t i = 0; i < x.size(); ++i) work += f_ext[i].dot(x[i] - X[i]);
@@ -91,8 +97,8 @@ int NewtonEquilibrium::conjugate_gradients(const Vec3Array& x, const Vec3Array& 
   const auto lin = single_ ? PointPrimitiveEnergy::Linearization{} : problem_.energy().linearize(x);
   if (single_) single_->linearize(x);
   if (embedded_ && !carried_) embedded_->linearize(x);
-  use_correction_ = preconditioner_ != nullptr && !preconditioner_->handles_contacts() && !contacts_.empty() &&
-                    correction_.update(*preconditioner_, compliance_);
+  use_correction_ = preconditioner_ != nullptr && !preconditioner_->handles_contacts() &&
+                    !contacts_.empty() && correction_.update(*preconditioner_, compliance_);
   // A multigrid preconditioner smooths with this very matrix (the linearisation above).
   const NewtonOperator op = [&](const Vec3Array& v, Vec3Array& out) {
     hessian_product(lin, x, v, inertia, out, single_ != nullptr);
@@ -118,7 +124,8 @@ int NewtonEquilibrium::conjugate_gradients(const Vec3Array& x, const Vec3Array& 
     const double pHp = dot(p, Hp);
     if (!(pHp > 0.0)) {
       // Negative curvature (SVK under compression): keep what we have, or the preconditioned gradient.
-      spdlog::debug("equilibrium:   CG met curvature {:.3e} at iteration {} (|p|^2 {:.3e}, r.z {:.3e})", pHp, it, dot(p, p), rz);
+      spdlog::debug("equilibrium:   CG met curvature {:.3e} at iteration {} (|p|^2 {:.3e}, r.z {:.3e})", pHp,
+                    it, dot(p, p), rz);
       if (it == 0) dx = z;
       break;
     }
@@ -171,7 +178,8 @@ double NewtonEquilibrium::residual(Vec3Array& x, double s, const Vec3Array& f_ex
     }
     if (contacts_.in_contact(i)) reaction2 += std::pow(r[i].dot(contacts_.normal(i)), 2);
   }
-  const double scale = std::max(std::sqrt(std::max({reaction2, ext2, inertial2})), std::max(force_floor_, 1e-300));
+  const double scale =
+      std::max(std::sqrt(std::max({reaction2, ext2, inertial2})), std::max(force_floor_, 1e-300));
   r_unfiltered_ = r;
   if (!contacts_.empty()) {
     contacts_.update_lambdas(r);
@@ -230,8 +238,9 @@ bool NewtonEquilibrium::line_search(const Vec3Array& x, const Vec3Array& r, cons
   return false;
 }
 
-NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f_ext, const InertiaTerm& inertia,
-                                      SteadyClock::time_point deadline, bool carry_contacts, int max_iterations) {
+NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f_ext,
+                                      const InertiaTerm& inertia, SteadyClock::time_point deadline,
+                                      bool carry_contacts, int max_iterations) {
   const int iteration_limit = max_iterations >= 0 ? max_iterations : settings_.max_newton_iterations;
   const Index n = problem_.discretization().num_nodes();
   struct CarryScope {
@@ -249,10 +258,11 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
     out.residual = residual(x, s, f_ext, inertia, r);
     if (spdlog::should_log(spdlog::level::debug))
       spdlog::debug("equilibrium: s = {:.4g}, Newton {}: relative residual {:.3e}{}", s, it, out.residual,
-                    embedded_ ? fmt::format(" ({} samples in contact, tool force {:.4e} N)", embedded_->active(),
-                                            std::sqrt(embedded_->squared_force()))
-                    : contacts_.empty() ? std::string()
-                                      : fmt::format(" ({} contacts, {} pulling)", contacts_.active(), contacts_.pulling()));
+                    embedded_ ? fmt::format(" ({} samples in contact, tool force {:.4e} N)",
+                                            embedded_->active(), std::sqrt(embedded_->squared_force()))
+                    : contacts_.empty()
+                        ? std::string()
+                        : fmt::format(" ({} contacts, {} pulling)", contacts_.active(), contacts_.pulling()));
     // Nearly converged for this active set (1e-3, well before the tolerance, so that Newton does not polish
     // a set that is about to change): release the contacts that pull on a tool and iterate again; done when
     // converged and nothing pulls.
@@ -278,17 +288,19 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
       out.loads_measured = true;
       break;
     }
-    // The position-precision floor (NewtonSettings::stall_below_residual): three Newton steps in a row that gain
-    // less than 10 % there end the solve.
+    // The position-precision floor (NewtonSettings::stall_below_residual): three Newton steps in a row that
+    // gain less than 10 % there end the solve.
     stalled = out.residual < 0.9 * best || out.residual > settings_.stall_below_residual ? 0 : stalled + 1;
     best = std::min(best, out.residual);
-    // The deadline counts from the settings' minimum of Newton steps on (the steps that make a frame's force).
+    // The deadline counts from the settings' minimum of Newton steps on (the steps that make a frame's
+    // force).
     const bool timed = it >= settings_.min_newton_iterations;
     const bool out_of_time = timed && SteadyClock::now() >= deadline;
     // (The carried step is taken whatever the time: a frame ends with the wall answering its tools' pose.)
     if (!moving && (it >= iteration_limit || stalled >= 3 || out_of_time)) {
-      spdlog::debug("equilibrium:   stopped ({})",
-                    out_of_time ? "out of time" : stalled >= 3 ? "stalled" : "iteration limit");
+      spdlog::debug("equilibrium:   stopped ({})", out_of_time    ? "out of time"
+                                                   : stalled >= 3 ? "stalled"
+                                                                  : "iteration limit");
       out.converged = false;
       out.out_of_time = out_of_time;
       out.loads_measured = true;
@@ -299,10 +311,11 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
     // tolerance (the last Newton step would otherwise overshoot it by orders of magnitude).
     const double eta =
         moving ? 1e-2
-               : std::clamp(std::max(std::sqrt(out.residual), 0.3 * settings_.rel_tolerance / out.residual), 1e-6, 0.1);
+               : std::clamp(std::max(std::sqrt(out.residual), 0.3 * settings_.rel_tolerance / out.residual),
+                            1e-6, 0.1);
     double reduction = 1.0;
-    const int cg =
-        conjugate_gradients(x, r, eta, inertia, dx, timed ? deadline : SteadyClock::time_point::max(), &reduction);
+    const int cg = conjugate_gradients(x, r, eta, inertia, dx,
+                                       timed ? deadline : SteadyClock::time_point::max(), &reduction);
     out.cg_iterations += cg;
     if (cg > 0 && reduction > 0.0) out.cg_rate = std::max(out.cg_rate, std::pow(reduction, 1.0 / cg));
     spdlog::debug("equilibrium:   CG {} iterations (eta {:.1e})", cg, eta);

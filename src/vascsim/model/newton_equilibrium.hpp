@@ -1,15 +1,16 @@
 #pragma once
-// The equilibrium solve shared by `quasi_static` and `implicit` (docs/model/13-quasi-static-solver.md and docs/model/24-implicit.md): minimise
+// The equilibrium solve shared by `quasi_static` and `implicit` (docs/model/13-quasi-static-solver.md and
+// docs/model/24-implicit.md): minimise
 //   Pi(x) = U(x) - f_ext . (x - X) [+ 1/(2 h^2) sum_i m_i |x_i - a_i|^2]      over the free nodes,
 // the bracket being backward Euler's inertia around a = x_n + h v_n (the implicit model; absent for a static
 // solve), with the tools' frictionless contact by an active set (contact_active_set.hpp).
 //
-// Truncated Newton: each Newton system (K(x) [+ M/h^2]) dx = r is solved by preconditioned conjugate gradients
-// on analytic Hessian-vector products (equilibrium_preconditioner.hpp: a factor of a matrix close to the
-// Newton matrix); negative curvature stops CG early; a backtracking Armijo line search on Pi globalises; near
-// convergence contacts that pull are released. Converged when |r_free| <= tol * max(|reactions|, |f_ext|,
-// |inertial forces|). A deadline stops the iterations early (the real-time budget); the residual reached is
-// reported either way.
+// Truncated Newton: each Newton system (K(x) [+ M/h^2]) dx = r is solved by preconditioned conjugate
+// gradients on analytic Hessian-vector products (equilibrium_preconditioner.hpp: a factor of a matrix close
+// to the Newton matrix); negative curvature stops CG early; a backtracking Armijo line search on Pi
+// globalises; near convergence contacts that pull are released. Converged when |r_free| <= tol *
+// max(|reactions|, |f_ext|, |inertial forces|). A deadline stops the iterations early (the real-time budget);
+// the residual reached is reported either way.
 
 #include <limits>
 #include <optional>
@@ -36,9 +37,9 @@ struct NewtonSettings {
   /// tolerance, so that Newton does not polish an active set that is about to change). A real-time frame,
   /// which stops after a few iterations, releases at any residual (infinity).
   double release_below_residual = 1e-3;
-  /// Positions carry about 1e-16 relative precision, which floors the attainable residual: below this relative
-  /// residual, three Newton steps in a row that gain less than 10 % end the solve (not converged, at the floor).
-  /// Above it a slow stretch is progress (a contact settling), not the floor.
+  /// Positions carry about 1e-16 relative precision, which floors the attainable residual: below this
+  /// relative residual, three Newton steps in a row that gain less than 10 % end the solve (not converged, at
+  /// the floor). Above it a slow stretch is progress (a contact settling), not the floor.
   double stall_below_residual = 1e-5;
   /// Embedded contact's Newton matrix with only the penalty's normal stiffness
   /// (EmbeddedContact::add_hessian_product): for solves whose tools move a long way between linearisations.
@@ -60,7 +61,7 @@ struct NewtonResult {
   int contact_passes = 0;  ///< active-set releases
   double residual = 0.0;   ///< relative residual reached
   bool converged = true;
-  bool out_of_time = false;  ///< stopped at the deadline
+  bool out_of_time = false;     ///< stopped at the deadline
   bool loads_measured = false;  ///< the contact reactions of the final state are in last_residual()
   /// How well the preconditioner matched the Newton matrix: the geometric mean, over the CG iterations of the
   /// solve, of the residual reduction per iteration (|r_k| / |r_0|)^(1/k); 0 when CG never ran. About 0.1 or
@@ -73,16 +74,18 @@ class NewtonEquilibrium {
   NewtonEquilibrium(const Problem& problem, const FreeDofs& free, ContactActiveSet& contacts,
                     const NewtonSettings& settings);
   /// Residuals below this force (N) count as zero load: an unloaded frame is converged, not "infinitely" far
-  /// from equilibrium. Default: 1e-8 of E Delta^2 (the force that strains one neighbourhood by 100 % is E Delta^2),
-  /// or 10 / rel_tolerance times the rounding of the rest state's forces if that is larger.
+  /// from equilibrium. Default: 1e-8 of E Delta^2 (the force that strains one neighbourhood by 100 % is E
+  /// Delta^2), or 10 / rel_tolerance times the rounding of the rest state's forces if that is larger.
   void set_force_floor(double newton) { force_floor_ = newton; }
-  void set_preconditioner(const EquilibriumPreconditioner* preconditioner) { preconditioner_ = preconditioner; }
-  /// Conjugate gradients (and a multigrid preconditioner's smoothing) on the Hessian product in single precision
-  /// (single_precision_hessian.hpp) instead of the energy's double one; null: double. For solves that need a
-  /// relative accuracy far above 1e-7 (the real-time model's frames).
+  void set_preconditioner(const EquilibriumPreconditioner* preconditioner) {
+    preconditioner_ = preconditioner;
+  }
+  /// Conjugate gradients (and a multigrid preconditioner's smoothing) on the Hessian product in single
+  /// precision (single_precision_hessian.hpp) instead of the energy's double one; null: double. For solves
+  /// that need a relative accuracy far above 1e-7 (the real-time model's frames).
   void set_single_precision(SinglePrecisionHessian* product) { single_ = product; }
-  /// Contact on the wall's surface (embedded_contact.hpp), one more energy term; null: none (the tools, if any,
-  /// meet the nodes through the active set).
+  /// Contact on the wall's surface (embedded_contact.hpp), one more energy term; null: none (the tools, if
+  /// any, meet the nodes through the active set).
   void set_embedded_contact(EmbeddedContact* contact) { embedded_ = contact; }
   /// The contact compliance W over the contacts of the last solve, with the nodes and normals it belongs to
   /// (empty when the preconditioner has no multi-column solves).
@@ -90,23 +93,24 @@ class NewtonEquilibrium {
   /// Rebuilds the contact correction for the current contacts and preconditioner now (it is otherwise rebuilt
   /// by the next CG solve). False when there is none.
   bool update_contact_correction() const {
-    return preconditioner_ != nullptr && !contacts_.empty() && correction_.update(*preconditioner_, compliance_);
+    return preconditioner_ != nullptr && !contacts_.empty() &&
+           correction_.update(*preconditioner_, compliance_);
   }
   /// The per-node compliance cache of the current factor, shared with the haptic candidates.
   NodeCompliance& node_compliance() const { return compliance_; }
 
-  /// Newton iterations from x (changed in place) to the equilibrium at load factor s with external forces f_ext
-  /// (N per node), stopping at the tolerance, the iteration limits or the deadline.
-  /// `carry_contacts` (embedded contact, tools moved since x): the first Newton step keeps the samples in contact at
-  /// the last linearisation (EmbeddedContact::relinearize_carried), so that the wall answers the move of those
-  /// contacts by its linear response, instead of meeting every sample the moved tools swept through at once (most of
-  /// which that response takes out of contact again: a Newton iteration that starts there stalls for several steps).
-  /// That step is taken whole, whatever the deadline. `max_iterations` (>= 0) overrides the settings' Newton limit
-  /// for this solve: 1 takes the carried step alone and evaluates the residual (and the contacts) where it ends, a
-  /// continuation step of a frame whose tools moved far.
+  /// Newton iterations from x (changed in place) to the equilibrium at load factor s with external forces
+  /// f_ext (N per node), stopping at the tolerance, the iteration limits or the deadline. `carry_contacts`
+  /// (embedded contact, tools moved since x): the first Newton step keeps the samples in contact at the last
+  /// linearisation (EmbeddedContact::relinearize_carried), so that the wall answers the move of those
+  /// contacts by its linear response, instead of meeting every sample the moved tools swept through at once
+  /// (most of which that response takes out of contact again: a Newton iteration that starts there stalls for
+  /// several steps). That step is taken whole, whatever the deadline. `max_iterations` (>= 0) overrides the
+  /// settings' Newton limit for this solve: 1 takes the carried step alone and evaluates the residual (and
+  /// the contacts) where it ends, a continuation step of a frame whose tools moved far.
   NewtonResult solve(Vec3Array& x, double s, const Vec3Array& f_ext, const InertiaTerm& inertia,
-                     SteadyClock::time_point deadline = SteadyClock::time_point::max(), bool carry_contacts = false,
-                     int max_iterations = -1);
+                     SteadyClock::time_point deadline = SteadyClock::time_point::max(),
+                     bool carry_contacts = false, int max_iterations = -1);
 
   /// PCG on the Newton matrix at x (filtered at the contacts): dx with H dx = rhs to |res| <= eta |rhs|.
   /// Returns the iterations. Stops at negative curvature or the deadline.
@@ -126,8 +130,8 @@ class NewtonEquilibrium {
   double residual(Vec3Array& x, double s, const Vec3Array& f_ext, const InertiaTerm& inertia, Vec3Array& r);
   void precondition(const Vec3Array& r, Vec3Array& z) const;
   /// positive: the operator a multigrid preconditioner smooths with (single-precision products only): the
-  /// geometric stiffness clamped to positive semi-definite and no contact curvature, so that the V-cycle stays
-  /// symmetric positive definite where compression makes the exact Hessian indefinite.
+  /// geometric stiffness clamped to positive semi-definite and no contact curvature, so that the V-cycle
+  /// stays symmetric positive definite where compression makes the exact Hessian indefinite.
   void hessian_product(const PointPrimitiveEnergy::Linearization& lin, const Vec3Array& x, const Vec3Array& p,
                        const InertiaTerm& inertia, Vec3Array& Hp, bool positive = false) const;
   bool line_search(const Vec3Array& x, const Vec3Array& r, const Vec3Array& f_ext, const InertiaTerm& inertia,
@@ -142,7 +146,7 @@ class NewtonEquilibrium {
   SinglePrecisionHessian* single_ = nullptr;
   Vec3Array r_unfiltered_;
   double force_floor_ = 0.0;
-  bool carried_ = false;     // this evaluation keeps the embedded contact's carried-over set
+  bool carried_ = false;                  // this evaluation keeps the embedded contact's carried-over set
   mutable NodeCompliance compliance_;     // P^{-1} E_i per node, per factor (node_compliance.hpp)
   mutable ContactCorrection correction_;  // cached per contact set and factor (contact_correction.hpp)
   mutable bool use_correction_ = false;

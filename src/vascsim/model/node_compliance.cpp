@@ -4,7 +4,8 @@
 
 namespace vascsim {
 
-bool NodeCompliance::prepare(const std::vector<Index>& nodes, const EquilibriumPreconditioner& preconditioner) {
+bool NodeCompliance::prepare(const std::vector<Index>& nodes,
+                             const EquilibriumPreconditioner& preconditioner) {
   if (preconditioner.version() != version_) {
     cache_.clear();
     version_ = preconditioner.version();
@@ -22,13 +23,15 @@ bool NodeCompliance::prepare(const std::vector<Index>& nodes, const EquilibriumP
   const auto m = static_cast<Eigen::Index>(missing.size());
   Eigen::MatrixXd E = Eigen::MatrixXd::Zero(free_.size(), 3 * m), Z;
   for (Eigen::Index c = 0; c < m; ++c)
-    E.block<3, 3>(3 * static_cast<Eigen::Index>(free_.slot[static_cast<std::size_t>(missing[static_cast<std::size_t>(c)])]),
+    E.block<3, 3>(3 * static_cast<Eigen::Index>(
+                          free_.slot[static_cast<std::size_t>(missing[static_cast<std::size_t>(c)])]),
                   3 * c) = Mat3::Identity();
   if (!preconditioner.solve_columns(E, Z)) return false;
   solved_ += 3 * m;
   // Room for the new nodes first, so none of the nodes asked for now is dropped.
   evict(capacity_ > missing.size() ? capacity_ - missing.size() : 0);
-  for (Eigen::Index c = 0; c < m; ++c) cache_[missing[static_cast<std::size_t>(c)]] = {Z.middleCols<3>(3 * c), clock_};
+  for (Eigen::Index c = 0; c < m; ++c)
+    cache_[missing[static_cast<std::size_t>(c)]] = {Z.middleCols<3>(3 * c), clock_};
   return true;
 }
 

@@ -1,6 +1,6 @@
 #pragma once
-// The compliance of single nodes seen through the preconditioner's factor P: per free node i, the three columns
-// Z_i = P^{-1} E_i (E_i: the unit vectors of its x, y, z), from which
+// The compliance of single nodes seen through the preconditioner's factor P: per free node i, the three
+// columns Z_i = P^{-1} E_i (E_i: the unit vectors of its x, y, z), from which
 //     C_cd = E_c^T Z_d = E_c^T P^{-1} E_d      (3 x 3, the displacement at c per unit force at d)
 // builds every contact-space compliance the equilibrium solver and the haptic hand-off need: the contact
 // correction's C over the contact nodes, and W = N P^{-1} N^T over the candidate contacts (n_c^T C_cd n_d).
@@ -23,7 +23,8 @@ namespace vascsim {
 class NodeCompliance {
  public:
   /// At most `capacity` nodes are kept; beyond that the least recently used are dropped.
-  explicit NodeCompliance(const FreeDofs& free, std::size_t capacity = 96) : free_(free), capacity_(capacity) {}
+  explicit NodeCompliance(const FreeDofs& free, std::size_t capacity = 96)
+      : free_(free), capacity_(capacity) {}
   /// Makes sure every node of `nodes` (free nodes) has its Z_i for `preconditioner`, solving the missing ones
   /// in one multi-column back-solve. False when the preconditioner has no multi-column solves.
   bool prepare(const std::vector<Index>& nodes, const EquilibriumPreconditioner& preconditioner);

@@ -18,9 +18,10 @@ namespace vascsim {
 
 namespace {
 
-constexpr int kPowerIterations = 60;        // as ExplicitModel
+constexpr int kPowerIterations = 60;  // as ExplicitModel
 
-// The paper's pipeline: literal strain, no stabiliser, no volume term (docs/model/19-position-based.md section 19.5 step 1).
+// The paper's pipeline: literal strain, no stabiliser, no volume term (docs/model/19-position-based.md
+// section 19.5 step 1).
 EnergyOptions literal_energy_options() {
   EnergyOptions o;
   o.strain = StrainMeasure::MuellerNoHalf;
@@ -90,7 +91,11 @@ ModelEntry paper_literal_model_entry() {
   ModelEntry e;
   e.name = "paper_literal";
   e.summary = "the paper's pipeline as printed (explicit step + PBD constraints), for reproduction";
-  e.capabilities = {.dynamic = true, .takes_tools = false, .device_driven = false, .releases_regions = false, .quadratic_basis = false};
+  e.capabilities = {.dynamic = true,
+                    .takes_tools = false,
+                    .device_driven = false,
+                    .releases_regions = false,
+                    .quadratic_basis = false};
   e.read_settings = [](JsonReader& block) { return std::any(read_paper_literal_settings(block)); };
   e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
     return std::make_unique<PaperLiteralModel>(problem, settings_as<PaperLiteralSettings>(settings));
@@ -161,7 +166,8 @@ PaperLiteralModel::PaperLiteralModel(const Problem& problem, const PaperLiteralS
   dt_ = s.output_interval_s / static_cast<double>(per_output);
   num_steps_ = output_count(schedule);
 
-  // docs/model/19-position-based.md section 19.5: report the explicit limit of the literal forces; above it only PBD keeps the run bounded.
+  // docs/model/19-position-based.md section 19.5: report the explicit limit of the literal forces; above it
+  // only PBD keeps the run bounded.
   int power_its = 0;
   const double omega = max_angular_frequency(impl_->literal_problem, x_, kPowerIterations, 1e-4, &power_its);
   dt_explicit_ = omega > 0.0 ? 2.0 / (1.05 * omega) : INFINITY;
@@ -184,7 +190,9 @@ PaperLiteralModel::PaperLiteralModel(const Problem& problem, const PaperLiteralS
         dt_, dt_ / dt_explicit_, dt_explicit_);
 }
 
-double PaperLiteralModel::load_factor_at(double t) const { return ramped_load_factor(t, settings_.ramp_time_s); }
+double PaperLiteralModel::load_factor_at(double t) const {
+  return ramped_load_factor(t, settings_.ramp_time_s);
+}
 
 void PaperLiteralModel::project_stretch(std::size_t c) {
   const Index a = stretch_nodes_[2 * c], b = stretch_nodes_[2 * c + 1];

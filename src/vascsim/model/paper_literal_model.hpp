@@ -1,25 +1,27 @@
 #pragma once
 // `paper_literal`: the paper's pipeline as printed (Zhang, Wu, Sun, Song, Jha 2021, IASC 27(3)),
-// docs/model/19-position-based.md section 19.5, with only the two sign errors E1 (Eq. 3) and E6 (Eq. 10) fixed, because the printed signs
-// cannot run. Kept for reproduction; its defects are documented (docs/model/16-deviations.md) and pinned by tests, not fixed.
-// Each step of length dt:
+// docs/model/19-position-based.md section 19.5, with only the two sign errors E1 (Eq. 3) and E6 (Eq. 10)
+// fixed, because the printed signs cannot run. Kept for reproduction; its defects are documented
+// (docs/model/16-deviations.md) and pinned by tests, not fixed. Each step of length dt:
 //   1. meshless forces with the literal strain eps = F^T F - I (no 1/2, Eq. 5; a 4x stiffer solid than the
 //      E entered) and no stabiliser, whatever the scene's `energy` block says; volumes and masses come
 //      from the scene's discretisation. f_int is gathered over every node's energy (docs/model/08-forces.md).
 //   2. free nodes: v += dt (f_ext + f_int)/m, p = x + dt v (Eq. 10, sign fixed, symplectic Euler);
 //      prescribed nodes: p = prescribed position, w = 0.
 //   3. n times, serial Gauss-Seidel in a fixed order: every stretching constraint (Eqs. 13-17, PBD with
-//      k_s' = 1 - (1-k_s)^{1/n}, docs/model/16-deviations.md, E9/E10), then every literal energy constraint of the virtual
-//      tetrahedra (Eqs. 18-24 with the Eq. 20-23 "gradients", KNOWN DEFECTIVE, docs/model/16-deviations.md, E11/E12: it
-//      pulls every vertex towards the barycentre and does not conserve momentum), PBD with k_e'. The
-//      spring stiffnesses k_a of Eq. 18 are calibrated on dilation (barycentre_spring_stiffness).
+//      k_s' = 1 - (1-k_s)^{1/n}, docs/model/16-deviations.md, E9/E10), then every literal energy constraint
+//      of the virtual tetrahedra (Eqs. 18-24 with the Eq. 20-23 "gradients", KNOWN DEFECTIVE,
+//      docs/model/16-deviations.md, E11/E12: it pulls every vertex towards the barycentre and does not
+//      conserve momentum), PBD with k_e'. The spring stiffnesses k_a of Eq. 18 are calibrated on dilation
+//      (barycentre_spring_stiffness).
 //   4. v = (p - x)/dt, v *= exp(-c dt) (optional damping), x = p.
 // Loads and prescribed displacements ramp linearly with the load factor like ExplicitModel.
 //
-// Known behaviour (docs/model/12-equation-of-motion.md and docs/model/19-position-based.md section 19.5, docs/validation.md T13): the explicit limit of the literal forces is microseconds
-// on vessel meshes; above it only the PBD constraints keep the run bounded, and then the stiffness is
-// set by (k, n, dt), not by (E, nu): the steady-state error of a PBD constraint under a load f is
-// about (1-k)/k * dt^2 f/m, so a sag grows with dt^2.
+// Known behaviour (docs/model/12-equation-of-motion.md and docs/model/19-position-based.md section 19.5,
+// docs/validation.md T13): the explicit limit of the literal forces is microseconds on vessel meshes; above
+// it only the PBD constraints keep the run bounded, and then the stiffness is set by (k, n, dt), not by (E,
+// nu): the steady-state error of a PBD constraint under a load f is about (1-k)/k * dt^2 f/m, so a sag grows
+// with dt^2.
 //
 // Defaults (the paper gives no dt, n or k), measured on scenes/vein-indent.json with `--set
 // model=paper_literal` (22914 nodes, 128305 tet edges, 90972 tets; Release, shared 2-core machine under

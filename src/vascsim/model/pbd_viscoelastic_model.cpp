@@ -1,8 +1,8 @@
 #include "vascsim/model/pbd_viscoelastic_model.hpp"
 
+#include <spdlog/spdlog.h>
 #include <algorithm>
 #include <cmath>
-#include <spdlog/spdlog.h>
 
 #include "vascsim/constraints/tet_volume_constraint.hpp"
 
@@ -24,7 +24,8 @@ PbdViscoelasticSettings read_pbd_viscoelastic_settings(JsonReader& b) {
 ModelEntry pbd_viscoelastic_model_entry() {
   return make_baseline_entry<PbdViscoelasticModel, PbdViscoelasticSettings>(
       "pbd_viscoelastic",
-      "baseline [16] Xu et al. 2018 (interpretation): nonlinear Kelvin-Voigt springs + PBD tet volume constraints",
+      "baseline [16] Xu et al. 2018 (interpretation): nonlinear Kelvin-Voigt springs + PBD tet volume "
+      "constraints",
       &read_pbd_viscoelastic_settings);
 }
 
@@ -35,13 +36,14 @@ PbdViscoelasticModel::PbdViscoelasticModel(const Problem& problem, const PbdVisc
   const Material& mat = disc.material();
   mass_ = disc.masses();
   inv_mass_.resize(mass_.size());
-  for (std::size_t i = 0; i < mass_.size(); ++i) inv_mass_[i] = problem.constrained()[i] ? 0.0 : 1.0 / mass_[i];
+  for (std::size_t i = 0; i < mass_.size(); ++i)
+    inv_mass_[i] = problem.constrained()[i] ? 0.0 : 1.0 / mass_[i];
   springs_ = tet_edge_springs(X, disc.tets(), mat.youngs_modulus_pa, 0.0);
   springs_.nonlinearity = settings.nonlinearity;
   for (std::size_t e = 0; e < springs_.size(); ++e) {
     const auto [a, b] = springs_.ends[e];
-    springs_.damping[e] =
-        2.0 * settings.damping_ratio * std::sqrt(springs_.stiffness[e] * mass_[a] * mass_[b] / (mass_[a] + mass_[b]));
+    springs_.damping[e] = 2.0 * settings.damping_ratio *
+                          std::sqrt(springs_.stiffness[e] * mass_[a] * mass_[b] / (mass_[a] + mass_[b]));
   }
   const double k_missing = mat.bulk_modulus() - 2.0 * mat.youngs_modulus_pa / 3.0;
   volume_compliance_per_m3_ = k_missing > 0.0 ? 1.0 / k_missing : 0.0;
@@ -49,15 +51,17 @@ PbdViscoelasticModel::PbdViscoelasticModel(const Problem& problem, const PbdVisc
   tet_lambda_.assign(rest_volume_.size(), 0.0);
   double omega2 = 0.0, gamma = 0.0;
   springs_.rate_bounds(mass_, settings.max_strain, omega2, gamma);
-  const double dt_max = symplectic_euler_step(omega2, gamma + settings.damping_per_s, settings.time_step_safety);
+  const double dt_max =
+      symplectic_euler_step(omega2, gamma + settings.damping_per_s, settings.time_step_safety);
   substeps_ = std::max(1, static_cast<int>(std::ceil(h_ / dt_max - 1e-9)));
   dt_ = h_ / substeps_;
   f_.assign(X.size(), Vec3::Zero());
   x_old_ = X;
-  spdlog::info("pbd_viscoelastic: {} springs, {} volume constraints (alpha/V0 = {:.3g} 1/Pa), dt {:.4g} s ({} "
-               "substeps per frame)",
-               springs_.size(), volume_compliance_per_m3_ > 0.0 ? rest_volume_.size() : 0, volume_compliance_per_m3_,
-               dt_, substeps_);
+  spdlog::info(
+      "pbd_viscoelastic: {} springs, {} volume constraints (alpha/V0 = {:.3g} 1/Pa), dt {:.4g} s ({} "
+      "substeps per frame)",
+      springs_.size(), volume_compliance_per_m3_ > 0.0 ? rest_volume_.size() : 0, volume_compliance_per_m3_,
+      dt_, substeps_);
 }
 
 void PbdViscoelasticModel::substep(double s, double weight) {
@@ -113,7 +117,9 @@ StepReport PbdViscoelasticModel::frame(double s_prev, double s_next) {
 }
 
 nlohmann::json PbdViscoelasticModel::method_info() const {
-  return {{"method", "nonlinear Kelvin-Voigt springs + XPBD tet volume constraints (interpretation of Xu et al. 2018, [16])"},
+  return {{"method",
+           "nonlinear Kelvin-Voigt springs + XPBD tet volume constraints (interpretation of Xu et al. 2018, "
+           "[16])"},
           {"interpretation", true},
           {"springs", springs_.size()},
           {"volume_constraints", volume_compliance_per_m3_ > 0.0 ? rest_volume_.size() : 0},

@@ -1,11 +1,12 @@
 #pragma once
 // `pbd_viscoelastic`: viscoelastic mass-spring-dampers inside position-based dynamics, after
-//   L. Xu, Y. H. Lu, Q. Liu, "Integrating viscoelastic mass spring dampers into position-based dynamics to simulate
-//   soft tissue deformation in real time", Royal Society Open Science 5(2), 171587, 2018 (the paper's
-//   baseline [16]).
-// INTERPRETATION (docs/model/25-baselines.md section 25.6): only the paper's abstract could be established (the MSD force is
-// made nonlinear and viscoelastic, used with the PBD projection, nodes driven by "spring force + constraint
-// force" through Newton's second law, incompressibility enforced); the equations below are ours.
+//   L. Xu, Y. H. Lu, Q. Liu, "Integrating viscoelastic mass spring dampers into position-based dynamics to
+//   simulate soft tissue deformation in real time", Royal Society Open Science 5(2), 171587, 2018 (the
+//   paper's baseline [16]).
+// INTERPRETATION (docs/model/25-baselines.md section 25.6): only the paper's abstract could be established
+// (the MSD force is made nonlinear and viscoelastic, used with the PBD projection, nodes driven by "spring
+// force + constraint force" through Newton's second law, incompressibility enforced); the equations below are
+// ours.
 //
 // Nodes and masses are the point-primitive nodes (tet-partition masses). Per substep dt:
 //   f = f_ext + sum of the Kelvin-Voigt springs on every tet edge (spring_network.hpp):
@@ -15,8 +16,8 @@
 //   alpha_T = V_T0 / (K - K_net): the springs alone have the bulk modulus K_net = 2E/3 of a nu = 1/4 network;
 //   the constraints add what the material's K = E / (3 (1 - 2 nu)) lacks (none when nu <= 1/4)
 //   tools (dynamic_baseline.hpp), then v = (p - x)/dt, x = p.
-// dt = safety * 2/(omega + gamma) from the springs' Gershgorin bounds (the volume constraints are unconditionally
-// stable), whole substeps per frame.
+// dt = safety * 2/(omega + gamma) from the springs' Gershgorin bounds (the volume constraints are
+// unconditionally stable), whole substeps per frame.
 
 #include "vascsim/model/dynamic_baseline.hpp"
 #include "vascsim/model/spring_network.hpp"

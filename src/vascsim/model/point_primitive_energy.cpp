@@ -9,8 +9,9 @@
 
 namespace vascsim {
 
-// Per thread (a real-time model's background factorisation and its frames may evaluate the same energy at once):
-// the per-node buffers of forces() and hessian_product(), kept between calls so that no call allocates.
+// Per thread (a real-time model's background factorisation and its frames may evaluate the same energy at
+// once): the per-node buffers of forces() and hessian_product(), kept between calls so that no call
+// allocates.
 PointPrimitiveEnergy::Workspace& PointPrimitiveEnergy::workspace(Index n) {
   thread_local Workspace ws;
   if (static_cast<Index>(ws.Q.size()) < n) {
@@ -29,14 +30,16 @@ PointPrimitiveEnergy::PointPrimitiveEnergy(const Discretization& disc, const Ene
   lambda_ = m.lame_lambda() - opt_.volume_stiffness_pa;
   if (opt_.law) {
     if (opt_.strain != StrainMeasure::GreenHalf)
-      throw InputError(fmt::format("energy: the literal strain (mueller_no_half) applies to the built-in SVK only, "
-                                   "not to material law '{}'",
-                                   opt_.law->name()));
+      throw InputError(
+          fmt::format("energy: the literal strain (mueller_no_half) applies to the built-in SVK only, "
+                      "not to material law '{}'",
+                      opt_.law->name()));
     mu_ = opt_.law->small_strain_shear_modulus();
     lambda_ = opt_.law->small_strain_bulk_modulus() - 2.0 / 3.0 * mu_ - opt_.volume_stiffness_pa;
     if (opt_.law->needs_frame() && opt_.frames.size() != static_cast<std::size_t>(disc.num_nodes()))
-      throw InputError(fmt::format("energy: material law '{}' needs a wall frame at every node (a vessel geometry)",
-                                   opt_.law->name()));
+      throw InputError(
+          fmt::format("energy: material law '{}' needs a wall frame at every node (a vessel geometry)",
+                      opt_.law->name()));
   }
   if (opt_.volume_stiffness_pa < 0.0 || lambda_ < 0.0)
     throw InputError(fmt::format("energy: volume stiffness k_v = {} Pa must lie in [0, lambda = {} Pa]",
@@ -46,8 +49,8 @@ PointPrimitiveEnergy::PointPrimitiveEnergy(const Discretization& disc, const Ene
   stab_c_.resize(n);
   for (Index i = 0; i < n; ++i)
     stab_c_[i] = opt_.stabilizer_alpha * mu_ * disc.volumes()[i] / disc.moment_trace()[i];
-  // The stabiliser folded into the stress gather (docs/model/09-volume-term-and-stabiliser.md section 9.2): c_i A_i per node, c_i w_ik per
-  // transposed pair.
+  // The stabiliser folded into the stress gather (docs/model/09-volume-term-and-stabiliser.md section 9.2):
+  // c_i A_i per node, c_i w_ik per transposed pair.
   stab_cA_.resize(n);
   for (Index i = 0; i < n; ++i) stab_cA_[i] = stab_c_[i] * disc.moment_matrices()[i];
   const PairTable& T = disc.transposed();
@@ -58,16 +61,17 @@ PointPrimitiveEnergy::PointPrimitiveEnergy(const Discretization& disc, const Ene
     if (disc.basis() == GradientBasis::Linear && opt_.stabilizer_fit == StabilizerFit::Basis)
       folded_stab_ = true;
     else
-      stab_matrix_ = std::make_shared<const StabilizerMatrix>(disc, stab_c_, opt_.stabilizer_fit == StabilizerFit::Quadratic);
+      stab_matrix_ = std::make_shared<const StabilizerMatrix>(
+          disc, stab_c_, opt_.stabilizer_fit == StabilizerFit::Quadratic);
   }
 }
-
 
 Mat3 PointPrimitiveEnergy::weighted_stress(Index i, const Mat3& F, double V, EnergyBreakdown* e) const {
   const Mat3 I = Mat3::Identity();
   Mat3 Pt;
   if (opt_.law) {
-    const materials::MaterialFrame* frame = opt_.frames.empty() ? nullptr : &opt_.frames[static_cast<std::size_t>(i)];
+    const materials::MaterialFrame* frame =
+        opt_.frames.empty() ? nullptr : &opt_.frames[static_cast<std::size_t>(i)];
     Pt = V * opt_.law->first_piola(F, frame);
     if (e) e->strain += V * opt_.law->energy_density(F, frame);
   } else if (opt_.strain == StrainMeasure::GreenHalf) {
@@ -107,7 +111,8 @@ Mat3 PointPrimitiveEnergy::weighted_stress_derivative(Index i, const Mat3& F, co
   const Mat3 dE = (svk ? 0.5 : 1.0) * (dF.transpose() * F + F.transpose() * dF);
   Mat3 dPt;
   if (opt_.law) {
-    const materials::MaterialFrame* frame = opt_.frames.empty() ? nullptr : &opt_.frames[static_cast<std::size_t>(i)];
+    const materials::MaterialFrame* frame =
+        opt_.frames.empty() ? nullptr : &opt_.frames[static_cast<std::size_t>(i)];
     dPt = V * opt_.law->first_piola_derivative(F, dF, frame);
   } else {
     const Mat3 dS = lambda_ * dE.trace() * I + 2.0 * mu_ * dE;
@@ -127,9 +132,10 @@ Mat3 PointPrimitiveEnergy::weighted_stress_derivative(Index i, const Mat3& F, co
 //   f_k = -Q_k d_kk - sum_{i: k in N_i} Q_i d_ik + own_k - sum_{i: k in N_i} c_i w_ik (y_k - y_i),
 //   Q_i = Ptilde_i - c_i F_i A_i,   own_k = c_k sum_j w_kj (y_j - y_k).
 // One pass over the transposed pairs, one 3x3 product and one axpy per pair.
-// With Gauss points (R non-null) the stresses conjugate to dF_i/du_k, R_i,k, are gathered with e_ik,k the same way.
-void PointPrimitiveEnergy::folded_gather(const std::vector<Mat3>& Q, const std::vector<Mat3>* R, const Vec3Array& own,
-                                         const Vec3Array& y, Vec3Array& out) const {
+// With Gauss points (R non-null) the stresses conjugate to dF_i/du_k, R_i,k, are gathered with e_ik,k the
+// same way.
+void PointPrimitiveEnergy::folded_gather(const std::vector<Mat3>& Q, const std::vector<Mat3>* R,
+                                         const Vec3Array& own, const Vec3Array& y, Vec3Array& out) const {
   const Index n = disc_.num_nodes();
   const PairTable& T = disc_.transposed();
   const bool stab = folded_stab_;
@@ -139,22 +145,25 @@ void PointPrimitiveEnergy::folded_gather(const std::vector<Mat3>& Q, const std::
   for (Index k = 0; k < n; ++k) {
     Vec3 f = -(Q[k] * disc_.self_d()[k]);
     if (R)
-      for (std::size_t c = 0; c < G; ++c) f.noalias() -= (*R)[static_cast<std::size_t>(k) * G + c] * disc_.self_e()[static_cast<std::size_t>(k) * G + c];
+      for (std::size_t c = 0; c < G; ++c)
+        f.noalias() -=
+            (*R)[static_cast<std::size_t>(k) * G + c] * disc_.self_e()[static_cast<std::size_t>(k) * G + c];
     Vec3 pull = Vec3::Zero();
     const Vec3 yk = y[k];
     for (Index e = T.row_start[k], end = T.row_start[k + 1]; e < end; ++e) {
       const Index i = T.col[e];
       f.noalias() -= Q[i] * T.d[e];
       if (R)
-        for (std::size_t c = 0; c < G; ++c) f.noalias() -= (*R)[static_cast<std::size_t>(i) * G + c] * T.e[static_cast<std::size_t>(e) * G + c];
+        for (std::size_t c = 0; c < G; ++c)
+          f.noalias() -= (*R)[static_cast<std::size_t>(i) * G + c] * T.e[static_cast<std::size_t>(e) * G + c];
       if (stab) pull += stab_cw_[e] * (yk - y[i]);
     }
     out[k] = stab ? Vec3(f + own[k] - pull) : f;
   }
 }
 
-// Pass 1 for node i: the gradient sum_j (y_j - y_i) d_ij^T and, for the stabiliser, sum_j w_ij (y_j - y_i) and
-// sum_j w_ij |y_j - y_i|^2 from the same differences.
+// Pass 1 for node i: the gradient sum_j (y_j - y_i) d_ij^T and, for the stabiliser, sum_j w_ij (y_j - y_i)
+// and sum_j w_ij |y_j - y_i|^2 from the same differences.
 Mat3 PointPrimitiveEnergy::gradient_and_moments(Index i, const Vec3Array& y, Vec3& weighted_sum,
                                                 double& weighted_squares) const {
   const PairTable& P = disc_.pairs();
@@ -214,7 +223,8 @@ EnergyBreakdown PointPrimitiveEnergy::energy(const Vec3Array& x) const {
     Mat3 D[Discretization::kMaxPointDirections];
     disc_.deformation_gradient_derivatives(i, x, D);
     EnergyBreakdown e;
-    for (int q = 0; q < points; ++q) weighted_stress(i, disc_.point_gradient(i, q, F[i], D), disc_.volumes()[i] / points, &e);
+    for (int q = 0; q < points; ++q)
+      weighted_stress(i, disc_.point_gradient(i, q, F[i], D), disc_.volumes()[i] / points, &e);
     strain += e.strain;
     volume += e.volume;
   }
@@ -225,8 +235,8 @@ EnergyBreakdown PointPrimitiveEnergy::energy(const Vec3Array& x) const {
   return out;
 }
 
-// Point q's stress (or its derivative) P pulls on F_i (into Q_i) and, times the point's offsets, on the gradient's
-// derivatives dF_i/du_k (into R_i,k).
+// Point q's stress (or its derivative) P pulls on F_i (into Q_i) and, times the point's offsets, on the
+// gradient's derivatives dF_i/du_k (into R_i,k).
 void PointPrimitiveEnergy::add_point_stress(Index i, int q, const Mat3& P, Mat3& Q, Mat3* R) const {
   Q += P;
   for (int c = 0; c < disc_.point_directions(); ++c) R[c] += disc_.point_offset(i, q, c) * P;
@@ -264,7 +274,8 @@ double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f) const {
       const Mat3 FcA = F * stab_cA_[i];
       ws.Q[i] -= FcA;
       ws.own[i] = stab_c_[i] * sw;
-      // c_i/2 sum_j w_ij |y_ij - F_i X_ij|^2 expanded with the fit's normal equations: c_i/2 (sum_j w_ij |y_ij|^2
+      // c_i/2 sum_j w_ij |y_ij - F_i X_ij|^2 expanded with the fit's normal equations: c_i/2 (sum_j w_ij
+      // |y_ij|^2
       // - F_i : F_i A_i). A difference of two terms, so for a report; energy() sums the residuals themselves.
       stabilizer += 0.5 * (stab_c_[i] * sq - F.cwiseProduct(FcA).sum());
     }
@@ -272,7 +283,8 @@ double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f) const {
   folded_gather(ws.Q, points > 1 ? &ws.R : nullptr, ws.own, x, f);
   if (stab_matrix_) {
     const Vec3Array& X = disc_.rest_positions();
-    for (Index i = 0; i < n; ++i) ws.u[static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(i)] - X[static_cast<std::size_t>(i)];
+    for (Index i = 0; i < n; ++i)
+      ws.u[static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(i)] - X[static_cast<std::size_t>(i)];
     stabilizer += stab_matrix_->add_product(ws.u, f, -1.0);  // f_hg = -K u
   }
   return strain + volume + stabilizer;
@@ -302,13 +314,14 @@ void PointPrimitiveEnergy::hessian_product(const Vec3Array& x, const Vec3Array& 
   hessian_product(linearize(x), v, out);
 }
 
-void PointPrimitiveEnergy::hessian_product(const Linearization& lin, const Vec3Array& v, Vec3Array& out) const {
+void PointPrimitiveEnergy::hessian_product(const Linearization& lin, const Vec3Array& v,
+                                           Vec3Array& out) const {
   const Index n = disc_.num_nodes();
   const int points = disc_.energy_points(), G = disc_.point_directions();
   Workspace& ws = workspace(n);
   const bool stab = folded_stab_;
-  // The forces are -(folded gather of Q(F(x)), x); F is linear in x and the stabiliser terms are linear in x, so
-  // the product is the folded gather of dQ = dPtilde - c dF A and of v, negated.
+  // The forces are -(folded gather of Q(F(x)), x); F is linear in x and the stabiliser terms are linear in x,
+  // so the product is the folded gather of dQ = dPtilde - c dF A and of v, negated.
 #pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
   for (Index i = 0; i < n; ++i) {
     Vec3 sw;
@@ -324,8 +337,8 @@ void PointPrimitiveEnergy::hessian_product(const Linearization& lin, const Vec3A
       for (int c = 0; c < G; ++c) R[c].setZero();
       for (int q = 0; q < points; ++q) {
         const std::size_t p = static_cast<std::size_t>(i * points + q);
-        const Mat3 dP =
-            weighted_stress_derivative(i, lin.F[p], lin.S[p], disc_.point_gradient(i, q, dF, dD), disc_.volumes()[i] / points);
+        const Mat3 dP = weighted_stress_derivative(i, lin.F[p], lin.S[p], disc_.point_gradient(i, q, dF, dD),
+                                                   disc_.volumes()[i] / points);
         add_point_stress(i, q, dP, ws.Q[i], R);
       }
     }

@@ -17,15 +17,17 @@ Problem::Problem(const PointPrimitiveEnergy& energy, std::vector<Region> regions
   for (std::size_t r = 0; r < regions_.size(); ++r) {
     const Region& reg = regions_[r];
     for (Index i : reg.nodes)
-      if (i < 0 || i >= n) throw InputError(fmt::format("region '{}': node index {} out of range", reg.name, i));
+      if (i < 0 || i >= n)
+        throw InputError(fmt::format("region '{}': node index {} out of range", reg.name, i));
     if (reg.bc == RegionBcType::Force && reg.force_weights.size() != reg.nodes.size())
       throw InputError(fmt::format("region '{}': force weights do not match its nodes", reg.name));
     if (reg.bc != RegionBcType::Fixed && reg.bc != RegionBcType::Displacement) continue;
     for (Index i : reg.nodes) {
       if (constraint_region_[i] >= 0 && constraint_region_[i] != static_cast<int>(r))
-        throw InputError(fmt::format("regions '{}' and '{}' both prescribe the position of node {}; constrained "
-                                     "regions must not overlap",
-                                     regions_[constraint_region_[i]].name, reg.name, i));
+        throw InputError(
+            fmt::format("regions '{}' and '{}' both prescribe the position of node {}; constrained "
+                        "regions must not overlap",
+                        regions_[constraint_region_[i]].name, reg.name, i));
       constraint_region_[i] = static_cast<int>(r);
       constrained_[i] = 1;
     }
@@ -50,7 +52,8 @@ void Problem::external_forces(double s, Vec3Array& f) const {
   for (std::size_t i = 0; i < m.size(); ++i) f[i] = s * m[i] * gravity_;
   for (const Region& reg : regions_)
     if (reg.bc == RegionBcType::Force)
-      for (std::size_t a = 0; a < reg.nodes.size(); ++a) f[reg.nodes[a]] += s * reg.force_weights[a] * reg.force_n;
+      for (std::size_t a = 0; a < reg.nodes.size(); ++a)
+        f[reg.nodes[a]] += s * reg.force_weights[a] * reg.force_n;
 }
 
 std::vector<RegionMeasure> Problem::measure(double s, const Vec3Array& x, const Vec3Array& f_int,

@@ -39,8 +39,9 @@ struct Region {
 /// What a region reports at one output point.
 struct RegionMeasure {
   double displacement_m = 0.0;  ///< mean displacement projected on the direction (or its magnitude)
-  /// Reaction: the force the supports exert on the tissue (constrained) or the applied force (Force), summed over
-  /// the region, N. The names and meanings of summary.json's: force_vector_n the vector, force_n the scalar.
+  /// Reaction: the force the supports exert on the tissue (constrained) or the applied force (Force), summed
+  /// over the region, N. The names and meanings of summary.json's: force_vector_n the vector, force_n the
+  /// scalar.
   Vec3 force_vector_n = Vec3::Zero();
   double force_n = 0.0;  ///< force_vector_n projected on the direction (or its magnitude), N
 };
@@ -59,10 +60,12 @@ class Problem {
   /// Rigid tools in frictionless one-sided contact with the nodes, in scene order (moved by the load factor,
   /// or posed by a device through DeviceDrivenModel).
   const std::vector<RigidObstacle>& tools() const { return tools_; }
-  /// The wall's surface the tools meet when contact is embedded (docs/model/22-contact.md section 22.5); null: the tools
-  /// meet the nodes.
+  /// The wall's surface the tools meet when contact is embedded (docs/model/22-contact.md section 22.5);
+  /// null: the tools meet the nodes.
   const ContactSurface* contact_surface() const { return contact_surface_.get(); }
-  void set_contact_surface(std::shared_ptr<const ContactSurface> surface) { contact_surface_ = std::move(surface); }
+  void set_contact_surface(std::shared_ptr<const ContactSurface> surface) {
+    contact_surface_ = std::move(surface);
+  }
 
   /// Per node: true when its position is prescribed (fixed or displacement region).
   const std::vector<char>& constrained() const { return constrained_; }
@@ -75,7 +78,8 @@ class Problem {
   /// External forces at load factor s: gravity m_i g and region forces (N), into f (resized).
   void external_forces(double s, Vec3Array& f) const;
 
-  /// Measures every region at load factor s, configuration x, internal forces f_int and external forces f_ext.
+  /// Measures every region at load factor s, configuration x, internal forces f_int and external forces
+  /// f_ext.
   std::vector<RegionMeasure> measure(double s, const Vec3Array& x, const Vec3Array& f_int,
                                      const Vec3Array& f_ext) const;
 

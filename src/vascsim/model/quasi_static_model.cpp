@@ -1,8 +1,8 @@
 #include "vascsim/model/quasi_static_model.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <cmath>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/model/inversion_check.hpp"
@@ -16,8 +16,8 @@ QuasiStaticSettings read_quasi_static_settings(JsonReader& qs) {
   s.rel_tolerance = qs.number("rel_tolerance", 1e-8, 1e-14, 0.1);
   s.max_newton_iterations = qs.integer("max_newton_iterations", 60, 1, 10000);
   s.max_cg_iterations = qs.integer("max_cg_iterations", 2000, 1, 1000000);
-  s.preconditioner =
-      qs.string("preconditioner", "meshless", {"meshless", "auto", "incomplete_cholesky", "cholesky", "none"});
+  s.preconditioner = qs.string("preconditioner", "meshless",
+                               {"meshless", "auto", "incomplete_cholesky", "cholesky", "none"});
   s.refactor_cg_iterations = qs.integer("refactor_cg_iterations", 10, 1, 100000);
   s.frame_s = qs.number("frame_s", 1e-3, 1e-6, 10.0);
   qs.finish();
@@ -27,10 +27,16 @@ QuasiStaticSettings read_quasi_static_settings(JsonReader& qs) {
 ModelEntry quasi_static_model_entry() {
   ModelEntry e;
   e.name = "quasi_static";
-  e.summary = "static equilibrium by Newton-CG at every load step: force-displacement experiments, validation";
-  e.capabilities = {.dynamic = false, .takes_tools = true, .device_driven = true, .releases_regions = false,
-                    .quadratic_basis = true, .wall_support_default = true,
-                    .quadratic_stabilizer_default = true, .accurate_wall_default = true,
+  e.summary =
+      "static equilibrium by Newton-CG at every load step: force-displacement experiments, validation";
+  e.capabilities = {.dynamic = false,
+                    .takes_tools = true,
+                    .device_driven = true,
+                    .releases_regions = false,
+                    .quadratic_basis = true,
+                    .wall_support_default = true,
+                    .quadratic_stabilizer_default = true,
+                    .accurate_wall_default = true,
                     .embedded_contact = true};
   e.read_settings = [](JsonReader& block) { return std::any(read_quasi_static_settings(block)); };
   e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
@@ -47,13 +53,14 @@ QuasiStaticModel::QuasiStaticModel(const Problem& problem, const QuasiStaticSett
       contacts_(problem, free_, problem.contact_surface() == nullptr),
       tools_(problem.tools()),
       newton_(problem, free_, contacts_,
-              NewtonSettings{settings.rel_tolerance, settings.max_newton_iterations, settings.max_cg_iterations,
-                             settings.max_contact_passes}) {
+              NewtonSettings{settings.rel_tolerance, settings.max_newton_iterations,
+                             settings.max_cg_iterations, settings.max_contact_passes}) {
   if (settings.load_steps < 1) throw InputError("quasi_static: load_steps must be >= 1");
   if (!(settings.rel_tolerance > 0.0)) throw InputError("quasi_static: rel_tolerance must be > 0");
   if (!(settings.frame_s > 0.0)) throw InputError("quasi_static: frame_s must be > 0");
   if (problem.num_constrained() == 0)
-    throw InputError("key 'regions': quasi_static needs a fixed or displacement region; a static solution needs supports");
+    throw InputError(
+        "key 'regions': quasi_static needs a fixed or displacement region; a static solution needs supports");
   if (const ContactSurface* surface = problem.contact_surface()) {
     embedded_.emplace(*surface, problem.discretization().rest_positions(), problem.tools().size());
     newton_.set_embedded_contact(&*embedded_);
@@ -82,7 +89,8 @@ void QuasiStaticModel::place_tools(double s) {
   }
 }
 
-void QuasiStaticModel::set_tool_pose(std::size_t tool, const Vec3& position_m, const Eigen::Quaterniond& orientation) {
+void QuasiStaticModel::set_tool_pose(std::size_t tool, const Vec3& position_m,
+                                     const Eigen::Quaterniond& orientation) {
   tools_.pose(tool, position_m, orientation);
 }
 
@@ -194,7 +202,8 @@ StepReport QuasiStaticModel::advance(int k) {
 
 StepReport QuasiStaticModel::solve_without_inversion(double s_from, double s, int depth) {
   constexpr int kMaxHalvings = 6;  // down to 1/64 of a load step
-  // With tools, contact may fold the lattice under a tool's rim at any step size: run/simulation.cpp counts it.
+  // With tools, contact may fold the lattice under a tool's rim at any step size: run/simulation.cpp counts
+  // it.
   if (!problem_.tools().empty()) return solve(s);
   const Vec3Array x = x_, x_prev = x_prev_;
   const double s_now = s_, s_prev = s_prev_;
@@ -203,9 +212,10 @@ StepReport QuasiStaticModel::solve_without_inversion(double s_from, double s, in
   const InversionReport inversion = check_inversion(problem_, x_);
   if (!inversion.any()) return rep;
   if (depth == kMaxHalvings)
-    throw NumericalError(fmt::format("quasi_static: load factor {:.6g}: {}, even in load steps of 1/{} of the scene's; "
-                                     "the load inverts the material (too large a displacement or force?)",
-                                     s, inversion.describe(), 1 << kMaxHalvings));
+    throw NumericalError(
+        fmt::format("quasi_static: load factor {:.6g}: {}, even in load steps of 1/{} of the scene's; "
+                    "the load inverts the material (too large a displacement or force?)",
+                    s, inversion.describe(), 1 << kMaxHalvings));
   spdlog::info("quasi_static: load factor {:.6g}: {}; two half steps instead", s, inversion.describe());
   x_ = x, x_prev_ = x_prev, s_ = s_now, s_prev_ = s_prev, unconverged_steps_ = unconverged;
   const double mid = 0.5 * (s_from + s);

@@ -1,19 +1,19 @@
 #pragma once
 // `quasi_static`: static equilibrium at each load step by minimising the total potential
-// Pi(x) = U(x) - f_ext . x over the free nodes (docs/model/00-design-decisions.md, decision 4; docs/model/13-quasi-static-solver.md). Truncated Newton:
-// the Newton system H dx = r is solved by preconditioned conjugate gradients on analytic Hessian-vector
-// products, with the linear-elastic stiffness of the virtual tetrahedra (incomplete or exact Cholesky,
-// factorised once) as the preconditioner; negative curvature stops CG early; a backtracking Armijo line
-// search on Pi globalises. A load step starts from a linear predictor that carries the prescribed increment
-// into the free nodes, then a secant extrapolation along the load path. Converged when
-// |r_free| <= tol * max(|reactions|, |f_ext|).
+// Pi(x) = U(x) - f_ext . x over the free nodes (docs/model/00-design-decisions.md, decision 4;
+// docs/model/13-quasi-static-solver.md). Truncated Newton: the Newton system H dx = r is solved by
+// preconditioned conjugate gradients on analytic Hessian-vector products, with the linear-elastic stiffness
+// of the virtual tetrahedra (incomplete or exact Cholesky, factorised once) as the preconditioner; negative
+// curvature stops CG early; a backtracking Armijo line search on Pi globalises. A load step starts from a
+// linear predictor that carries the prescribed increment into the free nodes, then a secant extrapolation
+// along the load path. Converged when |r_free| <= tol * max(|reactions|, |f_ext|).
 //
 // The problem's tools (the catheter) are frictionless one-sided contacts by an active set: a node that enters
-// a tool is put on its surface and its normal degree of freedom is held there (the residual, the CG directions
-// and the preconditioned vectors are filtered by I - n n^T, the "modified PCG" of Baraff & Witkin 1998), so it
-// can still slide along the tool. After Newton converges, a contact whose normal reaction lambda = -r.n pulls
-// on the tool (lambda < 0) is released and Newton continues; the step ends when no node penetrates and no
-// contact pulls. The tool force is sum lambda n over its contacts.
+// a tool is put on its surface and its normal degree of freedom is held there (the residual, the CG
+// directions and the preconditioned vectors are filtered by I - n n^T, the "modified PCG" of Baraff & Witkin
+// 1998), so it can still slide along the tool. After Newton converges, a contact whose normal reaction lambda
+// = -r.n pulls on the tool (lambda < 0) is released and Newton continues; the step ends when no node
+// penetrates and no contact pulls. The tool force is sum lambda n over its contacts.
 //
 // Driven by a device (DeviceDrivenModel), every frame solves the equilibrium at the posed tools with the
 // other loads at full value (load factor 1); frame_s is the simulated time a frame stands for.
@@ -37,16 +37,16 @@ struct QuasiStaticSettings {
   int max_newton_iterations = 60;   ///< per load step
   int max_cg_iterations = 2000;     ///< per Newton iteration
   bool fail_on_divergence = false;  ///< throw instead of reporting a load step that did not converge
-  /// "meshless" (default: a supernodal Cholesky factor of the assembled meshless Hessian, meshless_factor.hpp,
-  /// refactored at the converged state of a load step whose Newton iterations needed more than
-  /// refactor_cg_iterations CG iterations on average), or a factor of the virtual tets' linear stiffness:
-  /// "cholesky" (exact; its fill grows fast: 21 M nonzeros and 90 ms per solve at 23k nodes),
+  /// "meshless" (default: a supernodal Cholesky factor of the assembled meshless Hessian,
+  /// meshless_factor.hpp, refactored at the converged state of a load step whose Newton iterations needed
+  /// more than refactor_cg_iterations CG iterations on average), or a factor of the virtual tets' linear
+  /// stiffness: "cholesky" (exact; its fill grows fast: 21 M nonzeros and 90 ms per solve at 23k nodes),
   /// "incomplete_cholesky" (cheap at any size); "auto" picks one of these two by size (10,000 free nodes);
   /// "none".
   std::string preconditioner = "meshless";
   int refactor_cg_iterations = 10;  ///< meshless: refactor after a load step that averaged more CG per Newton
-  int max_contact_passes = 50;  ///< active-set changes after a converged Newton solve, per load step
-  double frame_s = 1e-3;        ///< simulated time per frame when a device drives the model, s
+  int max_contact_passes = 50;      ///< active-set changes after a converged Newton solve, per load step
+  double frame_s = 1e-3;            ///< simulated time per frame when a device drives the model, s
 };
 
 /// Reads the `quasi_static` block of a scene (docs/scene-format.md).
@@ -70,7 +70,8 @@ class QuasiStaticModel final : public Model, public DeviceDrivenModel {
   DeviceDrivenModel* device_driven() override { return this; }
 
   // DeviceDrivenModel: a frame is the equilibrium at the posed tools (load factor 1).
-  void set_tool_pose(std::size_t tool, const Vec3& position_m, const Eigen::Quaterniond& orientation) override;
+  void set_tool_pose(std::size_t tool, const Vec3& position_m,
+                     const Eigen::Quaterniond& orientation) override;
   StepReport step() override;
   double time() const override { return t_; }
   double frame_length_s() const override { return settings_.frame_s; }

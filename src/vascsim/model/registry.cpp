@@ -19,15 +19,9 @@ namespace vascsim {
 
 const std::vector<ModelEntry>& model_registry() {
   static const std::vector<ModelEntry> entries = {
-      quasi_static_model_entry(),
-      explicit_model_entry(),
-      xpbd_model_entry(),
-      paper_literal_model_entry(),
-      implicit_model_entry(),
-      mass_spring_model_entry(),
-      fem_quasi_newton_model_entry(),
-      tensor_mass_model_entry(),
-      filling_model_entry(),
+      quasi_static_model_entry(),     explicit_model_entry(),    xpbd_model_entry(),
+      paper_literal_model_entry(),    implicit_model_entry(),    mass_spring_model_entry(),
+      fem_quasi_newton_model_entry(), tensor_mass_model_entry(), filling_model_entry(),
       pbd_viscoelastic_model_entry(),
   };
   return entries;
@@ -39,7 +33,9 @@ std::vector<std::string> model_names() {
   return names;
 }
 
-std::string default_model_name(bool device_driven) { return device_driven ? "implicit" : "quasi_static"; }
+std::string default_model_name(bool device_driven) {
+  return device_driven ? "implicit" : "quasi_static";
+}
 
 std::vector<std::string> model_names_with(bool ModelCapabilities::*capability) {
   std::vector<std::string> names;

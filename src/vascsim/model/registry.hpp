@@ -21,24 +21,27 @@ namespace vascsim {
 
 /// What a model can do; drivers and the scene validation decide by these, never by the name.
 struct ModelCapabilities {
-  bool dynamic = false;           ///< advances in simulated time (TimeSchedule); false: quasi-static load steps
-  bool takes_tools = false;       ///< frictionless rigid tools (the catheter) in the problem
-  bool device_driven = false;     ///< implements DeviceDrivenModel: haptic sessions and the viewer can drive it
+  bool dynamic = false;        ///< advances in simulated time (TimeSchedule); false: quasi-static load steps
+  bool takes_tools = false;    ///< frictionless rigid tools (the catheter) in the problem
+  bool device_driven = false;  ///< implements DeviceDrivenModel: haptic sessions and the viewer can drive it
   bool releases_regions = false;  ///< supports regions' bc.release_time_s
-  /// takes discretization.basis "quadratic" and energy.stabilizer_fit "quadratic" (false: its constraints assume
-  /// the linear fit)
+  /// takes discretization.basis "quadratic" and energy.stabilizer_fit "quadratic" (false: its constraints
+  /// assume the linear fit)
   bool quadratic_basis = true;
   /// On a wall with node layers (tube, vessel) its default discretization.support is "wall": the equilibrium
-  /// models, whose forces docs/validation.md measures against the FEM references with either support. The others
-  /// keep the isotropic support they were tuned and tested with (xpbd inverts a coarse tube with the wall's).
+  /// models, whose forces docs/validation.md measures against the FEM references with either support. The
+  /// others keep the isotropic support they were tuned and tested with (xpbd inverts a coarse tube with the
+  /// wall's).
   bool wall_support_default = false;
-  /// On such a wall its default energy.stabilizer_fit is "quadratic" (docs/model/09-volume-term-and-stabiliser.md section 9.3): the same models,
-  /// for the same reason; the others keep the stabiliser they were tuned with.
+  /// On such a wall its default energy.stabilizer_fit is "quadratic"
+  /// (docs/model/09-volume-term-and-stabiliser.md section 9.3): the same models, for the same reason; the
+  /// others keep the stabiliser they were tuned with.
   bool quadratic_stabilizer_default = false;
   /// On such a wall its defaults are the configuration docs/validation.md finds within about 2 % of the FEM
   /// references at the default resolutions ("Through-wall Gauss points"): discretization.basis "quadratic",
-  /// wall_reach "thickness", wall_quadrature "gauss" and, with tools, contact.surface "embedded". quasi_static only:
-  /// at the real-time resolutions the linear basis is nearer on the vein, and implicit's tools meet the nodes.
+  /// wall_reach "thickness", wall_quadrature "gauss" and, with tools, contact.surface "embedded".
+  /// quasi_static only: at the real-time resolutions the linear basis is nearer on the vein, and implicit's
+  /// tools meet the nodes.
   bool accurate_wall_default = false;
   /// takes contact.surface "embedded": its tools meet the wall's surface through a penalty term of its
   /// equilibrium solve (embedded_contact.hpp)

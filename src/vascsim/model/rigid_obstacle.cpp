@@ -1,14 +1,14 @@
 #include "vascsim/model/rigid_obstacle.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 
 #include "vascsim/core/error.hpp"
 
 namespace vascsim {
 
-RigidObstacle make_catheter(const std::string& name, const Vec3& tip_m, const Vec3& direction, double diameter_m,
-                            double length_m) {
+RigidObstacle make_catheter(const std::string& name, const Vec3& tip_m, const Vec3& direction,
+                            double diameter_m, double length_m) {
   if (!(diameter_m > 0.0) || !std::isfinite(diameter_m))
     throw InputError(fmt::format("catheter '{}': the diameter must be > 0 (got {} m)", name, diameter_m));
   if (!(length_m >= diameter_m) || !std::isfinite(length_m))
@@ -35,7 +35,9 @@ constraints::Capsule obstacle_at(const RigidObstacle& obstacle, double s) {
   return {obstacle.a_m + shift, b + shift, obstacle.radius_m + obstacle.node_radius_m};
 }
 
-Vec3 tool_point_at(const RigidObstacle& obstacle, double s) { return obstacle.tool_point_m + s * obstacle.motion_m; }
+Vec3 tool_point_at(const RigidObstacle& obstacle, double s) {
+  return obstacle.tool_point_m + s * obstacle.motion_m;
+}
 
 Eigen::Quaterniond orientation_pointing(const Vec3& direction) {
   return Eigen::Quaterniond::FromTwoVectors(Vec3(0.0, 0.0, -1.0), direction.normalized());
@@ -53,7 +55,8 @@ constraints::Capsule obstacle_posed(const RigidObstacle& obstacle, const Vec3& p
     return {position_m - obstacle.radius_m * d, position_m - (obstacle.length_m - obstacle.radius_m) * d,
             obstacle.radius_m + obstacle.node_radius_m};
   }
-  return {position_m + q * (obstacle.a_m - obstacle.tool_point_m), position_m + q * (obstacle.b_m - obstacle.tool_point_m),
+  return {position_m + q * (obstacle.a_m - obstacle.tool_point_m),
+          position_m + q * (obstacle.b_m - obstacle.tool_point_m),
           obstacle.radius_m + obstacle.node_radius_m};
 }
 

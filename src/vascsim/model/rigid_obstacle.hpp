@@ -6,8 +6,8 @@
 //
 // Contact is between the tool and the interior nodes, which are points (node-sphere radius 0): the vessel
 // scenes put node layers on the inner and outer wall surfaces, so the tool meets the wall where it is
-// rendered (docs/haptics.md, "Where contact is detected"). quasi_static can instead let the tools meet the wall's
-// surface between the nodes (contact.surface "embedded", embedded_contact.hpp).
+// rendered (docs/haptics.md, "Where contact is detected"). quasi_static can instead let the tools meet the
+// wall's surface between the nodes (contact.surface "embedded", embedded_contact.hpp).
 
 #include <Eigen/Geometry>
 #include <string>
@@ -31,8 +31,8 @@ struct RigidObstacle {
   /// Point the tool's torque is reported about, at s = 0 (m): the sphere centre, the capsule's a, the
   /// catheter's tip (the foremost point of its rounded end).
   Vec3 tool_point_m = Vec3::Zero();
-  bool catheter = false;         ///< built by make_catheter (a capsule whose a end is the tip)
-  double length_m = 0.0;         ///< catheter: tip to shaft end (m)
+  bool catheter = false;  ///< built by make_catheter (a capsule whose a end is the tip)
+  double length_m = 0.0;  ///< catheter: tip to shaft end (m)
   /// Radius of the node spheres the tool meets (m; 0: nodes are points). Contact keeps nodes this far
   /// outside the tool, so a tool thinner than about 2 node spacings cannot slip between nodes
   /// (docs/haptics.md); the price is a gap of this size between tool and wall.
@@ -73,7 +73,7 @@ inline constraints::ContactConstraint obstacle_contact(const constraints::Capsul
 struct ObstacleLoad {
   Vec3 force_vector_n = Vec3::Zero();     ///< force the tool exerts on the tissue, N
   Vec3 torque_vector_n_m = Vec3::Zero();  ///< moment of that force about the tool point, N m
-  int contacts = 0;                ///< nodes in contact
+  int contacts = 0;                       ///< nodes in contact
 };
 
 }  // namespace vascsim

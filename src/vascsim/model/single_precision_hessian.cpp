@@ -16,7 +16,8 @@ bool SinglePrecisionHessian::supports(const PointPrimitiveEnergy& energy) {
 
 SinglePrecisionHessian::SinglePrecisionHessian(const PointPrimitiveEnergy& energy) : energy_(energy) {
   if (!supports(energy))
-    throw std::invalid_argument("SinglePrecisionHessian: only the built-in SVK law with one energy point per node");
+    throw std::invalid_argument(
+        "SinglePrecisionHessian: only the built-in SVK law with one energy point per node");
   const Discretization& disc = energy.discretization();
   const Index n = disc.num_nodes();
   lambda_ = static_cast<float>(energy.strain_lambda());
@@ -25,7 +26,9 @@ SinglePrecisionHessian::SinglePrecisionHessian(const PointPrimitiveEnergy& energ
     start = T.row_start;
     out.resize(T.col.size());
     for (std::size_t e = 0; e < T.col.size(); ++e)
-      out[e] = {T.col[e], {static_cast<float>(T.d[e].x()), static_cast<float>(T.d[e].y()), static_cast<float>(T.d[e].z())}};
+      out[e] = {
+          T.col[e],
+          {static_cast<float>(T.d[e].x()), static_cast<float>(T.d[e].y()), static_cast<float>(T.d[e].z())}};
   };
   copy(disc.pairs(), row_start_, pairs_);
   copy(disc.transposed(), trow_start_, transposed_);
@@ -39,7 +42,8 @@ SinglePrecisionHessian::SinglePrecisionHessian(const PointPrimitiveEnergy& energ
   if (energy.stabilizer_matrix())
     K = energy.stabilizer_matrix()->matrix();
   else if (energy.options().stabilizer_alpha > 0.0)
-    K = StabilizerMatrix(disc, energy.stabilizer_coefficients(), energy.options().stabilizer_fit == StabilizerFit::Quadratic)
+    K = StabilizerMatrix(disc, energy.stabilizer_coefficients(),
+                         energy.options().stabilizer_fit == StabilizerFit::Quadratic)
             .matrix();
   stab_start_.assign(static_cast<std::size_t>(n) + 1, 0);
   if (K.rows() == n) {
@@ -76,7 +80,9 @@ void SinglePrecisionHessian::linearize(const Vec3Array& x) {
     S_plus_[static_cast<std::size_t>(i)] =
         es.eigenvalues().minCoeff() >= 0.0
             ? S_[static_cast<std::size_t>(i)]
-            : Mat3(es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose()).cast<float>();
+            : Mat3(es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() *
+                   es.eigenvectors().transpose())
+                  .cast<float>();
   }
 }
 
@@ -88,13 +94,17 @@ void SinglePrecisionHessian::product(const Vec3Array& v, Vec3Array& out, bool po
 #pragma omp parallel if (n >= kParallelMinNodes)
   {
 #pragma omp for schedule(static)
-    for (Index i = 0; i < n; ++i) v_[static_cast<std::size_t>(i)] = v[static_cast<std::size_t>(i)].cast<float>();
-    // Pass 1: dF_i = sum_j (v_j - v_i) d_ij^T, and dP_i = V_i (dF S + F dS) (docs/model/10-hessian-product.md).
+    for (Index i = 0; i < n; ++i)
+      v_[static_cast<std::size_t>(i)] = v[static_cast<std::size_t>(i)].cast<float>();
+      // Pass 1: dF_i = sum_j (v_j - v_i) d_ij^T, and dP_i = V_i (dF S + F dS)
+      // (docs/model/10-hessian-product.md).
 #pragma omp for schedule(static)
     for (Index i = 0; i < n; ++i) {
       const Eigen::Vector3f vi = v_[static_cast<std::size_t>(i)];
       Eigen::Vector3f c0 = Eigen::Vector3f::Zero(), c1 = c0, c2 = c0;
-      for (Index e = row_start_[static_cast<std::size_t>(i)], end = row_start_[static_cast<std::size_t>(i) + 1]; e < end; ++e) {
+      for (Index e = row_start_[static_cast<std::size_t>(i)],
+                 end = row_start_[static_cast<std::size_t>(i) + 1];
+           e < end; ++e) {
         const Pair& p = pairs_[static_cast<std::size_t>(e)];
         const Eigen::Vector3f dv = v_[static_cast<std::size_t>(p.node)] - vi;
         c0 += p.d[0] * dv;
@@ -108,19 +118,25 @@ void SinglePrecisionHessian::product(const Vec3Array& v, Vec3Array& out, bool po
       const Eigen::Matrix3f& F = F_[static_cast<std::size_t>(i)];
       const Eigen::Matrix3f dE = 0.5f * (dF.transpose() * F + F.transpose() * dF);
       const Eigen::Matrix3f dS = lambda_ * dE.trace() * I + 2.0f * mu_ * dE;
-      Q_[static_cast<std::size_t>(i)] = volume_[static_cast<std::size_t>(i)] * (dF * S[static_cast<std::size_t>(i)] + F * dS);
+      Q_[static_cast<std::size_t>(i)] =
+          volume_[static_cast<std::size_t>(i)] * (dF * S[static_cast<std::size_t>(i)] + F * dS);
     }
     // Pass 2: out_k = dP_k d_kk + sum_{i: k in N_i} dP_i d_ik, plus the stabiliser sum_c K_kc (v_c - v_k).
 #pragma omp for schedule(static)
     for (Index k = 0; k < n; ++k) {
       Eigen::Vector3f f = Q_[static_cast<std::size_t>(k)] * self_d_[static_cast<std::size_t>(k)];
-      for (Index e = trow_start_[static_cast<std::size_t>(k)], end = trow_start_[static_cast<std::size_t>(k) + 1]; e < end; ++e) {
+      for (Index e = trow_start_[static_cast<std::size_t>(k)],
+                 end = trow_start_[static_cast<std::size_t>(k) + 1];
+           e < end; ++e) {
         const Pair& p = transposed_[static_cast<std::size_t>(e)];
         f += Q_[static_cast<std::size_t>(p.node)] * Eigen::Map<const Eigen::Vector3f>(p.d);
       }
       const Eigen::Vector3f vk = v_[static_cast<std::size_t>(k)];
-      for (Index e = stab_start_[static_cast<std::size_t>(k)], end = stab_start_[static_cast<std::size_t>(k) + 1]; e < end; ++e)
-        f += stab_value_[static_cast<std::size_t>(e)] * (v_[static_cast<std::size_t>(stab_col_[static_cast<std::size_t>(e)])] - vk);
+      for (Index e = stab_start_[static_cast<std::size_t>(k)],
+                 end = stab_start_[static_cast<std::size_t>(k) + 1];
+           e < end; ++e)
+        f += stab_value_[static_cast<std::size_t>(e)] *
+             (v_[static_cast<std::size_t>(stab_col_[static_cast<std::size_t>(e)])] - vk);
       out[static_cast<std::size_t>(k)] = f.cast<double>();
     }
   }

@@ -1,7 +1,7 @@
 #pragma once
-// The point-primitive Hessian-vector product in single precision, for the real-time solver's conjugate gradients
-// and its preconditioner's smoothing (docs/model/24-implicit.md section 24.1), where a frame's linear solves need a relative
-// accuracy of 1e-1 to 1e-3, far above float's 1e-7.
+// The point-primitive Hessian-vector product in single precision, for the real-time solver's conjugate
+// gradients and its preconditioner's smoothing (docs/model/24-implicit.md section 24.1), where a frame's
+// linear solves need a relative accuracy of 1e-1 to 1e-3, far above float's 1e-7.
 //
 // Why: the product is the unit of a frame's cost (each conjugate-gradient iteration with the wall multigrid
 // takes three), and it is bound by memory, not arithmetic (the same speed with AVX-512 as with SSE2): the
@@ -9,10 +9,11 @@
 // stabiliser's 2-hop matrix (12 bytes per entry). Here the pairs take 16 bytes and the stabiliser 8, and the
 // per-node linearisation F_i, S_i 72 bytes instead of 144.
 //
-// Same mathematics as PointPrimitiveEnergy::hessian_product (docs/model/10-hessian-product.md), for the energies it
-// supports: the built-in St Venant-Kirchhoff law with the Green strain (no material law, no volume term), one
-// energy point per node, and a stabiliser that is off or applied as its matrix (StabilizerMatrix; the folded
-// linear-fit stabiliser is applied through its matrix here). Parallel over nodes with OpenMP.
+// Same mathematics as PointPrimitiveEnergy::hessian_product (docs/model/10-hessian-product.md), for the
+// energies it supports: the built-in St Venant-Kirchhoff law with the Green strain (no material law, no
+// volume term), one energy point per node, and a stabiliser that is off or applied as its matrix
+// (StabilizerMatrix; the folded linear-fit stabiliser is applied through its matrix here). Parallel over
+// nodes with OpenMP.
 
 #include <Eigen/Core>
 #include <vector>
@@ -31,10 +32,10 @@ class SinglePrecisionHessian {
 
   /// F_i and the SVK stress S_i at configuration x (m), for the products that follow.
   void linearize(const Vec3Array& x);
-  /// out = K(x) v (N for v in m; K the energy's Hessian at the last linearize, stabiliser included), every node.
-  /// With `positive`, the geometric part dF S uses S with its negative eigenvalues set to zero: K is then positive
-  /// semi-definite at any state (the material part F dS always is; dF S is where compression makes SVK indefinite),
-  /// as a multigrid's smoothing needs; the exact K elsewhere.
+  /// out = K(x) v (N for v in m; K the energy's Hessian at the last linearize, stabiliser included), every
+  /// node. With `positive`, the geometric part dF S uses S with its negative eigenvalues set to zero: K is
+  /// then positive semi-definite at any state (the material part F dS always is; dF S is where compression
+  /// makes SVK indefinite), as a multigrid's smoothing needs; the exact K elsewhere.
   void product(const Vec3Array& v, Vec3Array& out, bool positive = false) const;
 
  private:

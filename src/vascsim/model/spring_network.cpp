@@ -28,7 +28,8 @@ void SpringNetwork::add_forces(const Vec3Array& x, const Vec3Array& v, Vec3Array
   }
 }
 
-void SpringNetwork::add_row_sums(double strain, std::vector<double>& k_rows, std::vector<double>& c_rows) const {
+void SpringNetwork::add_row_sums(double strain, std::vector<double>& k_rows,
+                                 std::vector<double>& c_rows) const {
   // The tangent of the nonlinear spring at strain s is k0 (1 + 3 a s^2); the bound uses it.
   const double factor = 1.0 + 3.0 * nonlinearity * strain * strain;
   for (std::size_t e = 0; e < ends.size(); ++e)
@@ -38,8 +39,8 @@ void SpringNetwork::add_row_sums(double strain, std::vector<double>& k_rows, std
     }
 }
 
-void max_rates(const std::vector<double>& mass, const std::vector<double>& k_rows, const std::vector<double>& c_rows,
-               double& omega2, double& gamma) {
+void max_rates(const std::vector<double>& mass, const std::vector<double>& k_rows,
+               const std::vector<double>& c_rows, double& omega2, double& gamma) {
   omega2 = 0.0;
   gamma = 0.0;
   for (std::size_t i = 0; i < mass.size(); ++i) {
@@ -61,7 +62,8 @@ double symplectic_euler_step(double omega2, double gamma, double safety) {
   return rate > 0.0 ? safety * 2.0 / rate : 1.0;
 }
 
-SpringNetwork tet_edge_springs(const Vec3Array& X, const std::vector<Tet>& tets, double youngs_pa, double tau_s) {
+SpringNetwork tet_edge_springs(const Vec3Array& X, const std::vector<Tet>& tets, double youngs_pa,
+                               double tau_s) {
   std::map<Edge, double> volume;  // sum of the volumes of the tets around each edge, m^3
   for (const Tet& t : tets) {
     const double V = std::abs(signed_volume(X[t[0]], X[t[1]], X[t[2]], X[t[3]]));

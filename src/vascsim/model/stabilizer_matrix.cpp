@@ -10,8 +10,8 @@ StabilizerMatrix::StabilizerMatrix(const Discretization& disc, const std::vector
   const Index n = disc.num_nodes();
   const PairTable& P = disc.pairs();
   K_.resize(n, n);
-  // Assembled in chunks of nodes so that the triplets of a large body (about (K+1)^2 per node) never all exist at
-  // once; each chunk's sum is added to K.
+  // Assembled in chunks of nodes so that the triplets of a large body (about (K+1)^2 per node) never all
+  // exist at once; each chunk's sum is added to K.
   constexpr Index kChunk = 2048;
   std::vector<Eigen::Triplet<double, int>> triplets;
   Eigen::MatrixXd S;
@@ -36,8 +36,8 @@ StabilizerMatrix::StabilizerMatrix(const Discretization& disc, const std::vector
 
 // K annihilates constants (every residual vanishes on a translation: R_i 1 = 0), so each row sums to zero and
 // (K v)_r = sum_c K_rc (v_c - v_r), v . K v = -1/2 sum_{r,c} K_rc |v_c - v_r|^2. Both are evaluated from the
-// differences: a large translation or rotation of the body then leaves rounding of the size of the differences
-// (node spacings), not of the displacements.
+// differences: a large translation or rotation of the body then leaves rounding of the size of the
+// differences (node spacings), not of the displacements.
 double StabilizerMatrix::add_product(const Vec3Array& v, Vec3Array& out, double sign) const {
   const Index n = static_cast<Index>(K_.rows());
   const int* outer = K_.outerIndexPtr();
@@ -67,7 +67,8 @@ double StabilizerMatrix::energy(const Vec3Array& u) const {
 #pragma omp parallel for schedule(static) reduction(+ : sum) if (n >= kParallelMinNodes)
   for (Index r = 0; r < n; ++r)
     for (int p = outer[r]; p < outer[r + 1]; ++p)
-      sum += value[p] * (u[static_cast<std::size_t>(inner[p])] - u[static_cast<std::size_t>(r)]).squaredNorm();
+      sum +=
+          value[p] * (u[static_cast<std::size_t>(inner[p])] - u[static_cast<std::size_t>(r)]).squaredNorm();
   return -0.25 * sum;
 }
 

@@ -1,11 +1,12 @@
 #pragma once
-// The zero-energy-mode stabiliser as one constant matrix (docs/model/09-volume-term-and-stabiliser.md section 9.2):
+// The zero-energy-mode stabiliser as one constant matrix (docs/model/09-volume-term-and-stabiliser.md
+// section 9.2):
 //   U_hg = 1/2 sum over the three coordinates c of u_c^T K u_c,   K = sum_i c_i R_i^T W_i R_i,
-// with R_i node i's fit residuals over its stencil (Discretization::fit_residual_operator), W_i = diag(w_ij) and
-// u = x - X (K X = 0: the stabiliser vanishes on every field the fit reproduces). With the linear basis the energy
-// folds the stabiliser into its stress gather at no extra cost; with the quadratic basis the fit's prediction is
-// not F_i X_ij, the fold does not hold, and the energy applies this matrix instead: one sparse product per force
-// or Hessian evaluation.
+// with R_i node i's fit residuals over its stencil (Discretization::fit_residual_operator), W_i = diag(w_ij)
+// and u = x - X (K X = 0: the stabiliser vanishes on every field the fit reproduces). With the linear basis
+// the energy folds the stabiliser into its stress gather at no extra cost; with the quadratic basis the fit's
+// prediction is not F_i X_ij, the fold does not hold, and the energy applies this matrix instead: one sparse
+// product per force or Hessian evaluation.
 
 #include <Eigen/SparseCore>
 #include <vector>

@@ -1,8 +1,8 @@
 #include "vascsim/model/tensor_mass_model.hpp"
 
+#include <spdlog/spdlog.h>
 #include <algorithm>
 #include <cmath>
-#include <spdlog/spdlog.h>
 
 #include "vascsim/model/tet_stiffness.hpp"
 
@@ -55,7 +55,8 @@ void TensorMassModel::apply_stiffness(const Vec3Array& in, Vec3Array& out) const
 
 void TensorMassModel::apply_system(const Vec3Array& p, Vec3Array& out) const {
   apply_stiffness(p, out);
-  const double a = 1.0 + h_ * settings_.rayleigh_mass_per_s, k = h_ * settings_.rayleigh_stiffness_s + h_ * h_;
+  const double a = 1.0 + h_ * settings_.rayleigh_mass_per_s,
+               k = h_ * settings_.rayleigh_stiffness_s + h_ * h_;
   for (std::size_t i = 0; i < p.size(); ++i) out[i] = a * mass_[i] * p[i] + k * out[i];
 }
 

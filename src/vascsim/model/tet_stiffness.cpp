@@ -2,8 +2,8 @@
 
 namespace vascsim {
 
-Eigen::SparseMatrix<double> linear_tet_stiffness(const Vec3Array& X, const std::vector<Tet>& tets, double lambda,
-                                                 double mu) {
+Eigen::SparseMatrix<double> linear_tet_stiffness(const Vec3Array& X, const std::vector<Tet>& tets,
+                                                 double lambda, double mu) {
   std::vector<Eigen::Triplet<double>> trip;
   trip.reserve(tets.size() * 144);
   for (const Tet& t : tets) {

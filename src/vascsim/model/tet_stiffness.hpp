@@ -11,7 +11,7 @@
 namespace vascsim {
 
 /// 3N x 3N stiffness (N/m) of the tets over rest positions X with Lame constants lambda, mu (Pa).
-Eigen::SparseMatrix<double> linear_tet_stiffness(const Vec3Array& X, const std::vector<Tet>& tets, double lambda,
-                                                 double mu);
+Eigen::SparseMatrix<double> linear_tet_stiffness(const Vec3Array& X, const std::vector<Tet>& tets,
+                                                 double lambda, double mu);
 
 }  // namespace vascsim

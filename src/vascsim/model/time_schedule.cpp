@@ -1,8 +1,8 @@
 #include "vascsim/model/time_schedule.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <cmath>
 
 #include "vascsim/core/error.hpp"
 
@@ -15,11 +15,13 @@ std::string step_count_problem(const TimeSchedule& s, double step_s) {
   const double per_output = std::ceil(s.output_interval_s / step_s - 1e-9);
   const double total = per_output * std::ceil(s.duration_s / s.output_interval_s - 1e-9);
   if (!(per_output <= kMaxStepsPerOutput))
-    return fmt::format("a step of {:.3g} s gives {:.3g} steps per output interval of {:.3g} s; the limit is {:.0e}",
-                       step_s, per_output, s.output_interval_s, kMaxStepsPerOutput);
+    return fmt::format(
+        "a step of {:.3g} s gives {:.3g} steps per output interval of {:.3g} s; the limit is {:.0e}", step_s,
+        per_output, s.output_interval_s, kMaxStepsPerOutput);
   if (!(total <= kMaxStepsPerRun))
-    return fmt::format("a step of {:.3g} s gives {:.3g} steps over duration_s = {:.3g} s; the limit is {:.0e}", step_s,
-                       total, s.duration_s, kMaxStepsPerRun);
+    return fmt::format(
+        "a step of {:.3g} s gives {:.3g} steps over duration_s = {:.3g} s; the limit is {:.0e}", step_s,
+        total, s.duration_s, kMaxStepsPerRun);
   return "";
 }
 
@@ -32,9 +34,11 @@ TimeSchedule read_time_schedule(JsonReader& block, const TimeSchedule& defaults)
   s.output_interval_s = block.number("output_interval_s", defaults.output_interval_s, 1e-9, 1e4);
   const double outputs = std::ceil(s.duration_s / s.output_interval_s - 1e-9);
   if (outputs > kMaxOutputs)
-    block.fail("output_interval_s",
-               fmt::format("{:.3g} s gives {:.3g} output points over duration_s = {:.3g} s; at most {:.0e} are allowed",
-                           s.output_interval_s, outputs, s.duration_s, kMaxOutputs));
+    block.fail(
+        "output_interval_s",
+        fmt::format(
+            "{:.3g} s gives {:.3g} output points over duration_s = {:.3g} s; at most {:.0e} are allowed",
+            s.output_interval_s, outputs, s.duration_s, kMaxOutputs));
   return s;
 }
 
@@ -46,9 +50,10 @@ long long whole_steps_per_output(const TimeSchedule& s, double step_s, const std
   const std::string problem = step_count_problem(s, step_s);
   if (!problem.empty()) throw InputError(fmt::format("key '{}': {}", key, problem));
   if (s.output_interval_s < step_s * (1.0 - 1e-9))
-    spdlog::warn("key '{}': output_interval_s = {:.3g} s is shorter than the step {:.3g} s, so the step shrinks to "
-                 "{:.3g} s; set output_interval_s >= the step to keep it",
-                 key, s.output_interval_s, step_s, s.output_interval_s);
+    spdlog::warn(
+        "key '{}': output_interval_s = {:.3g} s is shorter than the step {:.3g} s, so the step shrinks to "
+        "{:.3g} s; set output_interval_s >= the step to keep it",
+        key, s.output_interval_s, step_s, s.output_interval_s);
   return static_cast<long long>(std::ceil(s.output_interval_s / step_s - 1e-9));
 }
 

@@ -19,7 +19,11 @@ namespace vascsim {
 class ToolPlacement {
  public:
   explicit ToolPlacement(const std::vector<RigidObstacle>& tools)
-      : tools_(tools), posed_(tools.size(), 0), geometry_(tools.size()), target_(tools.size()), used_(tools.size()) {}
+      : tools_(tools),
+        posed_(tools.size(), 0),
+        geometry_(tools.size()),
+        target_(tools.size()),
+        used_(tools.size()) {}
 
   /// Poses tool o: its tool point at position_m, rotated by orientation (obstacle_posed). From now on it
   /// ignores the load factor. The first pose is taken at once; later ones through advance() when a model
@@ -31,8 +35,8 @@ class ToolPlacement {
   }
   /// Bounded following (a real-time model): poses move towards their targets only in advance().
   void set_bounded(bool bounded) { bounded_ = bounded; }
-  /// Moves posed tool o towards its target by at most max_step_m (the orientation turns by the same fraction of
-  /// the way; infinity: to the target). Returns the distance still to go, m.
+  /// Moves posed tool o towards its target by at most max_step_m (the orientation turns by the same fraction
+  /// of the way; infinity: to the target). Returns the distance still to go, m.
   double advance(std::size_t o, double max_step_m) {
     if (!posed_.at(o)) return 0.0;
     const Vec3 to_go = target_[o].position - used_[o].position;
@@ -63,7 +67,8 @@ class ToolPlacement {
   /// the model has it, which for a bounded model may trail the device's pose.
   std::vector<Vec3> points(double s) const {
     std::vector<Vec3> p;
-    for (std::size_t o = 0; o < tools_.size(); ++o) p.push_back(posed_[o] ? used_[o].position : tool_point_at(tools_[o], s));
+    for (std::size_t o = 0; o < tools_.size(); ++o)
+      p.push_back(posed_[o] ? used_[o].position : tool_point_at(tools_[o], s));
     return p;
   }
   std::size_t size() const { return tools_.size(); }

@@ -24,8 +24,8 @@ struct CoarseLines {
   }
 };
 
-// Every second line from 0; the last line of an open direction too (its end), and of a closed one whose count is
-// odd the last line is even anyway, so it closes onto line 0 one fine step away.
+// Every second line from 0; the last line of an open direction too (its end), and of a closed one whose count
+// is odd the last line is even anyway, so it closes onto line 0 one fine step away.
 CoarseLines coarse_lines(int lines, bool closed) {
   CoarseLines c;
   c.lines = lines;
@@ -45,7 +45,8 @@ bool has_wall_lattice(const Discretization& disc) {
 }
 
 NodalProlongation wall_coarse_space(const Discretization& disc, const std::vector<char>& constrained) {
-  if (!has_wall_lattice(disc)) throw std::invalid_argument("wall_coarse_space: the nodes form no wall lattice");
+  if (!has_wall_lattice(disc))
+    throw std::invalid_argument("wall_coarse_space: the nodes form no wall lattice");
   const WallLatticeNumbering& L = *disc.cloud().wall_lattice;
   const Vec3Array& X = disc.rest_positions();
   const CoarseLines cols = coarse_lines(L.columns, true), secs = coarse_lines(L.sections, false);

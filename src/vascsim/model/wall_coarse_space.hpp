@@ -5,10 +5,11 @@
 // the coarse nodes of its own layer that bracket it, linearly in each direction (bilinear in column and
 // section), weighted by its rest distances to them along the lattice line. The wall is thin (three to five
 // layers): coarsening only along it keeps the through-wall fields exact on the coarse level, and the
-// interpolated fields are continuous, so the Galerkin coarse operator holds the wall's bending as the fine one does.
+// interpolated fields are continuous, so the Galerkin coarse operator holds the wall's bending as the fine
+// one does.
 //
-// Prescribed nodes take no part: they have no unknowns, and a fine node bracketed by one interpolates from the
-// free coarse node alone (the prescribed one's share of the displacement is zero).
+// Prescribed nodes take no part: they have no unknowns, and a fine node bracketed by one interpolates from
+// the free coarse node alone (the prescribed one's share of the displacement is zero).
 
 #include <vector>
 

@@ -1,9 +1,9 @@
 #include "vascsim/model/wall_multigrid.hpp"
 
-#include <algorithm>
-#include <spdlog/spdlog.h>
-#include <atomic>
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <algorithm>
+#include <atomic>
 #include <stdexcept>
 
 #include "vascsim/core/error.hpp"
@@ -16,7 +16,8 @@ namespace vascsim {
 
 namespace {
 long long next_version() {
-  static std::atomic<long long> versions{1LL << 40};  // apart from the factors' versions (meshless_factor.cpp)
+  static std::atomic<long long> versions{1LL
+                                         << 40};  // apart from the factors' versions (meshless_factor.cpp)
   return ++versions;
 }
 }  // namespace
@@ -31,11 +32,13 @@ WallMultigrid::WallMultigrid(const Problem& problem, const FreeDofs& free, const
                              const WallMultigridOptions& options)
     : problem_(problem), free_(free), contacts_(contacts), options_(options) {
   if (!supports(problem))
-    throw std::invalid_argument("WallMultigrid: the nodes form no wall lattice with one energy point per node");
+    throw std::invalid_argument(
+        "WallMultigrid: the nodes form no wall lattice with one energy point per node");
   const Discretization& disc = problem.discretization();
   const Index n = disc.num_nodes();
   shift_.assign(static_cast<std::size_t>(n), 0.0);
-  for (Index i = 0; i < n; ++i) shift_[static_cast<std::size_t>(i)] = disc.masses()[static_cast<std::size_t>(i)] * options.inv_h2;
+  for (Index i = 0; i < n; ++i)
+    shift_[static_cast<std::size_t>(i)] = disc.masses()[static_cast<std::size_t>(i)] * options.inv_h2;
   // The stabiliser's Hessian is constant: its diagonal for the Jacobi blocks, its entries in the window.
   stab_diag_.assign(static_cast<std::size_t>(n), 0.0);
   const PointPrimitiveEnergy& energy = problem.energy();
@@ -56,20 +59,25 @@ WallMultigrid::WallMultigrid(const Problem& problem, const FreeDofs& free, const
 
 WallMultigrid::~WallMultigrid() = default;
 
-double WallMultigrid::last_level_seconds() const { return level_ ? level_->build_s : 0.0; }
+double WallMultigrid::last_level_seconds() const {
+  return level_ ? level_->build_s : 0.0;
+}
 
-std::unique_ptr<WallMultigrid::Level> WallMultigrid::build_level(const Vec3Array& x, std::unique_ptr<Level> reuse) const {
+std::unique_ptr<WallMultigrid::Level> WallMultigrid::build_level(const Vec3Array& x,
+                                                                 std::unique_ptr<Level> reuse) const {
   const Stopwatch clock;
   auto level = reuse ? std::move(reuse) : std::make_unique<Level>();
   const Discretization& disc = problem_.discretization();
   energy_tangents(problem_.energy(), x, true, level->tangents);
-  // Diagonal blocks: node k's block gathers every energy i whose stencil holds k (itself and the transposed row).
+  // Diagonal blocks: node k's block gathers every energy i whose stencil holds k (itself and the transposed
+  // row).
   const PairTable& T = disc.transposed();
   level->jacobi_inverse.resize(free_.nodes.size());
   for (std::size_t a = 0; a < free_.nodes.size(); ++a) {
     const Index k = free_.nodes[a];
-    Mat3 D = tangent_block(level->tangents[static_cast<std::size_t>(k)], disc.self_d()[static_cast<std::size_t>(k)],
-                           disc.self_d()[static_cast<std::size_t>(k)]);
+    Mat3 D =
+        tangent_block(level->tangents[static_cast<std::size_t>(k)],
+                      disc.self_d()[static_cast<std::size_t>(k)], disc.self_d()[static_cast<std::size_t>(k)]);
     for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e)
       D += tangent_block(level->tangents[static_cast<std::size_t>(T.col[static_cast<std::size_t>(e)])],
                          T.d[static_cast<std::size_t>(e)], T.d[static_cast<std::size_t>(e)]);
@@ -95,7 +103,10 @@ void WallMultigrid::prepare_window(const Vec3Array& x) {
   struct Log {
     const Stopwatch& w;
     const std::vector<Index>& nodes;
-    ~Log() { spdlog::debug("wall multigrid: window of {} nodes prepared in {:.2f} ms", nodes.size(), w.seconds() * 1e3); }
+    ~Log() {
+      spdlog::debug("wall multigrid: window of {} nodes prepared in {:.2f} ms", nodes.size(),
+                    w.seconds() * 1e3);
+    }
   } log{watch, window_};
   const Discretization& disc = problem_.discretization();
   for (Index k : window_) window_slot_[static_cast<std::size_t>(k)] = -1;
@@ -106,7 +117,8 @@ void WallMultigrid::prepare_window(const Vec3Array& x) {
       bool near = contacts_.in_contact(k);
       for (std::size_t o = 0; !near && o < problem_.tools().size(); ++o)
         near = obstacle_contact(embedded_ ? embedded_->geometry(o) : contacts_.geometry(o),
-                                x[static_cast<std::size_t>(k)]).value < window_m_;
+                                x[static_cast<std::size_t>(k)])
+                   .value < window_m_;
       if (near) {
         window_slot_[static_cast<std::size_t>(k)] = static_cast<Index>(window_.size());
         window_.push_back(k);
@@ -120,10 +132,12 @@ void WallMultigrid::prepare_window(const Vec3Array& x) {
   window_energies_.clear();
   std::vector<char> seen(static_cast<std::size_t>(disc.num_nodes()), 0);
   for (Index k : window_) {
-    if (!seen[static_cast<std::size_t>(k)]) seen[static_cast<std::size_t>(k)] = 1, window_energies_.push_back(k);
+    if (!seen[static_cast<std::size_t>(k)])
+      seen[static_cast<std::size_t>(k)] = 1, window_energies_.push_back(k);
     for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e) {
       const Index i = T.col[static_cast<std::size_t>(e)];
-      if (!seen[static_cast<std::size_t>(i)]) seen[static_cast<std::size_t>(i)] = 1, window_energies_.push_back(i);
+      if (!seen[static_cast<std::size_t>(i)])
+        seen[static_cast<std::size_t>(i)] = 1, window_energies_.push_back(i);
     }
   }
   energy_tangents(problem_.energy(), x, true, window_tangents_, &window_energies_);
@@ -132,7 +146,8 @@ void WallMultigrid::prepare_window(const Vec3Array& x) {
   std::vector<std::pair<Index, Vec3>> members;
   for (Index i : window_energies_) {
     members.clear();
-    if (const Index s = window_slot_[static_cast<std::size_t>(i)]; s >= 0) members.push_back({s, disc.self_d()[static_cast<std::size_t>(i)]});
+    if (const Index s = window_slot_[static_cast<std::size_t>(i)]; s >= 0)
+      members.push_back({s, disc.self_d()[static_cast<std::size_t>(i)]});
     for (Index e = P.row_start[i]; e < P.row_start[i + 1]; ++e)
       if (const Index s = window_slot_[static_cast<std::size_t>(P.col[static_cast<std::size_t>(e)])]; s >= 0)
         members.push_back({s, P.d[static_cast<std::size_t>(e)]});
@@ -157,8 +172,10 @@ void WallMultigrid::prepare_window(const Vec3Array& x) {
         const Index a = window_slot_[static_cast<std::size_t>(S.col[static_cast<std::size_t>(p)])];
         if (a < 0) continue;
         for (Index q = S.row_start[v]; q < S.row_start[v + 1]; ++q)
-          if (const Index b = window_slot_[static_cast<std::size_t>(S.col[static_cast<std::size_t>(q)])]; b >= 0)
-            A.block<3, 3>(3 * a, 3 * b) += (S.val[static_cast<std::size_t>(p)] * S.val[static_cast<std::size_t>(q)]) * K;
+          if (const Index b = window_slot_[static_cast<std::size_t>(S.col[static_cast<std::size_t>(q)])];
+              b >= 0)
+            A.block<3, 3>(3 * a, 3 * b) +=
+                (S.val[static_cast<std::size_t>(p)] * S.val[static_cast<std::size_t>(q)]) * K;
       }
     });
   }
@@ -179,12 +196,13 @@ void WallMultigrid::update_window_contacts() const {
   if (same) return;
   window_contacts_ = std::move(contacts);
   window_normals_ = std::move(normals);
-  const Eigen::Index m = static_cast<Eigen::Index>(window_.size()), mc = static_cast<Eigen::Index>(window_contacts_.size());
+  const Eigen::Index m = static_cast<Eigen::Index>(window_.size()),
+                     mc = static_cast<Eigen::Index>(window_contacts_.size());
   if (mc == 0) return;
   Eigen::MatrixXd Nt = Eigen::MatrixXd::Zero(3 * m, mc);
   for (Eigen::Index c = 0; c < mc; ++c)
-    Nt.block<3, 1>(3 * window_slot_[static_cast<std::size_t>(window_contacts_[static_cast<std::size_t>(c)])], c) =
-        window_normals_[static_cast<std::size_t>(c)];
+    Nt.block<3, 1>(3 * window_slot_[static_cast<std::size_t>(window_contacts_[static_cast<std::size_t>(c)])],
+                   c) = window_normals_[static_cast<std::size_t>(c)];
   window_Z_ = window_factor_.solve(Nt);
   window_NZ_.compute(Nt.transpose() * window_Z_);
 }
@@ -194,12 +212,14 @@ void WallMultigrid::smooth(const Vec3Array& b, Vec3Array& z, bool constrained) c
   const double w = options_.jacobi_damping;
   for (std::size_t a = 0; a < free_.nodes.size(); ++a) {
     const Index k = free_.nodes[a];
-    if (window_slot_[static_cast<std::size_t>(k)] < 0) z[static_cast<std::size_t>(k)] = w * (level_->jacobi_inverse[a] * b[static_cast<std::size_t>(k)]);
+    if (window_slot_[static_cast<std::size_t>(k)] < 0)
+      z[static_cast<std::size_t>(k)] = w * (level_->jacobi_inverse[a] * b[static_cast<std::size_t>(k)]);
   }
   if (window_.empty()) return;
   const Eigen::Index m = static_cast<Eigen::Index>(window_.size());
   wb_.resize(3 * m);
-  for (Eigen::Index a = 0; a < m; ++a) wb_.segment<3>(3 * a) = b[static_cast<std::size_t>(window_[static_cast<std::size_t>(a)])];
+  for (Eigen::Index a = 0; a < m; ++a)
+    wb_.segment<3>(3 * a) = b[static_cast<std::size_t>(window_[static_cast<std::size_t>(a)])];
   Eigen::VectorXd y = window_factor_.solve(wb_);
   if (constrained && !window_contacts_.empty()) {
     Eigen::VectorXd ny(static_cast<Eigen::Index>(window_contacts_.size()));
@@ -208,17 +228,20 @@ void WallMultigrid::smooth(const Vec3Array& b, Vec3Array& z, bool constrained) c
           y.segment<3>(3 * window_slot_[static_cast<std::size_t>(window_contacts_[c])]));
     y -= window_Z_ * window_NZ_.solve(ny);
   }
-  for (Eigen::Index a = 0; a < m; ++a) z[static_cast<std::size_t>(window_[static_cast<std::size_t>(a)])] = y.segment<3>(3 * a);
+  for (Eigen::Index a = 0; a < m; ++a)
+    z[static_cast<std::size_t>(window_[static_cast<std::size_t>(a)])] = y.segment<3>(3 * a);
 }
 
 void WallMultigrid::update_coarse_contacts() const {
   // Every contact, in the window or not (the solver's active set), with today's normals. (Tools on the wall's
-  // surface have none: their penalty held as constraints here took 30 % more CG iterations on the real-time vein.)
+  // surface have none: their penalty held as constraints here took 30 % more CG iterations on the real-time
+  // vein.)
   std::vector<Index> contacts;
   Vec3Array normals;
   for (Index k : free_.nodes)
     if (contacts_.in_contact(k)) contacts.push_back(k), normals.push_back(contacts_.normal(k));
-  bool same = contacts == coarse_contacts_ && normals.size() == coarse_normals_.size() && coarse_contacts_version_ == version_;
+  bool same = contacts == coarse_contacts_ && normals.size() == coarse_normals_.size() &&
+              coarse_contacts_version_ == version_;
   for (std::size_t c = 0; same && c < normals.size(); ++c) same = normals[c] == coarse_normals_[c];
   if (same) return;
   coarse_contacts_ = std::move(contacts);
@@ -229,7 +252,8 @@ void WallMultigrid::update_coarse_contacts() const {
   coarse_G_ = Eigen::MatrixXd::Zero(3 * static_cast<Eigen::Index>(prolongation_.coarse_nodes), mc);  // G^T
   for (Eigen::Index c = 0; c < mc; ++c) {
     const Index k = coarse_contacts_[static_cast<std::size_t>(c)];
-    for (auto e = prolongation_.row_start[static_cast<std::size_t>(k)]; e < prolongation_.row_start[static_cast<std::size_t>(k) + 1]; ++e)
+    for (auto e = prolongation_.row_start[static_cast<std::size_t>(k)];
+         e < prolongation_.row_start[static_cast<std::size_t>(k) + 1]; ++e)
       coarse_G_.block<3, 1>(3 * prolongation_.coarse[static_cast<std::size_t>(e)], c) +=
           prolongation_.weight[static_cast<std::size_t>(e)] * coarse_normals_[static_cast<std::size_t>(c)];
   }
@@ -241,8 +265,8 @@ void WallMultigrid::coarse_correction(const Vec3Array& b, Vec3Array& z, bool con
   prolongation_.restrict_to(b, cb_);
   level_->coarse.solve(cb_, cy_);
   if (constrained && !coarse_contacts_.empty()) {
-    // Only coarse corrections that leave the contacts where they are: the Galerkin correction in that subspace,
-    // so it never raises the error's energy however many contacts there are.
+    // Only coarse corrections that leave the contacts where they are: the Galerkin correction in that
+    // subspace, so it never raises the error's energy however many contacts there are.
     const Eigen::VectorXd g = coarse_G_.transpose() * cy_;
     cy_ -= coarse_Z_ * coarse_GZ_.solve(g);
   }
@@ -266,16 +290,19 @@ bool WallMultigrid::apply(const Vec3Array& r, Vec3Array& z) const {
   smooth(b_, z1_, true);
   contacts_.filter(z1_);
   (*op_)(z1_, t_);
-  for (Index k : free_.nodes) t_[static_cast<std::size_t>(k)] = b_[static_cast<std::size_t>(k)] - t_[static_cast<std::size_t>(k)];
+  for (Index k : free_.nodes)
+    t_[static_cast<std::size_t>(k)] = b_[static_cast<std::size_t>(k)] - t_[static_cast<std::size_t>(k)];
   contacts_.filter(t_);
   coarse_correction(t_, z1_, true);
   contacts_.filter(z1_);
   (*op_)(z1_, t_);
-  for (Index k : free_.nodes) t_[static_cast<std::size_t>(k)] = b_[static_cast<std::size_t>(k)] - t_[static_cast<std::size_t>(k)];
+  for (Index k : free_.nodes)
+    t_[static_cast<std::size_t>(k)] = b_[static_cast<std::size_t>(k)] - t_[static_cast<std::size_t>(k)];
   contacts_.filter(t_);
   smooth(t_, y_, true);
   z.assign(r.size(), Vec3::Zero());
-  for (Index k : free_.nodes) z[static_cast<std::size_t>(k)] = z1_[static_cast<std::size_t>(k)] + y_[static_cast<std::size_t>(k)];
+  for (Index k : free_.nodes)
+    z[static_cast<std::size_t>(k)] = z1_[static_cast<std::size_t>(k)] + y_[static_cast<std::size_t>(k)];
   contacts_.filter(z);
   return true;
 }

@@ -1,24 +1,29 @@
 #pragma once
-// The real-time model's preconditioner on a wall lattice (docs/model/24-implicit.md section 24.1): a two-level method whose
-// application costs about two Hessian products and whose parts are refreshed at the rates their accuracy needs,
-// instead of a sparse Cholesky factor of the whole Hessian (nnz(L) 1.9e7 on the 0.3 mm vein: 7-9 ms per solve,
-// about a second per refactorisation, and stale a few tenths of a millimetre after the tool moves).
+// The real-time model's preconditioner on a wall lattice (docs/model/24-implicit.md section 24.1): a
+// two-level method whose application costs about two Hessian products and whose parts are refreshed at the
+// rates their accuracy needs, instead of a sparse Cholesky factor of the whole Hessian (nnz(L) 1.9e7 on the
+// 0.3 mm vein: 7-9 ms per solve, about a second per refactorisation, and stale a few tenths of a millimetre
+// after the tool moves).
 //
 // Three parts, for the Newton matrix H = K(x) + M/h^2 on the free nodes:
 // - the coarse level: every second column and cross-section of the wall lattice with all its layers
 //   (wall_coarse_space.hpp), its Galerkin operator A_c = P^T H P (galerkin_hessian.hpp) and a sparse Cholesky
-//   factor of it (a sixteenth of the fine factor's size: 0.4 ms per solve). It carries the wall's global response
-//   (bending and ovalisation over the whole vessel), which changes slowly: refreshed in the background;
-// - an exact window round the tools: the nodes within a couple of node spacings of a tool's surface, where the
-//   contact and the strain change from frame to frame, solved with a dense Cholesky factor of H's block there built
-//   at every frame's start, with the contacts' normal constraints (a Woodbury correction on that factor);
+//   factor of it (a sixteenth of the fine factor's size: 0.4 ms per solve). It carries the wall's global
+//   response (bending and ovalisation over the whole vessel), which changes slowly: refreshed in the
+//   background;
+// - an exact window round the tools: the nodes within a couple of node spacings of a tool's surface, where
+// the
+//   contact and the strain change from frame to frame, solved with a dense Cholesky factor of H's block there
+//   built at every frame's start, with the contacts' normal constraints (a Woodbury correction on that
+//   factor);
 // - damped 3 x 3 block Jacobi on the other nodes, with the diagonal blocks of the last refresh.
 // Applied as one symmetric V-cycle, smooth - coarse - smooth, with the solver's own Newton matrix for the two
-// residuals (set_operator), so conjugate gradients stay exact whatever the refresh state: on the 0.3 mm vein pressed
-// at 5 mm/s, 4-6 iterations per Newton step with every part fresh, 5-8 with the coarse level 0.1-0.2 s old.
+// residuals (set_operator), so conjugate gradients stay exact whatever the refresh state: on the 0.3 mm vein
+// pressed at 5 mm/s, 4-6 iterations per Newton step with every part fresh, 5-8 with the coarse level 0.1-0.2
+// s old.
 //
-// Only for walls whose nodes form a lattice (tubes and swept vessels) with one energy point per node; other bodies
-// keep the Cholesky factor (meshless_factor.hpp).
+// Only for walls whose nodes form a lattice (tubes and swept vessels) with one energy point per node; other
+// bodies keep the Cholesky factor (meshless_factor.hpp).
 
 #include <Eigen/Cholesky>
 #include <Eigen/SparseCore>
@@ -33,17 +38,18 @@
 namespace vascsim {
 
 struct WallMultigridOptions {
-  double inv_h2 = 0.0;            ///< the inertia shift M/h^2 (1/s^2); 0 for a static solve
-  double window_spacings = 2.0;   ///< the window's reach from a tool's surface, in node spacings along the wall
-  double jacobi_damping = 0.5;    ///< weight of the block-Jacobi smoothing outside the window
+  double inv_h2 = 0.0;  ///< the inertia shift M/h^2 (1/s^2); 0 for a static solve
+  double window_spacings =
+      2.0;                      ///< the window's reach from a tool's surface, in node spacings along the wall
+  double jacobi_damping = 0.5;  ///< weight of the block-Jacobi smoothing outside the window
 };
 
 class WallMultigrid final : public EquilibriumPreconditioner {
  public:
   /// A problem this preconditioner can serve: its nodes form a wall lattice, one energy point per node.
   static bool supports(const Problem& problem);
-  /// Builds the coarse space and the symbolic parts (no level yet: build_level and install). The problem, `free`
-  /// and `contacts` must outlive it. Throws std::invalid_argument when !supports(problem).
+  /// Builds the coarse space and the symbolic parts (no level yet: build_level and install). The problem,
+  /// `free` and `contacts` must outlive it. Throws std::invalid_argument when !supports(problem).
   WallMultigrid(const Problem& problem, const FreeDofs& free, const ContactActiveSet& contacts,
                 const WallMultigridOptions& options);
   ~WallMultigrid() override;
@@ -52,16 +58,16 @@ class WallMultigrid final : public EquilibriumPreconditioner {
   class Level {
    public:
     Level();
-    std::vector<Mat3> jacobi_inverse;          ///< per free node (FreeDofs order): its diagonal block's inverse
+    std::vector<Mat3> jacobi_inverse;  ///< per free node (FreeDofs order): its diagonal block's inverse
     Eigen::SparseMatrix<double> coarse_matrix;  ///< A_c, N/m
     SparseCholesky coarse;                      ///< its factor (float solves)
     Mat9Array tangents;                         ///< every node's tangent at the level's configuration
     double build_s = 0.0;                       ///< wall time of the build, s
   };
   /// Builds a level at x (m): every node's tangent, the diagonal blocks, the Galerkin coarse operator and its
-  /// factor. Const and self-contained, so it may run on another thread while the installed level serves; `reuse`
-  /// (a level no longer installed) keeps its factor's symbolic analysis. Throws NumericalError when the coarse
-  /// operator is not positive definite.
+  /// factor. Const and self-contained, so it may run on another thread while the installed level serves;
+  /// `reuse` (a level no longer installed) keeps its factor's symbolic analysis. Throws NumericalError when
+  /// the coarse operator is not positive definite.
   std::unique_ptr<Level> build_level(const Vec3Array& x, std::unique_ptr<Level> reuse = nullptr) const;
   /// Installs `level`; returns the one it replaces (for reuse).
   std::unique_ptr<Level> install(std::unique_ptr<Level> level);
@@ -74,31 +80,32 @@ class WallMultigrid final : public EquilibriumPreconditioner {
   double last_level_seconds() const;
 
   bool apply(const Vec3Array& r, Vec3Array& z) const override;
-  /// An approximate P^{-1} (the parts added, without the operator; about 20 % stiffer than the Newton matrix's
-  /// inverse on the vein's contacts): for the contact compliances of the haptic hand-off.
+  /// An approximate P^{-1} (the parts added, without the operator; about 20 % stiffer than the Newton
+  /// matrix's inverse on the vein's contacts): for the contact compliances of the haptic hand-off.
   bool solve_columns(const Eigen::MatrixXd& B, Eigen::MatrixXd& X) const override;
   nlohmann::json info() const override;
   long long version() const override { return version_; }
   void set_operator(const NewtonOperator* op) const override { op_ = op; }
 
   bool handles_contacts() const override { return true; }
-  /// Tools that meet the wall's surface (embedded_contact.hpp) instead of its nodes: the window forms round them,
-  /// and its block takes their penalty's Hessian at the contact's linearisation when the window is prepared.
+  /// Tools that meet the wall's surface (embedded_contact.hpp) instead of its nodes: the window forms round
+  /// them, and its block takes their penalty's Hessian at the contact's linearisation when the window is
+  /// prepared.
   void set_embedded_contact(const EmbeddedContact* contact) { embedded_ = contact; }
 
  private:
   void smooth(const Vec3Array& b, Vec3Array& z, bool constrained) const;  // window solve + block Jacobi
   void coarse_correction(const Vec3Array& b, Vec3Array& z, bool constrained) const;  // z += P A_c^{-1} P^T b
   void update_coarse_contacts() const;  // the coarse level's contact constraints, G = N P
-  void update_window_contacts() const;                                    // the Woodbury factors of the contacts
+  void update_window_contacts() const;  // the Woodbury factors of the contacts
 
   const Problem& problem_;
   const FreeDofs& free_;
   const ContactActiveSet& contacts_;
   const EmbeddedContact* embedded_ = nullptr;
   WallMultigridOptions options_;
-  std::vector<double> shift_;      // per node m_i / h^2, N/m
-  std::vector<double> stab_diag_;  // per node the stabiliser's diagonal, N/m
+  std::vector<double> shift_;                                    // per node m_i / h^2, N/m
+  std::vector<double> stab_diag_;                                // per node the stabiliser's diagonal, N/m
   Eigen::SparseMatrix<double, Eigen::RowMajor, int> stab_rows_;  // the stabiliser's (scalar) Hessian, N/m
   NodalProlongation prolongation_;
   std::unique_ptr<GalerkinHessian> galerkin_;

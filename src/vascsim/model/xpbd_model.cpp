@@ -1,10 +1,10 @@
 #include "vascsim/model/xpbd_model.hpp"
 
-#include <algorithm>
-#include <cmath>
-#include <Eigen/Cholesky>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
 
 #include "vascsim/constraints/contact_constraint.hpp"
 #include "vascsim/constraints/distance_constraint.hpp"
@@ -46,9 +46,10 @@ XpbdSettings read_xpbd_settings(JsonReader& xp) {
   check_step_count(xp, schedule, s.step_s / s.substeps, "step_s");
   s.iterations = xp.integer("iterations", XpbdSettings{}.iterations, 1, 1000);
   s.damping_per_s = xp.number("damping_per_s", 10.0, 0.0, 1e6);
-  s.elastic = xp.string("elastic", "meshless_strain", {"meshless_strain", "tet_neo_hookean"}) == "meshless_strain"
-                  ? XpbdElastic::MeshlessStrain
-                  : XpbdElastic::TetNeoHookean;
+  s.elastic =
+      xp.string("elastic", "meshless_strain", {"meshless_strain", "tet_neo_hookean"}) == "meshless_strain"
+          ? XpbdElastic::MeshlessStrain
+          : XpbdElastic::TetNeoHookean;
   s.stretch_modulus_pa = xp.number("stretch_modulus_pa", 0.0, 0.0, 1e12);
   s.energy_modulus_pa = xp.number("energy_modulus_pa", 0.0, 0.0, 1e12);
   xp.finish();
@@ -59,8 +60,13 @@ ModelEntry xpbd_model_entry() {
   ModelEntry e;
   e.name = "xpbd";
   e.summary =
-      "position-based real-time dynamics of the point-primitive energy (too soft on thin walls at real-time budgets)";
-  e.capabilities = {.dynamic = true, .takes_tools = true, .device_driven = true, .releases_regions = true, .quadratic_basis = false};
+      "position-based real-time dynamics of the point-primitive energy (too soft on thin walls at real-time "
+      "budgets)";
+  e.capabilities = {.dynamic = true,
+                    .takes_tools = true,
+                    .device_driven = true,
+                    .releases_regions = true,
+                    .quadratic_basis = false};
   e.read_settings = [](JsonReader& block) { return std::any(read_xpbd_settings(block)); };
   e.make = [](const Problem& problem, const std::any& settings) -> std::unique_ptr<Model> {
     return std::make_unique<XpbdModel>(problem, settings_as<XpbdSettings>(settings));
@@ -71,8 +77,8 @@ ModelEntry xpbd_model_entry() {
   };
   e.law_restriction = [](const std::any& settings, const std::string& law) -> std::string {
     if (law == "svk" || settings_as<XpbdSettings>(settings).elastic == XpbdElastic::MeshlessStrain) return "";
-    return fmt::format("with xpbd, '{}' needs xpbd.elastic = meshless_strain (the tet option is its own neo-Hookean)",
-                       law);
+    return fmt::format(
+        "with xpbd, '{}' needs xpbd.elastic = meshless_strain (the tet option is its own neo-Hookean)", law);
   };
   return e;
 }
@@ -125,24 +131,27 @@ XpbdModel::XpbdModel(const Problem& problem, const XpbdSettings& s) : problem_(p
   place_obstacles(0.0, 0.0);
   if (s.stretch_modulus_pa > 0.0) setup_edges();
   if (s.energy_modulus_pa > 0.0) setup_barycentre();
-  spdlog::info("xpbd: {} elastic constraints in {} colours; step {:.4g} s = {} substeps of {:.4g} s, {} "
-               "iteration(s); {} steps per output, {} outputs",
-               s.elastic == XpbdElastic::MeshlessStrain ? "meshless strain" : "tet neo-Hookean", num_colours(), step_,
-               s.substeps, h_, s.iterations, per_output, num_steps_);
+  spdlog::info(
+      "xpbd: {} elastic constraints in {} colours; step {:.4g} s = {} substeps of {:.4g} s, {} "
+      "iteration(s); {} steps per output, {} outputs",
+      s.elastic == XpbdElastic::MeshlessStrain ? "meshless strain" : "tet neo-Hookean", num_colours(), step_,
+      s.substeps, h_, s.iterations, per_output, num_steps_);
 }
 
 void XpbdModel::setup_meshless() {
   const Discretization& disc = problem_.discretization();
   const PointPrimitiveEnergy& energy = problem_.energy();
   if (energy.options().volume_stiffness_pa > 0.0)
-    throw InputError("xpbd: the meshless strain constraint does not include the volume term k_v; set "
-                     "energy.volume_stiffness_pa = 0 or use the explicit/quasi_static model");
+    throw InputError(
+        "xpbd: the meshless strain constraint does not include the volume term k_v; set "
+        "energy.volume_stiffness_pa = 0 or use the explicit/quasi_static model");
   lame_lambda_ = energy.strain_lambda();
   shear_modulus_ = energy.shear_modulus();
   if (!(shear_modulus_ > 0.0 && lame_lambda_ >= 0.0))
-    throw InputError(fmt::format("xpbd: the meshless strain constraint needs mu > 0 and lambda >= 0 (got lambda = "
-                                 "{:.4g} Pa, mu = {:.4g} Pa; Poisson ratio must be in [0, 0.5))",
-                                 lame_lambda_, shear_modulus_));
+    throw InputError(
+        fmt::format("xpbd: the meshless strain constraint needs mu > 0 and lambda >= 0 (got lambda = "
+                    "{:.4g} Pa, mu = {:.4g} Pa; Poisson ratio must be in [0, 0.5))",
+                    lame_lambda_, shear_modulus_));
   // The literal strain eps = F^T F - I = 2E with the same C^ is the constraint 2 Mandel(E).
   strain_scale_ = energy.options().strain == StrainMeasure::MuellerNoHalf ? 2.0 : 1.0;
   stabilise_ = energy.options().stabilizer_alpha > 0.0;
@@ -204,9 +213,10 @@ void XpbdModel::setup_tets() {
   shear_modulus_ = disc.material().shear_modulus();
   lame_lambda_ = disc.material().lame_lambda() + shear_modulus_;
   if (!(disc.material().lame_lambda() > 0.0 && shear_modulus_ > 0.0))
-    throw InputError(fmt::format("xpbd: the tet neo-Hookean constraints need Lame lambda > 0 and mu > 0 "
-                                 "(got lambda = {:.4g} Pa, mu = {:.4g} Pa; Poisson ratio must be in (0, 0.5))",
-                                 disc.material().lame_lambda(), shear_modulus_));
+    throw InputError(
+        fmt::format("xpbd: the tet neo-Hookean constraints need Lame lambda > 0 and mu > 0 "
+                    "(got lambda = {:.4g} Pa, mu = {:.4g} Pa; Poisson ratio must be in (0, 0.5))",
+                    disc.material().lame_lambda(), shear_modulus_));
   const auto& tets = disc.tets();
   if (tets.empty()) throw InputError("xpbd: the discretisation has no virtual tetrahedra");
   dm_inv_.resize(tets.size());
@@ -230,9 +240,10 @@ void XpbdModel::setup_tets() {
   const double c_s = std::sqrt(shear_modulus_ / disc.material().density_kg_m3);
   h_shear_limit_ = 0.5 * disc.min_spacing() / c_s;
   if (h_ > h_shear_limit_)
-    spdlog::warn("xpbd: substep {:.3g} s exceeds the shear stability estimate 0.5 Delta_min / c_s = {:.3g} s "
-                 "(the tet neo-Hookean pair integrates shear explicitly); use substeps >= {} per {:.3g} s step",
-                 h_, h_shear_limit_, static_cast<long long>(std::ceil(step_ / h_shear_limit_)), step_);
+    spdlog::warn(
+        "xpbd: substep {:.3g} s exceeds the shear stability estimate 0.5 Delta_min / c_s = {:.3g} s "
+        "(the tet neo-Hookean pair integrates shear explicitly); use substeps >= {} per {:.3g} s step",
+        h_, h_shear_limit_, static_cast<long long>(std::ceil(step_ / h_shear_limit_)), step_);
 }
 
 void XpbdModel::setup_edges() {
@@ -253,7 +264,8 @@ void XpbdModel::setup_barycentre() {
   const auto& tets = disc.tets();
   bary_rest_.resize(tets.size());
   bary_compliance_.resize(tets.size());
-  const auto springs = constraints::barycentre_springs_of_mesh(x_, tets, disc.masses(), settings_.energy_modulus_pa);
+  const auto springs =
+      constraints::barycentre_springs_of_mesh(x_, tets, disc.masses(), settings_.energy_modulus_pa);
   for (std::size_t t = 0; t < tets.size(); ++t) {
     bary_rest_[t] = springs[t].rest_distances;
     bary_compliance_[t] = 1.0 / springs[t].stiffness;
@@ -262,7 +274,9 @@ void XpbdModel::setup_barycentre() {
   if (tet_colours_.num_colours() == 0) tet_colours_ = colour(tets, disc.num_nodes());
 }
 
-double XpbdModel::load_factor_at(double t) const { return ramped_load_factor(t, settings_.ramp_time_s); }
+double XpbdModel::load_factor_at(double t) const {
+  return ramped_load_factor(t, settings_.ramp_time_s);
+}
 
 void XpbdModel::project_node(Index i) {
   if (!node_active_[i]) return;
@@ -270,7 +284,8 @@ void XpbdModel::project_node(Index i) {
   const PairTable& P = disc.pairs();
   const Index begin = P.row_start[i], end = P.row_start[i + 1];
   const Vec3& d_self = disc.self_d()[i];
-  // Strain block: c = s Mandel(E), E = 1/2 (F^T F - I), F = sum_j (p_j - p_i) d_ij^T (docs/model/06-gradients.md).
+  // Strain block: c = s Mandel(E), E = 1/2 (F^T F - I), F = sum_j (p_j - p_i) d_ij^T
+  // (docs/model/06-gradients.md).
   Mat3 F = Mat3::Zero();
   for (Index e = begin; e < end; ++e) F.noalias() += (p_[P.col[e]] - p_[i]) * P.d[e].transpose();
   Mat3 G;
@@ -296,14 +311,15 @@ void XpbdModel::project_node(Index i) {
 
 Mat3 XpbdModel::law_energy_correction(Index i, const Mat3& F) {
   // Any hyperelastic law (model/materials) as one scalar XPBD energy constraint per node:
-  //   C_i = sqrt(2 V_i psi(F_i)),  alpha = 1,  so that 1/2 C_i^2 / alpha = V_i psi(F_i)  (Macklin & Mueller 2021's
-  //   "energy as a constraint"); grad_k C_i = (V_i / C_i) P(F_i) d_ik, and
-  //   Delta lambda = -(C + alpha~ lambda) / (sum_k w_k |grad_k C|^2 + alpha~),  alpha~ = 1/h^2,
-  //   sum_k w_k |G d_k|^2 = tr(G D_i G^T) with D_i = sum_k w_k d_k d_k^T.
+  //   C_i = sqrt(2 V_i psi(F_i)),  alpha = 1,  so that 1/2 C_i^2 / alpha = V_i psi(F_i)  (Macklin & Mueller
+  //   2021's "energy as a constraint"); grad_k C_i = (V_i / C_i) P(F_i) d_ik, and Delta lambda = -(C + alpha~
+  //   lambda) / (sum_k w_k |grad_k C|^2 + alpha~),  alpha~ = 1/h^2, sum_k w_k |G d_k|^2 = tr(G D_i G^T) with
+  //   D_i = sum_k w_k d_k d_k^T.
   // At the rest state C = 0 and the gradient direction is undefined: below a tiny energy the node is left
   // alone (its stabiliser still acts).
   const Discretization& disc = problem_.discretization();
-  const materials::MaterialFrame* frame = frames_ == nullptr ? nullptr : &(*frames_)[static_cast<std::size_t>(i)];
+  const materials::MaterialFrame* frame =
+      frames_ == nullptr ? nullptr : &(*frames_)[static_cast<std::size_t>(i)];
   const double V = disc.volumes()[i];
   const double energy = V * law_->energy_density(F, frame);
   const double floor = 1e-24 * V * shear_modulus_;
@@ -337,11 +353,11 @@ Mat3 XpbdModel::svk_strain_correction(Index i, const Mat3& F) {
 }
 
 void XpbdModel::project_stabiliser(Index i, const Mat3& F) {
-  // Stabiliser (docs/model/09-volume-term-and-stabiliser.md section 9.2): U_i = c_i/2 sum_j w_ij |r_ij|^2, r_ij = p_j - p_i - F_i X_ij. F_i is the
-  // weighted least-squares fit of the neighbourhood, so dU_i/dF_i = (sum_j w_ij r_ij X_ij^T) A_i^{-1} = 0 and
-  // the gradients with F_i frozen are exact: each pair is a 3-vector constraint with grad_j = I,
-  // grad_i = -I and compliance 1/(c_i w_ij). F is the fit after the elastic correction, obtained without a
-  // second gather: Delta F = sum_k Delta p_k d_k^T = G D_i.
+  // Stabiliser (docs/model/09-volume-term-and-stabiliser.md section 9.2): U_i = c_i/2 sum_j w_ij |r_ij|^2,
+  // r_ij = p_j - p_i - F_i X_ij. F_i is the weighted least-squares fit of the neighbourhood, so dU_i/dF_i =
+  // (sum_j w_ij r_ij X_ij^T) A_i^{-1} = 0 and the gradients with F_i frozen are exact: each pair is a
+  // 3-vector constraint with grad_j = I, grad_i = -I and compliance 1/(c_i w_ij). F is the fit after the
+  // elastic correction, obtained without a second gather: Delta F = sum_k Delta p_k d_k^T = G D_i.
   const Discretization& disc = problem_.discretization();
   const PairTable& P = disc.pairs();
   const Vec3Array& X = disc.rest_positions();
@@ -437,7 +453,8 @@ void XpbdModel::project_barycentre(Index t) {
     for (int b = 0; b < 4; ++b) x[b] = p_[tet[b]];
     const auto c = constraints::barycentre_spring_constraint(x, m, a, bary_rest_[t][a]);
     std::array<Vec3, 4> dp;
-    const double dl = constraints::xpbd_project(c, w, {}, par, bary_lambda_[4 * static_cast<std::size_t>(t) + a], dp);
+    const double dl =
+        constraints::xpbd_project(c, w, {}, par, bary_lambda_[4 * static_cast<std::size_t>(t) + a], dp);
     for (int b = 0; b < 4; ++b) {
       p_[tet[b]] += dp[b];
       f_constraint_[tet[b]] += (dl * inv_h2_) * c.grad[b];
@@ -455,7 +472,8 @@ void XpbdModel::place_obstacles(double s, double fraction) {
     }
     const auto& from = pose_from_[o];
     const auto& to = pose_to_[o];
-    obstacle_now_[o] = {from.a + fraction * (to.a - from.a), from.b + fraction * (to.b - from.b), to.radius_m};
+    obstacle_now_[o] = {from.a + fraction * (to.a - from.a), from.b + fraction * (to.b - from.b),
+                        to.radius_m};
     tool_now_[o] = tool_from_[o] + fraction * (tool_to_[o] - tool_from_[o]);
   }
 }
@@ -574,7 +592,8 @@ StepReport XpbdModel::step() {
   substeps_done_ += settings_.substeps;
   s_ = load_factor_at(t_);
   for (const auto& x : x_)
-    if (!x.allFinite()) throw NumericalError(fmt::format("xpbd: the state became non-finite at t = {:.6g} s", t_));
+    if (!x.allFinite())
+      throw NumericalError(fmt::format("xpbd: the state became non-finite at t = {:.6g} s", t_));
   StepReport r;
   r.iterations = settings_.substeps;
   r.time_s = t_;

@@ -1,6 +1,7 @@
 #pragma once
-// `xpbd`: the real-time pipeline of docs/model/19-position-based.md. Per step of length step_s (the haptic tick), n_sub
-// substeps of length h = step_s / n_sub (Macklin et al. 2019, "Small Steps in Physics Simulation"), each:
+// `xpbd`: the real-time pipeline of docs/model/19-position-based.md. Per step of length step_s (the haptic
+// tick), n_sub substeps of length h = step_s / n_sub (Macklin et al. 2019, "Small Steps in Physics
+// Simulation"), each:
 //   free nodes:        v <- v + h f_ext/m ;  x_prev <- x ;  p <- x + h v
 //   constrained nodes: p <- prescribed position (w = 0)
 //   lambda <- 0 (once per substep: XPBD semantics, Macklin, Mueller, Chentanez 2016)
@@ -8,22 +9,27 @@
 //   constraints share no node and run in parallel):
 //     elastic constraints, one of
 //       (A) meshless_strain (default): the point-primitive SVK energy of every node as one 6-component
-//           constraint c_i = Mandel(E_i) with compliance (V_i C^)^{-1} (constraints/meshless_strain_constraint.hpp),
-//           solved as a 6x6 block, followed by the zero-energy-mode stabiliser of node i (docs/model/09-volume-term-and-stabiliser.md section 9.2) as
-//           K pair constraints r_ij = x_j - x_i - F_i X_ij with compliance 1/(c_i w_ij). The real-time model is
-//           then the same energy as quasi_static and explicit, so its steady state converges to theirs.
+//           constraint c_i = Mandel(E_i) with compliance (V_i C^)^{-1}
+//           (constraints/meshless_strain_constraint.hpp), solved as a 6x6 block, followed by the
+//           zero-energy-mode stabiliser of node i (docs/model/09-volume-term-and-stabiliser.md section 9.2)
+//           as K pair constraints r_ij = x_j - x_i - F_i X_ij with compliance 1/(c_i w_ij). The real-time
+//           model is then the same energy as quasi_static and explicit, so its steady state converges to
+//           theirs.
 //       (B) tet_neo_hookean: the stable neo-Hookean pair (C_H, C_D) of every virtual tetrahedron (Macklin &
-//           Mueller 2021), converging to the P1 tet solution instead (see docs/model/19-position-based.md section 19.3).
+//           Mueller 2021), converging to the P1 tet solution instead (see docs/model/19-position-based.md
+//           section 19.3).
 //     optional, with physical compliance: tet-edge stretching constraints (paper Eqs. 13-17, stiffness
-//       k_e = E_s l0) and per-spring barycentre energy constraints (docs/model/16-deviations.md, E11, calibrated to a bulk modulus
-//       kappa_e). Both add stiffness on top of the elastic energy; off by default.
+//       k_e = E_s l0) and per-spring barycentre energy constraints (docs/model/16-deviations.md, E11,
+//       calibrated to a bulk modulus kappa_e). Both add stiffness on top of the elastic energy; off by
+//       default.
 //   v <- (p - x_prev)/h, v <- v exp(-c h) (mass-proportional damping), x <- p.
 // External loads (gravity, region forces) and prescribed displacements scale with the load factor,
 // ramped linearly in time like ExplicitModel. A fixed/displacement region with a release time is let go
 // then: its nodes become free and keep the velocity of their prescribed motion.
 //
 // The force every constraint exerted over the last substep, sum_c lambda_c grad C_c / h^2 (N per node,
-// docs/model/19-position-based.md), is kept per node (constraint_forces()), so supports and tools feel what the solver applied.
+// docs/model/19-position-based.md), is kept per node (constraint_forces()), so supports and tools feel what
+// the solver applied.
 
 #include <array>
 #include <string>
@@ -48,7 +54,8 @@ struct XpbdSettings {
   double step_s = 1e-3;             ///< step (haptic tick), s; split into `substeps`
   int substeps = 8;                 ///< n_sub per step
   int iterations = 2;               ///< n_it Gauss-Seidel sweeps per substep (docs/validation.md, xpbd table)
-  double damping_per_s = 10.0;      ///< mass-proportional damping c, 1/s (docs/model/12-equation-of-motion.md: 5-20)
+  double damping_per_s =
+      10.0;  ///< mass-proportional damping c, 1/s (docs/model/12-equation-of-motion.md: 5-20)
   XpbdElastic elastic = XpbdElastic::MeshlessStrain;
   double stretch_modulus_pa = 0.0;  ///< E_s of the tet-edge stretching constraints, k_e = E_s l0 (0: off), Pa
   double energy_modulus_pa = 0.0;   ///< kappa_e of the per-spring barycentre constraints (0: off), Pa
@@ -103,19 +110,21 @@ class XpbdModel final : public Model, public DeviceDrivenModel {
  private:
   double load_factor_at(double t) const;
   void setup_meshless();
-  void update_node_weights();      // D_i and node_active_ from the current inverse masses
-  void apply_releases(double t);   // frees the nodes of regions whose release time has come
+  void update_node_weights();     // D_i and node_active_ from the current inverse masses
+  void apply_releases(double t);  // frees the nodes of regions whose release time has come
   void setup_tets();
   void setup_edges();
   void setup_barycentre();
-  void project_node(Index i);       // (A) strain block (or law energy) + stabiliser pairs of node i
-  Mat3 svk_strain_correction(Index i, const Mat3& F);   // (A), SVK: the 6x6 block; returns G (Delta p_k = w_k G d_k)
-  Mat3 law_energy_correction(Index i, const Mat3& F);   // (A), any law: one scalar energy constraint; returns G
-  void project_stabiliser(Index i, const Mat3& F);      // stabiliser pairs of node i with fit F
-  void project_tet(Index t);        // (B)
-  void project_edge(Index e);       // stretching
-  void project_barycentre(Index t);  // four per-spring barycentre constraints of tet t
-  void project_contacts();           // every node against every obstacle as placed for this substep
+  void project_node(Index i);  // (A) strain block (or law energy) + stabiliser pairs of node i
+  Mat3 svk_strain_correction(Index i,
+                             const Mat3& F);  // (A), SVK: the 6x6 block; returns G (Delta p_k = w_k G d_k)
+  Mat3 law_energy_correction(Index i,
+                             const Mat3& F);        // (A), any law: one scalar energy constraint; returns G
+  void project_stabiliser(Index i, const Mat3& F);  // stabiliser pairs of node i with fit F
+  void project_tet(Index t);                        // (B)
+  void project_edge(Index e);                       // stretching
+  void project_barycentre(Index t);                 // four per-spring barycentre constraints of tet t
+  void project_contacts();  // every node against every obstacle as placed for this substep
   void place_obstacles(double s, double fraction);  // obstacle_now_ at load factor s, fraction of the step
   template <class Project>
   void sweep(const Colouring& colours, Project&& project);
@@ -141,7 +150,7 @@ class XpbdModel final : public Model, public DeviceDrivenModel {
   std::vector<double> node_lambda_, pair_lambda_;
   double strain_scale_ = 1.0;
   bool stabilise_ = false;
-  const materials::HyperelasticLaw* law_ = nullptr;                 // null: the SVK block
+  const materials::HyperelasticLaw* law_ = nullptr;                // null: the SVK block
   const std::vector<materials::MaterialFrame>* frames_ = nullptr;  // per node, for laws that need one
 
   // (B) tets: rest D_m^{-1}, compliances (1/J), multipliers (C_H, C_D).
@@ -158,7 +167,7 @@ class XpbdModel final : public Model, public DeviceDrivenModel {
   std::vector<ObstacleLoad> obstacle_load_;
   std::vector<constraints::Capsule> obstacle_now_, pose_from_, pose_to_;  // per obstacle
   std::vector<Vec3> tool_now_, tool_from_, tool_to_;                      // tool points, m
-  std::vector<char> posed_;  // placed by set_obstacle_pose
+  std::vector<char> posed_;                                               // placed by set_obstacle_pose
 
   // Per-spring barycentre constraints (4 per tet).
   std::vector<std::array<double, 4>> bary_rest_;

@@ -81,7 +81,8 @@ void OrbitCamera::pan(double dx_px, double dy_px, int viewport_height_px) {
 }
 
 void OrbitCamera::zoom(double notches) {
-  distance_m_ = std::clamp(distance_m_ * std::pow(0.9, notches), 0.02 * home_distance_m_, 20.0 * home_distance_m_);
+  distance_m_ =
+      std::clamp(distance_m_ * std::pow(0.9, notches), 0.02 * home_distance_m_, 20.0 * home_distance_m_);
 }
 
 void OrbitCamera::enclose(const Bounds& bounds) {
@@ -98,7 +99,8 @@ CameraPose OrbitCamera::make_pose(const Vec3& direction_to_eye, double distance_
   // Up: the superior axis, unless the view looks along it (then anterior).
   const Vec3 s = patient_.superior.normalized();
   p.up = std::abs(direction_to_eye.normalized().dot(s)) < 0.999 ? s : patient_.anterior.normalized();
-  // Near and far planes bracket the bounding sphere of what is drawn (at least 1e-3 of the distance in front).
+  // Near and far planes bracket the bounding sphere of what is drawn (at least 1e-3 of the distance in
+  // front).
   const double r = std::max(clip_.radius(), 1e-9);
   const double d = (clip_.centre() - p.eye_m).norm();
   p.near_m = std::max(d - 1.5 * r, 1e-3 * distance_m_);

@@ -16,17 +16,17 @@ namespace vascsim::render {
 struct DemoVesselSpec {
   double outer_radius_m = 3e-3;
   double wall_thickness_m = 0.6e-3;
-  double bend_radius_m = 20e-3;   ///< centre-line radius of curvature of the bend
-  double bend_angle_deg = 90.0;   ///< bend towards +x in the x-z plane
-  double leg_length_m = 15e-3;    ///< straight legs before and after the bend
-  int target_triangles = 20000;   ///< the node spacing is chosen to give about this many wall triangles
-  double catheter_radius_m = 1e-3;  ///< 6 Fr
+  double bend_radius_m = 20e-3;       ///< centre-line radius of curvature of the bend
+  double bend_angle_deg = 90.0;       ///< bend towards +x in the x-z plane
+  double leg_length_m = 15e-3;        ///< straight legs before and after the bend
+  int target_triangles = 20000;       ///< the node spacing is chosen to give about this many wall triangles
+  double catheter_radius_m = 1e-3;    ///< 6 Fr
   double catheter_outside_m = 12e-3;  ///< shaft length outside the vessel's entry
-  double tip_arc_fraction = 0.65;  ///< the tip's arc length / centre-line length
-  double indent_depth_m = 0.4e-3;  ///< peak outward displacement of the wall at the tip
+  double tip_arc_fraction = 0.65;     ///< the tip's arc length / centre-line length
+  double indent_depth_m = 0.4e-3;     ///< peak outward displacement of the wall at the tip
   double force_threshold_n = 0.5;
   double stiffness_n_per_m = 1000.0;  ///< force = stiffness x indentation (synthetic)
-  bool overlays = false;  ///< fill node points and tetrahedron edges
+  bool overlays = false;              ///< fill node points and tetrahedron edges
 };
 
 class DemoVessel {
@@ -54,7 +54,7 @@ class DemoVessel {
   std::vector<std::uint8_t> outer_;
   std::vector<ToolCapsule> catheter_;
   Float3 contact_m_ = Float3::Zero();  // on the inner wall, at the tip
-  Float3 push_dir_ = Float3::UnitX();   // outward from the bend
+  Float3 push_dir_ = Float3::UnitX();  // outward from the bend
   std::vector<Float3> node_points_;
   std::vector<std::array<std::uint32_t, 2>> tet_edges_;
 };

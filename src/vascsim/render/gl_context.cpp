@@ -12,17 +12,20 @@ namespace vascsim::render {
 void check_context_options(const ContextOptions& options) {
   if (options.width < 1 || options.height < 1 || options.width > kMaxFramebufferSize ||
       options.height > kMaxFramebufferSize)
-    throw RenderSetupError(fmt::format("window size {}x{} is impossible: width and height must be 1 to {} pixels",
-                                       options.width, options.height, kMaxFramebufferSize));
+    throw RenderSetupError(
+        fmt::format("window size {}x{} is impossible: width and height must be 1 to {} pixels", options.width,
+                    options.height, kMaxFramebufferSize));
   if (options.samples != 0 && options.samples != 2 && options.samples != 4 && options.samples != 8)
-    throw RenderSetupError(fmt::format("multisampling {} is not supported: use 0, 2, 4 or 8", options.samples));
+    throw RenderSetupError(
+        fmt::format("multisampling {} is not supported: use 0, 2, 4 or 8", options.samples));
 }
 
 void parse_window_size(const std::string& text, const std::string& option, ContextOptions& options) {
   static const std::regex re(R"((-?\d{1,9})x(-?\d{1,9}))");
   std::smatch m;
   if (!std::regex_match(text, m, re))
-    throw RenderSetupError(fmt::format("{} {}: expected WIDTHxHEIGHT in pixels, e.g. 1280x800", option, text));
+    throw RenderSetupError(
+        fmt::format("{} {}: expected WIDTHxHEIGHT in pixels, e.g. 1280x800", option, text));
   options.width = std::stoi(m[1]);
   options.height = std::stoi(m[2]);
 }
@@ -46,8 +49,9 @@ void GlContext::check_capabilities(const ContextOptions& options, const char* ba
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &rb);
   const int limit = std::min({dims[0], dims[1], static_cast<int>(rb)});
   if (options.width > limit || options.height > limit)
-    throw RenderSetupError(fmt::format("window size {}x{} is impossible: this OpenGL ({}) allows at most {} pixels",
-                                       options.width, options.height, description(), limit));
+    throw RenderSetupError(
+        fmt::format("window size {}x{} is impossible: this OpenGL ({}) allows at most {} pixels",
+                    options.width, options.height, description(), limit));
 }
 
 bool display_available() {

@@ -29,10 +29,10 @@ enum class ContextKind { window, headless };
 struct ContextOptions {
   int width = 1280, height = 800;  ///< window or offscreen framebuffer size, pixels
   std::string title = "vascsim";
-  bool headless = false;           ///< force the EGL back-end even when a display exists
-  bool visible = true;             ///< window back-end: show the window
-  bool vsync = true;               ///< window back-end: swap interval 1
-  int samples = 0;                 ///< multisample anti-aliasing (0, 2, 4, 8)
+  bool headless = false;  ///< force the EGL back-end even when a display exists
+  bool visible = true;    ///< window back-end: show the window
+  bool vsync = true;      ///< window back-end: swap interval 1
+  int samples = 0;        ///< multisample anti-aliasing (0, 2, 4, 8)
 };
 
 /// Largest width or height accepted before any GL query (GL_MAX_VIEWPORT_DIMS is checked afterwards).

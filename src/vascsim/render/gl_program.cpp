@@ -32,7 +32,8 @@ GLuint compile(GLenum type, const std::string& source, const std::string& name) 
 
 }  // namespace
 
-GlProgram::GlProgram(const std::string& name, const std::string& vertex_source, const std::string& fragment_source)
+GlProgram::GlProgram(const std::string& name, const std::string& vertex_source,
+                     const std::string& fragment_source)
     : name_(name) {
   const GLuint vs = compile(GL_VERTEX_SHADER, vertex_source, name);
   GLuint fs = 0;
@@ -66,7 +67,9 @@ GlProgram::~GlProgram() {
 }
 
 GlProgram::GlProgram(GlProgram&& other) noexcept
-    : id_(std::exchange(other.id_, 0)), name_(std::move(other.name_)), locations_(std::move(other.locations_)) {}
+    : id_(std::exchange(other.id_, 0)),
+      name_(std::move(other.name_)),
+      locations_(std::move(other.locations_)) {}
 
 GlProgram& GlProgram::operator=(GlProgram&& other) noexcept {
   if (this != &other) {
@@ -78,7 +81,9 @@ GlProgram& GlProgram::operator=(GlProgram&& other) noexcept {
   return *this;
 }
 
-void GlProgram::use() const { glUseProgram(id_); }
+void GlProgram::use() const {
+  glUseProgram(id_);
+}
 
 int GlProgram::location(const char* name) {
   auto it = locations_.find(name);
@@ -86,11 +91,21 @@ int GlProgram::location(const char* name) {
   return it->second;  // -1 (ignored by glUniform*) if the compiler removed an unused uniform
 }
 
-void GlProgram::set(const char* name, int value) { glUniform1i(location(name), value); }
-void GlProgram::set(const char* name, unsigned value) { glUniform1ui(location(name), value); }
-void GlProgram::set(const char* name, float value) { glUniform1f(location(name), value); }
-void GlProgram::set(const char* name, const Eigen::Vector2f& v) { glUniform2f(location(name), v.x(), v.y()); }
-void GlProgram::set(const char* name, const Eigen::Vector3f& v) { glUniform3f(location(name), v.x(), v.y(), v.z()); }
+void GlProgram::set(const char* name, int value) {
+  glUniform1i(location(name), value);
+}
+void GlProgram::set(const char* name, unsigned value) {
+  glUniform1ui(location(name), value);
+}
+void GlProgram::set(const char* name, float value) {
+  glUniform1f(location(name), value);
+}
+void GlProgram::set(const char* name, const Eigen::Vector2f& v) {
+  glUniform2f(location(name), v.x(), v.y());
+}
+void GlProgram::set(const char* name, const Eigen::Vector3f& v) {
+  glUniform3f(location(name), v.x(), v.y(), v.z());
+}
 void GlProgram::set(const char* name, const Eigen::Vector4f& v) {
   glUniform4f(location(name), v.x(), v.y(), v.z(), v.w());
 }

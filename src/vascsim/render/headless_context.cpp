@@ -16,44 +16,56 @@ namespace {
 
 std::string egl_error_name(EGLint e) {
   switch (e) {
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-    default: return fmt::format("EGL error 0x{:x}", e);
+    case EGL_NOT_INITIALIZED:
+      return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ACCESS:
+      return "EGL_BAD_ACCESS";
+    case EGL_BAD_ALLOC:
+      return "EGL_BAD_ALLOC";
+    case EGL_BAD_ATTRIBUTE:
+      return "EGL_BAD_ATTRIBUTE";
+    case EGL_BAD_CONFIG:
+      return "EGL_BAD_CONFIG";
+    case EGL_BAD_CONTEXT:
+      return "EGL_BAD_CONTEXT";
+    case EGL_BAD_DISPLAY:
+      return "EGL_BAD_DISPLAY";
+    case EGL_BAD_MATCH:
+      return "EGL_BAD_MATCH";
+    case EGL_BAD_PARAMETER:
+      return "EGL_BAD_PARAMETER";
+    default:
+      return fmt::format("EGL error 0x{:x}", e);
   }
 }
 
 class HeadlessContext final : public GlContext {
  public:
   explicit HeadlessContext(const ContextOptions& options) : width_(options.width), height_(options.height) {
-    const char* hint = "; install EGL with Mesa's drivers (libegl1, libegl-mesa0, libgl1-mesa-dri) or open a window "
-                       "(set DISPLAY, or run under xvfb-run -a)";
+    const char* hint =
+        "; install EGL with Mesa's drivers (libegl1, libegl-mesa0, libgl1-mesa-dri) or open a window "
+        "(set DISPLAY, or run under xvfb-run -a)";
     // libepoxy aborts the process when it cannot load libEGL.so.1: look for it first.
     if (void* egl = dlopen("libEGL.so.1", RTLD_LAZY | RTLD_LOCAL); egl != nullptr)
       dlclose(egl);
     else
       throw RenderSetupError(fmt::format("cannot render headless: libEGL.so.1 not found{}", hint));
     if (!epoxy_has_egl_extension(EGL_NO_DISPLAY, "EGL_MESA_platform_surfaceless"))
-      throw RenderSetupError(fmt::format("cannot render headless: no EGL with EGL_MESA_platform_surfaceless{}", hint));
+      throw RenderSetupError(
+          fmt::format("cannot render headless: no EGL with EGL_MESA_platform_surfaceless{}", hint));
     display_ = eglGetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
     EGLint major = 0, minor = 0;
     if (display_ == EGL_NO_DISPLAY || eglInitialize(display_, &major, &minor) != EGL_TRUE)
-      throw RenderSetupError(
-          fmt::format("cannot render headless: EGL surfaceless display: {}{}", egl_error_name(eglGetError()), hint));
+      throw RenderSetupError(fmt::format("cannot render headless: EGL surfaceless display: {}{}",
+                                         egl_error_name(eglGetError()), hint));
     try {
-      if (eglBindAPI(EGL_OPENGL_API) != EGL_TRUE)
-        fail("this EGL has no desktop OpenGL", hint);
+      if (eglBindAPI(EGL_OPENGL_API) != EGL_TRUE) fail("this EGL has no desktop OpenGL", hint);
       const EGLint config_attribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, EGL_PBUFFER_BIT,
                                        EGL_NONE};
       EGLConfig config = nullptr;
       EGLint count = 0;
-      if (eglChooseConfig(display_, config_attribs, &config, 1, &count) != EGL_TRUE || count < 1) config = nullptr;
+      if (eglChooseConfig(display_, config_attribs, &config, 1, &count) != EGL_TRUE || count < 1)
+        config = nullptr;
       if (config == nullptr && !epoxy_has_egl_extension(display_, "EGL_KHR_no_config_context"))
         fail("no OpenGL config", hint);
       const EGLint context_attribs[] = {EGL_CONTEXT_MAJOR_VERSION,
@@ -93,12 +105,13 @@ class HeadlessContext final : public GlContext {
 
  private:
   [[noreturn]] void fail(const char* what, const char* hint) {
-    throw RenderSetupError(fmt::format("cannot render headless: {}: {}{}", what, egl_error_name(eglGetError()), hint));
+    throw RenderSetupError(
+        fmt::format("cannot render headless: {}: {}{}", what, egl_error_name(eglGetError()), hint));
   }
 
   // A colour + depth framebuffer (multisampled if samples > 0) and the single-sampled one read back.
   void create_framebuffers(int samples) {
-    auto make = [this](GLuint& fbo, GLuint (&rbs)[2], int s) {
+    auto make = [this](GLuint& fbo, GLuint(&rbs)[2], int s) {
       glGenFramebuffers(1, &fbo);
       glBindFramebuffer(GL_FRAMEBUFFER, fbo);
       glGenRenderbuffers(2, rbs);
@@ -110,9 +123,10 @@ class HeadlessContext final : public GlContext {
       glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, rbs[1]);
       const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
       if (status != GL_FRAMEBUFFER_COMPLETE)
-        throw RenderSetupError(fmt::format("cannot render headless: a {}x{} framebuffer ({} samples) is incomplete "
-                                           "(status 0x{:x})",
-                                           width_, height_, s, status));
+        throw RenderSetupError(
+            fmt::format("cannot render headless: a {}x{} framebuffer ({} samples) is incomplete "
+                        "(status 0x{:x})",
+                        width_, height_, s, status));
     };
     make(fbo_, rbs_, 0);
     if (samples > 0) make(ms_fbo_, ms_rbs_, samples);

@@ -1,13 +1,13 @@
 #include "vascsim/render/hud.hpp"
 
-#include <imgui.h>
-#include <imgui_stdlib.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+#include <imgui_stdlib.h>
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 
 #include "vascsim/render/colour_map.hpp"
 #include "vascsim/render/gl_context.hpp"
@@ -16,7 +16,9 @@ namespace vascsim::render {
 
 namespace {
 
-void text(const std::string& s) { ImGui::TextUnformatted(s.c_str()); }
+void text(const std::string& s) {
+  ImGui::TextUnformatted(s.c_str());
+}
 
 // A combo box over `choices`; true when the user picked a different one.
 bool choose(const char* label, const std::vector<std::string>& choices, std::string& chosen) {
@@ -56,7 +58,8 @@ void draw_legend(const ScalarField& field) {
       dl->AddRectFilledMultiColor(ImVec2(p.x + t0 * w, p.y), ImVec2(p.x + t1 * w, p.y + h), ca, cb, cb, ca);
     }
     ImGui::Dummy(ImVec2(w, h));
-    const std::string lo = fmt::format("{:.3g}", field.min), mid = fmt::format("{:.3g}", 0.5f * (field.min + field.max)),
+    const std::string lo = fmt::format("{:.3g}", field.min),
+                      mid = fmt::format("{:.3g}", 0.5f * (field.min + field.max)),
                       hi = fmt::format("{:.3g}", field.max);
     text(lo);
     ImGui::SameLine(0.5f * w - 0.5f * ImGui::CalcTextSize(mid.c_str()).x);
@@ -67,14 +70,14 @@ void draw_legend(const ScalarField& field) {
   ImGui::End();
 }
 
-
 void draw_stats(const HudStats& s) {
   text(fmt::format("{}  |  model {}", s.scene_name.empty() ? std::string("(no scene)") : s.scene_name,
                    s.model_name.empty() ? std::string("-") : s.model_name));
   text(fmt::format("{:.1f} fps  (upload {:.1f} ms, draw {:.1f} ms)", s.visual_fps, s.upload_ms, s.draw_ms));
   text(fmt::format("deformation {:.0f} steps/s   t = {:.3f} s{}", s.deformation_steps_per_s, s.sim_time_s,
                    s.paused ? "  [paused]" : ""));
-  text(fmt::format("frame {:.1f} ms, map {:.2f} ms, normals {:.2f} ms", s.simulation_ms, s.map_ms, s.normals_ms));
+  text(fmt::format("frame {:.1f} ms, map {:.2f} ms, normals {:.2f} ms", s.simulation_ms, s.map_ms,
+                   s.normals_ms));
   text(s.device.empty() ? std::string("haptics: no tool in this scene")
                         : fmt::format("haptics {:.0f} Hz, p99 jitter {:.0f} us ({})", s.haptic_rate_hz,
                                       s.haptic_p99_jitter_us, s.device));
@@ -82,9 +85,11 @@ void draw_stats(const HudStats& s) {
   text(std::isnan(s.solver_residual) ? std::string("residual: - (not reported)")
                                      : fmt::format("residual {:.3e}", s.solver_residual));
   const bool over = s.force_threshold_n > 0.0 && s.tool_force_n > s.force_threshold_n;
-  ImGui::PushStyleColor(ImGuiCol_Text, over ? ImVec4(1.0f, 0.35f, 0.3f, 1.0f) : ImVec4(0.6f, 1.0f, 0.6f, 1.0f));
-  text(fmt::format("tool force {:.4g} N{}", s.tool_force_n,
-                   s.force_threshold_n > 0.0 ? fmt::format(" (threshold {:.3g} N)", s.force_threshold_n) : ""));
+  ImGui::PushStyleColor(ImGuiCol_Text,
+                        over ? ImVec4(1.0f, 0.35f, 0.3f, 1.0f) : ImVec4(0.6f, 1.0f, 0.6f, 1.0f));
+  text(fmt::format(
+      "tool force {:.4g} N{}", s.tool_force_n,
+      s.force_threshold_n > 0.0 ? fmt::format(" (threshold {:.3g} N)", s.force_threshold_n) : ""));
   ImGui::PopStyleColor();
   if (const std::string hand = hand_line(s); !hand.empty()) text(hand);
   if (!s.force_history_n.empty()) {
@@ -125,7 +130,8 @@ void draw_view(HudControls& c, HudRequests& r) {
   ImGui::Checkbox("tools", &c.show_tools);
   ImGui::SameLine();
   ImGui::Checkbox("force arrow", &c.show_force);
-  ImGui::SliderFloat("threshold (N)", &c.force_threshold_n, 1e-6f, 10.0f, "%.4g", ImGuiSliderFlags_Logarithmic);
+  ImGui::SliderFloat("threshold (N)", &c.force_threshold_n, 1e-6f, 10.0f, "%.4g",
+                     ImGuiSliderFlags_Logarithmic);
   r.reset_camera = ImGui::Button("reset camera");
   ImGui::SameLine();
   r.screenshot = ImGui::Button("screenshot");
@@ -162,7 +168,8 @@ void edit_setting(JsonField& f) {
       break;
     }
     case JsonField::Kind::string:
-      changed = f.allowed.empty() ? ImGui::InputText(f.key.c_str(), &f.text) : choose(f.key.c_str(), f.allowed, f.text);
+      changed = f.allowed.empty() ? ImGui::InputText(f.key.c_str(), &f.text)
+                                  : choose(f.key.c_str(), f.allowed, f.text);
       break;
   }
   if (changed && f.kind != JsonField::Kind::string) f.value = std::clamp(f.value, f.lo, f.hi);
@@ -172,7 +179,8 @@ void draw_material(HudControls& c, HudRequests& r) {
   if (!ImGui::CollapsingHeader("Material and solver")) return;
   double e_kpa = c.youngs_modulus_pa * 1e-3;
   const double e_min = 1.0, e_max = 1e5, nu_min = 0.0, nu_max = 0.499;
-  ImGui::SliderScalar("E (kPa)", ImGuiDataType_Double, &e_kpa, &e_min, &e_max, "%.1f", ImGuiSliderFlags_Logarithmic);
+  ImGui::SliderScalar("E (kPa)", ImGuiDataType_Double, &e_kpa, &e_min, &e_max, "%.1f",
+                      ImGuiSliderFlags_Logarithmic);
   ImGui::SliderScalar("nu", ImGuiDataType_Double, &c.poisson_ratio, &nu_min, &nu_max, "%.3f");
   c.youngs_modulus_pa = e_kpa * 1e3;
   for (JsonField& f : c.model_settings) edit_setting(f);
@@ -198,13 +206,14 @@ std::string hand_line(const HudStats& s) {
   if (s.device.empty() || std::isnan(s.device_force_n)) return {};
   std::string line = fmt::format("hand: {:.4g} N sent (tool {:.4g} N)", s.device_force_n, s.tool_force_n);
   if (!std::isnan(s.tool_lag_m)) line += fmt::format(", tool {:.2f} mm behind", 1e3 * s.tool_lag_m);
-  if (!std::isnan(s.force_age_ms) && s.force_age_ms > 0.0) line += fmt::format(", force {:.0f} ms old", s.force_age_ms);
+  if (!std::isnan(s.force_age_ms) && s.force_age_ms > 0.0)
+    line += fmt::format(", force {:.0f} ms old", s.force_age_ms);
   return line;
 }
 
 bool HudRequests::any() const {
-  return toggle_pause || step || reset_simulation || reset_camera || screenshot || load_scene || change_model ||
-         apply_settings || toggle_recording || start_replay || play_trajectory;
+  return toggle_pause || step || reset_simulation || reset_camera || screenshot || load_scene ||
+         change_model || apply_settings || toggle_recording || start_replay || play_trajectory;
 }
 
 Hud::Hud(GlContext& context) {
@@ -254,7 +263,8 @@ HudRequests Hud::draw(const HudStats& s, HudControls& c, const ScalarField* lege
     if (!s.gl_renderer.empty()) ImGui::TextDisabled("%s", s.gl_renderer.c_str());
   }
   ImGui::End();
-  if (legend != nullptr && c.mode == ViewMode::lit && c.colour_field != ColourField::none) draw_legend(*legend);
+  if (legend != nullptr && c.mode == ViewMode::lit && c.colour_field != ColourField::none)
+    draw_legend(*legend);
   return r;
 }
 
@@ -263,8 +273,12 @@ void Hud::render() {
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 }
 
-bool Hud::wants_mouse() const { return ImGui::GetIO().WantCaptureMouse; }
-bool Hud::wants_keyboard() const { return ImGui::GetIO().WantCaptureKeyboard; }
+bool Hud::wants_mouse() const {
+  return ImGui::GetIO().WantCaptureMouse;
+}
+bool Hud::wants_keyboard() const {
+  return ImGui::GetIO().WantCaptureKeyboard;
+}
 
 void apply_controls(const HudControls& c, RenderSettings& s) {
   s.mode = c.mode;

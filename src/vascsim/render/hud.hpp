@@ -27,18 +27,21 @@ struct HudStats {
   double deformation_steps_per_s = 0.0;
   double haptic_rate_hz = 0.0;
   double haptic_p99_jitter_us = 0.0;
-  double tool_force_n = 0.0;              ///< |force on the tool|
-  double device_force_n = std::numeric_limits<double>::quiet_NaN();  ///< |force sent to the device|; NaN: unknown
+  double tool_force_n = 0.0;  ///< |force on the tool|
+  double device_force_n =
+      std::numeric_limits<double>::quiet_NaN();  ///< |force sent to the device|; NaN: unknown
   /// How far the model's tool was from the device pose its last frame was given, m; NaN: unknown.
   double tool_lag_m = std::numeric_limits<double>::quiet_NaN();
-  /// Mean age of the frames the device's force came from (device pose to the tick that used it), ms; NaN: unknown.
+  /// Mean age of the frames the device's force came from (device pose to the tick that used it), ms; NaN:
+  /// unknown.
   double force_age_ms = std::numeric_limits<double>::quiet_NaN();
-  double force_threshold_n = 0.0;         ///< safety threshold (0: none); the force turns red above it
-  std::vector<float> force_history_n;     ///< oldest first, plotted
+  double force_threshold_n = 0.0;      ///< safety threshold (0: none); the force turns red above it
+  std::vector<float> force_history_n;  ///< oldest first, plotted
   std::size_t nodes = 0, triangles = 0;
   double solver_residual = std::numeric_limits<double>::quiet_NaN();  ///< NaN: not reported
   double sim_time_s = 0.0;
-  double simulation_ms = 0.0, map_ms = 0.0, normals_ms = 0.0;  ///< the simulation side's split of its last frame
+  double simulation_ms = 0.0, map_ms = 0.0,
+         normals_ms = 0.0;                ///< the simulation side's split of its last frame
   double upload_ms = 0.0, draw_ms = 0.0;  ///< the renderer's split of the last frame
   bool paused = false, recording = false;
   std::string message;  ///< the latest notice or error ("" : none)
@@ -66,8 +69,9 @@ struct HudControls {
   std::string scene;  ///< the chosen scene (path)
   std::string model;  ///< the chosen model name
   double youngs_modulus_pa = 0.5e6, poisson_ratio = 0.45;
-  std::vector<JsonField> model_settings;  ///< the model's settings block, as its reader took it (edited in place)
-  std::string overrides;                        ///< more "key=value" overrides, separated by spaces
+  std::vector<JsonField>
+      model_settings;     ///< the model's settings block, as its reader took it (edited in place)
+  std::string overrides;  ///< more "key=value" overrides, separated by spaces
   bool paused = false;
   bool recording = false;
   bool has_trajectory = false;  ///< the scene has a scripted trajectory to play

@@ -6,8 +6,8 @@
 
 namespace vascsim::render {
 
-std::vector<std::array<std::uint32_t, 3>> lumen_surface(const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                                                        const std::vector<std::uint8_t>& outer) {
+std::vector<std::array<std::uint32_t, 3>> lumen_surface(
+    const std::vector<std::array<std::uint32_t, 3>>& triangles, const std::vector<std::uint8_t>& outer) {
   std::vector<std::array<std::uint32_t, 3>> lumen;
   if (outer.empty()) return lumen;
   // Directed edges of the inner triangles; an edge without its reverse is on the boundary.

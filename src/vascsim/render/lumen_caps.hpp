@@ -14,7 +14,7 @@ namespace vascsim::render {
 /// The triangles whose three vertices are inner (outer[i] == 0), then the caps, oriented like the inner
 /// wall (towards the lumen axis: inward for the lumen solid). Empty if `outer` is empty or no triangle is
 /// inner.
-std::vector<std::array<std::uint32_t, 3>> lumen_surface(const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                                                        const std::vector<std::uint8_t>& outer);
+std::vector<std::array<std::uint32_t, 3>> lumen_surface(
+    const std::vector<std::array<std::uint32_t, 3>>& triangles, const std::vector<std::uint8_t>& outer);
 
 }  // namespace vascsim::render

@@ -13,8 +13,9 @@ namespace vascsim::render {
 
 Float3 arrow_vector_m(const ForceArrow& arrow, const Bounds& scene) {
   const float threshold = std::max(arrow.threshold_n, 1e-9f);
-  const float per_newton = arrow.length_per_newton_m > 0.0f ? arrow.length_per_newton_m
-                                                             : 0.3f * static_cast<float>(scene.radius()) / threshold;
+  const float per_newton = arrow.length_per_newton_m > 0.0f
+                               ? arrow.length_per_newton_m
+                               : 0.3f * static_cast<float>(scene.radius()) / threshold;
   return arrow.force_n * per_newton;
 }
 
@@ -50,7 +51,8 @@ Bounds scene_bounds(const RenderFrame& frame) {
   return b;
 }
 
-void compute_normals(const std::vector<Float3>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles,
+void compute_normals(const std::vector<Float3>& positions,
+                     const std::vector<std::array<std::uint32_t, 3>>& triangles,
                      std::vector<Float3>& normals) {
   normals.assign(positions.size(), Float3::Zero());
   for (const auto& t : triangles) {
@@ -82,7 +84,8 @@ void validate_frame(const RenderFrame& frame) {
   const std::size_t nv = frame.positions_m.size();
   auto size_check = [nv](std::size_t size, const char* name, bool optional) {
     if (size != nv && !(optional && size == 0))
-      throw InputError(fmt::format("render frame: {} has {} entries for {} surface vertices", name, size, nv));
+      throw InputError(
+          fmt::format("render frame: {} has {} entries for {} surface vertices", name, size, nv));
   };
   size_check(frame.normals.size(), "normals", true);
   size_check(frame.uv.size(), "uv", true);
@@ -93,8 +96,7 @@ void validate_frame(const RenderFrame& frame) {
       throw InputError(fmt::format("render frame: surface vertex {} is not finite", i));
   for (std::size_t f = 0; f < frame.triangles.size(); ++f)
     for (std::uint32_t i : frame.triangles[f])
-      if (i >= nv)
-        throw InputError(fmt::format("render frame: triangle {} uses vertex {} of {}", f, i, nv));
+      if (i >= nv) throw InputError(fmt::format("render frame: triangle {} uses vertex {} of {}", f, i, nv));
   const std::size_t nn = frame.node_points_m.size();
   for (std::size_t e = 0; e < frame.tet_edges.size(); ++e)
     for (std::uint32_t i : frame.tet_edges[e])

@@ -68,7 +68,7 @@ struct RenderFrame {
   std::optional<ScalarField> scalar;
 
   // --- Overlays ---
-  std::vector<Float3> node_points_m;                  ///< the point primitives (node cloud)
+  std::vector<Float3> node_points_m;                    ///< the point primitives (node cloud)
   std::vector<std::array<std::uint32_t, 2>> tet_edges;  ///< virtual tetrahedra edges into node_points_m
 
   // --- Tools and contact ---
@@ -97,7 +97,8 @@ Bounds frame_bounds(const RenderFrame& frame);
 Float3 arrow_vector_m(const ForceArrow& arrow, const Bounds& scene);
 
 /// Unit area-weighted vertex normals of `positions` over `triangles` (the renderer's fallback).
-void compute_normals(const std::vector<Float3>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles,
+void compute_normals(const std::vector<Float3>& positions,
+                     const std::vector<std::array<std::uint32_t, 3>>& triangles,
                      std::vector<Float3>& normals);
 
 /// The edges of virtual tetrahedra, each once (smaller index first, sorted): the tet_edges overlay.

@@ -18,7 +18,9 @@ namespace vascsim::render {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
 
 template <typename T>
 std::size_t bytes_of(const std::vector<T>& v) {
@@ -30,12 +32,17 @@ std::size_t bytes_of(const std::vector<T>& v) {
 template <typename T>
 std::size_t stream(GLenum target, GLuint buffer, const std::vector<T>& data) {
   glBindBuffer(target, buffer);
-  glBufferData(target, static_cast<GLsizeiptr>(bytes_of(data)), data.empty() ? nullptr : data.data(), GL_STREAM_DRAW);
+  glBufferData(target, static_cast<GLsizeiptr>(bytes_of(data)), data.empty() ? nullptr : data.data(),
+               GL_STREAM_DRAW);
   return bytes_of(data);
 }
 
-Eigen::Matrix4f to_float(const Eigen::Matrix4d& m) { return m.cast<float>(); }
-Float3 to_float(const Vec3& v) { return v.cast<float>(); }
+Eigen::Matrix4f to_float(const Eigen::Matrix4d& m) {
+  return m.cast<float>();
+}
+Float3 to_float(const Vec3& v) {
+  return v.cast<float>();
+}
 
 }  // namespace
 
@@ -86,14 +93,16 @@ struct Renderer::Impl {
       : surface("surface", shaders::surface_vertex(), shaders::surface_fragment()),
         solid("solid", shaders::solid_vertex(), shaders::solid_fragment()),
         overlay("overlay", shaders::overlay_vertex(), shaders::overlay_fragment()),
-        accumulate("fluoro_accumulate", shaders::fluoro_accumulate_vertex(), shaders::fluoro_accumulate_fragment()),
+        accumulate("fluoro_accumulate", shaders::fluoro_accumulate_vertex(),
+                   shaders::fluoro_accumulate_fragment()),
         composite("fluoro_composite", shaders::fullscreen_vertex(), shaders::fluoro_composite_fragment()) {
     bake_wall_texture();
     make_grain_texture();
     GLuint b[12];
     glGenBuffers(12, b);
     position_vbo = b[0], normal_vbo = b[1], uv_vbo = b[2], outer_vbo = b[3], scalar_vbo = b[4];
-    triangle_ebo = b[5], lumen_ebo = b[6], solid_position_vbo = b[7], solid_normal_vbo = b[8], solid_ebo = b[9];
+    triangle_ebo = b[5], lumen_ebo = b[6], solid_position_vbo = b[7], solid_normal_vbo = b[8],
+    solid_ebo = b[9];
     node_vbo = b[10], tet_ebo = b[11];
     GLuint v[5];
     glGenVertexArrays(5, v);
@@ -123,8 +132,9 @@ struct Renderer::Impl {
   }
 
   ~Impl() {
-    const GLuint b[12] = {position_vbo, normal_vbo, uv_vbo,        outer_vbo,        scalar_vbo, triangle_ebo,
-                          lumen_ebo,    solid_position_vbo, solid_normal_vbo, solid_ebo, node_vbo,   tet_ebo};
+    const GLuint b[12] = {position_vbo,     normal_vbo,   uv_vbo,    outer_vbo,
+                          scalar_vbo,       triangle_ebo, lumen_ebo, solid_position_vbo,
+                          solid_normal_vbo, solid_ebo,    node_vbo,  tet_ebo};
     glDeleteBuffers(12, b);
     const GLuint v[5] = {surface_vao, lumen_vao, solid_vao, node_vao, empty_vao};
     glDeleteVertexArrays(5, v);
@@ -217,8 +227,12 @@ struct Renderer::Impl {
 Renderer::Renderer() : impl_(std::make_unique<Impl>()) {}
 Renderer::~Renderer() = default;
 
-std::size_t Renderer::triangle_count() const { return impl_->triangles; }
-std::size_t Renderer::vertex_count() const { return impl_->vertices; }
+std::size_t Renderer::triangle_count() const {
+  return impl_->triangles;
+}
+std::size_t Renderer::vertex_count() const {
+  return impl_->vertices;
+}
 
 void Renderer::set_wall_texture(const std::string& path, float repeats) {
   const GLuint texture = load_texture_file(path);
@@ -233,8 +247,9 @@ void Renderer::clear_wall_texture() {
 }
 
 CameraPose Renderer::pose_for(const OrbitCamera& camera, const RenderSettings& settings) {
-  return settings.mode == ViewMode::fluoroscopy ? camera.carm_pose(settings.carm_lao_deg, settings.carm_cranial_deg)
-                                                : camera.pose();
+  return settings.mode == ViewMode::fluoroscopy
+             ? camera.carm_pose(settings.carm_lao_deg, settings.carm_cranial_deg)
+             : camera.pose();
 }
 
 void Renderer::upload(const RenderFrame& frame, bool measure) {
@@ -325,7 +340,7 @@ std::size_t Renderer::upload_tools_and_arrow(const RenderFrame& frame) {
     const float ratio = f.force_n.norm() / std::max(f.threshold_n, 1e-9f);
     const float scene = static_cast<float>(m.bounds.radius());
     // Green below 80 % of the threshold, amber up to it, red above.
-    m.arrow_colour = ratio > 1.0f ? Float3(0.92f, 0.16f, 0.12f)
+    m.arrow_colour = ratio > 1.0f   ? Float3(0.92f, 0.16f, 0.12f)
                      : ratio > 0.8f ? Float3(0.98f, 0.68f, 0.12f)
                                     : Float3(0.25f, 0.85f, 0.35f);
     append_arrow(m.solid_mesh, f.origin_m, arrow_vector_m(f, m.bounds), 0.012f * scene);
@@ -356,11 +371,12 @@ struct Renderer::View {
   CameraPose pose;
   Eigen::Matrix4f view_proj;
   Vec3 towards_eye;
-  Float3 key, fill;  // lights fixed to the camera: the key above-left of the eye, a weak fill from the lower right
+  Float3 key,
+      fill;  // lights fixed to the camera: the key above-left of the eye, a weak fill from the lower right
 };
 
-void Renderer::draw(const OrbitCamera& camera, const RenderSettings& settings, unsigned framebuffer, int width,
-                    int height) {
+void Renderer::draw(const OrbitCamera& camera, const RenderSettings& settings, unsigned framebuffer,
+                    int width, int height) {
   Impl& m = *impl_;
   if (settings.measure) glFinish();
   const auto t0 = Clock::now();
@@ -392,10 +408,10 @@ void Renderer::draw(const OrbitCamera& camera, const RenderSettings& settings, u
   timing_.draw_ms = ms_since(t0);
 }
 
-// Fluoroscopy: the path lengths through wall, contrast-filled lumen and tools, accumulated in a float target and
-// composited into grey by the attenuation law.
-void Renderer::draw_fluoroscopy(const View& view, const RenderSettings& settings, unsigned framebuffer, int width,
-                                int height) {
+// Fluoroscopy: the path lengths through wall, contrast-filled lumen and tools, accumulated in a float target
+// and composited into grey by the attenuation law.
+void Renderer::draw_fluoroscopy(const View& view, const RenderSettings& settings, unsigned framebuffer,
+                                int width, int height) {
   Impl& m = *impl_;
   const Eigen::Matrix4f& view_proj = view.view_proj;
   const CameraPose& pose = view.pose;
@@ -501,9 +517,9 @@ void Renderer::draw_wall(const View& view, const OrbitCamera& camera, const Rend
     const Vec3 superior = camera.patient().superior.normalized();
     Vec3 n = towards_eye - towards_eye.dot(superior) * superior;
     n = n.norm() > 1e-6 ? Vec3(n.normalized()) : towards_eye;
-    m.surface.set("u_clip_plane", Eigen::Vector4f(static_cast<float>(-n.x()), static_cast<float>(-n.y()),
-                                                  static_cast<float>(-n.z()),
-                                                  static_cast<float>(n.dot(pose.target_m))));
+    m.surface.set("u_clip_plane",
+                  Eigen::Vector4f(static_cast<float>(-n.x()), static_cast<float>(-n.y()),
+                                  static_cast<float>(-n.z()), static_cast<float>(n.dot(pose.target_m))));
     glEnable(GL_CLIP_DISTANCE0);
   } else {
     m.surface.set("u_clip_plane", Eigen::Vector4f(0.0f, 0.0f, 0.0f, 1.0f));

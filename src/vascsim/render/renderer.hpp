@@ -21,7 +21,8 @@ enum class ViewMode { lit, fluoroscopy };
 
 /// Linear attenuation coefficients (1/m) and the picture's grey levels. The defaults are about 60 keV:
 /// soft tissue (water) 20 /m, blood with iodinated contrast 300 /m (a 3 mm vessel transmits 40 %, an
-/// aorta almost nothing), a radio-opaque catheter (braided, barium-filled) 1200 /m (a 6 Fr shaft transmits 9 %).
+/// aorta almost nothing), a radio-opaque catheter (braided, barium-filled) 1200 /m (a 6 Fr shaft transmits 9
+/// %).
 struct FluoroSettings {
   float mu_tissue_per_m = 20.0f;
   float mu_contrast_per_m = 300.0f;
@@ -77,7 +78,8 @@ class Renderer {
   /// Index buffers, uv and the lumen caps are rebuilt only when topology_version changes.
   void upload(const RenderFrame& frame, bool measure = false);
   /// Draws the last uploaded frame into `framebuffer` (0: the window) of size width x height.
-  void draw(const OrbitCamera& camera, const RenderSettings& settings, unsigned framebuffer, int width, int height);
+  void draw(const OrbitCamera& camera, const RenderSettings& settings, unsigned framebuffer, int width,
+            int height);
 
   /// The camera pose draw() uses for these settings (lit: orbit; fluoroscopy: C-arm).
   static CameraPose pose_for(const OrbitCamera& camera, const RenderSettings& settings);
@@ -94,7 +96,8 @@ class Renderer {
   std::size_t upload_topology(const RenderFrame& frame);
   std::size_t upload_tools_and_arrow(const RenderFrame& frame);
   std::size_t upload_overlays(const RenderFrame& frame);
-  void draw_fluoroscopy(const View& view, const RenderSettings& settings, unsigned framebuffer, int width, int height);
+  void draw_fluoroscopy(const View& view, const RenderSettings& settings, unsigned framebuffer, int width,
+                        int height);
   void draw_lit_background(const RenderSettings& settings, unsigned framebuffer);
   void draw_wall(const View& view, const OrbitCamera& camera, const RenderSettings& settings);
   void draw_solids(const View& view, const RenderSettings& settings);

@@ -13,7 +13,9 @@ class GlContext;
 struct Image {
   int width = 0, height = 0;
   std::vector<std::uint8_t> rgba;
-  const std::uint8_t* pixel(int x, int y) const { return &rgba[4 * (static_cast<std::size_t>(y) * width + x)]; }
+  const std::uint8_t* pixel(int x, int y) const {
+    return &rgba[4 * (static_cast<std::size_t>(y) * width + x)];
+  }
 };
 
 /// The frame in context.read_framebuffer() (call after GlContext::finish_frame(), before present()).

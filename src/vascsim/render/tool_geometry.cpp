@@ -26,8 +26,8 @@ std::uint32_t add_vertex(SolidMesh& m, const Float3& p, const Float3& n) {
 // A ring of `segments` vertices at `centre` with radius r in the plane normal to the axis; normals given
 // by normal(angle direction).
 template <typename NormalFn>
-std::uint32_t add_ring(SolidMesh& m, const Float3& centre, float r, const Float3& e1, const Float3& e2, int segments,
-                       NormalFn normal) {
+std::uint32_t add_ring(SolidMesh& m, const Float3& centre, float r, const Float3& e1, const Float3& e2,
+                       int segments, NormalFn normal) {
   const auto first = static_cast<std::uint32_t>(m.positions_m.size());
   for (int k = 0; k < segments; ++k) {
     const float a = kTwoPi * static_cast<float>(k) / static_cast<float>(segments);
@@ -40,17 +40,20 @@ std::uint32_t add_ring(SolidMesh& m, const Float3& centre, float r, const Float3
 // Quads between ring a and ring b (b further along the axis); outward for rings around the axis.
 void connect(SolidMesh& m, std::uint32_t a, std::uint32_t b, int segments) {
   for (int k = 0; k < segments; ++k) {
-    const std::uint32_t k1 = static_cast<std::uint32_t>((k + 1) % segments), k0 = static_cast<std::uint32_t>(k);
+    const std::uint32_t k1 = static_cast<std::uint32_t>((k + 1) % segments),
+                        k0 = static_cast<std::uint32_t>(k);
     m.triangles.push_back({a + k0, a + k1, b + k1});
     m.triangles.push_back({a + k0, b + k1, b + k0});
   }
 }
 
 // A disc (fan) closing ring `ring`; facing +axis if `forward`, else -axis.
-void cap(SolidMesh& m, std::uint32_t ring, const Float3& centre, const Float3& normal, int segments, bool forward) {
+void cap(SolidMesh& m, std::uint32_t ring, const Float3& centre, const Float3& normal, int segments,
+         bool forward) {
   const std::uint32_t c = add_vertex(m, centre, normal);
   for (int k = 0; k < segments; ++k) {
-    const std::uint32_t k1 = ring + static_cast<std::uint32_t>((k + 1) % segments), k0 = ring + static_cast<std::uint32_t>(k);
+    const std::uint32_t k1 = ring + static_cast<std::uint32_t>((k + 1) % segments),
+                        k0 = ring + static_cast<std::uint32_t>(k);
     if (forward)
       m.triangles.push_back({c, k0, k1});
     else
@@ -78,13 +81,15 @@ void append_capsule(SolidMesh& m, const ToolCapsule& tool, int segments) {
   const Float3 tip_centre = tool.back_m + cyl * axis;
 
   // Back disc (own vertices: flat normal), then the shaft with radial normals.
-  const std::uint32_t back_flat = add_ring(m, tool.back_m, r, e1, e2, segments, [&](const Float3&) { return Float3(-axis); });
+  const std::uint32_t back_flat =
+      add_ring(m, tool.back_m, r, e1, e2, segments, [&](const Float3&) { return Float3(-axis); });
   cap(m, back_flat, tool.back_m, -axis, segments, false);
   const std::uint32_t back = add_ring(m, tool.back_m, r, e1, e2, segments, [](const Float3& n) { return n; });
   const std::uint32_t front = add_ring(m, tip_centre, r, e1, e2, segments, [](const Float3& n) { return n; });
   connect(m, back, front, segments);
   if (!tool.rounded_tip) {
-    const std::uint32_t tip_flat = add_ring(m, tip_centre, r, e1, e2, segments, [&](const Float3&) { return axis; });
+    const std::uint32_t tip_flat =
+        add_ring(m, tip_centre, r, e1, e2, segments, [&](const Float3&) { return axis; });
     cap(m, tip_flat, tip_centre, axis, segments, true);
     return;
   }
@@ -103,7 +108,8 @@ void append_capsule(SolidMesh& m, const ToolCapsule& tool, int segments) {
   }
   const std::uint32_t apex = add_vertex(m, tip_centre + r * axis, axis);
   for (int k = 0; k < segments; ++k) {
-    const std::uint32_t k1 = previous + static_cast<std::uint32_t>((k + 1) % segments), k0 = previous + static_cast<std::uint32_t>(k);
+    const std::uint32_t k1 = previous + static_cast<std::uint32_t>((k + 1) % segments),
+                        k0 = previous + static_cast<std::uint32_t>(k);
     m.triangles.push_back({k0, k1, apex});
   }
 }
@@ -118,25 +124,30 @@ void append_arrow(SolidMesh& m, const Float3& origin, const Float3& vec, float r
   const float head_r = 2.5f * radius;
   const float head_len = std::min(0.25f * length, 8.0f * radius);
   const Float3 neck = origin + (length - head_len) * axis;
-  const std::uint32_t tail_flat = add_ring(m, origin, radius, e1, e2, segments, [&](const Float3&) { return Float3(-axis); });
+  const std::uint32_t tail_flat =
+      add_ring(m, origin, radius, e1, e2, segments, [&](const Float3&) { return Float3(-axis); });
   cap(m, tail_flat, origin, -axis, segments, false);
   const std::uint32_t a = add_ring(m, origin, radius, e1, e2, segments, [](const Float3& n) { return n; });
   const std::uint32_t b = add_ring(m, neck, radius, e1, e2, segments, [](const Float3& n) { return n; });
   connect(m, a, b, segments);
-  const std::uint32_t base_flat = add_ring(m, neck, head_r, e1, e2, segments, [&](const Float3&) { return Float3(-axis); });
+  const std::uint32_t base_flat =
+      add_ring(m, neck, head_r, e1, e2, segments, [&](const Float3&) { return Float3(-axis); });
   cap(m, base_flat, neck, -axis, segments, false);
   // Cone side: normals tilted by the cone's half-angle.
   const float slope = head_r / head_len;
-  const std::uint32_t base = add_ring(m, neck, head_r, e1, e2, segments,
-                                      [&](const Float3& n) { return Float3((n + slope * axis).normalized()); });
+  const std::uint32_t base = add_ring(m, neck, head_r, e1, e2, segments, [&](const Float3& n) {
+    return Float3((n + slope * axis).normalized());
+  });
   const std::uint32_t apex = add_vertex(m, origin + vec, axis);
   for (int k = 0; k < segments; ++k) {
-    const std::uint32_t k1 = base + static_cast<std::uint32_t>((k + 1) % segments), k0 = base + static_cast<std::uint32_t>(k);
+    const std::uint32_t k1 = base + static_cast<std::uint32_t>((k + 1) % segments),
+                        k0 = base + static_cast<std::uint32_t>(k);
     m.triangles.push_back({k0, k1, apex});
   }
 }
 
-double signed_volume(const std::vector<Float3>& p, const std::vector<std::array<std::uint32_t, 3>>& triangles) {
+double signed_volume(const std::vector<Float3>& p,
+                     const std::vector<std::array<std::uint32_t, 3>>& triangles) {
   double v = 0.0;
   for (const auto& t : triangles)
     v += p[t[0]].cast<double>().dot(p[t[1]].cast<double>().cross(p[t[2]].cast<double>()));

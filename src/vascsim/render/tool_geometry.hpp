@@ -24,9 +24,11 @@ void append_capsule(SolidMesh& mesh, const ToolCapsule& tool, int segments = 32)
 
 /// Appends an arrow from `origin_m` along `vector_m` (its full length): a shaft of radius `radius_m`
 /// and a cone head 2.5 radii wide and a quarter of the length (at most 8 radii) long.
-void append_arrow(SolidMesh& mesh, const Float3& origin_m, const Float3& vector_m, float radius_m, int segments = 20);
+void append_arrow(SolidMesh& mesh, const Float3& origin_m, const Float3& vector_m, float radius_m,
+                  int segments = 20);
 
 /// Signed enclosed volume (divergence theorem), m^3: positive for a closed outward-oriented mesh.
-double signed_volume(const std::vector<Float3>& positions, const std::vector<std::array<std::uint32_t, 3>>& triangles);
+double signed_volume(const std::vector<Float3>& positions,
+                     const std::vector<std::array<std::uint32_t, 3>>& triangles);
 
 }  // namespace vascsim::render

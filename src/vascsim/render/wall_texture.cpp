@@ -17,7 +17,8 @@ unsigned load_texture_file(const std::string& path) {
   int w = 0, h = 0, channels = 0;
   stbi_uc* pixels = stbi_load(path.c_str(), &w, &h, &channels, 4);
   if (pixels == nullptr)
-    throw InputError(fmt::format("texture file {}: cannot read it as an image ({})", path, stbi_failure_reason()));
+    throw InputError(
+        fmt::format("texture file {}: cannot read it as an image ({})", path, stbi_failure_reason()));
   GLuint texture = 0;
   glGenTextures(1, &texture);
   glBindTexture(GL_TEXTURE_2D, texture);

@@ -33,9 +33,10 @@ class WindowContext final : public GlContext {
   explicit WindowContext(const ContextOptions& options) {
     glfwSetErrorCallback(on_glfw_error);
     if (glfwInit() != GLFW_TRUE)
-      throw RenderSetupError(fmt::format("cannot open a window: {}; render headless instead (--headless, EGL) or "
-                                         "run under xvfb-run -a",
-                                         last_error()));
+      throw RenderSetupError(
+          fmt::format("cannot open a window: {}; render headless instead (--headless, EGL) or "
+                      "run under xvfb-run -a",
+                      last_error()));
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);

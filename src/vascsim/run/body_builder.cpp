@@ -49,17 +49,20 @@ void centre_window_on(const std::string& tool, const Vec3& point_m, const Center
 
 Body build_body(const GeometrySpec& spec) {
   if (spec.type == "tube") {
-    SweptVesselSpec ss{spec.tube.outer_radius_m,    spec.tube.wall_thickness_m, spec.tube.node_spacing_m,
-                       std::max(3, spec.tube.min_layers), spec.tube.lattice_angle_deg, spec.tube.angular_nodes,
-                       spec.tube.axial_nodes, {}};
-    return body_from_tube(make_tube(spec.tube), make_swept_vessel(straight_centerline(spec.tube.length_m), ss));
+    SweptVesselSpec ss{spec.tube.outer_radius_m,    spec.tube.wall_thickness_m,
+                       spec.tube.node_spacing_m,    std::max(3, spec.tube.min_layers),
+                       spec.tube.lattice_angle_deg, spec.tube.angular_nodes,
+                       spec.tube.axial_nodes,       {}};
+    return body_from_tube(make_tube(spec.tube),
+                          make_swept_vessel(straight_centerline(spec.tube.length_m), ss));
   }
   if (spec.type == "vessel") {
     const CenterlineSpec& c = spec.centerline;
     auto line = std::make_shared<const Centerline>(build_centerline(c));
-    SweptVesselSpec ss{spec.tube.outer_radius_m, spec.tube.wall_thickness_m, spec.tube.node_spacing_m,
-                       spec.tube.min_layers,     spec.tube.lattice_angle_deg, spec.tube.angular_nodes,
-                       spec.tube.axial_nodes,    spec.refine};
+    SweptVesselSpec ss{spec.tube.outer_radius_m,    spec.tube.wall_thickness_m,
+                       spec.tube.node_spacing_m,    spec.tube.min_layers,
+                       spec.tube.lattice_angle_deg, spec.tube.angular_nodes,
+                       spec.tube.axial_nodes,       spec.refine};
     if (ss.refine.enabled && spec.refine_s_center_fraction >= 0.0)
       ss.refine.s_center_m = spec.refine_s_center_fraction * line->length();
     if (ss.refine.enabled && !spec.refine_around.empty())
@@ -72,13 +75,16 @@ Body build_body(const GeometrySpec& spec) {
   return body_from_lattice(std::move(c));
 }
 
-NodeCloud build_geometry(const GeometrySpec& spec) { return build_body(spec).cloud; }
+NodeCloud build_geometry(const GeometrySpec& spec) {
+  return build_body(spec).cloud;
+}
 
 std::vector<materials::MaterialFrame> wall_frames(const Body& body, const Scene& scene) {
   if (!body.wall || !body.wall->has_centerline())
-    throw InputError(fmt::format("{}: key 'material.law': '{}' takes its fibre directions from the vessel's "
-                                 "centre-line; geometry '{}' has none (use a tube or a vessel)",
-                                 scene.file, scene.material_law, scene.geometry.type));
+    throw InputError(
+        fmt::format("{}: key 'material.law': '{}' takes its fibre directions from the vessel's "
+                    "centre-line; geometry '{}' has none (use a tube or a vessel)",
+                    scene.file, scene.material_law, scene.geometry.type));
   const WallCoordinates& w = *body.wall;
   std::vector<materials::MaterialFrame> frames(body.cloud.positions.size());
   for (std::size_t i = 0; i < frames.size(); ++i)

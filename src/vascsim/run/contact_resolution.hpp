@@ -25,11 +25,11 @@ double hertz_contact_force_n(double diameter_m, double tip_radius_m, double youn
 /// points from about 1.4, 4-6 points at 1).
 constexpr double kResolvedContactSpacings = 1.4;
 
-/// The lattice's node spacing along the wall where `tool` meets it: the geometric mean of the steps around and
-/// along the wall (at mid-wall) of the cell of the node nearest the tool at the end of its motion on a graded
-/// lattice (geometry.refine), the lattice's one spacing on a uniform one (along_wall_spacing_m). The spacing the
-/// contact sees: on a graded lattice the body's mean spacing is the coarse part's, far from the tool. It depends
-/// on the lattice and the tool only, not on the load steps.
+/// The lattice's node spacing along the wall where `tool` meets it: the geometric mean of the steps around
+/// and along the wall (at mid-wall) of the cell of the node nearest the tool at the end of its motion on a
+/// graded lattice (geometry.refine), the lattice's one spacing on a uniform one (along_wall_spacing_m). The
+/// spacing the contact sees: on a graded lattice the body's mean spacing is the coarse part's, far from the
+/// tool. It depends on the lattice and the tool only, not on the load steps.
 double spacing_under_tool_m(const RigidObstacle& tool, const Body& body);
 
 /// Follows one tool through a run's load steps and remembers the deepest one whose contact was narrower than
@@ -38,15 +38,17 @@ class ContactResolution {
  public:
   ContactResolution(std::string tool, double tip_radius_m, double youngs_pa, double poisson,
                     double node_spacing_m);
-  /// `tool` on `body` (the spacing under it, spacing_under_tool_m), in a wall of `material` (its small-strain E, nu).
+  /// `tool` on `body` (the spacing under it, spacing_under_tool_m), in a wall of `material` (its small-strain
+  /// E, nu).
   ContactResolution(const RigidObstacle& tool, const Material& material, const Body& body);
   /// One load step: the tool's displacement (m) and the force it exerts along its motion (N).
   void add(double displacement_m, double force_n);
   /// The force from which the lattice resolves the tool's contact (its Hertz diameter is then
-  /// kResolvedContactSpacings node spacings), N: a property of the lattice and the tool, not of the load steps.
+  /// kResolvedContactSpacings node spacings), N: a property of the lattice and the tool, not of the load
+  /// steps.
   double resolving_force_n() const;
-  /// One line if some step's contact was under-resolved, naming the depth up to which it was, the node spacing
-  /// under the tool and the force from which that spacing resolves it.
+  /// One line if some step's contact was under-resolved, naming the depth up to which it was, the node
+  /// spacing under the tool and the force from which that spacing resolves it.
   std::optional<std::string> warning() const;
 
  private:

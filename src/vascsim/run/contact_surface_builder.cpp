@@ -84,9 +84,11 @@ std::vector<SurfaceFitRow> curvature_rows(const RenderSurface& surf, const Surfa
 }  // namespace
 
 std::shared_ptr<const ContactSurface> build_contact_surface(const Scene& scene, const Body& body,
-                                                            const Discretization& disc, ContactSurfaceReport& report) {
+                                                            const Discretization& disc,
+                                                            ContactSurfaceReport& report) {
   if (!body.surface)
-    throw InputError(fmt::format("{}: key 'contact.surface': \"embedded\" needs a body with a surface", scene.file));
+    throw InputError(
+        fmt::format("{}: key 'contact.surface': \"embedded\" needs a body with a surface", scene.file));
   const RenderSurface& surf = *body.surface;
   const ContactSpec& spec = scene.contact;
   auto out = std::make_shared<ContactSurface>();
@@ -156,11 +158,12 @@ std::shared_ptr<const ContactSurface> build_contact_surface(const Scene& scene, 
     out->row_start[v + 1] = static_cast<Index>(out->col.size());
   }
   // Nodes below the surface must not enter a tool either: a hard press can fold the outer layer past the next
-  // one (a 0.5 mm block pressed 1 mm by a capsule across its edge did), and then nothing held the inner nodes. Each
-  // node below the surface is a sample of its own (shape function 1 on itself, area mean spacing^2); it acts only
-  // if that node enters a tool, which the surface's own samples prevent in an ordinary press. The nodes on the
-  // surface (its vertices, a wall's outer and inner layers) are not: the surface's samples are their contact, and
-  // with the MLS map's smoothed surface they would otherwise touch the tool as nodes again.
+  // one (a 0.5 mm block pressed 1 mm by a capsule across its edge did), and then nothing held the inner
+  // nodes. Each node below the surface is a sample of its own (shape function 1 on itself, area mean
+  // spacing^2); it acts only if that node enters a tool, which the surface's own samples prevent in an
+  // ordinary press. The nodes on the surface (its vertices, a wall's outer and inner layers) are not: the
+  // surface's samples are their contact, and with the MLS map's smoothed surface they would otherwise touch
+  // the tool as nodes again.
   std::vector<char> on_surface(static_cast<std::size_t>(disc.num_nodes()), 0);
   for (Index i : node)
     if (i >= 0) on_surface[static_cast<std::size_t>(i)] = 1;

@@ -1,7 +1,7 @@
 #pragma once
-// Builds the wall's contact surface for embedded contact (model/contact_surface.hpp, docs/model/22-contact.md section
-// 22.5) from the body's render surface: samples between the vertices (geometry/surface_samples.hpp) and their
-// shape functions over the nodes, either
+// Builds the wall's contact surface for embedded contact (model/contact_surface.hpp, docs/model/22-contact.md
+// section 22.5) from the body's render surface: samples between the vertices (geometry/surface_samples.hpp)
+// and their shape functions over the nodes, either
 //   "interpolated": the barycentric weights of the triangle's vertices, where each vertex is a node (the
 //                   swept vessels' surfaces are their outer and inner node layers), or
 //   "quadratic":    a quadratic fit of the surface's nodes round each sample
@@ -22,16 +22,17 @@ namespace vascsim {
 
 struct ContactSurfaceReport {
   Index samples = 0;
-  Index interpolated = 0;  ///< samples with barycentric shape functions
-  Index quadratic = 0;     ///< samples with the quadratic fit's shape functions
-  Index node_samples = 0;  ///< nodes below the surface, samples of their own
-  double spacing_m = 0.0;  ///< the spacing asked, or a third of the surface's mean edge, m
+  Index interpolated = 0;      ///< samples with barycentric shape functions
+  Index quadratic = 0;         ///< samples with the quadratic fit's shape functions
+  Index node_samples = 0;      ///< nodes below the surface, samples of their own
+  double spacing_m = 0.0;      ///< the spacing asked, or a third of the surface's mean edge, m
   double spacing_min_m = 0.0;  ///< the finest a triangle was sampled at (a third of its own mean edge), m
   double stiffness_pa_per_m = 0.0;
 };
 
 /// Throws InputError when the body has no surface.
 std::shared_ptr<const ContactSurface> build_contact_surface(const Scene& scene, const Body& body,
-                                                            const Discretization& disc, ContactSurfaceReport& report);
+                                                            const Discretization& disc,
+                                                            ContactSurfaceReport& report);
 
 }  // namespace vascsim

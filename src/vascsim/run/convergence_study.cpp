@@ -1,11 +1,11 @@
 #include "vascsim/run/convergence_study.hpp"
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <limits>
 #include <map>
-#include <spdlog/spdlog.h>
 
 #include "vascsim/core/atomic_file.hpp"
 #include "vascsim/core/error.hpp"
@@ -47,7 +47,7 @@ std::string level_name(int index, double spacing_m) {
 struct LevelRecords {
   std::vector<double> load_factor;
   std::vector<bool> converged;
-  std::vector<std::vector<double>> values;       // [step][quantity]
+  std::vector<std::vector<double>> values;        // [step][quantity]
   std::vector<std::vector<double>> tool_depth_m;  // [step][tool]
 };
 
@@ -64,17 +64,21 @@ std::vector<Quantity> quantities(const Scene& scene) {
     const RegionSpec& r = scene.regions[i];
     switch (r.bc) {
       case RegionBcType::Displacement:
-        q.push_back({r.name + " force_n", "N", -1, [i](const StepRecord& s) { return s.regions[i].force_n; }});
+        q.push_back(
+            {r.name + " force_n", "N", -1, [i](const StepRecord& s) { return s.regions[i].force_n; }});
         break;
       case RegionBcType::Force:
       case RegionBcType::Probe:
-        q.push_back({r.name + " displacement_m", "m", -1, [i](const StepRecord& s) { return s.regions[i].displacement_m; }});
+        q.push_back({r.name + " displacement_m", "m", -1,
+                     [i](const StepRecord& s) { return s.regions[i].displacement_m; }});
         break;
-      case RegionBcType::Fixed: break;
+      case RegionBcType::Fixed:
+        break;
     }
   }
   for (std::size_t i = 0; i < scene.probes.size(); ++i)
-    q.push_back({scene.probes[i].name + " displacement_m", "m", -1, [i](const StepRecord& s) { return s.probes[i]; }});
+    q.push_back({scene.probes[i].name + " displacement_m", "m", -1,
+                 [i](const StepRecord& s) { return s.probes[i]; }});
   for (std::size_t o = 0; o < scene.obstacles.size(); ++o)
     q.push_back({scene.obstacles[o].name + " force_n", "N", static_cast<int>(o),
                  [o](const StepRecord& s) { return s.obstacles[o].force_n; }});
@@ -88,15 +92,17 @@ void add_region_entries(const RegionSelection& sel, LatticeSignature& sig) {
   if (!r.contains("asked") || !r.contains("selected")) return;
   const nlohmann::json &asked = r["asked"], &selected = r["selected"];
   auto number = [](const nlohmann::json& j, const char* key) -> double {
-    return j.contains(key) && j[key].is_number() ? j[key].get<double>() : std::numeric_limits<double>::quiet_NaN();
+    return j.contains(key) && j[key].is_number() ? j[key].get<double>()
+                                                 : std::numeric_limits<double>::quiet_NaN();
   };
   for (const char* key : {"angle_deg", "length_m", "area_m2"}) {
     const double a = number(asked, key), s = number(selected, key);
     if (std::isfinite(a) && std::isfinite(s) && a > 0.0)
-      sig.entries.push_back({fmt::format("region '{}': selected {} / asked", sel.name, key), s / a,
-                             kRegionShareTolerance});
+      sig.entries.push_back(
+          {fmt::format("region '{}': selected {} / asked", sel.name, key), s / a, kRegionShareTolerance});
   }
-  for (auto [centre, width] : {std::pair{"angle_center_deg", "angle_deg"}, std::pair{"s_center_m", "length_m"}}) {
+  for (auto [centre, width] :
+       {std::pair{"angle_center_deg", "angle_deg"}, std::pair{"s_center_m", "length_m"}}) {
     const double c = number(asked, centre), s = number(selected, centre), w = number(asked, width);
     if (std::isfinite(c) && std::isfinite(s) && std::isfinite(w) && w > 0.0)
       sig.entries.push_back({fmt::format("region '{}': {} offset / asked {}", sel.name, centre, width),
@@ -110,8 +116,8 @@ std::string LatticeSignature::mismatch(const LatticeSignature& other) const {
   for (const Entry& e : entries)
     for (const Entry& o : other.entries)
       if (e.what == o.what && std::abs(e.value - o.value) > e.tolerance)
-        return fmt::format("{}: {:.3f} here, {:.3f} at the scene's spacing (tolerance {:.2f})", e.what, e.value,
-                           o.value, e.tolerance);
+        return fmt::format("{}: {:.3f} here, {:.3f} at the scene's spacing (tolerance {:.2f})", e.what,
+                           e.value, o.value, e.tolerance);
   return {};
 }
 
@@ -132,8 +138,9 @@ LatticeSignature lattice_signature(Simulation& sim) {
       if ((X[i] - tip).squaredNorm() < (X[nearest] - tip).squaredNorm()) nearest = i;
     const Vec3 d = X[nearest] - tip;
     const double off_axis = (d - d.dot(axis) * axis).norm();
-    sig.entries.push_back({fmt::format("tool '{}': nearest node's offset from its axis, in node spacings", tool.name),
-                           off_axis / sig.spacing_m, kToolOffsetTolerance});
+    sig.entries.push_back(
+        {fmt::format("tool '{}': nearest node's offset from its axis, in node spacings", tool.name),
+         off_axis / sig.spacing_m, kToolOffsetTolerance});
   }
   for (const RegionSelection& sel : sim.region_selections()) add_region_entries(sel, sig);
   return sig;
@@ -143,10 +150,11 @@ Scene scene_at_spacing(const Scene& scene, double factor) {
   nlohmann::json doc = scene.resolved;
   nlohmann::json& geometry = doc["geometry"];
   if (!geometry.contains("node_spacing_m") || !geometry["node_spacing_m"].is_number())
-    throw InputError(fmt::format("{}: 'geometry.node_spacing_m' is not set; a convergence study varies it",
-                                 scene.file));
+    throw InputError(
+        fmt::format("{}: 'geometry.node_spacing_m' is not set; a convergence study varies it", scene.file));
   geometry["node_spacing_m"] = geometry["node_spacing_m"].get<double>() * factor;
-  if (geometry.contains("refine") && geometry["refine"].is_object() && geometry["refine"].contains("node_spacing_m"))
+  if (geometry.contains("refine") && geometry["refine"].is_object() &&
+      geometry["refine"].contains("node_spacing_m"))
     geometry["refine"]["node_spacing_m"] = geometry["refine"]["node_spacing_m"].get<double>() * factor;
   doc["output"]["vtk"] = false;
   doc["output"]["surface"] = false;
@@ -173,7 +181,7 @@ nlohmann::json ConvergenceResult::to_json() const {
   j["refused"] = refused;
   j["outputs"] = nlohmann::json::array();
   for (const ConvergenceOutput& o : outputs) {
-    nlohmann::json row = {{"quantity", o.quantity}, {"unit", o.unit},         {"step", o.step},
+    nlohmann::json row = {{"quantity", o.quantity},       {"unit", o.unit},     {"step", o.step},
                           {"load_factor", o.load_factor}, {"values", o.values}, {"status", o.status}};
     if (o.tool_displacement_m >= 0.0) row["tool_displacement_m"] = o.tool_displacement_m;
     if (o.status == "extrapolated") {
@@ -190,15 +198,16 @@ nlohmann::json ConvergenceResult::to_json() const {
 
 namespace {
 
-// Runs one level: the first spacing of the trials whose lattice matches `reference` (the scene's own level has
-// no reference and one trial). Empty out_dir in the result when none matched.
-ConvergenceLevel run_level(const Scene& scene, const ConvergenceOptions& options, const std::vector<Quantity>& quantities,
-                           double nominal, int index,
+// Runs one level: the first spacing of the trials whose lattice matches `reference` (the scene's own level
+// has no reference and one trial). Empty out_dir in the result when none matched.
+ConvergenceLevel run_level(const Scene& scene, const ConvergenceOptions& options,
+                           const std::vector<Quantity>& quantities, double nominal, int index,
                            const LatticeSignature* reference, LevelRecords& records, std::string& mismatch) {
   ConvergenceLevel level;
   level.user = reference == nullptr;
   const std::vector<double> trials =
-      level.user ? std::vector<double>{1.0} : std::vector<double>(std::begin(kSpacingTrials), std::end(kSpacingTrials));
+      level.user ? std::vector<double>{1.0}
+                 : std::vector<double>(std::begin(kSpacingTrials), std::end(kSpacingTrials));
   const double scene_spacing = scene.resolved["geometry"]["node_spacing_m"].get<double>();
   for (double trial : trials) {
     const double factor = nominal * trial;
@@ -253,8 +262,9 @@ ConvergenceLevel run_level(const Scene& scene, const ConvergenceOptions& options
 }
 
 std::string format_csv(const ConvergenceResult& result) {
-  std::string s = "quantity,unit,step,load_factor,tool_displacement_m,status,observed_order,extrapolated,error,"
-                  "error_bound";
+  std::string s =
+      "quantity,unit,step,load_factor,tool_displacement_m,status,observed_order,extrapolated,error,"
+      "error_bound";
   for (const ConvergenceLevel& l : result.levels) s += fmt::format(",value_h{:.6g}", l.spacing_m);
   s += "\n";
   for (const ConvergenceOutput& o : result.outputs) {
@@ -262,7 +272,8 @@ std::string format_csv(const ConvergenceResult& result) {
     s += fmt::format("{},{},{},{:.9g},{},{},{},{},{},{}", o.quantity, o.unit, o.step, o.load_factor,
                      o.tool_displacement_m >= 0.0 ? fmt::format("{:.9g}", o.tool_displacement_m) : "",
                      o.status, e ? fmt::format("{:.4f}", o.estimate.order) : "",
-                     e ? fmt::format("{:.9g}", o.estimate.extrapolated) : "", e ? fmt::format("{:.6g}", o.user_error) : "",
+                     e ? fmt::format("{:.9g}", o.estimate.extrapolated) : "",
+                     e ? fmt::format("{:.6g}", o.user_error) : "",
                      e ? fmt::format("{:.6g}", o.user_bound) : "");
     for (double v : o.values) s += fmt::format(",{:.9g}", v);
     s += "\n";
@@ -287,8 +298,9 @@ void estimate(const Scene& scene, const Quantity& q, const std::vector<Convergen
   if (q.tool >= 0) {
     const RigidObstacle& tool = scene.obstacles[static_cast<std::size_t>(q.tool)];
     for (std::size_t k = 0; k < n; ++k) {
-      const double d = hertz_contact_diameter_m(std::abs(out.values[k]), tool.radius_m,
-                                                scene.material.youngs_modulus_pa, scene.material.poisson_ratio);
+      const double d =
+          hertz_contact_diameter_m(std::abs(out.values[k]), tool.radius_m, scene.material.youngs_modulus_pa,
+                                   scene.material.poisson_ratio);
       if (d < kResolvedContactSpacings * levels[k].spacing_m) {
         out.status = "contact not resolved";
         return;
@@ -321,17 +333,21 @@ void estimate(const Scene& scene, const Quantity& q, const std::vector<Convergen
 
 ConvergenceResult run_convergence_study(const Scene& scene, const ConvergenceOptions& options) {
   if (scene.haptics.enabled)
-    throw InputError(fmt::format("{}: a convergence study runs load steps headless; this scene is a haptic session "
-                                 "('haptics' block): remove the block, or study its headless sibling scene",
-                                 scene.file));
+    throw InputError(
+        fmt::format("{}: a convergence study runs load steps headless; this scene is a haptic session "
+                    "('haptics' block): remove the block, or study its headless sibling scene",
+                    scene.file));
   if (!(options.ratio > 1.0) || options.ratio > 4.0)
-    throw InputError(fmt::format("--ratio {}: the spacing ratio between levels must be in (1, 4]", options.ratio));
+    throw InputError(
+        fmt::format("--ratio {}: the spacing ratio between levels must be in (1, 4]", options.ratio));
   const int coarser = options.coarser_levels;
   if (coarser < 1 || (coarser < 2 && !options.finer))
-    throw InputError("a convergence study needs three resolutions: two coarser levels, or one coarser and --finer");
+    throw InputError(
+        "a convergence study needs three resolutions: two coarser levels, or one coarser and --finer");
   (void)scene_at_spacing(scene, 1.0);  // a scene without a node spacing fails here, before any run
 
-  // Run order: the scene's own level (the others must match its lattice), the coarser ones, then the finer one.
+  // Run order: the scene's own level (the others must match its lattice), the coarser ones, then the finer
+  // one.
   struct Planned {
     double nominal;
     int fine_to_coarse;
@@ -356,9 +372,11 @@ ConvergenceResult run_convergence_study(const Scene& scene, const ConvergenceOpt
   for (int r = 0; r < n; ++r) {
     const Planned& p = plan[static_cast<std::size_t>(r)];
     if (options.on_level)
-      options.on_level(r, n, p.nominal,
-                       p.nominal == 1.0 ? std::string("the scene's spacing") : fmt::format("spacing x{:.3f}", p.nominal));
-    const LatticeSignature* reference = r == 0 ? nullptr : &result.levels[static_cast<std::size_t>(user)].signature;
+      options.on_level(
+          r, n, p.nominal,
+          p.nominal == 1.0 ? std::string("the scene's spacing") : fmt::format("spacing x{:.3f}", p.nominal));
+    const LatticeSignature* reference =
+        r == 0 ? nullptr : &result.levels[static_cast<std::size_t>(user)].signature;
     std::string mismatch;
     ConvergenceLevel level = run_level(scene, options, qs, p.nominal, p.fine_to_coarse, reference,
                                        records[static_cast<std::size_t>(p.fine_to_coarse)], mismatch);
@@ -371,9 +389,12 @@ ConvergenceResult run_convergence_study(const Scene& scene, const ConvergenceOpt
     if (level.out_dir.empty()) {
       result.levels.resize(0);
       result.refused = fmt::format(
-          "no spacing within {:.0f} % of {:.3f} times the scene's gives the lattice the scene's spacing has under its "
-          "tools and regions ({}); across lattices that differ there the force changes with where the nodes fall, not "
-          "with the resolution, and no extrapolation is made. Try another --ratio, or a scene whose regions the "
+          "no spacing within {:.0f} % of {:.3f} times the scene's gives the lattice the scene's spacing has "
+          "under its "
+          "tools and regions ({}); across lattices that differ there the force changes with where the nodes "
+          "fall, not "
+          "with the resolution, and no extrapolation is made. Try another --ratio, or a scene whose regions "
+          "the "
           "lattice fits (geometry.fit_lattice_to_patch)",
           100.0 * (kSpacingTrials[std::size(kSpacingTrials) - 1] - 1.0), p.nominal, mismatch);
       write();
@@ -394,7 +415,8 @@ ConvergenceResult run_convergence_study(const Scene& scene, const ConvergenceOpt
       out.unit = qs[q].unit;
       out.step = static_cast<int>(s);
       out.load_factor = mine.load_factor[s];
-      if (qs[q].tool >= 0) out.tool_displacement_m = mine.tool_depth_m[s][static_cast<std::size_t>(qs[q].tool)];
+      if (qs[q].tool >= 0)
+        out.tool_displacement_m = mine.tool_depth_m[s][static_cast<std::size_t>(qs[q].tool)];
       for (const LevelRecords& rec : records) out.values.push_back(rec.values[s][q]);
       estimate(scene, qs[q], result.levels, user, ptrs, static_cast<int>(s), out);
       result.outputs.push_back(std::move(out));
@@ -405,8 +427,8 @@ ConvergenceResult run_convergence_study(const Scene& scene, const ConvergenceOpt
 
 double spacing_for_target(const ConvergenceResult& result, const ConvergenceOutput& output, double target) {
   if (output.status != "extrapolated" || output.user_error == 0.0 || !(target > 0.0)) return 0.0;
-  return resolution_for_error(result.levels[static_cast<std::size_t>(result.user_level)].spacing_m, output.user_error,
-                              output.estimate.order, target);
+  return resolution_for_error(result.levels[static_cast<std::size_t>(result.user_level)].spacing_m,
+                              output.user_error, output.estimate.order, target);
 }
 
 }  // namespace vascsim

@@ -4,11 +4,12 @@
 // core/richardson.hpp; docs/convergence.md).
 //
 // The levels are one family only when the nodes fall alike under what loads the body: the same offset of the
-// nearest node from each tool's axis and the same share of each region's asked extent selected (a tool's force
-// moves by up to 8 % with where the nodes fall under it, a bonded patch's with its selected area). Each coarser or
-// finer level takes the spacing, among a few within +-9 % of the nominal one, whose lattice matches the scene's;
-// when none does, the study stops and says which tool or region differs instead of extrapolating. A tool's force
-// counts only where its Hertz contact spans 1.4 node spacings at every level (run/contact_resolution.hpp).
+// nearest node from each tool's axis and the same share of each region's asked extent selected (a tool's
+// force moves by up to 8 % with where the nodes fall under it, a bonded patch's with its selected area). Each
+// coarser or finer level takes the spacing, among a few within +-9 % of the nominal one, whose lattice
+// matches the scene's; when none does, the study stops and says which tool or region differs instead of
+// extrapolating. A tool's force counts only where its Hertz contact spans 1.4 node spacings at every level
+// (run/contact_resolution.hpp).
 
 #include <filesystem>
 #include <functional>
@@ -24,16 +25,18 @@ namespace vascsim {
 /// Where the nodes fall under what loads the body, compared between the levels of a study.
 struct LatticeSignature {
   struct Entry {
-    std::string what;  ///< "tool 'catheter' (nearest node off its axis, spacings)", "region 'indenter' (angle)"
+    std::string
+        what;  ///< "tool 'catheter' (nearest node off its axis, spacings)", "region 'indenter' (angle)"
     double value = 0.0;
     double tolerance = 0.0;  ///< two levels match when their values differ by at most this
   };
   std::vector<Entry> entries;
   int wall_layers = 0;  ///< node layers through the wall (0: not a layered wall)
-  double spacing_m = 0.0;  ///< the representative node spacing along the wall (run/../vessel_body along_wall_spacing_m)
+  double spacing_m =
+      0.0;  ///< the representative node spacing along the wall (run/../vessel_body along_wall_spacing_m)
 
-  /// The first entry that differs from `other`'s by more than its tolerance, as "what: a here, b there"; empty
-  /// when they match.
+  /// The first entry that differs from `other`'s by more than its tolerance, as "what: a here, b there";
+  /// empty when they match.
   std::string mismatch(const LatticeSignature& other) const;
 };
 
@@ -98,8 +101,8 @@ struct ConvergenceResult {
 /// spacing) and what the runs throw.
 ConvergenceResult run_convergence_study(const Scene& scene, const ConvergenceOptions& options);
 
-/// The spacing (m) at which `output`'s error would reach `target` (relative), from its order; 0 when it has no
-/// estimate.
+/// The spacing (m) at which `output`'s error would reach `target` (relative), from its order; 0 when it has
+/// no estimate.
 double spacing_for_target(const ConvergenceResult& result, const ConvergenceOutput& output, double target);
 
 }  // namespace vascsim

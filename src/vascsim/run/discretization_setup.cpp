@@ -12,12 +12,11 @@ namespace vascsim {
 
 namespace {
 
-// Per node, its cell along the wall (WallQuadrature::GaussCell): on a wall swept along a centre-line, the column
-// step around it (r_i Delta_theta, perpendicular to the normal and the centre-line) by the cross-section step along
-// it (Delta_s along the centre-line's tangent, longer on the outside of a bend, halved and shifted inwards at the
-// wall's two ends); on an imported
-// wall, a square of the lattice spacing in the tangent plane (a square's product rule does not depend on its
-// orientation).
+// Per node, its cell along the wall (WallQuadrature::GaussCell): on a wall swept along a centre-line, the
+// column step around it (r_i Delta_theta, perpendicular to the normal and the centre-line) by the
+// cross-section step along it (Delta_s along the centre-line's tangent, longer on the outside of a bend,
+// halved and shifted inwards at the wall's two ends); on an imported wall, a square of the lattice spacing in
+// the tangent plane (a square's product rule does not depend on its orientation).
 std::vector<DiscretizationOptions::WallCell> wall_cells(const Body& body) {
   const WallCoordinates& wall = *body.wall;
   const Vec3Array& X = body.cloud.positions;
@@ -34,8 +33,9 @@ std::vector<DiscretizationOptions::WallCell> wall_cells(const Body& body) {
       const Vec3 around = n.cross(axis).normalized();
       const Vec3 from_axis = X[i] - line.position(s);
       const double r = from_axis.norm();
-      // A node at X - c(s) from a bending centre-line moves (1 - T'(s).(X - c)) metres per metre of arc length: the
-      // outside of a bend is longer than the centre-line, the inside shorter (the frame rotates without twist).
+      // A node at X - c(s) from a bending centre-line moves (1 - T'(s).(X - c)) metres per metre of arc
+      // length: the outside of a bend is longer than the centre-line, the inside shorter (the frame rotates
+      // without twist).
       double lo_s = std::max(s - 0.5 * ds, 0.0), hi_s = std::min(s + 0.5 * ds, wall.length_m);
       double width = dtheta, offset = 0.0;  // around the centre-line, rad
       if (!wall.cells.empty()) {            // a graded lattice: the node's own cell
@@ -57,12 +57,12 @@ std::vector<DiscretizationOptions::WallCell> wall_cells(const Body& body) {
   return cells;
 }
 
-// Per node on a graded lattice, its support's stretches (DiscretizationOptions::wall_stretches around the vessel,
-// wall_axial_stretches along its centre-line, wall_axes that direction): its cell's two sides along the wall over the
-// layer step, at least 1. Its cell's sides, not their mean: beside the fine window the cells are up to coarse / fine
-// times longer one way than the other, and one stretch from their mean reaches a single step along the long side,
-// where the quadratic fit needs two (its guard then grew a third of the supports of a graded vein, isotropically).
-// Nothing on a uniform lattice, whose one stretch is every node's.
+// Per node on a graded lattice, its support's stretches (DiscretizationOptions::wall_stretches around the
+// vessel, wall_axial_stretches along its centre-line, wall_axes that direction): its cell's two sides along
+// the wall over the layer step, at least 1. Its cell's sides, not their mean: beside the fine window the
+// cells are up to coarse / fine times longer one way than the other, and one stretch from their mean reaches
+// a single step along the long side, where the quadratic fit needs two (its guard then grew a third of the
+// supports of a graded vein, isotropically). Nothing on a uniform lattice, whose one stretch is every node's.
 void graded_wall_supports(const Body& body, DiscretizationOptions& o) {
   const WallCoordinates& wall = *body.wall;
   if (wall.cells.empty()) return;
@@ -86,8 +86,9 @@ DiscretizationOptions discretization_options(const Scene& scene, const Body& bod
   if (o.volume == VolumeRule::Simpson) o.volume_factors = simpson_volume_factors(body);
   if (o.support != DiscretizationOptions::Support::Wall) return o;
   if (!body.wall || !(body.wall->layer_spacing_m > 0.0) || !(body.cloud.spacing_m > 0.0))
-    throw InputError("key 'discretization.support': 'wall' needs a body with node layers through a wall (geometry "
-                     "type 'vessel' or 'tube'); use 'isotropic'");
+    throw InputError(
+        "key 'discretization.support': 'wall' needs a body with node layers through a wall (geometry "
+        "type 'vessel' or 'tube'); use 'isotropic'");
   o.wall_normals = body.wall->outward;
   o.wall_depths = body.wall->depth_m;
   o.wall_stretch = std::max(1.0, along_wall_spacing_m(body) / body.wall->layer_spacing_m);

@@ -1,7 +1,7 @@
 #include "vascsim/run/haptic_rig.hpp"
 
-#include <algorithm>
 #include <fmt/format.h>
+#include <algorithm>
 
 #include "vascsim/core/error.hpp"
 
@@ -32,7 +32,8 @@ ForceOutputFilter filter_for(const HapticsSpec& spec, const DeviceLimits& limits
   return ForceOutputFilter(fo);
 }
 
-HapticLoopOptions loop_options(const HapticsSpec& spec, const HapticRigOptions& options, SessionRecording& recording) {
+HapticLoopOptions loop_options(const HapticsSpec& spec, const HapticRigOptions& options,
+                               SessionRecording& recording) {
   HapticLoopOptions lo;
   lo.rate_hz = spec.rate_hz;
   lo.record = options.record ? &recording : nullptr;
@@ -57,16 +58,18 @@ DeviceLimits scripted_device_limits(const HapticsSpec& haptics) {
   return l;
 }
 
-// The loop's parts check their settings (the coupling's stability, the clamp); a failure names the scene's keys.
-HapticRig::HapticRig(DeviceDrivenModel& model, const Scene& scene, Device& device, const HapticRigOptions& options) try
+// The loop's parts check their settings (the coupling's stability, the clamp); a failure names the scene's
+// keys.
+HapticRig::HapticRig(DeviceDrivenModel& model, const Scene& scene, Device& device,
+                     const HapticRigOptions& options) try
     : device_(device),
       tool_(options.tool),
       start_time_s_(options.start_time_s),
       period_s_(1.0 / scene.haptics.rate_hz),
       limits_(capped_limits(device, scene.haptics)),
       recording_(options.record ? options.reserve_ticks : 0),
-      loop_(device, coupling_for(scene.haptics, limits_), filter_for(scene.haptics, limits_), from_sim_, to_sim_,
-            loop_options(scene.haptics, options, recording_)),
+      loop_(device, coupling_for(scene.haptics, limits_), filter_for(scene.haptics, limits_), from_sim_,
+            to_sim_, loop_options(scene.haptics, options, recording_)),
       publisher_(model, options.tool, scene.haptics.force_scale, limits_.max_stiffness_n_per_m, from_sim_) {
   const DevicePose first = device.pose(options.start_time_s);
   model.set_tool_pose(tool_, first.position_m, first.orientation);
@@ -74,12 +77,13 @@ HapticRig::HapticRig(DeviceDrivenModel& model, const Scene& scene, Device& devic
   last_pose_.set_position(first.position_m);
   last_pose_.set_orientation(first.orientation);
 } catch (const InputError& e) {
-  throw InputError(fmt::format("{}: key 'haptics' (rate_hz = {} Hz, force_limit_n = {} N, coupling): {}", scene.file,
-                               scene.haptics.rate_hz, scene.haptics.force_limit_n, e.what()));
+  throw InputError(fmt::format("{}: key 'haptics' (rate_hz = {} Hz, force_limit_n = {} N, coupling): {}",
+                               scene.file, scene.haptics.rate_hz, scene.haptics.force_limit_n, e.what()));
 }
 
 void HapticRig::tick_through(std::size_t k) {
-  for (; next_tick_ <= k; ++next_tick_) loop_.tick(start_time_s_ + static_cast<double>(next_tick_) * period_s_);
+  for (; next_tick_ <= k; ++next_tick_)
+    loop_.tick(start_time_s_ + static_cast<double>(next_tick_) * period_s_);
 }
 
 FrameSample HapticRig::lockstep_frame(std::size_t k) {

@@ -44,8 +44,8 @@ class HapticRig {
   /// the scene's rest pose). Throws InputError for settings the loop refuses (an unstable coupling).
   HapticRig(DeviceDrivenModel& model, const Scene& scene, Device& device, const HapticRigOptions& options);
 
-  /// Lockstep: ticks the loop through tick k at the nominal times (the ticks not made yet) and steps the model
-  /// with the pose of tick k.
+  /// Lockstep: ticks the loop through tick k at the nominal times (the ticks not made yet) and steps the
+  /// model with the pose of tick k.
   FrameSample lockstep_frame(std::size_t k);
   /// Lockstep: ticks the loop through tick k without stepping the model.
   void tick_through(std::size_t k);

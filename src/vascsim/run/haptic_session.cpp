@@ -1,9 +1,9 @@
 #include "vascsim/run/haptic_session.hpp"
 
-#include <algorithm>
-#include <cmath>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <algorithm>
+#include <cmath>
 #include <thread>
 
 #include "vascsim/core/error.hpp"
@@ -27,7 +27,8 @@ namespace {
 // Calls on_progress about every 2 % of the session.
 class ProgressThrottle {
  public:
-  ProgressThrottle(const HapticRunOptions& options, double duration) : options_(options), duration_(duration) {}
+  ProgressThrottle(const HapticRunOptions& options, double duration)
+      : options_(options), duration_(duration) {}
   void operator()(double done) {
     if (options_.on_progress && done - last_ >= 0.02 * duration_) {
       options_.on_progress(done, duration_);
@@ -40,8 +41,9 @@ class ProgressThrottle {
   double duration_, last_ = -1.0;
 };
 
-// The frames of a session: every one, or (keep_ticks false: soaks) the newest kRecentFrames in a ring, so that
-// memory stays constant however long the session runs; the count and the largest force cover all of them.
+// The frames of a session: every one, or (keep_ticks false: soaks) the newest kRecentFrames in a ring, so
+// that memory stays constant however long the session runs; the count and the largest force cover all of
+// them.
 class FrameLog {
  public:
   static constexpr std::size_t kRecentFrames = 1 << 16;
@@ -121,12 +123,13 @@ bool run_realtime(const SessionInputs& in, HapticRig& rig, DeviceDrivenModel& mo
 }
 
 std::string history_row(const FrameSample& s) {
-  return fmt::format("{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},"
-                     "{:.17g},{},{:.3g},{},{:.17g},{:.17g},{:.17g},{:.6g},{:.4f}",
-                     s.sim_time_s, s.pose_time_s, s.tool_position_m.x(), s.tool_position_m.y(), s.tool_position_m.z(),
-                     s.force_n.x(), s.force_n.y(), s.force_n.z(), s.force_n.norm(), s.torque_n_m.x(),
-                     s.torque_n_m.y(), s.torque_n_m.z(), s.contacts, s.residual, s.converged ? 1 : 0,
-                     s.pose_position_m.x(), s.pose_position_m.y(), s.pose_position_m.z(), s.tool_lag_m, s.wall_s * 1e3);
+  return fmt::format(
+      "{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},{:.17g},"
+      "{:.17g},{},{:.3g},{},{:.17g},{:.17g},{:.17g},{:.6g},{:.4f}",
+      s.sim_time_s, s.pose_time_s, s.tool_position_m.x(), s.tool_position_m.y(), s.tool_position_m.z(),
+      s.force_n.x(), s.force_n.y(), s.force_n.z(), s.force_n.norm(), s.torque_n_m.x(), s.torque_n_m.y(),
+      s.torque_n_m.z(), s.contacts, s.residual, s.converged ? 1 : 0, s.pose_position_m.x(),
+      s.pose_position_m.y(), s.pose_position_m.z(), s.tool_lag_m, s.wall_s * 1e3);
 }
 
 // The replay against the recording it plays: bit-identical in lockstep on one thread.
@@ -147,8 +150,9 @@ nlohmann::json replay_comparison(const HapticRunOptions& options, const SessionR
           {"bit_identical", identical}};
 }
 
-nlohmann::json session_statistics(const Scene& scene, const HapticRunOptions& options, const SessionInputs& in,
-                                  const HapticRig& rig, const FrameLog& history, double run_s) {
+nlohmann::json session_statistics(const Scene& scene, const HapticRunOptions& options,
+                                  const SessionInputs& in, const HapticRig& rig, const FrameLog& history,
+                                  double run_s) {
   std::vector<double> step_ms;
   double max_lag_m = 0.0;  // how far the model's tool stayed behind the device pose its frame started from
   for (const auto& s : history.frames()) {
@@ -176,7 +180,8 @@ nlohmann::json session_statistics(const Scene& scene, const HapticRunOptions& op
       {"force_scale", spec.force_scale},
       {"force_limit_n", spec.force_limit_n},
       {"loop", rig.loop().stats()}};
-  if (!options.replay.empty()) haptics["replay"] = replay_comparison(options, rig.recording(), in.recorded_forces);
+  if (!options.replay.empty())
+    haptics["replay"] = replay_comparison(options, rig.recording(), in.recorded_forces);
   return haptics;
 }
 
@@ -194,18 +199,19 @@ void write_session_files(const OutputWriter& out, const HapticRunOptions& option
 std::vector<std::string> session_warnings(const Scene& scene, const SessionInputs& in,
                                           const FrameLog& history) {
   if (history.touched() || history.count() == 0) return {};
-  return {fmt::format("the tool '{}' never touched the tissue (no contact and zero force in all {} frames): check the "
-                      "positions of the trajectory (haptics.device.trajectory, m)",
-                      scene.obstacles[in.tool].name, history.count())};
+  return {fmt::format(
+      "the tool '{}' never touched the tissue (no contact and zero force in all {} frames): check the "
+      "positions of the trajectory (haptics.device.trajectory, m)",
+      scene.obstacles[in.tool].name, history.count())};
 }
 
 }  // namespace
 
 std::vector<std::string> force_history_columns() {
-  return {"sim_time_s",   "pose_time_s",  "tool_x_m",     "tool_y_m", "tool_z_m", "force_x_n",
-          "force_y_n",    "force_z_n",    "force_magnitude_n", "torque_x_n_m", "torque_y_n_m", "torque_z_n_m",
-          "contacts",     "residual",     "converged",    "pose_x_m",     "pose_y_m",     "pose_z_m",
-          "tool_lag_m",   "step_wall_ms"};
+  return {"sim_time_s",   "pose_time_s",  "tool_x_m",  "tool_y_m",          "tool_z_m",
+          "force_x_n",    "force_y_n",    "force_z_n", "force_magnitude_n", "torque_x_n_m",
+          "torque_y_n_m", "torque_z_n_m", "contacts",  "residual",          "converged",
+          "pose_x_m",     "pose_y_m",     "pose_z_m",  "tool_lag_m",        "step_wall_ms"};
 }
 
 nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& options) {
@@ -221,7 +227,8 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   if (options.after_setup) options.after_setup(sim, setup.frames());
   const ToolReach reach = tool_reach_on_trajectory(scene.obstacles[in.tool], in.trajectory, in.duration_s,
                                                    sim.discretization().rest_positions());
-  // The scene's own warnings lead summary.json's (`vascsim run` logged them with the model's accuracy warnings).
+  // The scene's own warnings lead summary.json's (`vascsim run` logged them with the model's accuracy
+  // warnings).
   std::vector<std::string> warnings = scene.warnings;
   if (!reach.touches()) {
     warnings.push_back(tool_reach_warning(reach, scene.obstacles[in.tool], in.tool));
@@ -234,8 +241,8 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   const bool surface = scene.output.surface && sim.body().surface.has_value();
   VtkSeries surface_series = out.series("surface");
   ToolSeries tool_series(out, scene, surface);
-  const double output_interval = entry.schedule ? entry.schedule(scene.own_model_settings()).output_interval_s
-                                                : model.frame_length_s();
+  const double output_interval =
+      entry.schedule ? entry.schedule(scene.own_model_settings()).output_interval_s : model.frame_length_s();
   const long long frames_per_output = std::max(1LL, std::llround(output_interval / model.frame_length_s()));
   long long frames = 0;
   auto write_frame = [&]() {
@@ -244,9 +251,10 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
                                *sim.body().surface);
     std::vector<constraints::Capsule> tools = tools_at(scene, 0.0);
     const DevicePose start = in.trajectory.at(in.trajectory.start_time_s());
-    tools[in.tool] = frames == 0 ? obstacle_posed(scene.obstacles[in.tool], start.position_m, start.orientation)
-                                 : obstacle_posed(scene.obstacles[in.tool], rig.last_pose().position(),
-                                                  rig.last_pose().orientation());
+    tools[in.tool] = frames == 0
+                         ? obstacle_posed(scene.obstacles[in.tool], start.position_m, start.orientation)
+                         : obstacle_posed(scene.obstacles[in.tool], rig.last_pose().position(),
+                                          rig.last_pose().orientation());
     tool_series.add(model.time(), fmt::format("tools_{:05d}.vtu", frames), tools);
   };
   auto after_frame = [&]() {
@@ -261,8 +269,9 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   write_frame();
   ProgressThrottle progress(options, in.duration_s);
   const Stopwatch run;
-  const bool completed = in.mode == "lockstep" ? run_lockstep(scene, n_ticks, rig, history, after_frame, progress)
-                                               : run_realtime(in, rig, model, history, after_frame, progress);
+  const bool completed = in.mode == "lockstep"
+                             ? run_lockstep(scene, n_ticks, rig, history, after_frame, progress)
+                             : run_realtime(in, rig, model, history, after_frame, progress);
   const double run_s = run.seconds();
   if (options.on_progress) options.on_progress(in.duration_s, in.duration_s);
 

@@ -14,9 +14,9 @@
 //    as fast as it can (never ahead of the wall clock); only the two LatestValue hand-offs are shared.
 //
 // Output folder: force_history.csv (one row per simulation step: the tool pose it used and the force the
-// tissue exerts on the tool), haptic_ticks.csv (one row per tick: device and tool positions, the tissue's force
-// on the tool at that tick, the force sent), session.csv (the recording, which --replay plays), summary.json
-// with the loop statistics, and optionally the session recording and the surface series.
+// tissue exerts on the tool), haptic_ticks.csv (one row per tick: device and tool positions, the tissue's
+// force on the tool at that tick, the force sent), session.csv (the recording, which --replay plays),
+// summary.json with the loop statistics, and optionally the session recording and the surface series.
 
 #include <filesystem>
 #include <functional>
@@ -30,15 +30,16 @@ namespace vascsim {
 
 struct HapticRunOptions {
   std::filesystem::path out_dir;
-  std::string mode;                  ///< "" : the scene's; "lockstep" or "realtime" overrides it
-  std::filesystem::path record;      ///< write the session recording here ("" : not written)
-  std::filesystem::path replay;      ///< play this recording instead of the scene's trajectory
+  std::string mode;              ///< "" : the scene's; "lockstep" or "realtime" overrides it
+  std::filesystem::path record;  ///< write the session recording here ("" : not written)
+  std::filesystem::path replay;  ///< play this recording instead of the scene's trajectory
   /// A device of your own (e.g. OpenHapticsDevice, docs/haptics.md "Connecting a real device") instead of
   /// the scene's scripted one; it must outlive the call. Its poses are scene positions (m) and its limits
   /// cap the clamp. The session then lasts haptics.duration_s (required).
   Device* device = nullptr;
   /// false (soaks): no tick or frame is kept, so memory stays constant however long the session runs; no
-  /// force_history.csv, session.csv or haptic_ticks.csv, and the frame statistics cover the newest 65,536 frames.
+  /// force_history.csv, session.csv or haptic_ticks.csv, and the frame statistics cover the newest 65,536
+  /// frames.
   bool keep_ticks = true;
   /// Called now and then with (session time done, session length), s.
   std::function<void(double, double)> on_progress;
@@ -55,7 +56,8 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
 
 /// The header of force_history.csv: per frame, the simulated time, the time of the pose it used, the tool
 /// position (m), the force the tissue exerts on the tool (N) and its moment about the tool point (N m), the
-/// contacts, the relative residual the frame reached and whether it converged, and the frame's wall time (ms).
+/// contacts, the relative residual the frame reached and whether it converged, and the frame's wall time
+/// (ms).
 std::vector<std::string> force_history_columns();
 
 }  // namespace vascsim

@@ -1,7 +1,7 @@
 #include "vascsim/run/haptic_session_setup.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/interaction/session_recording.hpp"
@@ -16,9 +16,10 @@ DeviceDrivenModel& driven_model(Simulation& sim, const Scene& scene, const std::
   const double period = 1.0 / scene.haptics.rate_hz;
   const double frame = model.frame_length_s();
   if (mode == "lockstep" && std::abs(frame - scene.haptics.ticks_per_step * period) > 1e-9 * period)
-    throw InputError(fmt::format("{}: key 'haptics.ticks_per_step': {} ticks of {:.4g} s must equal the frame of "
-                                 "model '{}' ({:.4g} s)",
-                                 scene.file, scene.haptics.ticks_per_step, period, scene.model, frame));
+    throw InputError(
+        fmt::format("{}: key 'haptics.ticks_per_step': {} ticks of {:.4g} s must equal the frame of "
+                    "model '{}' ({:.4g} s)",
+                    scene.file, scene.haptics.ticks_per_step, period, scene.model, frame));
   return model;
 }
 
@@ -34,8 +35,8 @@ SessionInputs read_session_inputs(const Scene& scene, const HapticRunOptions& op
     throw InputError(fmt::format("haptic mode '{}': use lockstep or realtime", in.mode));
   if (options.device != nullptr) {
     if (!(spec.duration_s > 0.0))
-      throw InputError(fmt::format("{}: key 'haptics.duration_s': a session with an external device needs a duration",
-                                   scene.file));
+      throw InputError(fmt::format(
+          "{}: key 'haptics.duration_s': a session with an external device needs a duration", scene.file));
     in.trajectory = Trajectory({DevicePose{}}, "external device");
   } else if (options.replay.empty()) {
     in.trajectory = read_trajectory(spec.trajectory);
@@ -44,15 +45,17 @@ SessionInputs read_session_inputs(const Scene& scene, const HapticRunOptions& op
     in.trajectory = std::move(rec.trajectory);
     in.recorded_forces = std::move(rec.forces);
   }
-  in.duration_s = spec.duration_s > 0.0 ? spec.duration_s
-                                        : in.trajectory.end_time_s() - in.trajectory.start_time_s();
+  in.duration_s =
+      spec.duration_s > 0.0 ? spec.duration_s : in.trajectory.end_time_s() - in.trajectory.start_time_s();
   const std::string source = options.replay.empty() ? spec.trajectory : options.replay.string();
   if (!(in.duration_s > 0.0))
-    throw InputError(fmt::format("{}: the trajectory has no duration (one sample): set haptics.duration_s", source));
+    throw InputError(
+        fmt::format("{}: the trajectory has no duration (one sample): set haptics.duration_s", source));
   if (!(in.duration_s * spec.rate_hz <= kMaxSessionTicks))
-    throw InputError(fmt::format("{}: the trajectory lasts {:.6g} s, {:.3g} ticks at {} Hz; a session may have at "
-                                 "most {:.0e} (every tick is kept in memory): shorten it or set haptics.duration_s",
-                                 source, in.duration_s, in.duration_s * spec.rate_hz, spec.rate_hz, kMaxSessionTicks));
+    throw InputError(
+        fmt::format("{}: the trajectory lasts {:.6g} s, {:.3g} ticks at {} Hz; a session may have at "
+                    "most {:.0e} (every tick is kept in memory): shorten it or set haptics.duration_s",
+                    source, in.duration_s, in.duration_s * spec.rate_hz, spec.rate_hz, kMaxSessionTicks));
   return in;
 }
 
@@ -72,11 +75,14 @@ SessionSetup::SessionSetup(const Scene& scene, const HapticRunOptions& options)
   }
   if (!options.keep_ticks && !options.record.empty())
     throw InputError("a session that keeps no ticks cannot write a recording (--record)");
-  rig_ = std::make_unique<HapticRig>(*model_, scene, *device_,
-                                     HapticRigOptions{inputs_.tool, inputs_.trajectory.start_time_s(),
-                                                      options.keep_ticks, options.keep_ticks ? ticks_ + 16 : 0});
+  rig_ =
+      std::make_unique<HapticRig>(*model_, scene, *device_,
+                                  HapticRigOptions{inputs_.tool, inputs_.trajectory.start_time_s(),
+                                                   options.keep_ticks, options.keep_ticks ? ticks_ + 16 : 0});
 }
 
-double SessionSetup::frames() const { return std::ceil(inputs_.duration_s / model_->frame_length_s() - 1e-9); }
+double SessionSetup::frames() const {
+  return std::ceil(inputs_.duration_s / model_->frame_length_s() - 1e-9);
+}
 
 }  // namespace vascsim

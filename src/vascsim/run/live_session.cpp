@@ -1,9 +1,9 @@
 #include "vascsim/run/live_session.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
+#include <cmath>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/stopwatch.hpp"
@@ -26,11 +26,13 @@ constexpr double kDivergedResidual = 1.0;
 constexpr int kDivergedFrames = 5;
 
 // The trajectory a scripted device plays for a replay or the scene's own trajectory; none otherwise.
-std::optional<Trajectory> played_trajectory(const Scene& scene, Kind kind, const std::filesystem::path& file) {
+std::optional<Trajectory> played_trajectory(const Scene& scene, Kind kind,
+                                            const std::filesystem::path& file) {
   if (kind == Kind::replay) return read_session_recording(file).trajectory;
   if (kind != Kind::play_trajectory) return std::nullopt;
   if (!scene.haptics.enabled)
-    throw InputError(fmt::format("{}: the scene has no scripted trajectory (no 'haptics' block)", scene.file));
+    throw InputError(
+        fmt::format("{}: the scene has no scripted trajectory (no 'haptics' block)", scene.file));
   return read_trajectory(scene.haptics.trajectory);
 }
 
@@ -41,16 +43,21 @@ std::optional<std::size_t> driven_tool(const Scene& scene) {
 
 std::string describe(Kind kind, const Scene& scene, const std::filesystem::path& file) {
   switch (kind) {
-    case Kind::start_recording: return "recording from the rest state";
-    case Kind::replay: return fmt::format("replaying {}", file.string());
-    case Kind::play_trajectory: return fmt::format("playing {}", scene.haptics.trajectory);
-    default: return fmt::format("{}: model {}", scene.name, scene.model);
+    case Kind::start_recording:
+      return "recording from the rest state";
+    case Kind::replay:
+      return fmt::format("replaying {}", file.string());
+    case Kind::play_trajectory:
+      return fmt::format("playing {}", scene.haptics.trajectory);
+    default:
+      return fmt::format("{}: model {}", scene.name, scene.model);
   }
 }
 
 }  // namespace
 
-LiveSession::LiveSession(const Scene& scene, Device& device, LiveObserver& observer, const LiveOptions& options)
+LiveSession::LiveSession(const Scene& scene, Device& device, LiveObserver& observer,
+                         const LiveOptions& options)
     : interactive_(device), observer_(observer), options_(options), scene_(scene) {
   build(scene, options.start, options.start_file);
 }
@@ -79,8 +86,9 @@ void LiveSession::build(const Scene& scene, Kind kind, const std::filesystem::pa
   // Everything the user chose is checked before the running simulation is replaced: a bad file or scene
   // leaves it running.
   if (!find_model(scene.model).capabilities.device_driven)
-    throw InputError(fmt::format("{}: model '{}' cannot be driven by a device; use one of: {} (--set model=...)",
-                                 scene.file, scene.model, fmt::join(model_names_with(&ModelCapabilities::device_driven), ", ")));
+    throw InputError(fmt::format(
+        "{}: model '{}' cannot be driven by a device; use one of: {} (--set model=...)", scene.file,
+        scene.model, fmt::join(model_names_with(&ModelCapabilities::device_driven), ", ")));
   const std::optional<Trajectory> trajectory = played_trajectory(scene, kind, file);
   auto simulation = std::make_unique<Simulation>(scene);
   DeviceDrivenModel& model = device_driven_model(*simulation);
@@ -113,8 +121,8 @@ void LiveSession::build(const Scene& scene, Kind kind, const std::filesystem::pa
       start_s = trajectory->start_time_s();
     }
     const bool record = kind == Kind::start_recording;
-    rig_ = std::make_unique<HapticRig>(*model_, scene_, *device,
-                                       HapticRigOptions{*tool_, start_s, record, options_.record_reserve_ticks});
+    rig_ = std::make_unique<HapticRig>(
+        *model_, scene_, *device, HapticRigOptions{*tool_, start_s, record, options_.record_reserve_ticks});
     info_.has_tool = true;
     info_.recording = record;
     info_.device = std::string(device->name());
@@ -150,9 +158,15 @@ void LiveSession::write_recording(const std::filesystem::path& file) {
 void LiveSession::apply(const LiveCommand& c) {
   try {
     switch (c.kind) {
-      case Kind::stop_recording: write_recording(c.file); break;
-      case Kind::load: build(*c.scene, Kind::load, {}); break;
-      default: build(scene_, c.kind, c.file); break;
+      case Kind::stop_recording:
+        write_recording(c.file);
+        break;
+      case Kind::load:
+        build(*c.scene, Kind::load, {});
+        break;
+      default:
+        build(scene_, c.kind, c.file);
+        break;
     }
   } catch (const InputError& e) {
     info_.message = fmt::format("error: {}", e.what());
@@ -189,14 +203,16 @@ bool LiveSession::step_frame() {
     // it; the device's clamp held.
     paused_.store(true, std::memory_order_relaxed);
     info_.paused = true;
-    info_.message = fmt::format("paused: the model diverged (relative residual {:.3g} > {:g} for {} frames); reset "
-                                "to go on",
-                                s.residual, kDivergedResidual, diverged_frames_);
+    info_.message = fmt::format(
+        "paused: the model diverged (relative residual {:.3g} > {:g} for {} frames); reset "
+        "to go on",
+        s.residual, kDivergedResidual, diverged_frames_);
     diverged_frames_ = 0;
   }
   const double now = clock_.seconds();
   recent_frames_.push_back(now);
-  while (!recent_frames_.empty() && recent_frames_.front() < now - 1.0) recent_frames_.erase(recent_frames_.begin());
+  while (!recent_frames_.empty() && recent_frames_.front() < now - 1.0)
+    recent_frames_.erase(recent_frames_.begin());
   info_.steps_per_s = static_cast<double>(recent_frames_.size());
   return true;
 }
@@ -228,7 +244,8 @@ void LiveSession::run() {
       const bool paused = this->paused();
       if (paused != info_.paused) {
         info_.paused = paused;
-        clock_.sync(model_->time());  // resume where the model is: no sleeping off or racing through the pause
+        clock_.sync(
+            model_->time());  // resume where the model is: no sleeping off or racing through the pause
       }
       if (paused && steps_requested_.load(std::memory_order_relaxed) == 0) {
         if (since_refresh.seconds() >= options_.paused_refresh_s) {

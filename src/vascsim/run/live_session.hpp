@@ -52,8 +52,8 @@ struct LiveFrameInfo {
 class LiveObserver {
  public:
   virtual ~LiveObserver() = default;
-  /// A simulation was (re)built, before the tool is posed: prepare for it (e.g. place the interactive device's
-  /// workspace at `tool`, the index of the driven tool, if any). On the thread that builds.
+  /// A simulation was (re)built, before the tool is posed: prepare for it (e.g. place the interactive
+  /// device's workspace at `tool`, the index of the driven tool, if any). On the thread that builds.
   virtual void built(Simulation& simulation, std::optional<std::size_t> tool) = 0;
   /// After every frame and once for the rest state of every build, on the simulation thread (the caller's in
   /// lockstep). `simulation` may be read during the call only.
@@ -118,7 +118,7 @@ class LiveSession {
   std::unique_ptr<HapticRig> rig_;
   LiveFrameInfo info_;
   RealtimeClock clock_;
-  std::size_t next_tick_ = 0;  // lockstep
+  std::size_t next_tick_ = 0;          // lockstep
   std::vector<double> recent_frames_;  // wall times of the frames in the last second
   int diverged_frames_ = 0;            // frames in a row above the divergence residual
   // Shared with the UI thread.

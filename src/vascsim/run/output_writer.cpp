@@ -50,7 +50,8 @@ void VtkSeries::add_surface(double stamp, const std::string& file_name, const Su
 OutputWriter::OutputWriter(fs::path dir) : dir_(std::move(dir)) {
   std::error_code ec;
   fs::create_directories(dir_, ec);
-  if (ec) throw InputError(fmt::format("{}: cannot create the output folder: {}", dir_.string(), ec.message()));
+  if (ec)
+    throw InputError(fmt::format("{}: cannot create the output folder: {}", dir_.string(), ec.message()));
 }
 
 void OutputWriter::write_json(const std::string& name, const nlohmann::json& content) const {

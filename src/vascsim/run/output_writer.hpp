@@ -19,7 +19,8 @@ namespace vascsim {
 class CsvTable {
  public:
   /// Creates the file with an optional "# comment" line and the header. Throws InputError if it cannot.
-  CsvTable(std::filesystem::path file, const std::vector<std::string>& columns, const std::string& comment = "");
+  CsvTable(std::filesystem::path file, const std::vector<std::string>& columns,
+           const std::string& comment = "");
   /// Appends one row (no newline) and flushes. Throws InputError if the write fails.
   void add_row(const std::string& row);
   const std::filesystem::path& file() const { return file_; }
@@ -38,7 +39,8 @@ class VtkSeries {
   void add_nodes(double stamp, const std::string& file_name, const Vec3Array& X, const Vec3Array& x,
                  const std::vector<Tet>& tets);
   /// The MLS-mapped surface at one frame.
-  void add_surface(double stamp, const std::string& file_name, const SurfaceFrame& frame, const RenderSurface& surface);
+  void add_surface(double stamp, const std::string& file_name, const SurfaceFrame& frame,
+                   const RenderSurface& surface);
   /// "vtk/<name>.pvd", relative to the output folder.
   std::string pvd_relative() const { return "vtk/" + name_ + ".pvd"; }
 

@@ -1,8 +1,8 @@
 #include "vascsim/run/region_builder.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/geometry/boundary.hpp"
@@ -24,12 +24,14 @@ std::vector<char> select_nodes(const SelectorSpec& s, const RegionSpec& reg, con
   const bool needs_wall = s.type == "cylinder_end" || s.type == "wall_patch" || s.type == "surface_patch";
   const bool needs_line = s.type == "cylinder_end" || s.type == "wall_patch";
   if (needs_wall && !wall)
-    throw InputError(fmt::format("{}: region '{}': selector '{}' needs a vessel geometry (tube, vessel or mesh)",
-                                 scene.file, reg.name, s.type));
+    throw InputError(
+        fmt::format("{}: region '{}': selector '{}' needs a vessel geometry (tube, vessel or mesh)",
+                    scene.file, reg.name, s.type));
   if (needs_line && !wall->has_centerline())
-    throw InputError(fmt::format("{}: region '{}': selector '{}' needs a centre-line (tube or vessel geometry); "
-                                 "use surface_patch or box on an imported mesh",
-                                 scene.file, reg.name, s.type));
+    throw InputError(
+        fmt::format("{}: region '{}': selector '{}' needs a centre-line (tube or vessel geometry); "
+                    "use surface_patch or box on an imported mesh",
+                    scene.file, reg.name, s.type));
   for (std::size_t i = 0; i < X.size(); ++i) {
     const Vec3& p = X[i];
     const Index n = static_cast<Index>(i);
@@ -39,7 +41,8 @@ std::vector<char> select_nodes(const SelectorSpec& s, const RegionSpec& reg, con
     } else if (s.type == "box") {
       hit = (p.array() >= s.min_m.array() - tol).all() && (p.array() <= s.max_m.array() + tol).all();
     } else if (s.type == "cylinder_end") {
-      hit = s.end == "start" ? wall->s_m[i] <= s.depth_m + tol : wall->s_m[i] >= wall->length_m - s.depth_m - tol;
+      hit = s.end == "start" ? wall->s_m[i] <= s.depth_m + tol
+                             : wall->s_m[i] >= wall->length_m - s.depth_m - tol;
     } else {
       const bool on_surface = s.surface == "outer" ? wall->on_outer(n) : wall->on_inner(n);
       if (s.type == "wall_patch") {
@@ -64,17 +67,19 @@ std::string point_text(const Vec3& p) {
   return fmt::format("[{}, {}, {}]", c(p.x()), c(p.y()), c(p.z()));
 }
 
-// The advice when a selector's window misses the body's extent as typed and meets it divided by 1000, i.e. read
-// in millimetres (the wording of tool_reach's message for a tool placed in millimetres). `meets(scale)`: whether
-// the window, its lengths times scale, meets the body's extent.
+// The advice when a selector's window misses the body's extent as typed and meets it divided by 1000, i.e.
+// read in millimetres (the wording of tool_reach's message for a tool placed in millimetres). `meets(scale)`:
+// whether the window, its lengths times scale, meets the body's extent.
 template <class Meets>
 std::string millimetres(const Meets& meets) {
-  return !meets(1.0) && meets(1e-3) ? "; these values look like millimetres (divided by 1000 they meet the body): "
-                                      "lengths are in metres"
-                                    : "";
+  return !meets(1.0) && meets(1e-3)
+             ? "; these values look like millimetres (divided by 1000 they meet the body): "
+               "lengths are in metres"
+             : "";
 }
 
-// Why a selector selected nothing: the body's extent in the selector's own coordinates beside the window asked.
+// Why a selector selected nothing: the body's extent in the selector's own coordinates beside the window
+// asked.
 std::string empty_selection_detail(const SelectorSpec& s, const Discretization& disc, const Body& body) {
   const Vec3Array& X = disc.rest_positions();
   const double tol = 1e-6 * disc.mean_spacing();
@@ -85,10 +90,11 @@ std::string empty_selection_detail(const SelectorSpec& s, const Discretization& 
       return ((scale * s.min_m).array() <= box.max().array() + tol).all() &&
              ((scale * s.max_m).array() >= box.min().array() - tol).all();
     };
-    return fmt::format(": its box {} .. {} m (min_m, max_m) holds none of the body, whose nodes lie within {} .. {} "
-                       "m{}",
-                       point_text(s.min_m), point_text(s.max_m), point_text(box.min()), point_text(box.max()),
-                       millimetres(meets));
+    return fmt::format(
+        ": its box {} .. {} m (min_m, max_m) holds none of the body, whose nodes lie within {} .. {} "
+        "m{}",
+        point_text(s.min_m), point_text(s.max_m), point_text(box.min()), point_text(box.max()),
+        millimetres(meets));
   }
   if (!body.wall) return "";
   const WallCoordinates& wall = *body.wall;
@@ -108,10 +114,11 @@ std::string empty_selection_detail(const SelectorSpec& s, const Discretization& 
     const auto meets = [&](double scale) {
       return box.exteriorDistance(Vec3(scale * s.centre_m)) <= scale * s.radius_m + tol;
     };
-    return fmt::format(": its sphere of radius {:.4g} m (radius_m) round {} m (centre_m) holds none of the body's "
-                       "{} surface nodes, which lie within {} .. {} m{}",
-                       s.radius_m, point_text(s.centre_m), s.surface, point_text(box.min()), point_text(box.max()),
-                       millimetres(meets));
+    return fmt::format(
+        ": its sphere of radius {:.4g} m (radius_m) round {} m (centre_m) holds none of the body's "
+        "{} surface nodes, which lie within {} .. {} m{}",
+        s.radius_m, point_text(s.centre_m), s.surface, point_text(box.min()), point_text(box.max()),
+        millimetres(meets));
   }
   if (s.type != "wall_patch") return "";
   const double s_c = wall_patch_center_s(s, wall);
@@ -120,22 +127,23 @@ std::string empty_selection_detail(const SelectorSpec& s, const Discretization& 
     const auto k = static_cast<std::size_t>(i);
     s_lo = std::min(s_lo, wall.s_m[k]);
     s_hi = std::max(s_hi, wall.s_m[k]);
-    nearest_angle = std::min(nearest_angle, std::abs(std::remainder(wall.theta_deg[k] - s.angle_center_deg, 360.0)));
+    nearest_angle =
+        std::min(nearest_angle, std::abs(std::remainder(wall.theta_deg[k] - s.angle_center_deg, 360.0)));
     nearest_s = std::min(nearest_s, std::abs(wall.s_m[k] - s_c));
   }
   // Only a centre given in metres can have been typed in millimetres (s_center_fraction is a fraction).
   const auto meets = [&](double scale) {
-    return s.s_center_fraction >= 0.0 ||
-           (scale * (s_c - s.s_half_length_m) <= s_hi + tol && scale * (s_c + s.s_half_length_m) >= s_lo - tol);
+    return s.s_center_fraction >= 0.0 || (scale * (s_c - s.s_half_length_m) <= s_hi + tol &&
+                                          scale * (s_c + s.s_half_length_m) >= s_lo - tol);
   };
-  return fmt::format(": its window is {:.4g} +- {:.4g} deg round the centre-line (angle_center_deg, "
-                     "angle_half_width_deg) and s = {:.4g} +- {:.4g} m along it (s_center_m, s_half_length_m); the "
-                     "body's {} surface nodes lie at s = {:.4g} .. {:.4g} m, their cross-section nearest s = {:.4g} m "
-                     "is {:.4g} m from it (a cross-section every {:.4g} m) and their column nearest {:.4g} deg is "
-                     "{:.4g} deg from it (a column every {:.4g} deg){}",
-                     s.angle_center_deg, s.angle_half_width_deg, s_c, s.s_half_length_m, s.surface, s_lo, s_hi, s_c,
-                     nearest_s, wall.s_step_m, s.angle_center_deg, nearest_angle, wall.angle_step_deg,
-                     millimetres(meets));
+  return fmt::format(
+      ": its window is {:.4g} +- {:.4g} deg round the centre-line (angle_center_deg, "
+      "angle_half_width_deg) and s = {:.4g} +- {:.4g} m along it (s_center_m, s_half_length_m); the "
+      "body's {} surface nodes lie at s = {:.4g} .. {:.4g} m, their cross-section nearest s = {:.4g} m "
+      "is {:.4g} m from it (a cross-section every {:.4g} m) and their column nearest {:.4g} deg is "
+      "{:.4g} deg from it (a column every {:.4g} deg){}",
+      s.angle_center_deg, s.angle_half_width_deg, s_c, s.s_half_length_m, s.surface, s_lo, s_hi, s_c,
+      nearest_s, wall.s_step_m, s.angle_center_deg, nearest_angle, wall.angle_step_deg, millimetres(meets));
 }
 
 // The "inward" direction of a patch: into the wall at the patch centre (wall_patch: minus the radial

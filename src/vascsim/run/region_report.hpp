@@ -31,7 +31,7 @@ struct RegionSelection {
 };
 
 /// One report per region, in scene order (`regions` as build_regions made them from `scene`).
-std::vector<RegionSelection> describe_selections(const Scene& scene, const Discretization& disc, const Body& body,
-                                                 const std::vector<Region>& regions);
+std::vector<RegionSelection> describe_selections(const Scene& scene, const Discretization& disc,
+                                                 const Body& body, const std::vector<Region>& regions);
 
 }  // namespace vascsim

@@ -1,7 +1,7 @@
 #include "vascsim/run/run_findings.hpp"
 
-#include <algorithm>
 #include <fmt/format.h>
+#include <algorithm>
 
 #include "vascsim/model/registry.hpp"
 
@@ -30,14 +30,15 @@ std::vector<std::string> RunFindings::warnings(int load_steps) const {
     if (auto w = r.warning()) out.push_back(*w);
   for (std::size_t o = 0; o < touched_.size(); ++o)
     if (!touched_[o] && records_ > 1)
-      out.push_back(fmt::format("the tool '{}' never touched the tissue (no contact and zero force at all {} "
-                                "output points): check obstacles.{} (m)",
-                                scene_.obstacles[o].name, records_ - 1, o));
+      out.push_back(
+          fmt::format("the tool '{}' never touched the tissue (no contact and zero force at all {} "
+                      "output points): check obstacles.{} (m)",
+                      scene_.obstacles[o].name, records_ - 1, o));
   if (unconverged_in_contact_ > 0 && !find_model(scene_.model).capabilities.dynamic)
-    out.push_back(fmt::format("{} of {} load steps did not converge with a tool in contact: the contact changes "
-                              "too much in one step; use more load steps ({}.load_steps, now {}; try {})",
-                              unconverged_in_contact_, load_steps, scene_.model, load_steps,
-                              std::max(2 * load_steps, 12)));
+    out.push_back(fmt::format(
+        "{} of {} load steps did not converge with a tool in contact: the contact changes "
+        "too much in one step; use more load steps ({}.load_steps, now {}; try {})",
+        unconverged_in_contact_, load_steps, scene_.model, load_steps, std::max(2 * load_steps, 12)));
   return out;
 }
 

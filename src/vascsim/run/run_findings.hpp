@@ -1,9 +1,9 @@
 #pragma once
 // What a finished run finds suspicious, gathered output point by output point (the records are not kept: a
 // dynamic run may have 10^6): a tool that never touched the tissue, a tool whose contact the lattice did not
-// resolve (contact_resolution.hpp), load steps that did not converge while a tool was in contact. `vascsim run`
-// puts these lines in summary.json's warnings; the Python module issues them as warnings once the last output
-// point is solved.
+// resolve (contact_resolution.hpp), load steps that did not converge while a tool was in contact. `vascsim
+// run` puts these lines in summary.json's warnings; the Python module issues them as warnings once the last
+// output point is solved.
 
 #include <cstddef>
 #include <string>
@@ -23,8 +23,9 @@ class RunFindings {
   /// One output point's record, the initial one (step 0) included.
   void add(const StepRecord& r);
 
-  /// One line each, in the order: unresolved contacts, tools that never touched the tissue (only once more than
-  /// the initial record was added), load steps that did not converge in contact (with the load_steps value to try).
+  /// One line each, in the order: unresolved contacts, tools that never touched the tissue (only once more
+  /// than the initial record was added), load steps that did not converge in contact (with the load_steps
+  /// value to try).
   std::vector<std::string> warnings(int load_steps) const;
 
  private:

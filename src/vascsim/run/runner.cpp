@@ -1,10 +1,10 @@
 #include "vascsim/run/runner.hpp"
 
-#include <algorithm>
 #include <fmt/format.h>
-#include <numeric>
 #include <omp.h>
 #include <spdlog/spdlog.h>
+#include <algorithm>
+#include <numeric>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/interrupt.hpp"
@@ -21,13 +21,17 @@ namespace vascsim {
 namespace {
 
 // Prints -0 as 0.
-double clean(double x) { return x == 0.0 ? 0.0 : x; }
+double clean(double x) {
+  return x == 0.0 ? 0.0 : x;
+}
 
 std::string csv_row(const StepRecord& r) {
   std::string s = fmt::format("{},{:.9g},{:.9g}", r.step, r.report.time_s, r.report.load_factor);
-  for (const auto& m : r.regions) s += fmt::format(",{:.9g},{:.9g}", clean(m.displacement_m), clean(m.force_n));
+  for (const auto& m : r.regions)
+    s += fmt::format(",{:.9g},{:.9g}", clean(m.displacement_m), clean(m.force_n));
   for (double p : r.probes) s += fmt::format(",{:.9g}", clean(p));
-  for (const auto& m : r.obstacles) s += fmt::format(",{:.9g},{:.9g}", clean(m.displacement_m), clean(m.force_n));
+  for (const auto& m : r.obstacles)
+    s += fmt::format(",{:.9g},{:.9g}", clean(m.displacement_m), clean(m.force_n));
   s += fmt::format(",{},{},{:.3g},{}", r.report.iterations, r.report.inner_iterations, r.report.residual,
                    r.report.converged ? 1 : 0);
   return s;
@@ -38,17 +42,22 @@ nlohmann::json step_json(const Scene& scene, const StepRecord& r) {
   for (std::size_t i = 0; i < r.regions.size(); ++i)
     regions[scene.regions[i].name] = {{"displacement_m", r.regions[i].displacement_m},
                                       {"force_n", r.regions[i].force_n},
-                                      {"force_vector_n", {r.regions[i].force_vector_n.x(), r.regions[i].force_vector_n.y(),
-                                                          r.regions[i].force_vector_n.z()}}};
+                                      {"force_vector_n",
+                                       {r.regions[i].force_vector_n.x(), r.regions[i].force_vector_n.y(),
+                                        r.regions[i].force_vector_n.z()}}};
   nlohmann::json probes = nlohmann::json::object();
-  for (std::size_t i = 0; i < r.probes.size(); ++i) probes[scene.probes[i].name + "_displacement_m"] = r.probes[i];
+  for (std::size_t i = 0; i < r.probes.size(); ++i)
+    probes[scene.probes[i].name + "_displacement_m"] = r.probes[i];
   for (std::size_t i = 0; i < r.obstacles.size(); ++i)
     regions[scene.obstacles[i].name] = {
         {"displacement_m", r.obstacles[i].displacement_m},
         {"force_n", r.obstacles[i].force_n},
-        {"force_vector_n", {r.obstacles[i].force_vector_n.x(), r.obstacles[i].force_vector_n.y(), r.obstacles[i].force_vector_n.z()}},
+        {"force_vector_n",
+         {r.obstacles[i].force_vector_n.x(), r.obstacles[i].force_vector_n.y(),
+          r.obstacles[i].force_vector_n.z()}},
         {"torque_vector_n_m",
-         {r.obstacles[i].torque_vector_n_m.x(), r.obstacles[i].torque_vector_n_m.y(), r.obstacles[i].torque_vector_n_m.z()}},
+         {r.obstacles[i].torque_vector_n_m.x(), r.obstacles[i].torque_vector_n_m.y(),
+          r.obstacles[i].torque_vector_n_m.z()}},
         {"contacts", r.obstacles[i].contacts}};
   return {{"step", r.step},
           {"time_s", r.report.time_s},
@@ -112,30 +121,32 @@ static nlohmann::json integration_constraint_info(const Discretization& disc) {
 
 nlohmann::json describe_run(const Scene& scene, Simulation& sim) {
   const auto& disc = sim.discretization();
-  const nlohmann::json wall_stretch = disc.wall_stretch() > 0.0 ? nlohmann::json(disc.wall_stretch()) : nlohmann::json();
-  return {{"scene", scene.name},
-          {"scene_file", scene.file},
-          {"model", sim.model().name()},
-          {"parameters", scene.resolved},
-          {"nodes", disc.num_nodes()},
-          {"virtual_tetrahedra", disc.tets().size()},
-          {"neighbour_pairs", disc.pairs().col.size()},
-          {"mean_neighbours", disc.mean_neighbours()},
-          {"mean_spacing_m", disc.mean_spacing()},
-          {"support_radius_min_m", *std::min_element(disc.support_radius().begin(), disc.support_radius().end())},
-          {"support_radius_max_m", *std::max_element(disc.support_radius().begin(), disc.support_radius().end())},
-          {"nodes_with_grown_support", disc.grown_nodes()},
-          {"support_wall_stretch", wall_stretch},
-          {"support_wall_across_scale", disc.wall_stretch() > 0.0 ? nlohmann::json(disc.wall_across_scale())
-                                                                  : nlohmann::json()},
-          {"energy_points_per_node", disc.energy_points()},
-          {"integration_constraint", integration_constraint_info(disc)},
-          {"volume_m3", disc.total_volume()},
-          {"mass_kg", std::accumulate(disc.masses().begin(), disc.masses().end(), 0.0)},
-          {"solver", sim.model().info()},
-          {"threads", omp_get_max_threads()},
-          {"contact", contact_info(sim)},
-          {"regions", region_reports(sim)}};
+  const nlohmann::json wall_stretch =
+      disc.wall_stretch() > 0.0 ? nlohmann::json(disc.wall_stretch()) : nlohmann::json();
+  return {
+      {"scene", scene.name},
+      {"scene_file", scene.file},
+      {"model", sim.model().name()},
+      {"parameters", scene.resolved},
+      {"nodes", disc.num_nodes()},
+      {"virtual_tetrahedra", disc.tets().size()},
+      {"neighbour_pairs", disc.pairs().col.size()},
+      {"mean_neighbours", disc.mean_neighbours()},
+      {"mean_spacing_m", disc.mean_spacing()},
+      {"support_radius_min_m", *std::min_element(disc.support_radius().begin(), disc.support_radius().end())},
+      {"support_radius_max_m", *std::max_element(disc.support_radius().begin(), disc.support_radius().end())},
+      {"nodes_with_grown_support", disc.grown_nodes()},
+      {"support_wall_stretch", wall_stretch},
+      {"support_wall_across_scale",
+       disc.wall_stretch() > 0.0 ? nlohmann::json(disc.wall_across_scale()) : nlohmann::json()},
+      {"energy_points_per_node", disc.energy_points()},
+      {"integration_constraint", integration_constraint_info(disc)},
+      {"volume_m3", disc.total_volume()},
+      {"mass_kg", std::accumulate(disc.masses().begin(), disc.masses().end(), 0.0)},
+      {"solver", sim.model().info()},
+      {"threads", omp_get_max_threads()},
+      {"contact", contact_info(sim)},
+      {"regions", region_reports(sim)}};
 }
 
 nlohmann::json surface_map_info(Simulation& sim) {
@@ -198,8 +209,9 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
     if (!(scene.output.vtk || surface) || r.step % scene.output.vtk_every != 0) return;
     const double stamp = dynamic ? r.report.time_s : r.report.load_factor;
     if (scene.output.vtk)
-      node_series.add_nodes(stamp, fmt::format("nodes_{:04d}.vtu", r.step), sim.discretization().rest_positions(),
-                            model.positions(), sim.discretization().tets());
+      node_series.add_nodes(stamp, fmt::format("nodes_{:04d}.vtu", r.step),
+                            sim.discretization().rest_positions(), model.positions(),
+                            sim.discretization().tets());
     if (surface) {
       surface_series.add_surface(stamp, fmt::format("surface_{:04d}.vtu", r.step), sim.surface_frame(),
                                  *sim.body().surface);
@@ -240,19 +252,20 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   }
 
   nlohmann::json summary = describe_run(scene, sim);
-  summary.update({{"timings_s", {{"setup", sim.setup_seconds()}, {"solve", solve_s}, {"total", total.seconds()}}},
-                  {"unconverged_steps", unconverged},
-                  {"warnings", warnings},
-                  {"interrupted", interrupted},
-                  {"inverted_steps", sim.inverted_steps()},
-                  {"planned_steps", model.num_steps()},
-                  {"steps", steps},
-                  {"surface_map", surface_info},
-                  {"outputs",
-                   {{"probes_csv", "probes.csv"},
-                    {"vtk", scene.output.vtk ? node_series.pvd_relative() : ""},
-                    {"surface", surface ? surface_series.pvd_relative() : ""},
-                    {"tools", tool_series.pvd_relative()}}}});
+  summary.update(
+      {{"timings_s", {{"setup", sim.setup_seconds()}, {"solve", solve_s}, {"total", total.seconds()}}},
+       {"unconverged_steps", unconverged},
+       {"warnings", warnings},
+       {"interrupted", interrupted},
+       {"inverted_steps", sim.inverted_steps()},
+       {"planned_steps", model.num_steps()},
+       {"steps", steps},
+       {"surface_map", surface_info},
+       {"outputs",
+        {{"probes_csv", "probes.csv"},
+         {"vtk", scene.output.vtk ? node_series.pvd_relative() : ""},
+         {"surface", surface ? surface_series.pvd_relative() : ""},
+         {"tools", tool_series.pvd_relative()}}}});
   const auto ref = sim.reference(last);
   if (!ref.is_null()) summary["reference"] = ref;
   out.write_summary(summary);

@@ -18,7 +18,8 @@ struct RunOptions {
   std::function<void(const StepRecord&, int)> on_step;
   /// Run while the simulation is built (e.g. a limit on the node count).
   BuildChecks checks;
-  /// Called once the run is built, before its first step (e.g. to estimate its cost, or refuse it by throwing).
+  /// Called once the run is built, before its first step (e.g. to estimate its cost, or refuse it by
+  /// throwing).
   std::function<void(Simulation&)> after_setup;
 };
 

@@ -1,9 +1,9 @@
 #include "vascsim/run/simulation.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
-#include <numbers>
 #include <spdlog/spdlog.h>
+#include <cmath>
+#include <numbers>
 
 #include "vascsim/core/beam_theory.hpp"
 #include "vascsim/core/error.hpp"
@@ -38,8 +38,9 @@ void Simulation::build(const BuildChecks& checks) {
                cloud.tets.size());
   if (checks.after_body) checks.after_body(*body_);
   disc_ = std::make_unique<Discretization>(cloud, scene.material, discretization_options(scene, *body_));
-  spdlog::info("discretization: mean spacing {:.4g} m, mean neighbours {:.1f}, volume {:.4g} m^3 (tets {:.4g} m^3)",
-               disc_->mean_spacing(), disc_->mean_neighbours(), disc_->total_volume(), disc_->tet_volume());
+  spdlog::info(
+      "discretization: mean spacing {:.4g} m, mean neighbours {:.1f}, volume {:.4g} m^3 (tets {:.4g} m^3)",
+      disc_->mean_spacing(), disc_->mean_neighbours(), disc_->total_volume(), disc_->tet_volume());
   EnergyOptions energy = scene.energy;
   if (energy.law && energy.law->needs_frame()) energy.frames = wall_frames(*body_, scene);
   energy_ = std::make_unique<PointPrimitiveEnergy>(*disc_, energy);
@@ -68,9 +69,10 @@ void Simulation::build(const BuildChecks& checks) {
   }
   for (const auto& o : scene.obstacles)
     if (!scene.contact.embedded && o.radius_m + o.node_radius_m < 2.0 * disc_->mean_spacing())
-      spdlog::warn("obstacle '{}': radius {:.3g} m + node_radius_m {:.3g} m is below 2 node spacings ({:.3g} m): the "
-                   "tool may slip between nodes; set node_radius_m to about half the spacing (docs/haptics.md)",
-                   o.name, o.radius_m, o.node_radius_m, 2.0 * disc_->mean_spacing());
+      spdlog::warn(
+          "obstacle '{}': radius {:.3g} m + node_radius_m {:.3g} m is below 2 node spacings ({:.3g} m): the "
+          "tool may slip between nodes; set node_radius_m to about half the spacing (docs/haptics.md)",
+          o.name, o.radius_m, o.node_radius_m, 2.0 * disc_->mean_spacing());
   check_motion_sizes();
   model_ = make_model(scene.model, *problem_, scene.own_model_settings());
   setup_s_ = seconds_since(t0);
@@ -85,9 +87,10 @@ void Simulation::check_motion_sizes() const {
   const double size = (hi - lo).norm();
   const auto check = [&](const std::string& key, double length) {
     if (length > size)
-      throw InputError(fmt::format("{}: key '{}': a motion of {:.4g} m is larger than the body (its bounding box "
-                                   "diagonal is {:.4g} m); lengths are in metres",
-                                   scene_.file, key, length, size));
+      throw InputError(
+          fmt::format("{}: key '{}': a motion of {:.4g} m is larger than the body (its bounding box "
+                      "diagonal is {:.4g} m); lengths are in metres",
+                      scene_.file, key, length, size));
   };
   for (std::size_t r = 0; r < scene_.regions.size(); ++r) {
     const RegionSpec& region = scene_.regions[r];
@@ -136,18 +139,23 @@ StepRecord Simulation::measure(int step, const StepReport& report) const {
 const MlsMap* Simulation::surface_map() {
   if (!surface_map_ && body_->surface) {
     const auto t0 = SteadyClock::now();
-    surface_map_ = std::make_unique<MlsMap>(disc_->rest_positions(), body_->surface->rest_vertices, scene_.mapping);
+    surface_map_ =
+        std::make_unique<MlsMap>(disc_->rest_positions(), body_->surface->rest_vertices, scene_.mapping);
     const MlsMapReport& r = surface_map_->report();
-    spdlog::info("surface map: {} vertices, |S| mean {:.1f} (min {}, max {}), max cond {:.3g}, {} vertices grown, {:.2f} s",
-                 surface_map_->num_vertices(), r.mean_support, r.min_support, r.max_support, r.max_cond,
-                 r.grown_vertices, seconds_since(t0));
+    spdlog::info(
+        "surface map: {} vertices, |S| mean {:.1f} (min {}, max {}), max cond {:.3g}, {} vertices grown, "
+        "{:.2f} s",
+        surface_map_->num_vertices(), r.mean_support, r.min_support, r.max_support, r.max_cond,
+        r.grown_vertices, seconds_since(t0));
   }
   return surface_map_.get();
 }
 
 SurfaceFrame Simulation::surface_frame() {
   const MlsMap* map = surface_map();
-  if (!map) throw InputError(fmt::format("{}: geometry '{}' has no render surface", scene_.file, scene_.geometry.type));
+  if (!map)
+    throw InputError(
+        fmt::format("{}: geometry '{}' has no render surface", scene_.file, scene_.geometry.type));
   SurfaceFrame f;
   const Vec3Array& x = model_->positions();
   const Vec3Array& X = disc_->rest_positions();
@@ -155,12 +163,15 @@ SurfaceFrame Simulation::surface_frame() {
   for (std::size_t i = 0; i < x.size(); ++i) u[i] = x[i] - X[i];
   map->map_displacements(u, f.displacements);
   f.positions.resize(f.displacements.size());
-  for (std::size_t v = 0; v < f.positions.size(); ++v) f.positions[v] = map->rest_surface()[v] + f.displacements[v];
+  for (std::size_t v = 0; v < f.positions.size(); ++v)
+    f.positions[v] = map->rest_surface()[v] + f.displacements[v];
   vertex_normals(body_->surface->triangles, f.positions, f.normals);
   return f;
 }
 
-StepRecord Simulation::initial_record() const { return measure(0, StepReport{}); }
+StepRecord Simulation::initial_record() const {
+  return measure(0, StepReport{});
+}
 
 void Simulation::check_state(const std::string& where) {
   const InversionReport inversion = check_inversion(*problem_, model_->positions());
@@ -174,9 +185,10 @@ void Simulation::check_state(const std::string& where) {
                    scene_.model, where, inversion.describe());
     return;
   }
-  throw NumericalError(fmt::format("{}: {}: {}; the state is no longer physical: use smaller steps (load_steps, "
-                                     "step_s or frame_s) or a smaller load",
-                                     scene_.model, where, inversion.describe()));
+  throw NumericalError(
+      fmt::format("{}: {}: {}; the state is no longer physical: use smaller steps (load_steps, "
+                  "step_s or frame_s) or a smaller load",
+                  scene_.model, where, inversion.describe()));
 }
 
 StepRecord Simulation::advance(int k) {

@@ -21,21 +21,22 @@ namespace vascsim {
 
 /// A rigid obstacle at one output point, with the names and meanings of summary.json's tools.
 struct ObstacleMeasure {
-  double displacement_m = 0.0;            ///< s |motion|, m
-  Vec3 force_vector_n = Vec3::Zero();     ///< force the obstacle exerts on the tissue, N
-  double force_n = 0.0;                   ///< force_vector_n along the motion (its magnitude for a fixed obstacle), N
-  Vec3 torque_vector_n_m = Vec3::Zero();  ///< moment of force_vector_n about the tool point (the catheter tip), N m
-  int contacts = 0;                ///< nodes in contact
+  double displacement_m = 0.0;         ///< s |motion|, m
+  Vec3 force_vector_n = Vec3::Zero();  ///< force the obstacle exerts on the tissue, N
+  double force_n = 0.0;  ///< force_vector_n along the motion (its magnitude for a fixed obstacle), N
+  Vec3 torque_vector_n_m =
+      Vec3::Zero();  ///< moment of force_vector_n about the tool point (the catheter tip), N m
+  int contacts = 0;  ///< nodes in contact
 };
 
 /// Everything measured at one output point.
 struct StepRecord {
   int step = 0;  ///< 0 is the rest state
   StepReport report;
-  std::vector<RegionMeasure> regions;  ///< in scene order
-  std::vector<double> probes;          ///< point probe displacements, m, in scene order
+  std::vector<RegionMeasure> regions;      ///< in scene order
+  std::vector<double> probes;              ///< point probe displacements, m, in scene order
   std::vector<ObstacleMeasure> obstacles;  ///< in scene order
-  double wall_s = 0.0;                 ///< wall-clock time of this step, s
+  double wall_s = 0.0;                     ///< wall-clock time of this step, s
 };
 
 /// Checks a driver runs while a Simulation is built, to stop (throw) before the expensive stages.

@@ -2,9 +2,9 @@
 
 #include <unistd.h>
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <chrono>
-#include <fmt/format.h>
 #include <fstream>
 #include <mutex>
 #include <thread>
@@ -37,14 +37,17 @@ class MemorySampler {
           const std::lock_guard lock(mutex_);
           if (samples_.size() < samples_.capacity()) samples_.push_back({t, resident_memory_mib()});
         }
-        next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(interval_s));
+        next += std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+            std::chrono::duration<double>(interval_s));
         while (!stop.stop_requested() && std::chrono::steady_clock::now() < next)
           std::this_thread::sleep_for(std::chrono::milliseconds(20));
       }
     });
   }
   /// Seconds since the sampler started (the samples' clock).
-  double now_s() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+  double now_s() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
   std::vector<MemorySample> stop() {
     thread_.request_stop();
     thread_.join();
@@ -58,17 +61,19 @@ class MemorySampler {
   std::jthread thread_;
 };
 
-// Growth after warm-up (counted from the session's first frame, after the set-up): the last sample against the
-// first one after warm-up, the largest excursion, and the least-squares slope (MiB per hour).
-nlohmann::json memory_report(const std::vector<MemorySample>& samples, double session_start_s, double session_end_s,
-                             double warmup_s) {
+// Growth after warm-up (counted from the session's first frame, after the set-up): the last sample against
+// the first one after warm-up, the largest excursion, and the least-squares slope (MiB per hour).
+nlohmann::json memory_report(const std::vector<MemorySample>& samples, double session_start_s,
+                             double session_end_s, double warmup_s) {
   std::vector<MemorySample> after;  // the session's frames after warm-up (not the set-up, not the tear-down)
   for (const auto& s : samples)
     if (s.time_s >= session_start_s + warmup_s && s.time_s <= session_end_s) after.push_back(s);
   nlohmann::json every = nlohmann::json::array();
   for (const auto& s : samples) every.push_back({s.time_s, s.rss_mib});
-  nlohmann::json j = {{"samples", samples.size()}, {"session_start_s", session_start_s},
-                      {"session_end_s", session_end_s}, {"warmup_s", warmup_s},
+  nlohmann::json j = {{"samples", samples.size()},
+                      {"session_start_s", session_start_s},
+                      {"session_end_s", session_end_s},
+                      {"warmup_s", warmup_s},
                       {"rss_start_mib", samples.empty() ? 0.0 : samples.front().rss_mib},
                       {"rss_time_s_mib", every}};
   if (after.size() < 2) return j;
@@ -77,7 +82,8 @@ nlohmann::json memory_report(const std::vector<MemorySample>& samples, double se
   mean_t /= static_cast<double>(after.size());
   mean_m /= static_cast<double>(after.size());
   double stt = 0.0, stm = 0.0;
-  for (const auto& s : after) stt += (s.time_s - mean_t) * (s.time_s - mean_t), stm += (s.time_s - mean_t) * (s.rss_mib - mean_m);
+  for (const auto& s : after)
+    stt += (s.time_s - mean_t) * (s.time_s - mean_t), stm += (s.time_s - mean_t) * (s.rss_mib - mean_m);
   j["rss_after_warmup_mib"] = after.front().rss_mib;
   j["rss_end_mib"] = after.back().rss_mib;
   j["rss_peak_after_warmup_mib"] = peak;
@@ -89,28 +95,41 @@ nlohmann::json memory_report(const std::vector<MemorySample>& samples, double se
 std::string soak_markdown(const nlohmann::json& r) {
   const auto& m = r["memory"];
   const auto& j = r["jitter_ms"];
-  const auto num = [&](const nlohmann::json& v) { return v.is_number() ? fmt::format("{:.4g}", v.get<double>()) : "-"; };
-  std::string md = fmt::format("# Soak: {}\n\n| quantity | value |\n|---|---|\n", r["scene"].get<std::string>());
-  const auto row = [&](const std::string& k, const std::string& v) { md += fmt::format("| {} | {} |\n", k, v); };
-  row("session (wall clock)", fmt::format("{} s, seed {}", num(r["seconds"]), r["seed"].get<std::uint64_t>()));
-  row("tool motion", fmt::format("depth 0-{} mm along the tool, +-{} mm across, a waypoint every {} s",
-                                 num(r["bounds"]["depth_m"].get<double>() * 1e3),
-                                 num(r["bounds"]["lateral_m"].get<double>() * 1e3), num(r["bounds"]["segment_s"])));
+  const auto num = [&](const nlohmann::json& v) {
+    return v.is_number() ? fmt::format("{:.4g}", v.get<double>()) : "-";
+  };
+  std::string md =
+      fmt::format("# Soak: {}\n\n| quantity | value |\n|---|---|\n", r["scene"].get<std::string>());
+  const auto row = [&](const std::string& k, const std::string& v) {
+    md += fmt::format("| {} | {} |\n", k, v);
+  };
+  row("session (wall clock)",
+      fmt::format("{} s, seed {}", num(r["seconds"]), r["seed"].get<std::uint64_t>()));
+  row("tool motion",
+      fmt::format("depth 0-{} mm along the tool, +-{} mm across, a waypoint every {} s",
+                  num(r["bounds"]["depth_m"].get<double>() * 1e3),
+                  num(r["bounds"]["lateral_m"].get<double>() * 1e3), num(r["bounds"]["segment_s"])));
   row("ticks", fmt::format("{} at {} Hz", r["ticks"].get<std::uint64_t>(), num(r["achieved_rate_hz"])));
-  row("simulation frames", fmt::format("{} at {} Hz", r["simulation_steps"].get<std::uint64_t>(), num(r["deformation_rate_hz"])));
+  row("simulation frames",
+      fmt::format("{} at {} Hz", r["simulation_steps"].get<std::uint64_t>(), num(r["deformation_rate_hz"])));
   row("NaN events / proxy recoveries", fmt::format("{} / {}", r["nan_events"].get<std::uint64_t>(),
                                                    r["proxy_recoveries"].get<std::uint64_t>()));
   row("clamp events / step-limit events", fmt::format("{} / {}", r["clamp_events"].get<std::uint64_t>(),
                                                       r["step_limit_events"].get<std::uint64_t>()));
   row("late restarts of the haptic schedule", fmt::format("{}", r["late_restarts"].get<std::uint64_t>()));
-  row("max force sent / on the tool", fmt::format("{} N / {} N", num(r["max_force_sent_n"]), num(r["max_force_on_tool_n"])));
-  row("tick jitter p50 / p99 / max", fmt::format("{} / {} / {} ms", num(j["p50"]), num(j["p99"]), num(j["max"])));
-  row("resident memory after warm-up -> end", fmt::format("{} -> {} MiB (warm-up {} s after the set-up)", num(m.value("rss_after_warmup_mib", nlohmann::json())),
-                                                          num(m.value("rss_end_mib", nlohmann::json())), num(m["warmup_s"])));
-  row("memory growth after warm-up", fmt::format("{} MiB (slope {} MiB/h, peak {} MiB)",
-                                                 num(m.value("growth_after_warmup_mib", nlohmann::json())),
-                                                 num(m.value("slope_mib_per_hour", nlohmann::json())),
-                                                 num(m.value("rss_peak_after_warmup_mib", nlohmann::json()))));
+  row("max force sent / on the tool",
+      fmt::format("{} N / {} N", num(r["max_force_sent_n"]), num(r["max_force_on_tool_n"])));
+  row("tick jitter p50 / p99 / max",
+      fmt::format("{} / {} / {} ms", num(j["p50"]), num(j["p99"]), num(j["max"])));
+  row("resident memory after warm-up -> end",
+      fmt::format("{} -> {} MiB (warm-up {} s after the set-up)",
+                  num(m.value("rss_after_warmup_mib", nlohmann::json())),
+                  num(m.value("rss_end_mib", nlohmann::json())), num(m["warmup_s"])));
+  row("memory growth after warm-up",
+      fmt::format("{} MiB (slope {} MiB/h, peak {} MiB)",
+                  num(m.value("growth_after_warmup_mib", nlohmann::json())),
+                  num(m.value("slope_mib_per_hour", nlohmann::json())),
+                  num(m.value("rss_peak_after_warmup_mib", nlohmann::json()))));
   return md;
 }
 
@@ -125,10 +144,11 @@ double resident_memory_mib() {
 
 nlohmann::json run_soak(const Scene& scene, const SoakOptions& options) {
   if (!scene.haptics.enabled)
-    throw InputError(fmt::format("{}: a soak needs a scene with a 'haptics' block (a real-time scene)", scene.file));
+    throw InputError(
+        fmt::format("{}: a soak needs a scene with a 'haptics' block (a real-time scene)", scene.file));
   if (!(options.seconds > 0.0 && options.seconds * scene.haptics.rate_hz <= kMaxSessionTicks))
-    throw InputError(fmt::format("soak: --seconds {} must be > 0 and at most {:.0e} ticks at {} Hz", options.seconds,
-                                 kMaxSessionTicks, scene.haptics.rate_hz));
+    throw InputError(fmt::format("soak: --seconds {} must be > 0 and at most {:.0e} ticks at {} Hz",
+                                 options.seconds, kMaxSessionTicks, scene.haptics.rate_hz));
   const DevicePose start = read_trajectory(scene.haptics.trajectory).samples().front();
   WanderingDevice device(start, options.bounds);
   Scene soak_scene = scene;
@@ -159,7 +179,9 @@ nlohmann::json run_soak(const Scene& scene, const SoakOptions& options) {
       {"seconds", options.seconds},
       {"seed", options.bounds.seed},
       {"bounds",
-       {{"depth_m", options.bounds.depth_m}, {"lateral_m", options.bounds.lateral_m}, {"segment_s", options.bounds.segment_s}}},
+       {{"depth_m", options.bounds.depth_m},
+        {"lateral_m", options.bounds.lateral_m},
+        {"segment_s", options.bounds.segment_s}}},
       {"interrupted", summary["interrupted"]},
       {"ticks", loop["ticks"]},
       {"achieved_rate_hz", loop["achieved_rate_hz"]},
@@ -172,7 +194,8 @@ nlohmann::json run_soak(const Scene& scene, const SoakOptions& options) {
       {"late_restarts", loop["late_restarts"]},
       {"max_force_sent_n", loop["max_force_sent_n"]},
       {"max_force_on_tool_n", h["max_force_on_tool_n"]},
-      {"jitter_ms", {{"p50", loop["jitter_p50_ms"]}, {"p99", loop["jitter_p99_ms"]}, {"max", loop["jitter_max_ms"]}}},
+      {"jitter_ms",
+       {{"p50", loop["jitter_p50_ms"]}, {"p99", loop["jitter_p99_ms"]}, {"max", loop["jitter_max_ms"]}}},
       {"memory", memory_report(samples, std::max(session_start_s, 0.0), session_end_s, warmup)}};
   const OutputWriter out(options.out_dir);
   out.write_json("soak.json", report);

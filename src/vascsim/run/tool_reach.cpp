@@ -1,8 +1,8 @@
 #include "vascsim/run/tool_reach.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <limits>
 
 namespace vascsim {
@@ -46,7 +46,8 @@ ToolReach tool_reach_on_trajectory(const RigidObstacle& tool, const Trajectory& 
   times.push_back(t1);
   for (std::size_t i = 0; i + 1 < times.size(); ++i) {
     const DevicePose a = trajectory.at(times[i]), b = trajectory.at(times[i + 1]);
-    const double travel = (b.position_m - a.position_m).norm() + reach * a.orientation.angularDistance(b.orientation);
+    const double travel =
+        (b.position_m - a.position_m).norm() + reach * a.orientation.angularDistance(b.orientation);
     const int n = samples_for(travel, 0.25 * tool.radius_m);
     for (int k = 0; k < n; ++k) {
       const double t = times[i] + (times[i + 1] - times[i]) * k / n;
@@ -61,17 +62,20 @@ ToolReach tool_reach_on_trajectory(const RigidObstacle& tool, const Trajectory& 
   return r;
 }
 
-std::string tool_reach_warning(const ToolReach& reach, const RigidObstacle& tool, std::size_t obstacle_index) {
+std::string tool_reach_warning(const ToolReach& reach, const RigidObstacle& tool,
+                               std::size_t obstacle_index) {
   const std::string where = reach.by_time ? fmt::format("at t = {:.3g} s of its trajectory", reach.at)
                                           : fmt::format("at load factor {:.3g}", reach.at);
-  const char* keys = tool.catheter ? "tip_m and push_m"
+  const char* keys = tool.catheter                                ? "tip_m and push_m"
                      : tool.shape == RigidObstacle::Shape::Sphere ? "centre_m and motion_m"
-                                                                   : "a_m, b_m and motion_m";
-  const std::string key = reach.by_time ? std::string("the positions of the trajectory (haptics.device.trajectory, m)")
-                                        : fmt::format("obstacles.{}: {} (m)", obstacle_index, keys);
-  return fmt::format("tool '{}' will never touch the tissue: its path comes no closer than {:.4g} m to a node "
-                     "({}); check {}",
-                     reach.tool, reach.clearance_m, where, key);
+                                                                  : "a_m, b_m and motion_m";
+  const std::string key = reach.by_time
+                              ? std::string("the positions of the trajectory (haptics.device.trajectory, m)")
+                              : fmt::format("obstacles.{}: {} (m)", obstacle_index, keys);
+  return fmt::format(
+      "tool '{}' will never touch the tissue: its path comes no closer than {:.4g} m to a node "
+      "({}); check {}",
+      reach.tool, reach.clearance_m, where, key);
 }
 
 }  // namespace vascsim

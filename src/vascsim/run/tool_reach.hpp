@@ -23,8 +23,8 @@ struct ToolReach {
   bool touches() const { return clearance_m <= 0.0; }
 };
 
-/// A tool moved by the load factor: the capsule swept from s = 0 to s = 1, sampled at most a quarter of the tool
-/// radius apart (so the gap is found to within that).
+/// A tool moved by the load factor: the capsule swept from s = 0 to s = 1, sampled at most a quarter of the
+/// tool radius apart (so the gap is found to within that).
 ToolReach tool_reach_by_load(const RigidObstacle& tool, const Vec3Array& nodes_m);
 
 /// A tool posed by a device playing `trajectory` from its start for `duration_s`: the poses sampled so that

@@ -8,7 +8,8 @@ namespace vascsim {
 ToolSeries::ToolSeries(const OutputWriter& out, const Scene& scene, bool enabled)
     : scene_(scene), active_(enabled && !scene.obstacles.empty()), series_(out.series("tools")) {}
 
-void ToolSeries::add(double stamp, const std::string& file_name, const std::vector<constraints::Capsule>& placed) {
+void ToolSeries::add(double stamp, const std::string& file_name,
+                     const std::vector<constraints::Capsule>& placed) {
   if (!active_) return;
   RenderSurface surface;
   for (std::size_t o = 0; o < placed.size() && o < scene_.obstacles.size(); ++o)
@@ -17,7 +18,8 @@ void ToolSeries::add(double stamp, const std::string& file_name, const std::vect
   SurfaceFrame frame;
   frame.positions = surface.rest_vertices;
   frame.displacements.resize(frame.positions.size());
-  for (std::size_t v = 0; v < frame.positions.size(); ++v) frame.displacements[v] = frame.positions[v] - first_[v];
+  for (std::size_t v = 0; v < frame.positions.size(); ++v)
+    frame.displacements[v] = frame.positions[v] - first_[v];
   frame.normals = surface.rest_normals;
   series_.add_surface(stamp, file_name, frame, surface);
 }

@@ -19,7 +19,8 @@ class ToolSeries {
   ToolSeries(const OutputWriter& out, const Scene& scene, bool enabled);
   bool active() const { return active_; }
   /// One frame: every tool at `placed` (scene order; the capsule's radius is replaced by the tool's own, so a
-  /// contact margin, node_radius_m, is not drawn). `file_name` as the wall's frame, with "tools" for "surface".
+  /// contact margin, node_radius_m, is not drawn). `file_name` as the wall's frame, with "tools" for
+  /// "surface".
   void add(double stamp, const std::string& file_name, const std::vector<constraints::Capsule>& placed);
   /// "vtk/tools.pvd", relative to the output folder ("" when inactive).
   std::string pvd_relative() const { return active_ ? series_.pvd_relative() : ""; }

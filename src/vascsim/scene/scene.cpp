@@ -1,13 +1,13 @@
 #include "vascsim/scene/scene.hpp"
 
-#include <cmath>
-#include <filesystem>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
-#include <fstream>
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/json_file.hpp"
@@ -36,8 +36,8 @@ void read_wall_section(JsonReader& g, TubeSpec& t) {
   t.outer_radius_m = g.required_number("outer_radius_m", 1e-7, 10.0);
   t.wall_thickness_m = g.required_number("wall_thickness_m", 1e-8, 10.0);
   if (t.wall_thickness_m >= t.outer_radius_m)
-    g.fail("wall_thickness_m",
-           fmt::format("value {} must be smaller than outer_radius_m = {}", t.wall_thickness_m, t.outer_radius_m));
+    g.fail("wall_thickness_m", fmt::format("value {} must be smaller than outer_radius_m = {}",
+                                           t.wall_thickness_m, t.outer_radius_m));
   t.node_spacing_m = g.required_number("node_spacing_m", 1e-8, 10.0);
   t.min_layers = g.integer("min_layers", 3, 2, 100);
 }
@@ -79,7 +79,8 @@ MeshGeometrySpec read_mesh(JsonReader& g) {
   m.min_layers = g.integer("min_layers", 3, 3, 100);
   // Relative to the scene file, so a scene runs from any working directory.
   const std::filesystem::path p(m.file);
-  if (p.is_relative()) m.file = (std::filesystem::path(g.file()).parent_path() / p).lexically_normal().string();
+  if (p.is_relative())
+    m.file = (std::filesystem::path(g.file()).parent_path() / p).lexically_normal().string();
   return m;
 }
 
@@ -91,8 +92,10 @@ void read_refinement(JsonReader& g, GeometrySpec& s) {
   r.allow({"around", "s_center_m", "s_center_fraction"});  // each read only without another
   w.node_spacing_m = r.required_number("node_spacing_m", 1e-8, 10.0);
   if (w.node_spacing_m > s.tube.node_spacing_m)
-    r.fail("node_spacing_m", fmt::format("{:.4g} m is coarser than geometry.node_spacing_m ({:.4g} m), the spacing "
-                                         "away from the window", w.node_spacing_m, s.tube.node_spacing_m));
+    r.fail("node_spacing_m",
+           fmt::format("{:.4g} m is coarser than geometry.node_spacing_m ({:.4g} m), the spacing "
+                       "away from the window",
+                       w.node_spacing_m, s.tube.node_spacing_m));
   if (r.has("around")) {
     // The window's centre is where the named obstacle stands (resolved once the obstacles are read).
     s.refine_around = r.required_string("around");
@@ -105,23 +108,28 @@ void read_refinement(JsonReader& g, GeometrySpec& s) {
   w.angle_half_width_deg = r.required_number("angle_half_width_deg", 1e-6, 179.0);
   if (r.has("s_center_m") && r.has("s_center_fraction"))
     r.fail("s_center_m", "give s_center_m or s_center_fraction, not both");
-  if (r.has("s_center_m")) w.s_center_m = r.required_number("s_center_m", 0.0, 100.0);
+  if (r.has("s_center_m"))
+    w.s_center_m = r.required_number("s_center_m", 0.0, 100.0);
   else if (s.refine_around.empty())
     s.refine_s_center_fraction = r.number("s_center_fraction", 0.5, 0.0, 1.0);
   w.s_half_length_m = r.required_number("s_half_length_m", 1e-8, 100.0);
   w.margin_m = r.number("margin_m", 0.0, 0.0, 100.0);
   w.growth = r.number("growth", 1.2, 1.01, 3.0);
   r.finish();
-  if (g.has("lattice_angle_deg")) g.fail("lattice_angle_deg", "a graded lattice (refine) places its own columns; leave it out");
+  if (g.has("lattice_angle_deg"))
+    g.fail("lattice_angle_deg", "a graded lattice (refine) places its own columns; leave it out");
   if (s.fit_lattice_to_patch != "none")
-    g.fail("fit_lattice_to_patch", "a graded lattice (refine) puts its window's edges on nodes itself; use 'none'");
+    g.fail("fit_lattice_to_patch",
+           "a graded lattice (refine) puts its window's edges on nodes itself; use 'none'");
 }
 
 // A wall swept along a centre-line, with node layers through it (tube, vessel).
-bool swept_wall(const std::string& geometry_type) { return geometry_type == "tube" || geometry_type == "vessel"; }
+bool swept_wall(const std::string& geometry_type) {
+  return geometry_type == "tube" || geometry_type == "vessel";
+}
 
-// The equilibrium models' discretisation defaults (wall supports, the stabiliser on a quadratic fit) apply on a
-// swept wall, in the sound formulation, for the models whose capability `default_on_walls` says so.
+// The equilibrium models' discretisation defaults (wall supports, the stabiliser on a quadratic fit) apply on
+// a swept wall, in the sound formulation, for the models whose capability `default_on_walls` says so.
 bool wall_default(const Scene& sc, bool literal, bool ModelCapabilities::*default_on_walls) {
   return swept_wall(sc.geometry.type) && !literal && find_model(sc.model).capabilities.*default_on_walls;
 }
@@ -139,7 +147,9 @@ GeometrySpec read_geometry(JsonReader g) {
     s.tube.length_m = g.required_number("length_m", 1e-7, 100.0);
   } else if (s.type == "vessel") {
     read_wall_section(g, s.tube);
-    if (s.tube.min_layers < 3) g.fail("min_layers", "a swept vessel needs at least 3 layers (docs/model/00-design-decisions.md, decision 2)");
+    if (s.tube.min_layers < 3)
+      g.fail("min_layers",
+             "a swept vessel needs at least 3 layers (docs/model/00-design-decisions.md, decision 2)");
     if (!g.has("centerline")) g.missing("centerline", "a centre-line object is required");
     s.centerline = read_centerline(g.object("centerline"));
     g.allow({"refine"});  // listed as allowed whether or not the scene has the block
@@ -150,12 +160,14 @@ GeometrySpec read_geometry(JsonReader g) {
     g.allow({"min_m", "max_m"});  // neither is taken for a misspelling of the other
     s.box.min_m = g.required_vec3("min_m");
     s.box.max_m = g.required_vec3("max_m");
-    if (!((s.box.max_m - s.box.min_m).array() > 0.0).all()) g.fail("max_m", "must exceed min_m along every axis");
+    if (!((s.box.max_m - s.box.min_m).array() > 0.0).all())
+      g.fail("max_m", "must exceed min_m along every axis");
     const double spacing = g.required_number("node_spacing_m", 1e-8, 10.0);
     const Vec3 ext = s.box.max_m - s.box.min_m;
     for (int a = 0; a < 3; ++a) {
       const double cells = std::round(ext[a] / spacing);
-      if (cells > 1e6) g.fail("node_spacing_m", fmt::format("gives {:.3g} cells along an axis; the limit is 1e6", cells));
+      if (cells > 1e6)
+        g.fail("node_spacing_m", fmt::format("gives {:.3g} cells along an axis; the limit is 1e6", cells));
       s.box.cells[a] = std::max(1, static_cast<int>(cells));
     }
     s.box.jitter = g.number("jitter", 0.0, 0.0, 0.25);
@@ -196,7 +208,8 @@ SelectorSpec read_selector(JsonReader r) {
     s.end = r.required_string("end", {"start", "end"});
     s.depth_m = r.number("depth_m", 0.0, 0.0, 100.0);
   } else if (s.type == "wall_patch") {
-    r.allow({"s_center_m", "z_center_m", "s_half_length_m", "z_half_length_m", "s_center_fraction"});  // alternatives
+    r.allow({"s_center_m", "z_center_m", "s_half_length_m", "z_half_length_m",
+             "s_center_fraction"});  // alternatives
     s.surface = r.string("surface", "outer", {"outer", "inner"});
     s.angle_center_deg = r.number("angle_center_deg", 0.0, -360.0, 360.0);
     s.angle_half_width_deg = r.required_number("angle_half_width_deg", 0.0, 180.0);
@@ -243,7 +256,8 @@ RegionSpec read_region(JsonReader r) {
   RegionSpec reg;
   reg.name = r.required_string("name");
   if (!is_identifier(reg.name))
-    r.fail("name", fmt::format("'{}' is not allowed; use letters, digits and '_' (it names CSV columns)", reg.name));
+    r.fail("name",
+           fmt::format("'{}' is not allowed; use letters, digits and '_' (it names CSV columns)", reg.name));
   if (!r.has("select")) r.missing("select", "a selector object is required");
   reg.select = read_selector(r.object("select"));
   JsonReader bc = r.object("bc");
@@ -312,17 +326,20 @@ void read_material(JsonReader& root, Scene& sc) {
     }
     // The discretisation, the stability estimates and the preconditioner use E and nu: those of the law at
     // small strain (for hgo, of the ground matrix).
-    const double mu = sc.energy.law->small_strain_shear_modulus(), kappa = sc.energy.law->small_strain_bulk_modulus();
+    const double mu = sc.energy.law->small_strain_shear_modulus(),
+                 kappa = sc.energy.law->small_strain_bulk_modulus();
     sc.material.youngs_modulus_pa = 9.0 * kappa * mu / (3.0 * kappa + mu);
     sc.material.poisson_ratio = (3.0 * kappa - 2.0 * mu) / (2.0 * (3.0 * kappa + mu));
     if (!(sc.material.poisson_ratio < 0.4999))
-      mat.fail("bulk_modulus_pa", fmt::format("gives a Poisson ratio of {:.6f} at small strain; it must be below 0.4999 "
-                                              "(lower the bulk modulus)",
-                                              sc.material.poisson_ratio));
+      mat.fail("bulk_modulus_pa",
+               fmt::format("gives a Poisson ratio of {:.6f} at small strain; it must be below 0.4999 "
+                           "(lower the bulk modulus)",
+                           sc.material.poisson_ratio));
     if (!(sc.material.poisson_ratio >= 0.0))
-      mat.fail("bulk_modulus_pa", fmt::format("gives a Poisson ratio of {:.6f} at small strain; the point-primitive "
-                                              "energy needs it >= 0 (a bulk modulus >= 2/3 of the shear modulus)",
-                                              sc.material.poisson_ratio));
+      mat.fail("bulk_modulus_pa",
+               fmt::format("gives a Poisson ratio of {:.6f} at small strain; the point-primitive "
+                           "energy needs it >= 0 (a bulk modulus >= 2/3 of the shear modulus)",
+                           sc.material.poisson_ratio));
   }
 }
 
@@ -332,19 +349,20 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
   sc.discretization.min_neighbours = disc.integer("min_neighbours", 12, 4, 200);
   sc.discretization.min_eigen_ratio = disc.number("min_eigen_ratio", 1e-3, 1e-12, 1.0);
   sc.discretization.max_growths = disc.integer("max_growths", 3, 0, 10);
-  // Supports that follow the wall wherever a lattice has node layers through one (docs/model/03-neighbourhoods.md section 3.1), for
-  // the models that ask for it: against the FEM references they converge to the same answer as isotropic ones
-  // and halve the error at coarse resolutions. The paper's kernel is isotropic.
+  // Supports that follow the wall wherever a lattice has node layers through one
+  // (docs/model/03-neighbourhoods.md section 3.1), for the models that ask for it: against the FEM references
+  // they converge to the same answer as isotropic ones and halve the error at coarse resolutions. The paper's
+  // kernel is isotropic.
   const bool wall_support = wall_default(sc, literal, &ModelCapabilities::wall_support_default);
   const char* support_default = wall_support ? "wall" : "isotropic";
   sc.discretization.support = disc.string("support", support_default, {"isotropic", "wall"}) == "wall"
                                   ? DiscretizationOptions::Support::Wall
                                   : DiscretizationOptions::Support::Isotropic;
   const bool on_wall = sc.discretization.support == DiscretizationOptions::Support::Wall;
-  // The models that ask for it get, on such a wall, the configuration docs/validation.md ("Gauss points over the
-  // wall's cells") finds within about 2 % of the FEM references at the default resolutions and within 5 % at a few
-  // thousand nodes: the quadratic basis, supports that reach through the wall's thickness and 2 x 2 x 2 Gauss
-  // points over each node's cell of the wall (docs/model/ sections 3.2, 4.4, 5.1).
+  // The models that ask for it get, on such a wall, the configuration docs/validation.md ("Gauss points over
+  // the wall's cells") finds within about 2 % of the FEM references at the default resolutions and within 5 %
+  // at a few thousand nodes: the quadratic basis, supports that reach through the wall's thickness and 2 x 2
+  // x 2 Gauss points over each node's cell of the wall (docs/model/ sections 3.2, 4.4, 5.1).
   const bool accurate = on_wall && wall_default(sc, literal, &ModelCapabilities::accurate_wall_default);
   const std::string basis =
       disc.string("basis", accurate ? "quadratic" : "linear", {"linear", "quadratic", "wall_quadratic"});
@@ -357,62 +375,77 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
           ? DiscretizationOptions::WallReach::Thickness
           : DiscretizationOptions::WallReach::Layers;
   if (sc.discretization.wall_reach == DiscretizationOptions::WallReach::Thickness && !on_wall)
-    disc.fail("wall_reach", "'thickness' shapes a support that follows the wall and needs discretization.support "
-                            "'wall' (a geometry of type 'tube' or 'vessel')");
+    disc.fail("wall_reach",
+              "'thickness' shapes a support that follows the wall and needs discretization.support "
+              "'wall' (a geometry of type 'tube' or 'vessel')");
   const std::string quadrature =
       disc.string("wall_quadrature", accurate_fit ? "gauss_cell" : "nodes", {"nodes", "gauss", "gauss_cell"});
   const bool gauss = quadrature != "nodes";
-  sc.discretization.wall_quadrature = quadrature == "gauss_cell" ? DiscretizationOptions::WallQuadrature::GaussCell
-                                      : gauss                    ? DiscretizationOptions::WallQuadrature::Gauss
-                                                                 : DiscretizationOptions::WallQuadrature::Nodes;
+  sc.discretization.wall_quadrature = quadrature == "gauss_cell"
+                                          ? DiscretizationOptions::WallQuadrature::GaussCell
+                                      : gauss ? DiscretizationOptions::WallQuadrature::Gauss
+                                              : DiscretizationOptions::WallQuadrature::Nodes;
   if (gauss && !fits_curvature(sc.discretization.basis))
-    disc.fail("wall_quadrature", fmt::format("'{}' evaluates each node's fit across its cell of the wall and needs "
-                                             "discretization.basis 'quadratic' or 'wall_quadratic'", quadrature));
+    disc.fail("wall_quadrature",
+              fmt::format("'{}' evaluates each node's fit across its cell of the wall and needs "
+                          "discretization.basis 'quadratic' or 'wall_quadratic'",
+                          quadrature));
   if (gauss && !on_wall)
-    disc.fail("wall_quadrature", fmt::format("'{}' places points in the wall and needs discretization.support 'wall' "
-                                             "(a geometry of type 'tube' or 'vessel')", quadrature));
-  // The quadratic basis's partner is the Simpson rule wherever the lattice has layers (docs/model/04-volumes.md):
-  // with the tet partition's trapezoid weights it overestimates a bending field's energy by half. Through-wall
-  // Gauss points integrate bending exactly themselves, over the tet partition's volumes.
+    disc.fail("wall_quadrature",
+              fmt::format("'{}' places points in the wall and needs discretization.support 'wall' "
+                          "(a geometry of type 'tube' or 'vessel')",
+                          quadrature));
+  // The quadratic basis's partner is the Simpson rule wherever the lattice has layers
+  // (docs/model/04-volumes.md): with the tet partition's trapezoid weights it overestimates a bending field's
+  // energy by half. Through-wall Gauss points integrate bending exactly themselves, over the tet partition's
+  // volumes.
   const bool layered = sc.geometry.type != "mesh";
-  const char* volume_default = literal                                                          ? "mueller_kernel"
-                               : fits_curvature(sc.discretization.basis) && layered && !gauss ? "simpson"
-                                                                                               : "tet_partition";
-  const std::string volume = disc.string("volume", volume_default, {"tet_partition", "mueller_kernel", "simpson"});
+  const char* volume_default = literal ? "mueller_kernel"
+                               : fits_curvature(sc.discretization.basis) && layered && !gauss
+                                   ? "simpson"
+                                   : "tet_partition";
+  const std::string volume =
+      disc.string("volume", volume_default, {"tet_partition", "mueller_kernel", "simpson"});
   if (volume == "simpson" && !layered)
-    disc.fail("volume", "'simpson' needs a lattice with node layers (geometry type 'tube', 'vessel', 'box' or "
-                        "'beam'); use 'tet_partition'");
+    disc.fail("volume",
+              "'simpson' needs a lattice with node layers (geometry type 'tube', 'vessel', 'box' or "
+              "'beam'); use 'tet_partition'");
   if (gauss && volume != "tet_partition")
-    disc.fail("volume", fmt::format("Gauss points (wall_quadrature '{}') integrate across the wall themselves and "
-                                    "weigh the tet partition's volumes; use 'tet_partition'", quadrature));
+    disc.fail("volume",
+              fmt::format("Gauss points (wall_quadrature '{}') integrate across the wall themselves and "
+                          "weigh the tet partition's volumes; use 'tet_partition'",
+                          quadrature));
   sc.discretization.volume = volume == "tet_partition"    ? VolumeRule::TetPartition
                              : volume == "mueller_kernel" ? VolumeRule::MuellerKernel
                                                           : VolumeRule::Simpson;
   sc.accurate_wall_defaults = accurate_fit && gauss;
   if (sc.discretization.basis == GradientBasis::WallQuadratic &&
       sc.discretization.support != DiscretizationOptions::Support::Wall)
-    disc.fail("basis", "'wall_quadratic' fits in the frame of the wall and needs discretization.support 'wall' (a "
-                       "geometry of type 'tube' or 'vessel'); use 'linear' or 'quadratic'");
-  // The through-wall cube (docs/model/05-local-fit.md section 5.3): part of the quadratic fit's default on walls, where
-  // the two contact cases with converged FEM references ask for it; it changes nothing on a wall of three
-  // layers.
+    disc.fail("basis",
+              "'wall_quadratic' fits in the frame of the wall and needs discretization.support 'wall' (a "
+              "geometry of type 'tube' or 'vessel'); use 'linear' or 'quadratic'");
+  // The through-wall cube (docs/model/05-local-fit.md section 5.3): part of the quadratic fit's default on
+  // walls, where the two contact cases with converged FEM references ask for it; it changes nothing on a wall
+  // of three layers.
   sc.discretization.wall_cube = disc.boolean("wall_cube", accurate_fit);
   if (sc.discretization.wall_cube && (sc.discretization.basis != GradientBasis::Quadratic || !on_wall))
     disc.fail("wall_cube",
               "the through-wall cube extends the quadratic fit on a wall and needs discretization.basis "
               "'quadratic' and support 'wall' (a geometry of type 'tube' or 'vessel')");
-  // The cubics with a through-wall factor beside the cube (docs/model/05-local-fit.md section 5.4): more accurate at the default
-  // resolutions, less at coarse ones, so not the default.
+  // The cubics with a through-wall factor beside the cube (docs/model/05-local-fit.md section 5.4): more
+  // accurate at the default resolutions, less at coarse ones, so not the default.
   const bool cell_points = quadrature == "gauss_cell";
   const std::string cubics = disc.string("wall_cubics", "cube", {"cube", "through_wall"});
   sc.discretization.wall_cubics = cubics == "through_wall" ? DiscretizationOptions::WallCubics::ThroughWall
                                                            : DiscretizationOptions::WallCubics::Cube;
   if (cubics == "through_wall" && !sc.discretization.wall_cube)
-    disc.fail("wall_cubics", "'through_wall' extends the through-wall cube and needs discretization.wall_cube true");
+    disc.fail("wall_cubics",
+              "'through_wall' extends the through-wall cube and needs discretization.wall_cube true");
   if (cubics == "through_wall" && !cell_points)
-    disc.fail("wall_cubics", fmt::format("'through_wall' needs Gauss points over each node's cell (wall_quadrature "
-                                         "'gauss_cell', not '{}'): the cubics' gradients vary along the wall",
-                                         quadrature));
+    disc.fail("wall_cubics",
+              fmt::format("'through_wall' needs Gauss points over each node's cell (wall_quadrature "
+                          "'gauss_cell', not '{}'): the cubics' gradients vary along the wall",
+                          quadrature));
   sc.discretization.quadratic_min_neighbours = disc.integer("quadratic_min_neighbours", 18, 9, 200);
   sc.discretization.quadratic_min_eigen_ratio = disc.number("quadratic_min_eigen_ratio", 1e-6, 1e-14, 1.0);
   disc.finish();
@@ -421,49 +454,55 @@ void read_discretization(JsonReader& root, bool literal, Scene& sc) {
 void read_energy(JsonReader& root, bool literal, Scene& sc) {
   JsonReader en = root.object("energy");
   const std::shared_ptr<const materials::HyperelasticLaw> law = sc.energy.law;
-  sc.energy.strain = en.string("strain", literal ? "mueller_no_half" : "green", {"green", "mueller_no_half"}) == "green"
-                         ? StrainMeasure::GreenHalf
-                         : StrainMeasure::MuellerNoHalf;
+  sc.energy.strain =
+      en.string("strain", literal ? "mueller_no_half" : "green", {"green", "mueller_no_half"}) == "green"
+          ? StrainMeasure::GreenHalf
+          : StrainMeasure::MuellerNoHalf;
   sc.energy.stabilizer_alpha = en.number("stabilizer_alpha", literal ? 0.0 : 0.1, 0.0, 10.0);
-  // On a wall with node layers the equilibrium models' stabiliser leaves bending to the strain energy (docs/model/09-volume-term-and-stabiliser.md
-  // section 9.3): the linear fit's residuals of a bending field are not zero-energy modes, and penalising them
-  // stiffened the vein at its real-time resolution by 2.4-5 % against the FEM references.
+  // On a wall with node layers the equilibrium models' stabiliser leaves bending to the strain energy
+  // (docs/model/09-volume-term-and-stabiliser.md section 9.3): the linear fit's residuals of a bending field
+  // are not zero-energy modes, and penalising them stiffened the vein at its real-time resolution by 2.4-5 %
+  // against the FEM references.
   const bool quadratic_default = wall_default(sc, literal, &ModelCapabilities::quadratic_stabilizer_default);
-  sc.energy.stabilizer_fit =
-      en.string("stabilizer_fit", quadratic_default ? "quadratic" : "basis", {"basis", "quadratic"}) == "quadratic"
-          ? StabilizerFit::Quadratic
-          : StabilizerFit::Basis;
+  sc.energy.stabilizer_fit = en.string("stabilizer_fit", quadratic_default ? "quadratic" : "basis",
+                                       {"basis", "quadratic"}) == "quadratic"
+                                 ? StabilizerFit::Quadratic
+                                 : StabilizerFit::Basis;
   const double lambda = sc.material.lame_lambda();
   sc.energy.volume_stiffness_pa = en.number("volume_stiffness_pa", 0.0, 0.0, std::max(lambda, 0.0));
   en.finish();
   sc.energy.law = law;
   if (law && sc.energy.strain != StrainMeasure::GreenHalf)
-    en.fail("strain", fmt::format("the literal strain applies to material law 'svk' only (law is '{}')", sc.material_law));
+    en.fail("strain", fmt::format("the literal strain applies to material law 'svk' only (law is '{}')",
+                                  sc.material_law));
 }
 
 // A patch of +-w deg is symmetric and w wide only if its centre lies on a lattice line. Unless the scene
 // sets geometry.lattice_angle_deg, the tube/vessel lattice is turned (by less than half a column) so that a
-// line runs through the first wall patch's centre. With geometry.fit_lattice_to_patch the counts around and along
-// the vessel are chosen too, so that the patch's strips or its nodes' span are the extent asked.
+// line runs through the first wall patch's centre. With geometry.fit_lattice_to_patch the counts around and
+// along the vessel are chosen too, so that the patch's strips or its nodes' span are the extent asked.
 void align_lattice_to_first_patch(JsonReader& root, Scene& sc) {
   GeometrySpec& g = sc.geometry;
   if (!swept_wall(g.type)) return;
   const auto patch = std::find_if(sc.regions.begin(), sc.regions.end(),
                                   [](const RegionSpec& r) { return r.select.type == "wall_patch"; });
   if (g.fit_lattice_to_patch == "none") {
-    if (!g.lattice_angle_given && patch != sc.regions.end()) g.tube.lattice_angle_deg = patch->select.angle_center_deg;
+    if (!g.lattice_angle_given && patch != sc.regions.end())
+      g.tube.lattice_angle_deg = patch->select.angle_center_deg;
     return;
   }
   if (patch == sc.regions.end())
     root.fail("geometry.fit_lattice_to_patch", "there is no wall_patch region to fit the lattice to");
   if (g.lattice_angle_given)
-    root.fail("geometry.lattice_angle_deg", "fit_lattice_to_patch sets the lattice's phase; leave lattice_angle_deg out");
+    root.fail("geometry.lattice_angle_deg",
+              "fit_lattice_to_patch sets the lattice's phase; leave lattice_angle_deg out");
   const double length = g.type == "tube" ? g.tube.length_m : build_centerline(g.centerline).length();
   const SelectorSpec& p = patch->select;
   const PatchExtent extent{p.angle_center_deg, p.angle_half_width_deg,
-                           p.s_center_fraction >= 0.0 ? p.s_center_fraction * length : p.s_center_m, p.s_half_length_m};
-  const LatticeFit fit = fit_lattice_to_patch(g.tube, extent, length,
-                                              g.fit_lattice_to_patch == "edges" ? PatchFit::Edges : PatchFit::Strips);
+                           p.s_center_fraction >= 0.0 ? p.s_center_fraction * length : p.s_center_m,
+                           p.s_half_length_m};
+  const LatticeFit fit = fit_lattice_to_patch(
+      g.tube, extent, length, g.fit_lattice_to_patch == "edges" ? PatchFit::Edges : PatchFit::Strips);
   g.tube.angular_nodes = fit.angular_nodes;
   g.tube.axial_nodes = fit.axial_nodes;
   g.tube.lattice_angle_deg = fit.lattice_angle_deg;
@@ -475,7 +514,8 @@ void read_regions(JsonReader& root, Scene& sc) {
   for (std::size_t a = 0; a < sc.regions.size(); ++a)
     for (std::size_t b = 0; b < a; ++b)
       if (sc.regions[a].name == sc.regions[b].name)
-        root.fail(fmt::format("regions.{}.name", a), fmt::format("duplicate region name '{}'", sc.regions[a].name));
+        root.fail(fmt::format("regions.{}.name", a),
+                  fmt::format("duplicate region name '{}'", sc.regions[a].name));
 }
 
 void read_probes(JsonReader& root, Scene& sc) {
@@ -483,7 +523,8 @@ void read_probes(JsonReader& root, Scene& sc) {
     PointProbeSpec ps;
     ps.name = p.required_string("name");
     if (!is_identifier(ps.name))
-      p.fail("name", fmt::format("'{}' is not allowed; use letters, digits and '_' (it names a CSV column)", ps.name));
+      p.fail("name", fmt::format("'{}' is not allowed; use letters, digits and '_' (it names a CSV column)",
+                                 ps.name));
     for (const auto& r : sc.regions)
       if (r.name == ps.name) p.fail("name", fmt::format("'{}' is already a region name", ps.name));
     for (const auto& q : sc.probes)
@@ -515,7 +556,8 @@ void read_tools(JsonReader& root, Scene& sc) {
     RigidObstacle ob;
     ob.name = o.required_string("name");
     if (!is_identifier(ob.name))
-      o.fail("name", fmt::format("'{}' is not allowed; use letters, digits and '_' (it names CSV columns)", ob.name));
+      o.fail("name",
+             fmt::format("'{}' is not allowed; use letters, digits and '_' (it names CSV columns)", ob.name));
     for (const auto& r : sc.regions)
       if (r.name == ob.name) o.fail("name", fmt::format("'{}' is already a region name", ob.name));
     for (const auto& p : sc.probes)
@@ -528,14 +570,16 @@ void read_tools(JsonReader& root, Scene& sc) {
       // Diameter in metres or in French (1 Fr = 1/3 mm); 6 Fr by default.
       if (o.has("diameter_m") && o.has("diameter_fr"))
         o.fail("diameter_m", "give the diameter as diameter_m or as diameter_fr, not both");
-      const double diameter = o.has("diameter_m") ? o.required_number("diameter_m", 1e-6, 1.0)
-                                                  : o.number("diameter_fr", 6.0, 0.1, 100.0) * kMetresPerFrench;
+      const double diameter = o.has("diameter_m")
+                                  ? o.required_number("diameter_m", 1e-6, 1.0)
+                                  : o.number("diameter_fr", 6.0, 0.1, 100.0) * kMetresPerFrench;
       const Vec3 tip = o.required_vec3("tip_m");
       const Vec3 direction = o.required_vec3("direction");
       if (!(direction.norm() > 0.0)) o.fail("direction", "must be a non-zero vector");
       const double length = o.number("length_m", 0.02, 1e-6, 10.0);
       if (length < diameter)
-        o.fail("length_m", fmt::format("{} m is shorter than the catheter's diameter ({} m)", length, diameter));
+        o.fail("length_m",
+               fmt::format("{} m is shorter than the catheter's diameter ({} m)", length, diameter));
       const std::string name = ob.name;
       ob = make_catheter(name, tip, direction, diameter, length);
       // The push: motion_m, or push_m along the catheter's direction.
@@ -545,7 +589,8 @@ void read_tools(JsonReader& root, Scene& sc) {
     } else {
       ob.shape = shape == "sphere" ? RigidObstacle::Shape::Sphere : RigidObstacle::Shape::Capsule;
       ob.radius_m = o.required_number("radius_m", 1e-12, 1e3);
-      if (ob.shape == RigidObstacle::Shape::Capsule) o.allow({"a_m", "b_m"});  // neither is the other misspelt
+      if (ob.shape == RigidObstacle::Shape::Capsule)
+        o.allow({"a_m", "b_m"});  // neither is the other misspelt
       if (ob.shape == RigidObstacle::Shape::Sphere) {
         ob.a_m = o.required_vec3("centre_m");
       } else {
@@ -579,12 +624,13 @@ namespace {
 
 void read_contact(JsonReader& root, Scene& sc) {
   JsonReader c = root.object("contact");
-  // With the accurate wall configuration the tools meet the wall's surface (docs/validation.md: at the nodes its
-  // catheter is 3-18 % soft), unless a tool keeps the nodes off itself (node_radius_m), which asks for the nodes.
-  // Without tools there is no contact to build.
+  // With the accurate wall configuration the tools meet the wall's surface (docs/validation.md: at the nodes
+  // its catheter is 3-18 % soft), unless a tool keeps the nodes off itself (node_radius_m), which asks for
+  // the nodes. Without tools there is no contact to build.
   bool node_clearance = false;
   for (const RigidObstacle& ob : sc.obstacles) node_clearance = node_clearance || ob.node_radius_m > 0.0;
-  const char* surface_default = sc.accurate_wall_defaults && !sc.obstacles.empty() && !node_clearance ? "embedded" : "nodes";
+  const char* surface_default =
+      sc.accurate_wall_defaults && !sc.obstacles.empty() && !node_clearance ? "embedded" : "nodes";
   sc.contact.embedded = c.string("surface", surface_default, {"nodes", "embedded"}) == "embedded";
   c.allow({"shape_functions", "stiffness_pa_per_m", "sample_spacing_m"});  // read when present
   if (c.has("shape_functions")) {
@@ -604,14 +650,18 @@ void read_contact(JsonReader& root, Scene& sc) {
     sc.contact.sample_spacing_m = c.number("sample_spacing_m", 0.0, 1e-9, 1.0);
   }
   c.finish();
-  // node_radius_m turns the default from the wall's surface to the nodes: said unless the scene chose the nodes.
+  // node_radius_m turns the default from the wall's surface to the nodes: said unless the scene chose the
+  // nodes.
   if (node_clearance && sc.accurate_wall_defaults && !c.has("surface"))
     for (std::size_t o = 0; o < sc.obstacles.size(); ++o)
       if (const RigidObstacle& ob = sc.obstacles[o]; ob.node_radius_m > 0.0)
         sc.warnings.push_back(fmt::format(
-            "{}: key 'obstacles.{}.node_radius_m': obstacle '{}' keeps the nodes {:.4g} m off the tool, which moves "
-            "the contact of every tool from the wall's surface (contact.surface \"embedded\", the default of this "
-            "discretisation) to the nodes, where the catheter is 3-18 % soft on the vein (docs/validation.md), and "
+            "{}: key 'obstacles.{}.node_radius_m': obstacle '{}' keeps the nodes {:.4g} m off the tool, "
+            "which moves "
+            "the contact of every tool from the wall's surface (contact.surface \"embedded\", the default of "
+            "this "
+            "discretisation) to the nodes, where the catheter is 3-18 % soft on the vein "
+            "(docs/validation.md), and "
             "presses the wall {:.4g} m deeper than the tool's own surface: remove node_radius_m, or set "
             "contact.surface to \"nodes\" if the nodes' contact is meant",
             root.file(), o, ob.name, ob.node_radius_m, ob.node_radius_m));
@@ -641,17 +691,19 @@ void read_haptics(JsonReader& root, const std::string& file, Scene& sc) {
     JsonReader dev = h.object("device");
     dev.string("type", "scripted", {"scripted"});
     const std::filesystem::path traj = dev.required_string("trajectory");
-    hs.trajectory = traj.is_relative() ? (std::filesystem::path(file).parent_path() / traj).lexically_normal().string()
-                                       : traj.string();
+    hs.trajectory = traj.is_relative()
+                        ? (std::filesystem::path(file).parent_path() / traj).lexically_normal().string()
+                        : traj.string();
     dev.finish();
     hs.mode = h.string("mode", "lockstep", {"lockstep", "realtime"});
     hs.rate_hz = h.number("rate_hz", 1000.0, 1.0, 100000.0);
     hs.ticks_per_step = h.integer("ticks_per_step", 1, 1, 1000);
     hs.duration_s = h.number("duration_s", 0.0, 0.0, 1e5);
     if (hs.duration_s * hs.rate_hz > kMaxSessionTicks)
-      h.fail("duration_s", fmt::format("{} s at rate_hz = {} Hz is {:.3g} ticks; a session may have at most {:.0e} "
-                                       "(every tick is kept in memory)",
-                                       hs.duration_s, hs.rate_hz, hs.duration_s * hs.rate_hz, kMaxSessionTicks));
+      h.fail("duration_s",
+             fmt::format("{} s at rate_hz = {} Hz is {:.3g} ticks; a session may have at most {:.0e} "
+                         "(every tick is kept in memory)",
+                         hs.duration_s, hs.rate_hz, hs.duration_s * hs.rate_hz, kMaxSessionTicks));
     hs.force_limit_n = h.number("force_limit_n", 0.88, 1e-6, 100.0);
     hs.force_step_n = h.number("force_step_n", 0.1, 1e-6, 100.0);
     hs.force_scale = h.number("force_scale", 1.0, 0.0, 1e9);
@@ -662,8 +714,9 @@ void read_haptics(JsonReader& root, const std::string& file, Scene& sc) {
     c.finish();
     h.finish();
     if (!find_model(sc.model).capabilities.device_driven)
-      h.fail("mode", fmt::format("a haptic session needs a model a device can drive ({}; model is '{}')",
-                                 fmt::join(model_names_with(&ModelCapabilities::device_driven), ", "), sc.model));
+      h.fail("mode",
+             fmt::format("a haptic session needs a model a device can drive ({}; model is '{}')",
+                         fmt::join(model_names_with(&ModelCapabilities::device_driven), ", "), sc.model));
   }
 }
 
@@ -693,7 +746,8 @@ void read_reference(JsonReader& root, Scene& sc) {
     if (sc.geometry.type != "beam") ref.fail("type", "timoshenko_cantilever needs geometry.type = \"beam\"");
     sc.reference.region = ref.required_string("region");
     bool found = false;
-    for (const auto& r : sc.regions) found = found || (r.name == sc.reference.region && r.bc == RegionBcType::Force);
+    for (const auto& r : sc.regions)
+      found = found || (r.name == sc.reference.region && r.bc == RegionBcType::Force);
     if (!found) ref.fail("region", fmt::format("no force region named '{}'", sc.reference.region));
   }
   ref.finish();
@@ -703,12 +757,12 @@ void read_mapping_and_output(JsonReader& root, Scene& sc) {
   JsonReader map = root.object("mapping");
   sc.mapping.support_radius_factor =
       map.number("support_radius_factor", MlsMapOptions{}.support_radius_factor, 1.5, 5.0);
-  // A map's first radius follows each vertex's nearest node, a layer step away; where a graded lattice is coarse its
-  // columns lie up to (coarse spacing / layer step) times farther, so the radius may grow further there (each vertex
-  // keeps the smallest radius that passes, so where the lattice is fine nothing changes).
+  // A map's first radius follows each vertex's nearest node, a layer step away; where a graded lattice is
+  // coarse its columns lie up to (coarse spacing / layer step) times farther, so the radius may grow further
+  // there (each vertex keeps the smallest radius that passes, so where the lattice is fine nothing changes).
   constexpr int kGradedLatticeGrowths = 12;
-  sc.mapping.max_growths =
-      map.integer("max_growths", sc.geometry.refine.enabled ? kGradedLatticeGrowths : MlsMapOptions{}.max_growths, 0, 20);
+  sc.mapping.max_growths = map.integer(
+      "max_growths", sc.geometry.refine.enabled ? kGradedLatticeGrowths : MlsMapOptions{}.max_growths, 0, 20);
   map.finish();
 
   JsonReader out = root.object("output");
@@ -722,27 +776,31 @@ void read_mapping_and_output(JsonReader& root, Scene& sc) {
 void check_model_capabilities(JsonReader& root, Scene& sc) {
   const ModelEntry& model = find_model(sc.model);
   if (!sc.obstacles.empty() && !model.capabilities.takes_tools)
-    root.fail("obstacles", fmt::format("rigid tools are supported by the models {} (model is '{}')",
-                                       fmt::join(model_names_with(&ModelCapabilities::takes_tools), ", "), sc.model));
+    root.fail("obstacles",
+              fmt::format("rigid tools are supported by the models {} (model is '{}')",
+                          fmt::join(model_names_with(&ModelCapabilities::takes_tools), ", "), sc.model));
   for (std::size_t r = 0; r < sc.regions.size(); ++r)
     if (std::isfinite(sc.regions[r].release_time_s) && !model.capabilities.releases_regions)
-      root.fail(fmt::format("regions.{}.bc.release_time_s", r),
-                fmt::format("releasing a region is supported by the models {} (model is '{}')",
-                            fmt::join(model_names_with(&ModelCapabilities::releases_regions), ", "), sc.model));
+      root.fail(
+          fmt::format("regions.{}.bc.release_time_s", r),
+          fmt::format("releasing a region is supported by the models {} (model is '{}')",
+                      fmt::join(model_names_with(&ModelCapabilities::releases_regions), ", "), sc.model));
   if (sc.contact.embedded && !model.capabilities.embedded_contact)
     root.fail("contact.surface",
               fmt::format("embedded contact is supported by the models {} (model is '{}')",
                           fmt::join(model_names_with(&ModelCapabilities::embedded_contact), ", "), sc.model));
   if (fits_curvature(sc.discretization.basis) && !model.capabilities.quadratic_basis)
-    root.fail("discretization.basis",
-              fmt::format("the quadratic basis is supported by the models {} (model is '{}', whose constraints "
-                          "assume the linear fit)",
-                          fmt::join(model_names_with(&ModelCapabilities::quadratic_basis), ", "), sc.model));
+    root.fail(
+        "discretization.basis",
+        fmt::format("the quadratic basis is supported by the models {} (model is '{}', whose constraints "
+                    "assume the linear fit)",
+                    fmt::join(model_names_with(&ModelCapabilities::quadratic_basis), ", "), sc.model));
   if (sc.energy.stabilizer_fit == StabilizerFit::Quadratic && !model.capabilities.quadratic_basis)
-    root.fail("energy.stabilizer_fit",
-              fmt::format("the stabiliser on a quadratic fit is supported by the models {} (model is '{}', whose "
-                          "constraints assume the linear fit)",
-                          fmt::join(model_names_with(&ModelCapabilities::quadratic_basis), ", "), sc.model));
+    root.fail(
+        "energy.stabilizer_fit",
+        fmt::format("the stabiliser on a quadratic fit is supported by the models {} (model is '{}', whose "
+                    "constraints assume the linear fit)",
+                    fmt::join(model_names_with(&ModelCapabilities::quadratic_basis), ", "), sc.model));
   if (model.law_restriction) {
     const std::string why = model.law_restriction(sc.own_model_settings(), sc.material_law);
     if (!why.empty()) {
@@ -755,26 +813,29 @@ void check_model_capabilities(JsonReader& root, Scene& sc) {
   }
 }
 
-// Sizes no vessel has, the signature of a scene typed in millimetres: it runs, as a vessel a thousand times too
-// large (outer_radius_m 1.5 for the vein: 16 m long, 93 t), and nothing else would say so. The aorta, the widest
-// vessel, has a radius of about 12.5 mm.
+// Sizes no vessel has, the signature of a scene typed in millimetres: it runs, as a vessel a thousand times
+// too large (outer_radius_m 1.5 for the vein: 16 m long, 93 t), and nothing else would say so. The aorta, the
+// widest vessel, has a radius of about 12.5 mm.
 constexpr double kLargestVesselRadiusM = 0.05;
 constexpr double kLongestBodyM = 1.0;
 
 void warn_implausible_sizes(Scene& sc) {
   const GeometrySpec& g = sc.geometry;
-  // `typed`: the key's own value, the example of the fix (a centre-line's length comes from its radius of curvature).
+  // `typed`: the key's own value, the example of the fix (a centre-line's length comes from its radius of
+  // curvature).
   auto warn = [&](const std::string& key, const std::string& what, double value, double limit, double typed) {
     if (!(value > limit)) return;
-    sc.warnings.push_back(fmt::format("{}: key '{}': {} of {:.4g} m is implausible (above {:g} m); if these are "
-                                      "millimetres, write them in metres ({:.4g}e-3)",
-                                      sc.file, key, what, value, limit, typed));
+    sc.warnings.push_back(
+        fmt::format("{}: key '{}': {} of {:.4g} m is implausible (above {:g} m); if these are "
+                    "millimetres, write them in metres ({:.4g}e-3)",
+                    sc.file, key, what, value, limit, typed));
   };
   if (swept_wall(g.type)) {
     const double r = g.tube.outer_radius_m;
     warn("geometry.outer_radius_m", "a vessel radius", r, kLargestVesselRadiusM, r);
   }
-  if (g.type == "tube") warn("geometry.length_m", "a vessel length", g.tube.length_m, kLongestBodyM, g.tube.length_m);
+  if (g.type == "tube")
+    warn("geometry.length_m", "a vessel length", g.tube.length_m, kLongestBodyM, g.tube.length_m);
   if (g.type == "vessel") {
     const CenterlineSpec& c = g.centerline;
     const double length = build_centerline(c).length();
@@ -796,11 +857,14 @@ void warn_implausible_sizes(Scene& sc) {
 }
 
 // The coarsest node spacing along a wall, in wall thicknesses, at which the forces are measured within a few
-// percent (docs/validation.md, "Real-time resolutions"; docs/model/17-limitations.md item 3 says why coarser is
-// worse: the supports grow and smooth the strain through the wall):
-// - the quadratic fit (quasi_static's default on walls): at 1x the vein (0.3 mm), the aorta (1.5 mm), the retina
-//   (20 um) and the catheter are within 2.6 % of their fine lattices, the aorta at 1.47x (2.2 mm) is 16.5 % off;
-// - the linear fit (implicit's): the real-time aorta at 1.47x is within 3.4 % of its CalculiX reference (nothing
+// percent (docs/validation.md, "Real-time resolutions"; docs/model/17-limitations.md item 3 says why coarser
+// is worse: the supports grow and smooth the strain through the wall):
+// - the quadratic fit (quasi_static's default on walls): at 1x the vein (0.3 mm), the aorta (1.5 mm), the
+// retina
+//   (20 um) and the catheter are within 2.6 % of their fine lattices, the aorta at 1.47x (2.2 mm) is 16.5 %
+//   off;
+// - the linear fit (implicit's): the real-time aorta at 1.47x is within 3.4 % of its CalculiX reference
+// (nothing
 //   coarser is measured; issue 44's 1 mm lattice on a 0.5 mm wall, 2x, is 15 % low).
 struct WallSpacingLimit {
   double ratio;
@@ -809,8 +873,10 @@ struct WallSpacingLimit {
 
 WallSpacingLimit wall_spacing_limit(GradientBasis basis) {
   if (fits_curvature(basis))
-    return {1.0, "with the quadratic fit the vein, the aorta, the retina and the catheter are within 2.6 % of their "
-                 "fine lattices at 1x, the aorta at 1.47x 16.5 % off"};
+    return {
+        1.0,
+        "with the quadratic fit the vein, the aorta, the retina and the catheter are within 2.6 % of their "
+        "fine lattices at 1x, the aorta at 1.47x 16.5 % off"};
   return {1.5, "with the linear fit the real-time aorta at 1.47x is within 3.4 % of its FEM reference"};
 }
 
@@ -821,9 +887,9 @@ double wall_thickness_m(const GeometrySpec& g) {
   return 0.0;
 }
 
-// A lattice too coarse along its wall for its forces (the limit above), and the first fix named when a support
-// or surface-map guard fails on it (a guard that fails is how such a lattice usually ends: more growths let it
-// run, inaccurately).
+// A lattice too coarse along its wall for its forces (the limit above), and the first fix named when a
+// support or surface-map guard fails on it (a guard that fails is how such a lattice usually ends: more
+// growths let it run, inaccurately).
 void check_wall_spacing(Scene& sc) {
   const GeometrySpec& g = sc.geometry;
   const double t = wall_thickness_m(g);
@@ -834,23 +900,25 @@ void check_wall_spacing(Scene& sc) {
   const auto coarse = [&](double h) { return h / t > limit.ratio * (1.0 + 1e-9); };
   if (coarse(spacing)) {
     const std::string advice = fmt::format(
-        "reduce geometry.node_spacing_m (now {:.2g}x the wall thickness; forces are measured accurate up to {:g}x)",
+        "reduce geometry.node_spacing_m (now {:.2g}x the wall thickness; forces are measured accurate up to "
+        "{:g}x)",
         spacing / t, limit.ratio);
     sc.discretization.coarse_spacing_advice = advice;
     sc.mapping.coarse_spacing_advice = advice;
   }
-  // On a graded lattice the loads act in its fine window; the spacing away from it is not the forces' (the bundled
-  // graded aorta is 4 mm there on a 1.5 mm wall, as close to its reference as the uniform 1 mm lattice).
+  // On a graded lattice the loads act in its fine window; the spacing away from it is not the forces' (the
+  // bundled graded aorta is 4 mm there on a 1.5 mm wall, as close to its reference as the uniform 1 mm
+  // lattice).
   const bool graded = g.refine.enabled;
   const double along = graded ? g.refine.node_spacing_m : spacing;
   if (!coarse(along)) return;
   const std::string key = graded ? "geometry.refine.node_spacing_m" : "geometry.node_spacing_m";
-  sc.warnings.push_back(fmt::format("{}: key '{}': the node spacing along the wall, {:.4g} m, is {:.2g}x the wall "
-                                    "thickness ({:.4g} m), coarser than the {:g}x up to which the forces are measured "
-                                    "accurate ({}: docs/validation.md, \"Real-time resolutions\"): reduce {} to at "
-                                    "most {:.4g} m",
-                                    sc.file, key, along, along / t, t, limit.ratio, limit.measured, key,
-                                    limit.ratio * t));
+  sc.warnings.push_back(
+      fmt::format("{}: key '{}': the node spacing along the wall, {:.4g} m, is {:.2g}x the wall "
+                  "thickness ({:.4g} m), coarser than the {:g}x up to which the forces are measured "
+                  "accurate ({}: docs/validation.md, \"Real-time resolutions\"): reduce {} to at "
+                  "most {:.4g} m",
+                  sc.file, key, along, along / t, t, limit.ratio, limit.measured, key, limit.ratio * t));
 }
 
 }  // namespace
@@ -876,13 +944,14 @@ void apply_override(nlohmann::json& doc, const std::string& assignment) {
         throw InputError(fmt::format("--set '{}': '{}' indexes an array; use a number", assignment, part));
       const std::size_t idx = std::stoul(part);
       if (idx >= node->size())
-        throw InputError(fmt::format("--set '{}': index {} is past the end of an array of {}", assignment, idx,
-                                     node->size()));
+        throw InputError(fmt::format("--set '{}': index {} is past the end of an array of {}", assignment,
+                                     idx, node->size()));
       next = &(*node)[idx];
     } else {
       if (node->is_null()) *node = nlohmann::json::object();
       if (!node->is_object())
-        throw InputError(fmt::format("--set '{}': '{}' is inside a value that is not an object", assignment, part));
+        throw InputError(
+            fmt::format("--set '{}': '{}' is inside a value that is not an object", assignment, part));
       next = &(*node)[part];
     }
     if (dot == std::string::npos) {
@@ -908,8 +977,10 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   JsonReader root(doc, "", file);
   sc.name = root.string("name", std::filesystem::path(file).stem().string());
   if (!is_identifier(sc.name, true))
-    root.fail("name", fmt::format("'{}' is not allowed; use letters, digits, '_' and '-' (it names the output folder)",
-                                  sc.name));
+    root.fail(
+        "name",
+        fmt::format("'{}' is not allowed; use letters, digits, '_' and '-' (it names the output folder)",
+                    sc.name));
   sc.description = root.string("description", "");
   sc.model = root.string("model", default_model_name(root.has("haptics")), model_names());
   const std::string formulation = root.string("formulation", "sound", {"sound", "paper_literal"});
@@ -955,7 +1026,8 @@ std::size_t find_tool(const Scene& scene, const std::string& name, const std::st
 }
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
-  nlohmann::json doc = read_json_file(path, "the scene file", "expected a scene JSON file (docs/scene-format.md)");
+  nlohmann::json doc =
+      read_json_file(path, "the scene file", "expected a scene JSON file (docs/scene-format.md)");
   for (const auto& o : overrides) apply_override(doc, o);
   return parse_scene(doc, path);
 }

@@ -6,9 +6,9 @@
 // overrides.
 
 #include <any>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <limits>
 #include <string>
 #include <vector>
 
@@ -25,12 +25,12 @@ namespace vascsim {
 
 /// A vessel centre-line (geometry type "vessel").
 struct CenterlineSpec {
-  std::string type;  ///< "straight", "bent", "s" or "polyline"
-  double length_m = 0.0;                 // straight
-  double radius_of_curvature_m = 0.0;    // bent, s
-  double angle_deg = 0.0;                // bent, s
-  double leg_length_m = 0.0;             // bent, s: straight legs before and after the arcs
-  Vec3Array points_m;                    // polyline: points the C1 curve passes through
+  std::string type;                    ///< "straight", "bent", "s" or "polyline"
+  double length_m = 0.0;               // straight
+  double radius_of_curvature_m = 0.0;  // bent, s
+  double angle_deg = 0.0;              // bent, s
+  double leg_length_m = 0.0;           // bent, s: straight legs before and after the arcs
+  Vec3Array points_m;                  // polyline: points the C1 curve passes through
 };
 
 /// An imported triangle mesh (geometry type "mesh").
@@ -46,13 +46,14 @@ struct MeshGeometrySpec {
 struct GeometrySpec {
   std::string type;  ///< "tube", "vessel", "mesh", "box" or "beam"
   TubeSpec tube;     ///< tube; for "vessel" the radius, thickness, spacing and layers (length unused)
-  bool lattice_angle_given = false;  ///< tube, vessel: the scene set lattice_angle_deg (else: the first wall patch's)
-  /// tube, vessel: "strips" or "edges" chooses the lattice's counts around and along the vessel so that the first
-  /// wall patch's strips, or its nodes' span, are the extent asked (geometry/lattice_fit; they go into
+  bool lattice_angle_given =
+      false;  ///< tube, vessel: the scene set lattice_angle_deg (else: the first wall patch's)
+  /// tube, vessel: "strips" or "edges" chooses the lattice's counts around and along the vessel so that the
+  /// first wall patch's strips, or its nodes' span, are the extent asked (geometry/lattice_fit; they go into
   /// tube.angular_nodes / axial_nodes); "none" keeps the counts of the spacing
   std::string fit_lattice_to_patch = "none";
-  /// vessel: a graded lattice (geometry.refine); its s_center_m is refine_s_center_fraction of the centre-line's
-  /// length when that is >= 0.
+  /// vessel: a graded lattice (geometry.refine); its s_center_m is refine_s_center_fraction of the
+  /// centre-line's length when that is >= 0.
   WallRefinement refine;
   double refine_s_center_fraction = -1.0;
   /// vessel: geometry.refine.around, the obstacle the window is centred on (empty: the window's own centre),
@@ -77,9 +78,9 @@ struct SelectorSpec {
   double depth_m = 0.0;                             // cylinder_end: nodes within this arc length of the end
   std::string surface = "outer";                    // wall_patch, surface_patch: "outer" or "inner"
   double angle_center_deg = 0.0, angle_half_width_deg = 15.0;
-  double s_center_m = 0.0, s_half_length_m = 0.0;   // wall_patch: arc length along the centre-line
-  double s_center_fraction = -1.0;                  // wall_patch: centre as a fraction of the length (if >= 0)
-  Vec3 centre_m = Vec3::Zero();                     // surface_patch: nodes within radius_m of centre_m
+  double s_center_m = 0.0, s_half_length_m = 0.0;  // wall_patch: arc length along the centre-line
+  double s_center_fraction = -1.0;                 // wall_patch: centre as a fraction of the length (if >= 0)
+  Vec3 centre_m = Vec3::Zero();                    // surface_patch: nodes within radius_m of centre_m
   double radius_m = 0.0;
 };
 
@@ -89,10 +90,12 @@ struct RegionSpec {
   RegionBcType bc = RegionBcType::Probe;
   Vec3 vector = Vec3::Zero();  ///< displacement (m) or total force (N) at load factor 1
   Vec3 direction = Vec3::Zero();
-  bool direction_inward = false;  ///< direction "inward": into the wall at the patch (wall_patch, surface_patch)
+  bool direction_inward =
+      false;  ///< direction "inward": into the wall at the patch (wall_patch, surface_patch)
   double magnitude = 0.0;
   bool has_vector = false;
-  double release_time_s = std::numeric_limits<double>::infinity();  ///< fixed/displacement: let go at this time
+  double release_time_s =
+      std::numeric_limits<double>::infinity();  ///< fixed/displacement: let go at this time
 };
 
 struct PointProbeSpec {
@@ -108,29 +111,29 @@ struct ReferenceSpec {
 
 /// A haptic session (docs/haptics.md): a device poses one tool through the 1 kHz haptic loop while a
 /// device-driven model deforms the tissue. Present when the scene has a "haptics" block.
-/// A haptic session keeps every tick in memory (the recording, about 200 bytes a tick): at most this many ticks
-/// (duration_s x rate_hz; 5.5 hours at 1 kHz).
+/// A haptic session keeps every tick in memory (the recording, about 200 bytes a tick): at most this many
+/// ticks (duration_s x rate_hz; 5.5 hours at 1 kHz).
 inline constexpr double kMaxSessionTicks = 2e7;
 
 struct HapticsSpec {
   bool enabled = false;
-  std::string tool;                  ///< the obstacle the device poses ("" : the scene's only obstacle)
-  std::string trajectory;            ///< scripted device: trajectory file (resolved against the scene's folder)
-  std::string mode = "lockstep";     ///< "lockstep" (deterministic, one thread) or "realtime" (haptic thread)
-  double rate_hz = 1000.0;           ///< haptic loop rate, Hz
-  int ticks_per_step = 1;            ///< lockstep: one simulation step per this many ticks
-  double duration_s = 0.0;           ///< 0: the trajectory's length, s
-  double force_limit_n = 0.88;       ///< clamp of the sent force (device continuous limit), N
-  double force_step_n = 0.1;         ///< largest change of the sent force per tick, N
-  double force_scale = 1.0;          ///< device force = scale x tool force (scaled feedback for tiny vessels)
+  std::string tool;               ///< the obstacle the device poses ("" : the scene's only obstacle)
+  std::string trajectory;         ///< scripted device: trajectory file (resolved against the scene's folder)
+  std::string mode = "lockstep";  ///< "lockstep" (deterministic, one thread) or "realtime" (haptic thread)
+  double rate_hz = 1000.0;        ///< haptic loop rate, Hz
+  int ticks_per_step = 1;         ///< lockstep: one simulation step per this many ticks
+  double duration_s = 0.0;        ///< 0: the trajectory's length, s
+  double force_limit_n = 0.88;    ///< clamp of the sent force (device continuous limit), N
+  double force_step_n = 0.1;      ///< largest change of the sent force per tick, N
+  double force_scale = 1.0;       ///< device force = scale x tool force (scaled feedback for tiny vessels)
   double proxy_mass_kg = 0.005, coupling_stiffness_n_per_m = 500.0, coupling_damping_n_s_per_m = -1.0;
 };
 
 /// How the viewer shows the scene (`vascsim view`, docs/viewer.md). Every key is optional; headless runs
 /// ignore the block.
 struct ViewerSpec {
-  std::string texture;             ///< wall texture image (resolved against the scene's folder); "" : procedural
-  double texture_repeats = 1.0;    ///< copies of the image around the vessel
+  std::string texture;  ///< wall texture image (resolved against the scene's folder); "" : procedural
+  double texture_repeats = 1.0;  ///< copies of the image around the vessel
   /// The force arrow and the HUD turn red above this force on the tool, N. 0: the force at which the device
   /// clamps (haptics.force_limit_n / haptics.force_scale).
   double force_threshold_n = 0.0;
@@ -150,15 +153,17 @@ struct ContactSpec {
   /// (mapping/surface_quadratic_fit.hpp), both where the triangle's vertices are nodes; "mls" the MLS map of
   /// the rendered surface
   enum class Shape { Interpolated, Quadratic, Mls } shape_functions = Shape::Interpolated;
-  double stiffness_pa_per_m = 0.0;  ///< embedded: pressure per metre of penetration, Pa/m; 0: 100 E / mean spacing
-  double sample_spacing_m = 0.0;    ///< embedded: spacing of the surface's samples, m; 0: a third of its mean edge
+  double stiffness_pa_per_m =
+      0.0;  ///< embedded: pressure per metre of penetration, Pa/m; 0: 100 E / mean spacing
+  double sample_spacing_m =
+      0.0;  ///< embedded: spacing of the surface's samples, m; 0: a third of its mean edge
 };
 
 /// "interpolated", "quadratic" or "mls": the name contact.shape_functions takes.
 const char* shape_functions_name(ContactSpec::Shape shape);
 
 struct OutputSpec {
-  bool vtk = false;    ///< node cloud series vtk/nodes.pvd
+  bool vtk = false;      ///< node cloud series vtk/nodes.pvd
   bool surface = false;  ///< surface series vtk/surface.pvd (MLS-mapped; vessels and lattices)
   int vtk_every = 1;
 };
@@ -178,8 +183,8 @@ struct Scene {
   Vec3 gravity_m_s2 = Vec3::Zero();
   std::vector<RigidObstacle> obstacles;  ///< rigid tools, for models that take tools
   ContactSpec contact;                   ///< how the tools meet the tissue
-  /// The discretisation is the accurate wall configuration (quadratic basis, thickness reach, through-wall Gauss
-  /// points) by the model's default: then contact.surface defaults to "embedded".
+  /// The discretisation is the accurate wall configuration (quadratic basis, thickness reach, through-wall
+  /// Gauss points) by the model's default: then contact.surface defaults to "embedded".
   bool accurate_wall_defaults = false;
   /// Every registered model's settings, as its registry entry read them from its block (defaults when the
   /// block is absent), keyed by model name: the scene's model uses its own, `--set model=...` another's.
@@ -190,10 +195,10 @@ struct Scene {
   HapticsSpec haptics;
   ViewerSpec viewer;
   nlohmann::json resolved;  ///< the JSON after overrides (for summary.json)
-  /// What the scene runs with but probably does not mean, one line each naming the file, the key and the fix: sizes
-  /// no vessel has (a scene typed in millimetres), a lattice too coarse along its wall, an obstacle's node_radius_m
-  /// that moves the contact to the nodes (docs/scene-format.md, "Reading rules"). `vascsim check` and `vascsim run`
-  /// print them with the model's accuracy warnings (experiments/run_assessment.hpp).
+  /// What the scene runs with but probably does not mean, one line each naming the file, the key and the fix:
+  /// sizes no vessel has (a scene typed in millimetres), a lattice too coarse along its wall, an obstacle's
+  /// node_radius_m that moves the contact to the nodes (docs/scene-format.md, "Reading rules"). `vascsim
+  /// check` and `vascsim run` print them with the model's accuracy warnings (experiments/run_assessment.hpp).
   std::vector<std::string> warnings;
 
   /// The settings of model `name` as its settings struct S (e.g. scene.settings<XpbdSettings>("xpbd")).

@@ -13,7 +13,8 @@ void FrameBuilder::built(Simulation& simulation, std::optional<std::size_t> tool
   surface_.rebuild(simulation, ++builds_);
   tool_ = tool;
   style_.shaft_extension_m = 1.5 * surface_.radius_m();
-  if (tool) mouse_.reconfigure(mouse_settings(simulation.scene(), *tool, surface_.rest_min(), surface_.rest_max()));
+  if (tool)
+    mouse_.reconfigure(mouse_settings(simulation.scene(), *tool, surface_.rest_min(), surface_.rest_max()));
 }
 
 void FrameBuilder::frame(Simulation& simulation, const LiveFrameInfo& info) {

@@ -30,8 +30,8 @@ struct OverlayRequests {
 class FrameBuilder final : public LiveObserver {
  public:
   /// `skip_unseen`: do not prepare a frame while the previous one is still pending (realtime).
-  FrameBuilder(FrameExchange<ViewerFrame>& exchange, MouseKeyboardDevice& mouse, const OverlayRequests& overlays,
-               bool skip_unseen);
+  FrameBuilder(FrameExchange<ViewerFrame>& exchange, MouseKeyboardDevice& mouse,
+               const OverlayRequests& overlays, bool skip_unseen);
 
   void built(Simulation& simulation, std::optional<std::size_t> tool) override;
   void frame(Simulation& simulation, const LiveFrameInfo& info) override;

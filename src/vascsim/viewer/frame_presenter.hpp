@@ -17,7 +17,8 @@ namespace vascsim::viewer {
 
 class FramePresenter {
  public:
-  FramePresenter(render::GlContext& context, render::Renderer& renderer, FrameExchange<ViewerFrame>& exchange);
+  FramePresenter(render::GlContext& context, render::Renderer& renderer,
+                 FrameExchange<ViewerFrame>& exchange);
 
   /// Takes the newest frame and uploads it if it is new (true then). `measure`: glFinish around the upload.
   bool update(bool measure);

@@ -20,7 +20,8 @@ std::vector<std::string> bundled_scenes(const std::string& current) {
         out.push_back((fs::path(dir) / e.path().filename()).string());
   }
   std::sort(out.begin(), out.end());
-  if (!current.empty() && std::find(out.begin(), out.end(), current) == out.end()) out.insert(out.begin(), current);
+  if (!current.empty() && std::find(out.begin(), out.end(), current) == out.end())
+    out.insert(out.begin(), current);
   return out;
 }
 

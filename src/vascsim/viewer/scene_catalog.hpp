@@ -1,7 +1,8 @@
 #pragma once
 // What the panel offers to choose from: the bundled scenes (scenes/*.json and scenes/realtime/*.json of the
-// bundled files (core/bundled_files.hpp), plus the scene the viewer was started with) and each model's settings as its own reader takes
-// them (the models a device can drive come from the registry: model_names_with(device_driven)).
+// bundled files (core/bundled_files.hpp), plus the scene the viewer was started with) and each model's
+// settings as its own reader takes them (the models a device can drive come from the registry:
+// model_names_with(device_driven)).
 
 #include <string>
 #include <vector>
@@ -11,8 +12,8 @@
 
 namespace vascsim::viewer {
 
-/// Scene files as "scenes/NAME.json" and "scenes/realtime/NAME.json" (sorted), `current` (as given) first if it
-/// is not among them.
+/// Scene files as "scenes/NAME.json" and "scenes/realtime/NAME.json" (sorted), `current` (as given) first if
+/// it is not among them.
 std::vector<std::string> bundled_scenes(const std::string& current);
 
 /// The file of a choice: as given if it exists (or is absolute), else among the bundled files.

@@ -1,7 +1,7 @@
 #include "vascsim/viewer/session_panel.hpp"
 
-#include <algorithm>
 #include <fmt/format.h>
+#include <algorithm>
 #include <sstream>
 
 #include "vascsim/core/error.hpp"
@@ -14,10 +14,14 @@ namespace {
 
 std::string value_text(const JsonField& f) {
   switch (f.kind) {
-    case JsonField::Kind::number: return fmt::format("{:.17g}", f.value);
-    case JsonField::Kind::integer: return fmt::format("{}", static_cast<long long>(f.value));
-    case JsonField::Kind::boolean: return f.value != 0.0 ? "true" : "false";
-    case JsonField::Kind::string: return f.text;
+    case JsonField::Kind::number:
+      return fmt::format("{:.17g}", f.value);
+    case JsonField::Kind::integer:
+      return fmt::format("{}", static_cast<long long>(f.value));
+    case JsonField::Kind::boolean:
+      return f.value != 0.0 ? "true" : "false";
+    case JsonField::Kind::string:
+      return f.text;
   }
   return {};
 }
@@ -26,7 +30,10 @@ std::string value_text(const JsonField& f) {
 
 SessionPanel::SessionPanel(LiveSession& session, const Scene& scene, std::string path,
                            std::vector<std::string> overrides, render::HudControls& controls)
-    : session_(session), controls_(controls), path_(std::move(path)), overrides_(std::move(overrides)),
+    : session_(session),
+      controls_(controls),
+      path_(std::move(path)),
+      overrides_(std::move(overrides)),
       file_scene_(scene) {
   controls_.scene_choices = bundled_scenes(path_);
   controls_.model_choices = model_names_with(&ModelCapabilities::device_driven);
@@ -49,10 +56,12 @@ std::vector<std::string> SessionPanel::edited_overrides() const {
     out.push_back(fmt::format("material.youngs_modulus_pa={:.17g}", controls_.youngs_modulus_pa));
   if (controls_.poisson_ratio != file_scene_.material.poisson_ratio)
     out.push_back(fmt::format("material.poisson_ratio={:.17g}", controls_.poisson_ratio));
-  // A setting goes out when it differs from the file's value for the chosen model (so edits survive rebuilds).
+  // A setting goes out when it differs from the file's value for the chosen model (so edits survive
+  // rebuilds).
   const std::vector<JsonField> file = model_settings_fields(file_scene_, controls_.model);
   for (const JsonField& f : controls_.model_settings) {
-    const auto same = std::find_if(file.begin(), file.end(), [&](const JsonField& g) { return g.key == f.key; });
+    const auto same =
+        std::find_if(file.begin(), file.end(), [&](const JsonField& g) { return g.key == f.key; });
     if (same == file.end() || value_text(*same) != value_text(f)) out.push_back(f.key + "=" + value_text(f));
   }
   std::istringstream more(controls_.overrides);
@@ -60,7 +69,8 @@ std::vector<std::string> SessionPanel::edited_overrides() const {
   return out;
 }
 
-void SessionPanel::reload(const std::string& path, const std::vector<std::string>& overrides, bool keep_edits) {
+void SessionPanel::reload(const std::string& path, const std::vector<std::string>& overrides,
+                          bool keep_edits) {
   try {
     const Scene scene = load_scene(scene_path(path), overrides);
     if (!keep_edits) {
@@ -93,8 +103,8 @@ void SessionPanel::handle(const render::HudRequests& r, const KeyRequests& keys)
   if (r.change_model || r.apply_settings) reload(path_, edited_overrides(), true);
   if (r.toggle_recording) {
     const bool start = !controls_.recording;
-    session_.post({start ? LiveCommand::Kind::start_recording : LiveCommand::Kind::stop_recording, std::nullopt,
-                   controls_.record_path});
+    session_.post({start ? LiveCommand::Kind::start_recording : LiveCommand::Kind::stop_recording,
+                   std::nullopt, controls_.record_path});
     controls_.recording = start;
   }
   if (r.start_replay) session_.post({LiveCommand::Kind::replay, std::nullopt, controls_.replay_path});

@@ -31,9 +31,9 @@ class SessionPanel {
 
   LiveSession& session_;
   render::HudControls& controls_;
-  std::string path_;                     // the scene file shown
-  std::vector<std::string> overrides_;   // the command line's (for its own scene only)
-  Scene file_scene_;                     // as read with overrides_ only: what the edits are compared with
+  std::string path_;                    // the scene file shown
+  std::vector<std::string> overrides_;  // the command line's (for its own scene only)
+  Scene file_scene_;                    // as read with overrides_ only: what the edits are compared with
   std::string message_;
 };
 

@@ -1,8 +1,8 @@
 #include "vascsim/viewer/surface_snapshot.hpp"
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 #include <numbers>
 
 #include "vascsim/core/error.hpp"
@@ -25,12 +25,14 @@ float uv_aspect_of(const RenderSurface& s) {
     if (std::abs(d1.y()) > 0.5 || std::abs(d2.y()) > 0.5) continue;
     const double det = d1.x() * d2.y() - d1.y() * d2.x();
     if (std::abs(det) < 1e-14) continue;
-    const Vec3 e1 = s.rest_vertices[tri[1]] - s.rest_vertices[tri[0]], e2 = s.rest_vertices[tri[2]] - s.rest_vertices[tri[0]];
+    const Vec3 e1 = s.rest_vertices[tri[1]] - s.rest_vertices[tri[0]],
+               e2 = s.rest_vertices[tri[2]] - s.rest_vertices[tri[0]];
     const Vec3 du = (d2.y() * e1 - d1.y() * e2) / det, dv = (-d2.x() * e1 + d1.x() * e2) / det;
     if (dv.norm() > 0.0) ratios.push_back(du.norm() / dv.norm());
   }
   if (ratios.empty()) return 1.0f;
-  std::nth_element(ratios.begin(), ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2), ratios.end());
+  std::nth_element(ratios.begin(), ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2),
+                   ratios.end());
   return static_cast<float>(ratios[ratios.size() / 2]);
 }
 
@@ -45,7 +47,9 @@ std::vector<render::Float2> cylindrical_uv(const Vec3Array& vertices, const Vec3
   const Vec3 e1 = a.unitOrthogonal(), e2 = a.cross(e1);
   double radius = 0.0;
   for (const Vec3& p : vertices) radius += ((p - c) - (p - c).dot(a) * a).norm();
-  const double circumference = 2.0 * std::numbers::pi * std::max(radius / static_cast<double>(std::max<std::size_t>(vertices.size(), 1)), 1e-12);
+  const double circumference =
+      2.0 * std::numbers::pi *
+      std::max(radius / static_cast<double>(std::max<std::size_t>(vertices.size(), 1)), 1e-12);
   std::vector<render::Float2> uv;
   uv.reserve(vertices.size());
   for (const Vec3& p : vertices) {
@@ -155,7 +159,8 @@ void SurfaceSnapshot::fill_stress(Simulation& simulation, render::RenderFrame& f
   f.unit = "kPa";
 }
 
-void SurfaceSnapshot::fill_overlays(Simulation& simulation, bool nodes, bool tets, render::RenderFrame& frame) {
+void SurfaceSnapshot::fill_overlays(Simulation& simulation, bool nodes, bool tets,
+                                    render::RenderFrame& frame) {
   frame.node_points_m.clear();
   frame.tet_edges.clear();
   if (!nodes && !tets) return;

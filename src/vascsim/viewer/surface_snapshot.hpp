@@ -1,8 +1,9 @@
 #pragma once
 // The wall surface of the current deformation in the viewer's frame: the body's render surface mapped from
 // the node displacements by the MLS map (float, every frame), its normals, the displacement colour field (or
-// on request the stress), and on request the node cloud and the virtual tetrahedra. Runs on the simulation thread (the producer); the
-// topology (triangles, uv, outer flags) is copied into a frame slot only when the slot holds an older build's.
+// on request the stress), and on request the node cloud and the virtual tetrahedra. Runs on the simulation
+// thread (the producer); the topology (triangles, uv, outer flags) is copied into a frame slot only when the
+// slot holds an older build's.
 
 #include <array>
 #include <cstdint>
@@ -21,11 +22,12 @@ class SurfaceSnapshot {
   void rebuild(Simulation& simulation, std::uint64_t build);
 
   /// Fills the frame's surface for the model's current node positions: positions, normals, the displacement
-  /// field (mm), and the topology if the frame's is older. False (frame untouched) if the state is not finite.
+  /// field (mm), and the topology if the frame's is older. False (frame untouched) if the state is not
+  /// finite.
   bool fill(Simulation& simulation, render::RenderFrame& frame, PrepareTiming& timing);
-  /// Replaces the colour field by the von Mises stress (kPa) of the Cauchy stress at every node, mapped to the
-  /// surface like the displacement: the SVK stress of the node's Green strain with the material's E and nu
-  /// (exact for the default SVK law; for another law, the stress of its small-strain moduli).
+  /// Replaces the colour field by the von Mises stress (kPa) of the Cauchy stress at every node, mapped to
+  /// the surface like the displacement: the SVK stress of the node's Green strain with the material's E and
+  /// nu (exact for the default SVK law; for another law, the stress of its small-strain moduli).
   void fill_stress(Simulation& simulation, render::RenderFrame& frame);
   /// The node cloud and the edges of the virtual tetrahedra (each edge once), or clears them.
   void fill_overlays(Simulation& simulation, bool nodes, bool tets, render::RenderFrame& frame);
@@ -46,8 +48,8 @@ class SurfaceSnapshot {
   float uv_aspect_ = 1.0f;
   Vec3 lo_ = -Vec3::Ones(), hi_ = Vec3::Ones();
   std::vector<std::array<std::uint32_t, 2>> tet_edges_;  // built on first request
-  std::vector<Eigen::Vector3f> displacement_;             // node displacements (scratch)
-  Vec3Array node_stress_, surface_stress_;                 // von Mises in x (scratch)
+  std::vector<Eigen::Vector3f> displacement_;            // node displacements (scratch)
+  Vec3Array node_stress_, surface_stress_;               // von Mises in x (scratch)
 };
 
 }  // namespace vascsim::viewer

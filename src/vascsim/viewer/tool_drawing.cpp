@@ -4,11 +4,12 @@ namespace vascsim::viewer {
 
 namespace {
 
-render::ToolCapsule capsule_of(const RigidObstacle& tool, const constraints::Capsule& placed, const ToolStyle& style) {
+render::ToolCapsule capsule_of(const RigidObstacle& tool, const constraints::Capsule& placed,
+                               const ToolStyle& style) {
   render::ToolCapsule c;
   c.radius_m = static_cast<float>(tool.radius_m);
   c.colour = style.colour;
-  Vec3 axis = placed.a - placed.b;  // towards the tip
+  Vec3 axis = placed.a - placed.b;                                                          // towards the tip
   if (axis.norm() < 1e-12 * (1.0 + placed.a.norm())) axis = Vec3::UnitZ() * tool.radius_m;  // a sphere
   const Vec3 d = axis.normalized();
   const double extension = tool.catheter ? style.shaft_extension_m : 0.0;
@@ -20,14 +21,15 @@ render::ToolCapsule capsule_of(const RigidObstacle& tool, const constraints::Cap
 
 }  // namespace
 
-void fill_tools(const Scene& scene, std::optional<std::size_t> driven, const LiveFrameInfo& info, double load_factor,
-                const ToolStyle& style, render::RenderFrame& frame) {
+void fill_tools(const Scene& scene, std::optional<std::size_t> driven, const LiveFrameInfo& info,
+                double load_factor, const ToolStyle& style, render::RenderFrame& frame) {
   frame.tools.clear();
   for (std::size_t o = 0; o < scene.obstacles.size(); ++o) {
     const RigidObstacle& tool = scene.obstacles[o];
-    const constraints::Capsule placed = driven && *driven == o && info.has_tool
-                                            ? obstacle_posed(tool, info.sample.tool_position_m, info.tool_orientation)
-                                            : obstacle_at(tool, load_factor);
+    const constraints::Capsule placed =
+        driven && *driven == o && info.has_tool
+            ? obstacle_posed(tool, info.sample.tool_position_m, info.tool_orientation)
+            : obstacle_at(tool, load_factor);
     frame.tools.push_back(capsule_of(tool, placed, style));
   }
 }

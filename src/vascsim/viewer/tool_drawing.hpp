@@ -1,8 +1,9 @@
 #pragma once
 // The scene's tools and the contact force as the renderer draws them (capsules and an arrow): the tool a
-// device drives at the pose of the frame, any other tool where the load factor puts it. A catheter is drawn as
-// its rigid part (rounded tip and short shaft, what the model simulates) continued by a display-only shaft,
-// so it reads as a catheter coming from outside the picture; the display shaft is not in the simulation.
+// device drives at the pose of the frame, any other tool where the load factor puts it. A catheter is drawn
+// as its rigid part (rounded tip and short shaft, what the model simulates) continued by a display-only
+// shaft, so it reads as a catheter coming from outside the picture; the display shaft is not in the
+// simulation.
 
 #include <cstddef>
 #include <optional>
@@ -18,8 +19,8 @@ struct ToolStyle {
 };
 
 /// frame.tools for the scene's obstacles; `driven`: the index of the tool the device poses (info's pose).
-void fill_tools(const Scene& scene, std::optional<std::size_t> driven, const LiveFrameInfo& info, double load_factor,
-                const ToolStyle& style, render::RenderFrame& frame);
+void fill_tools(const Scene& scene, std::optional<std::size_t> driven, const LiveFrameInfo& info,
+                double load_factor, const ToolStyle& style, render::RenderFrame& frame);
 
 /// frame.force: the force the driven tool exerts on the tissue, from the tool point; none without a tool.
 void fill_force_arrow(const LiveFrameInfo& info, double threshold_n, render::RenderFrame& frame);

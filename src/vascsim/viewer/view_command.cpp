@@ -12,7 +12,8 @@ namespace {
 /// Returns the --max-fps option (its default depends on --measure).
 CLI::Option* add_options(CLI::App& cmd, ViewOptions& o) {
   cmd.add_option("scene", o.scene, "Scene file (JSON)")->required();
-  cmd.add_option("--set", o.sets, "Override a scene key, e.g. --set geometry.node_spacing_m=0.5e-3 (repeatable)");
+  cmd.add_option("--set", o.sets,
+                 "Override a scene key, e.g. --set geometry.node_spacing_m=0.5e-3 (repeatable)");
   cmd.add_option("--screenshot", o.screenshot, "Render headless (EGL) and write the last frame as a PNG");
   cmd.add_option("--fluoro-screenshot", o.fluoro_screenshot,
                  "With --screenshot: also write the last frame as fluoroscopy (C-arm at --lao, --cranial)");
@@ -22,9 +23,9 @@ CLI::Option* add_options(CLI::App& cmd, ViewOptions& o) {
   cmd.add_flag("--headless", o.headless, "Render offscreen through EGL even when a display exists");
   cmd.add_flag("--realtime", o.realtime, "Headless: run the simulation and haptic threads as a window does");
   cmd.add_flag("--measure", o.measure, "glFinish between phases; print the frame-time split at the end");
-  CLI::Option* max_fps =
-      cmd.add_option("--max-fps", o.max_fps, "Visual frames per second at most (default 60; --measure: unlimited)")
-          ->check(CLI::Range(0.0, 1000.0));
+  CLI::Option* max_fps = cmd.add_option("--max-fps", o.max_fps,
+                                        "Visual frames per second at most (default 60; --measure: unlimited)")
+                             ->check(CLI::Range(0.0, 1000.0));
   cmd.add_flag("--paused", o.paused, "Start paused (headless: draw the rest state)");
   cmd.add_flag("--play", o.play, "Drive the tool with the scene's scripted trajectory instead of the mouse");
   cmd.add_option("--replay", o.replay, "Drive the tool with a session recording (session.csv)");
@@ -32,9 +33,10 @@ CLI::Option* add_options(CLI::App& cmd, ViewOptions& o) {
   cmd.add_option("--mode", o.mode, "lit or fluoro");
   cmd.add_option("--lao", o.lao_deg, "Fluoroscopy: C-arm LAO (+) / RAO (-), degrees");
   cmd.add_option("--cranial", o.cranial_deg, "Fluoroscopy: C-arm cranial (+) / caudal (-), degrees");
-  cmd.add_option("--fluoro-window", o.fluoro_window,
-                 "Fluoroscopy: scale on the attenuation (the monitor's window; 1: physical; default: the lumen's "
-                 "contrast path about 1)")
+  cmd.add_option(
+         "--fluoro-window", o.fluoro_window,
+         "Fluoroscopy: scale on the attenuation (the monitor's window; 1: physical; default: the lumen's "
+         "contrast path about 1)")
       ->check(CLI::Range(0.0, 1000.0));
   cmd.add_option("--yaw", o.yaw_deg, "Lit view: camera yaw about the superior axis, degrees");
   cmd.add_option("--pitch", o.pitch_deg, "Lit view: camera pitch, degrees (default 15)");
@@ -54,8 +56,9 @@ CLI::Option* add_options(CLI::App& cmd, ViewOptions& o) {
 
 void add_view_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands) {
   auto opt = std::make_shared<ViewOptions>();
-  CLI::App* cmd = app.add_subcommand("view", "Show a scene live: the model driven with the mouse (or a recording) "
-                                              "through the haptic loop, lit or fluoroscopic; or a headless picture");
+  CLI::App* cmd = app.add_subcommand("view",
+                                     "Show a scene live: the model driven with the mouse (or a recording) "
+                                     "through the haptic loop, lit or fluoroscopic; or a headless picture");
   CLI::Option* max_fps = add_options(*cmd, *opt);
   commands.push_back({cmd, [opt, max_fps, &ctx] {
                         if (opt->measure && max_fps->count() == 0) opt->max_fps = 0.0;

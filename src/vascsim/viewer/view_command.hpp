@@ -1,5 +1,6 @@
 #pragma once
-// `vascsim view`: registered with the CLI (app/cli.hpp CommandAdder) by apps/vascsim when the viewer is built.
+// `vascsim view`: registered with the CLI (app/cli.hpp CommandAdder) by apps/vascsim when the viewer is
+// built.
 
 #include <vector>
 

@@ -34,7 +34,8 @@ render::ContextOptions context_options(const ViewOptions& o) {
 
 render::HudControls initial_controls(const ViewOptions& o) {
   render::HudControls c;
-  if (o.mode != "lit" && o.mode != "fluoro") throw InputError(fmt::format("--mode {}: use lit or fluoro", o.mode));
+  if (o.mode != "lit" && o.mode != "fluoro")
+    throw InputError(fmt::format("--mode {}: use lit or fluoro", o.mode));
   c.mode = o.mode == "fluoro" ? render::ViewMode::fluoroscopy : render::ViewMode::lit;
   c.carm_lao_deg = static_cast<float>(o.lao_deg);
   c.carm_cranial_deg = static_cast<float>(o.cranial_deg);
@@ -107,8 +108,8 @@ class Viewer {
     camera_.orbit(-o.yaw_deg / 0.3, (o.pitch_deg - 15.0) / 0.3);
     camera_.zoom(o.zoom);
     controls_.force_threshold_n = static_cast<float>(presenter_->frame().force_threshold_n);
-    controls_.fluoro_window = static_cast<float>(o.fluoro_window > 0.0 ? o.fluoro_window
-                                                                        : auto_window(presenter_->frame().render));
+    controls_.fluoro_window =
+        static_cast<float>(o.fluoro_window > 0.0 ? o.fluoro_window : auto_window(presenter_->frame().render));
   }
 
   int run() { return headless_ ? run_headless() : run_window(); }
@@ -171,9 +172,11 @@ void Viewer::draw(bool with_hud, render::HudRequests* requests) {
     const auto [w, h] = context_->framebuffer_size();
     hud_->begin_frame(w, h, seconds_between(last_frame_, t_hud));
     render::HudStats stats = presenter_->hud_stats(fps_);
-    if (presenter_->frame().info.device == mouse_.name()) stats.device_force_n = mouse_.last_sent_force().norm();
+    if (presenter_->frame().info.device == mouse_.name())
+      stats.device_force_n = mouse_.last_sent_force().norm();
     if (!ui_message_.empty()) stats.message = ui_message_;
-    const render::ScalarField* legend = presenter_->frame().render.scalar ? &*presenter_->frame().render.scalar : nullptr;
+    const render::ScalarField* legend =
+        presenter_->frame().render.scalar ? &*presenter_->frame().render.scalar : nullptr;
     const render::HudRequests r = hud_->draw(stats, controls_, legend);
     if (requests != nullptr) *requests = r;
     glBindFramebuffer(GL_FRAMEBUFFER, context_->draw_framebuffer());
@@ -194,7 +197,8 @@ void Viewer::draw(bool with_hud, render::HudRequests* requests) {
 // Keeps the render thread to max_fps (lockstep pictures need no pacing: each frame waits for the model).
 void Viewer::pace() {
   if (lockstep_ || options_.max_fps <= 0.0) return;
-  const auto period = std::chrono::duration_cast<SteadyClock::duration>(std::chrono::duration<double>(1.0 / options_.max_fps));
+  const auto period = std::chrono::duration_cast<SteadyClock::duration>(
+      std::chrono::duration<double>(1.0 / options_.max_fps));
   std::this_thread::sleep_until(frame_start_ + period);
   frame_start_ = SteadyClock::now();
 }
@@ -206,9 +210,9 @@ void Viewer::write_screenshot(const std::string& path) {
 
 void Viewer::report() {
   if (!options_.measure) return;
-  out_ << fmt::format("{} ({} nodes, {} triangles, model {}), {}x{} {}: {}\n", scene_.name, presenter_->frame().nodes,
-                      renderer_->triangle_count(), presenter_->frame().model, context_->framebuffer_size()[0],
-                      context_->framebuffer_size()[1], options_.mode,
+  out_ << fmt::format("{} ({} nodes, {} triangles, model {}), {}x{} {}: {}\n", scene_.name,
+                      presenter_->frame().nodes, renderer_->triangle_count(), presenter_->frame().model,
+                      context_->framebuffer_size()[0], context_->framebuffer_size()[1], options_.mode,
                       presenter_->log().summary(wall_.seconds(), presenter_->frame().info.steps_per_s));
 }
 
@@ -218,7 +222,8 @@ int Viewer::run_headless() {
   std::unique_ptr<SessionPanel> panel;
   if (options_.hud) {
     hud_ = std::make_unique<render::Hud>(*context_);
-    panel = std::make_unique<SessionPanel>(*session_, scene_, options_.scene, options_.sets, controls_);  // choices
+    panel = std::make_unique<SessionPanel>(*session_, scene_, options_.scene, options_.sets,
+                                           controls_);  // choices
     draw(true, nullptr);  // ImGui sizes a new window in its first frame and shows it from the second
   }
   if (!lockstep_) session_->start();
@@ -238,10 +243,11 @@ int Viewer::run_headless() {
                         presenter_->frame().info.sample.sim_time_s);
   }
   if (options_.screenshot.empty() && !options_.measure)
-    out_ << fmt::format("{}: {} frame{} rendered headless ({}) and nothing kept: open a window with a display (or "
-                        "under xvfb-run -a), or write a picture with --screenshot FILE\n",
-                        scene_.name, frames, frames == 1 ? " was" : "s were",
-                        options_.headless ? "--headless" : "no display");
+    out_ << fmt::format(
+        "{}: {} frame{} rendered headless ({}) and nothing kept: open a window with a display (or "
+        "under xvfb-run -a), or write a picture with --screenshot FILE\n",
+        scene_.name, frames, frames == 1 ? " was" : "s were",
+        options_.headless ? "--headless" : "no display");
   if (!options_.fluoro_screenshot.empty()) {
     controls_.mode = render::ViewMode::fluoroscopy;  // the same frame again, as the C-arm sees it
     draw(options_.hud, nullptr);

@@ -21,7 +21,7 @@ struct PrepareTiming {
 
 struct ViewerFrame {
   render::RenderFrame render;
-  LiveFrameInfo info;          ///< the session's report of this frame
+  LiveFrameInfo info;  ///< the session's report of this frame
   PrepareTiming timing;
   std::string scene_name, scene_file, model;
   std::size_t nodes = 0;

@@ -12,7 +12,9 @@ namespace {
 constexpr double kCarmDegPerPixel = 0.3;
 constexpr float kCarmKeyStepDeg = 5.0f;
 
-WindowInput* input_of(GLFWwindow* w) { return static_cast<WindowInput*>(glfwGetWindowUserPointer(w)); }
+WindowInput* input_of(GLFWwindow* w) {
+  return static_cast<WindowInput*>(glfwGetWindowUserPointer(w));
+}
 
 void toggle_mode(render::HudControls& c) {
   c.mode = c.mode == render::ViewMode::lit ? render::ViewMode::fluoroscopy : render::ViewMode::lit;
@@ -24,10 +26,12 @@ WindowInput::WindowInput(GLFWwindow* window, render::CameraController& camera, r
                          MouseKeyboardDevice& tool, render::HudControls& controls)
     : window_(window), camera_(camera), orbit_(orbit), tool_(tool), controls_(controls) {
   glfwSetWindowUserPointer(window, this);
-  glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int b, int a, int m) { input_of(w)->on_button(b, a, m); });
+  glfwSetMouseButtonCallback(window,
+                             [](GLFWwindow* w, int b, int a, int m) { input_of(w)->on_button(b, a, m); });
   glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) { input_of(w)->on_cursor(x, y); });
   glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) {
-    const bool ctrl = glfwGetKey(w, GLFW_KEY_LEFT_CONTROL) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_RIGHT_CONTROL) == GLFW_PRESS;
+    const bool ctrl = glfwGetKey(w, GLFW_KEY_LEFT_CONTROL) == GLFW_PRESS ||
+                      glfwGetKey(w, GLFW_KEY_RIGHT_CONTROL) == GLFW_PRESS;
     input_of(w)->on_scroll(dy, ctrl);
   });
   glfwSetKeyCallback(window, [](GLFWwindow* w, int k, int, int a, int m) { input_of(w)->on_key(k, a, m); });
@@ -51,7 +55,8 @@ void WindowInput::on_button(int button, int action, int mods) {
     drag_ = Drag::push;
   } else if (pressed && ctrl && button == GLFW_MOUSE_BUTTON_RIGHT) {
     drag_ = Drag::steer;
-  } else if (pressed && !shift && button == GLFW_MOUSE_BUTTON_LEFT && controls_.mode == render::ViewMode::fluoroscopy) {
+  } else if (pressed && !shift && button == GLFW_MOUSE_BUTTON_LEFT &&
+             controls_.mode == render::ViewMode::fluoroscopy) {
     drag_ = Drag::carm;
   } else {
     const render::MouseButton b = button == GLFW_MOUSE_BUTTON_LEFT    ? render::MouseButton::left
@@ -78,7 +83,8 @@ void WindowInput::on_cursor(double x, double y) {
   if (drag_ == Drag::push) tool_.move_cursor(dx, dy);
   if (drag_ == Drag::steer) tool_.steer(dx, dy);
   if (drag_ == Drag::carm) {
-    controls_.carm_lao_deg = std::clamp(controls_.carm_lao_deg + static_cast<float>(kCarmDegPerPixel * dx), -90.0f, 90.0f);
+    controls_.carm_lao_deg =
+        std::clamp(controls_.carm_lao_deg + static_cast<float>(kCarmDegPerPixel * dx), -90.0f, 90.0f);
     controls_.carm_cranial_deg =
         std::clamp(controls_.carm_cranial_deg - static_cast<float>(kCarmDegPerPixel * dy), -45.0f, 45.0f);
   }
@@ -94,11 +100,24 @@ void WindowInput::on_scroll(double dy, bool ctrl) {
 
 bool WindowInput::tool_key(int key, bool pressed) {
   switch (key) {
-    case GLFW_KEY_W: case GLFW_KEY_UP: tool_.set_key(ToolKey::insert, pressed); return true;
-    case GLFW_KEY_S: case GLFW_KEY_DOWN: tool_.set_key(ToolKey::retract, pressed); return true;
-    case GLFW_KEY_A: case GLFW_KEY_LEFT: tool_.set_key(ToolKey::twist_left, pressed); return true;
-    case GLFW_KEY_D: case GLFW_KEY_RIGHT: tool_.set_key(ToolKey::twist_right, pressed); return true;
-    default: return false;
+    case GLFW_KEY_W:
+    case GLFW_KEY_UP:
+      tool_.set_key(ToolKey::insert, pressed);
+      return true;
+    case GLFW_KEY_S:
+    case GLFW_KEY_DOWN:
+      tool_.set_key(ToolKey::retract, pressed);
+      return true;
+    case GLFW_KEY_A:
+    case GLFW_KEY_LEFT:
+      tool_.set_key(ToolKey::twist_left, pressed);
+      return true;
+    case GLFW_KEY_D:
+    case GLFW_KEY_RIGHT:
+      tool_.set_key(ToolKey::twist_right, pressed);
+      return true;
+    default:
+      return false;
   }
 }
 
@@ -110,23 +129,53 @@ void WindowInput::on_key(int key, int action, int /*mods*/) {
   if (action != GLFW_PRESS || (hud_ != nullptr && hud_->wants_keyboard())) return;
   if (tool_key(key, true)) return;
   switch (key) {
-    case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window_, GLFW_TRUE); break;
-    case GLFW_KEY_F: toggle_mode(controls_); break;
-    case GLFW_KEY_LEFT_BRACKET: controls_.carm_lao_deg = std::max(-90.0f, controls_.carm_lao_deg - kCarmKeyStepDeg); break;
-    case GLFW_KEY_RIGHT_BRACKET: controls_.carm_lao_deg = std::min(90.0f, controls_.carm_lao_deg + kCarmKeyStepDeg); break;
-    case GLFW_KEY_PAGE_UP: controls_.carm_cranial_deg = std::min(45.0f, controls_.carm_cranial_deg + kCarmKeyStepDeg); break;
-    case GLFW_KEY_PAGE_DOWN: controls_.carm_cranial_deg = std::max(-45.0f, controls_.carm_cranial_deg - kCarmKeyStepDeg); break;
-    case GLFW_KEY_SPACE: requests_.toggle_pause = true; break;
-    case GLFW_KEY_N: case GLFW_KEY_PERIOD: requests_.step = true; break;
-    case GLFW_KEY_BACKSPACE: case GLFW_KEY_F5: requests_.reset_scene = true; break;
-    case GLFW_KEY_P: case GLFW_KEY_F12: requests_.screenshot = true; break;
-    case GLFW_KEY_H: requests_.toggle_hud = true; break;
-    case GLFW_KEY_C:
-      controls_.colour_field = controls_.colour_field == render::ColourField::none ? render::ColourField::displacement
-                                                                                   : render::ColourField::none;
+    case GLFW_KEY_ESCAPE:
+      glfwSetWindowShouldClose(window_, GLFW_TRUE);
       break;
-    case GLFW_KEY_R: case GLFW_KEY_HOME: orbit_.reset(); break;
-    default: break;
+    case GLFW_KEY_F:
+      toggle_mode(controls_);
+      break;
+    case GLFW_KEY_LEFT_BRACKET:
+      controls_.carm_lao_deg = std::max(-90.0f, controls_.carm_lao_deg - kCarmKeyStepDeg);
+      break;
+    case GLFW_KEY_RIGHT_BRACKET:
+      controls_.carm_lao_deg = std::min(90.0f, controls_.carm_lao_deg + kCarmKeyStepDeg);
+      break;
+    case GLFW_KEY_PAGE_UP:
+      controls_.carm_cranial_deg = std::min(45.0f, controls_.carm_cranial_deg + kCarmKeyStepDeg);
+      break;
+    case GLFW_KEY_PAGE_DOWN:
+      controls_.carm_cranial_deg = std::max(-45.0f, controls_.carm_cranial_deg - kCarmKeyStepDeg);
+      break;
+    case GLFW_KEY_SPACE:
+      requests_.toggle_pause = true;
+      break;
+    case GLFW_KEY_N:
+    case GLFW_KEY_PERIOD:
+      requests_.step = true;
+      break;
+    case GLFW_KEY_BACKSPACE:
+    case GLFW_KEY_F5:
+      requests_.reset_scene = true;
+      break;
+    case GLFW_KEY_P:
+    case GLFW_KEY_F12:
+      requests_.screenshot = true;
+      break;
+    case GLFW_KEY_H:
+      requests_.toggle_hud = true;
+      break;
+    case GLFW_KEY_C:
+      controls_.colour_field = controls_.colour_field == render::ColourField::none
+                                   ? render::ColourField::displacement
+                                   : render::ColourField::none;
+      break;
+    case GLFW_KEY_R:
+    case GLFW_KEY_HOME:
+      orbit_.reset();
+      break;
+    default:
+      break;
   }
 }
 

@@ -26,8 +26,9 @@ struct KeyRequests {
 
 class WindowInput {
  public:
-  /// Installs the callbacks on `window`; install it before the Hud (whose callbacks chain to these). `controls`
-  /// is the panel state (view mode, C-arm angles, colour field) the keys edit. All must outlive the input.
+  /// Installs the callbacks on `window`; install it before the Hud (whose callbacks chain to these).
+  /// `controls` is the panel state (view mode, C-arm angles, colour field) the keys edit. All must outlive
+  /// the input.
   WindowInput(GLFWwindow* window, render::CameraController& camera, render::OrbitCamera& orbit,
               MouseKeyboardDevice& tool, render::HudControls& controls);
   void set_hud(const render::Hud* hud) { hud_ = hud; }

@@ -550,8 +550,8 @@ TEST(HyperelasticLawFactory, RoundTripAndSummaryJson) {
 
 TEST(HyperelasticLawSvk, MatchesPointPrimitiveEnergy) {
   // PointPrimitiveEnergy (SVK, k_v = 0, no stabiliser) on a 5^3 lattice under the affine map x = F X:
-  // the patch test gives F_i = F at every node (docs/model/06-gradients.md, to ~1e-15), so its strain energy is
-  // psi_SVK(F) sum_i V_i. Tolerance 1e-10 relative (per-node F errors ~1e-14 enter psi linearly).
+  // the patch test gives F_i = F at every node (docs/model/06-gradients.md, to ~1e-15), so its strain energy
+  // is psi_SVK(F) sum_i V_i. Tolerance 1e-10 relative (per-node F errors ~1e-14 enter psi linearly).
   const Material m = test::tissue(kE, kNu);
   const Discretization disc(test::lattice(4), m);
   const PointPrimitiveEnergy energy(disc, EnergyOptions{StrainMeasure::GreenHalf, 0.0, 0.0, {}, {}});

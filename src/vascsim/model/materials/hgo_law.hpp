@@ -26,8 +26,8 @@
 // - Ground matrix: the stable neo-Hookean (with shear modulus mu = c of HGO 2000 and small-strain bulk
 //   modulus kappa), not HGO 2000's isochoric mu/2 (Ib1 - 3) + a volumetric penalty. Both agree at J = 1,
 //   where HGO 2000's (incompressible) parameters were fitted, but the stable form is defined for every F,
-//   including the inverted nodes the meshless model can produce (docs/model/17-limitations.md); and its small-strain
-//   response is exactly linear elasticity with (mu, kappa).
+//   including the inverted nodes the meshless model can produce (docs/model/17-limitations.md); and its
+//   small-strain response is exactly linear elasticity with (mu, kappa).
 // - Fibre invariants: the full I_i = a_i.C a_i, not the isochoric Ib_i = J^(-2/3) I_i of HGO 2000. With
 //   Ib_i the fibre term is blind to volume change, so a compressible HGO solid responds isotropically to
 //   hydrostatic load (a sphere stays a sphere); Nolan, Gower, Destrade, Ogden & McGarry, "A robust

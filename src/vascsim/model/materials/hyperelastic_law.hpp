@@ -1,8 +1,8 @@
 #pragma once
 // Interface of a hyperelastic strain-energy law psi(F) (issue "Vessel-wall materials"). The laws are pure
-// functions of the deformation gradient F (F_kl = dx_k/dX_l, docs/model/01-notation.md) and, for anisotropic laws, of a
-// per-node MaterialFrame; they know nothing about nodes, volumes or solvers. SI units throughout: psi in
-// J/m^3 (= Pa), P in Pa.
+// functions of the deformation gradient F (F_kl = dx_k/dX_l, docs/model/01-notation.md) and, for anisotropic
+// laws, of a per-node MaterialFrame; they know nothing about nodes, volumes or solvers. SI units throughout:
+// psi in J/m^3 (= Pa), P in Pa.
 //
 // Design (why an abstract class and not a std::variant):
 // - One law object serves a whole body (or one wall layer). The model holds a `const HyperelasticLaw&`

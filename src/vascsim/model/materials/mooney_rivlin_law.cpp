@@ -5,8 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "vascsim/model/materials/parameter_checks.hpp"
 #include "vascsim/core/tensor_algebra.hpp"
+#include "vascsim/model/materials/parameter_checks.hpp"
 
 namespace vascsim::materials {
 

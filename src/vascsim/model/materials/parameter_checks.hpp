@@ -18,7 +18,8 @@ void require_open_range(std::string_view law, std::string_view key, double value
 void require_closed_range(std::string_view law, std::string_view key, double value, double lo, double hi);
 
 /// Lame constants of isotropic linear elasticity from Young's modulus E (Pa) and Poisson's ratio nu (-)
-/// (docs/model/01-notation.md), after checking E > 0 and -1 < nu < 0.5 (keys "youngs_modulus_pa", "poisson_ratio").
+/// (docs/model/01-notation.md), after checking E > 0 and -1 < nu < 0.5 (keys "youngs_modulus_pa",
+/// "poisson_ratio").
 struct LameConstants {
   double lambda = 0.0;  ///< Pa
   double mu = 0.0;      ///< shear modulus, Pa

@@ -17,7 +17,8 @@ nlohmann::json SvkLaw::parameters() const {
 }
 
 std::string SvkLaw::reference() const {
-  return "St Venant-Kirchhoff, psi = lambda/2 (tr E)^2 + mu tr(E^2) (Bonet & Wood 2008, Ch. 6; docs/model/07-strain-stress-energy.md "
+  return "St Venant-Kirchhoff, psi = lambda/2 (tr E)^2 + mu tr(E^2) (Bonet & Wood 2008, Ch. 6; "
+         "docs/model/07-strain-stress-energy.md "
          "section 7)";
 }
 

@@ -13,10 +13,10 @@
 //
 // Parameters: youngs_modulus_pa E > 0 (Pa); poisson_ratio nu in (-1, 0.5).
 // Validity: any F. The small-strain response is linear elasticity with (E, nu). Known weaknesses
-// (docs/model/17-limitations.md): blind to reflections (psi(QF) = psi(F) for det Q = -1: an inverted node costs no
-// energy) and softening in compression below a stretch of 1/sqrt(3).
-// Reference: e.g. Bonet & Wood, "Nonlinear Continuum Mechanics for Finite Element Analysis", 2nd ed.,
-// Cambridge University Press 2008, Ch. 6; Holzapfel, "Nonlinear Solid Mechanics", Wiley 2000, Ch. 6.
+// (docs/model/17-limitations.md): blind to reflections (psi(QF) = psi(F) for det Q = -1: an inverted node
+// costs no energy) and softening in compression below a stretch of 1/sqrt(3). Reference: e.g. Bonet & Wood,
+// "Nonlinear Continuum Mechanics for Finite Element Analysis", 2nd ed., Cambridge University Press 2008, Ch.
+// 6; Holzapfel, "Nonlinear Solid Mechanics", Wiley 2000, Ch. 6.
 
 #include "vascsim/model/materials/hyperelastic_law.hpp"
 

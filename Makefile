@@ -255,7 +255,7 @@ soak: build
 	$(BUILD_DIR)/vascsim soak $(SOAK_SCENE) --seconds $(SOAK_SECONDS) --seed $(SOAK_SEED) --out $(SOAK_OUT)
 
 format:
-	clang-format -i $$(git ls-files '*.cpp' '*.hpp')
+	clang-format-14 -i $$(git ls-files '*.cpp' '*.hpp')
 
 clean:
 	rm -rf $(BUILD_DIR) $(ASAN_DIR) $(PACKAGE_DIR)

@@ -19,6 +19,8 @@ packages=(
   # The sanitizer stages of `make test` and `make fuzz` (libFuzzer, ASan, UBSan, TSan) build with clang, its
   # sanitizer runtimes and its OpenMP runtime (docs/reliability.md).
   clang-14 libclang-rt-14-dev libomp-14-dev
+  # The formatting check of `make test` (tests/python/check_format.py) and `make format`: one pinned version.
+  clang-format-14
   # `make experiments` fans its independent runs out with GNU parallel (a plain loop without it).
   parallel
 )

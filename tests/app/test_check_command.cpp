@@ -202,6 +202,24 @@ TEST(RunExitCode, UnconvergedStepsEndOnASummaryLineAndExitCode4) {
   EXPECT_FALSE(ok.out_has("NOT CONVERGED")) << ok.out;
 }
 
+// A session whose frames reach the tissue but never hand on a contact force (here: one Newton step per frame
+// and a hand-off bound no unconverged frame meets, as frames too slow for the hand do on a loaded machine)
+// says so, instead of blaming the trajectory: the old message read "never touched the tissue" for a tool 10
+// nodes deep.
+TEST(RunWarnings, ASessionWhoseFramesNeverHandOnAContactForceSaysWhy) {
+  const fs::path dir = test_dir();
+  const CliResult run =
+      cli({"run", test::source_path("tests/data/haptic-block.json"), "--out", (dir / "out").string(), "--set",
+           "model=implicit", "--set", "implicit.max_newton_iterations=1", "--set",
+           "implicit.rel_tolerance=1e-14", "--set", "implicit.handoff_max_residual=1e-14", "--set",
+           "haptics.ticks_per_step=10", "--set", "haptics.duration_s=0.2"});
+  EXPECT_TRUE(
+      run.out_has("warning: the tool 'catheter' reached the tissue, but none of the 21 frames handed on a "
+                  "contact force (17 ended before converging)"))
+      << run.out;
+  EXPECT_FALSE(run.out_has("never touched")) << run.out;
+}
+
 TEST(RunWarnings, AToolThatNeverTouchesIsNamedUpFrontAndAtTheEnd) {
   const fs::path dir = test_dir();
   const std::string tiny = test::source_path("tests/data/tiny-catheter.json");

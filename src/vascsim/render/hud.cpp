@@ -91,7 +91,8 @@ void draw_stats(const HudStats& s) {
       "tool force {:.4g} N{}", s.tool_force_n,
       s.force_threshold_n > 0.0 ? fmt::format(" (threshold {:.3g} N)", s.force_threshold_n) : ""));
   ImGui::PopStyleColor();
-  if (const std::string hand = hand_line(s); !hand.empty()) text(hand);
+  // Wrapped: with the tool lag and the force age it is wider than the panel.
+  if (const std::string hand = hand_line(s); !hand.empty()) ImGui::TextWrapped("%s", hand.c_str());
   if (!s.force_history_n.empty()) {
     const float top = std::max({*std::max_element(s.force_history_n.begin(), s.force_history_n.end()),
                                 static_cast<float>(s.force_threshold_n), 1e-9f});

@@ -195,14 +195,27 @@ void write_session_files(const OutputWriter& out, const HapticRunOptions& option
   if (!options.record.empty()) rig.recording().write_csv(options.record);
 }
 
-// What the finished session found suspicious, one line each: a tool that never touched the tissue.
+// What the finished session found suspicious, one line each: a tool whose frames never handed on a contact
+// force, either because its path never reached the tissue or because no frame in contact got far enough to
+// hand its force on (implicit.handoff_max_residual: frames too slow for the hand, on a loaded machine or at a
+// fast hand).
 std::vector<std::string> session_warnings(const Scene& scene, const SessionInputs& in,
-                                          const FrameLog& history) {
+                                          const FrameLog& history, bool path_reaches_tissue) {
   if (history.touched() || history.count() == 0) return {};
+  const std::string& name = scene.obstacles[in.tool].name;
+  if (path_reaches_tissue && history.unconverged() > 0)
+    return {fmt::format(
+        "the tool '{}' reached the tissue, but none of the {} frames handed on a contact force ({} ended "
+        "before "
+        "converging): the hand felt only the tissue at rest. The frames are too slow for this hand (a loaded "
+        "machine, or a hand faster than the model follows): see the frames' residuals in force_history.csv, "
+        "run "
+        "the session in lockstep (haptics.mode = \"lockstep\") or on a less loaded machine",
+        name, history.count(), history.unconverged())};
   return {fmt::format(
       "the tool '{}' never touched the tissue (no contact and zero force in all {} frames): check the "
       "positions of the trajectory (haptics.device.trajectory, m)",
-      scene.obstacles[in.tool].name, history.count())};
+      name, history.count())};
 }
 
 }  // namespace
@@ -277,7 +290,7 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
 
   if (options.keep_ticks) write_session_files(out, options, rig, history);
 
-  for (const std::string& w : session_warnings(scene, in, history)) {
+  for (const std::string& w : session_warnings(scene, in, history, reach.touches())) {
     spdlog::warn("{}", w);
     warnings.push_back(w);
   }

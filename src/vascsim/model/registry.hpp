@@ -39,7 +39,7 @@ struct ModelCapabilities {
   bool quadratic_stabilizer_default = false;
   /// On such a wall its defaults are the configuration docs/validation.md finds within about 2 % of the FEM
   /// references at the default resolutions ("Through-wall Gauss points"): discretization.basis "quadratic",
-  /// wall_reach "thickness", wall_quadrature "gauss" and, with tools, contact.surface "embedded".
+  /// wall_reach "thickness", wall_quadrature "gauss_cell" and, with tools, contact.surface "embedded".
   /// quasi_static only: at the real-time resolutions the linear basis is nearer on the vein, and implicit's
   /// tools meet the nodes.
   bool accurate_wall_default = false;

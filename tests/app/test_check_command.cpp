@@ -220,6 +220,19 @@ TEST(RunWarnings, ASessionWhoseFramesNeverHandOnAContactForceSaysWhy) {
   EXPECT_FALSE(run.out_has("never touched")) << run.out;
 }
 
+// A soak drives the tool with its own wandering device, not the scene's trajectory: nothing may be said of
+// that trajectory (the old session judged it and told a soak of the real-time vein that its tool "will never
+// touch the tissue" and to "check the positions of the trajectory").
+TEST(RunWarnings, ARealtimeSoakDoesNotJudgeATrajectoryItDoesNotFollow) {
+  const fs::path dir = test_dir();
+  const CliResult soak = cli({"soak", test::source_path("scenes/realtime/hand-dorsal-vein-catheter.json"),
+                              "--seconds", "1", "--out", (dir / "soak").string()});
+  EXPECT_EQ(soak.code, 0) << soak.out << soak.err;
+  EXPECT_FALSE(soak.err_has("will never touch")) << soak.err;
+  EXPECT_FALSE(soak.out_has("check the positions of the trajectory")) << soak.out;
+  EXPECT_FALSE(soak.err_has("check the positions of the trajectory")) << soak.err;
+}
+
 TEST(RunWarnings, AToolThatNeverTouchesIsNamedUpFrontAndAtTheEnd) {
   const fs::path dir = test_dir();
   const std::string tiny = test::source_path("tests/data/tiny-catheter.json");

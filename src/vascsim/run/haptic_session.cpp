@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <thread>
 
 #include "vascsim/core/error.hpp"
@@ -198,20 +199,26 @@ void write_session_files(const OutputWriter& out, const HapticRunOptions& option
 // What the finished session found suspicious, one line each: a tool whose frames never handed on a contact
 // force, either because its path never reached the tissue or because no frame in contact got far enough to
 // hand its force on (implicit.handoff_max_residual: frames too slow for the hand, on a loaded machine or at a
-// fast hand).
+// fast hand). `path_reaches_tissue` is unknown (nullopt) for a device of the caller's (a soak's wandering
+// one).
 std::vector<std::string> session_warnings(const Scene& scene, const SessionInputs& in,
-                                          const FrameLog& history, bool path_reaches_tissue) {
+                                          const FrameLog& history, std::optional<bool> path_reaches_tissue) {
   if (history.touched() || history.count() == 0) return {};
   const std::string& name = scene.obstacles[in.tool].name;
-  if (path_reaches_tissue && history.unconverged() > 0)
-    return {fmt::format(
-        "the tool '{}' reached the tissue, but none of the {} frames handed on a contact force ({} ended "
-        "before "
-        "converging): the hand felt only the tissue at rest. The frames are too slow for this hand (a loaded "
-        "machine, or a hand faster than the model follows): see the frames' residuals in force_history.csv, "
-        "run "
-        "the session in lockstep (haptics.mode = \"lockstep\") or on a less loaded machine",
-        name, history.count(), history.unconverged())};
+  const std::string advice =
+      "the hand got no force of the tissue, only the coupling's. The frames are too slow for this hand (a "
+      "loaded machine, or a hand faster than the model follows): see the frames' residuals in "
+      "force_history.csv, run the session in lockstep (haptics.mode = \"lockstep\") or on a less loaded "
+      "machine";
+  if (path_reaches_tissue.value_or(true) && history.unconverged() > 0)
+    return {
+        fmt::format("the tool '{}' {}none of the {} frames handed on a contact force ({} ended before "
+                    "converging): {}",
+                    name, path_reaches_tissue ? "reached the tissue, but " : "was driven by the device, and ",
+                    history.count(), history.unconverged(), advice)};
+  if (!path_reaches_tissue)
+    return {fmt::format("the tool '{}' never touched the tissue (no contact and zero force in all {} frames)",
+                        name, history.count())};
   return {fmt::format(
       "the tool '{}' never touched the tissue (no contact and zero force in all {} frames): check the "
       "positions of the trajectory (haptics.device.trajectory, m)",
@@ -238,13 +245,16 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   HapticRig& rig = setup.rig();
   const std::size_t n_ticks = setup.ticks();
   if (options.after_setup) options.after_setup(sim, setup.frames());
-  const ToolReach reach = tool_reach_on_trajectory(scene.obstacles[in.tool], in.trajectory, in.duration_s,
-                                                   sim.discretization().rest_positions());
+  // Where the scene's trajectory drives the tool (not a device of the caller's, such as a soak's).
+  std::optional<ToolReach> reach;
+  if (options.device == nullptr)
+    reach = tool_reach_on_trajectory(scene.obstacles[in.tool], in.trajectory, in.duration_s,
+                                     sim.discretization().rest_positions());
   // The scene's own warnings lead summary.json's (`vascsim run` logged them with the model's accuracy
   // warnings).
   std::vector<std::string> warnings = scene.warnings;
-  if (!reach.touches()) {
-    warnings.push_back(tool_reach_warning(reach, scene.obstacles[in.tool], in.tool));
+  if (reach && !reach->touches()) {
+    warnings.push_back(tool_reach_warning(*reach, scene.obstacles[in.tool], in.tool));
     spdlog::warn("{}", warnings.back());
   }
   const double setup_s = total.seconds();
@@ -290,7 +300,8 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
 
   if (options.keep_ticks) write_session_files(out, options, rig, history);
 
-  for (const std::string& w : session_warnings(scene, in, history, reach.touches())) {
+  for (const std::string& w :
+       session_warnings(scene, in, history, reach ? std::optional<bool>(reach->touches()) : std::nullopt)) {
     spdlog::warn("{}", w);
     warnings.push_back(w);
   }

@@ -9,9 +9,13 @@
 #include <omp.h>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <nlohmann/json.hpp>
+#include <utility>
+#include <vector>
 
 #include "support/run_helpers.hpp"
+#include "vascsim/core/blas_control.hpp"
 #include "vascsim/experiments/cantilever.hpp"
 #include "vascsim/model/implicit_model.hpp"
 #include "vascsim/run/simulation.hpp"
@@ -223,6 +227,58 @@ TEST(ImplicitModel, AToolInFreeSpaceGoesAtOnceUpToTheTissue) {
               3.0, 1e3 * (z - tip0.z()));
   EXPECT_LT(z - tip0.z(), 0.5e-3 + 1e-9);       // at most one path sample short of the tissue
   EXPECT_GT(z - tip0.z(), -0.15e-3 - bounded);  // and not deeper than one bounded step past first touch
+}
+
+// In a realtime session a tool in contact waits for a wall that has not caught up
+// (implicit.realtime_tool_step): it moves towards the device's pose by at most realtime_tool_step node
+// spacings per frame, and only after a frame that handed its force on. A frame budget of 1 ns stops every
+// frame before its first Newton step, so the frames are deterministic: with the default hand-off bound none
+// hands on, and the tool stays exactly where the first touching frame left it; with a bound the frames meet
+// (handoff_max_residual 1e6) it moves by the bounded step per frame; with realtime_tool_step 0 it is at the
+// device's pose at once (and the nodes it entered are projected through the wall).
+TEST(ImplicitModel, ARealtimeToolWaitsForAWallThatHasNotCaughtUp) {
+  const Vec3 tip0(0.0075, 0.0032, 0.00398);  // just above the block (AToolInFreeSpaceGoesAtOnceUpToTheTissue)
+  const Eigen::Quaterniond q = orientation_pointing(Vec3(1, 0, -0.08));
+  const Vec3 target = tip0 - Vec3(0, 0, 1e-3);
+  const int blas = blas_threads();  // set_realtime gives the BLAS one thread
+  const auto session = [&](double handoff_max_residual, double realtime_tool_step) {
+    json doc = implicit_press_scene("implicit");
+    doc["obstacles"][0]["motion_m"] = {0.0, 0.0, 0.0};
+    doc["implicit"]["time_budget_s"] = 1e-9;
+    doc["implicit"]["handoff_max_residual"] = handoff_max_residual;
+    doc["implicit"]["realtime_tool_step"] = realtime_tool_step;
+    auto sim = std::make_unique<Simulation>(parse_scene(doc, "catheter-block"));
+    auto& model = dynamic_cast<ImplicitModel&>(sim->model());
+    model.set_realtime(true);
+    model.set_tool_pose(0, tip0, q);
+    model.step();
+    std::vector<Vec3> solved;  // the model's tool after each frame with the device 1 mm deep
+    for (int k = 0; k < 6; ++k) {
+      model.set_tool_pose(0, target, q);
+      model.step();
+      solved.push_back(*model.tool_position_solved(0));
+    }
+    return std::make_pair(std::move(sim), solved);
+  };
+  const auto [held_sim, held] = session(1e-2, 0.5);
+  const double step = 0.5 * held_sim->discretization().mean_spacing();
+  EXPECT_LT(held[0].z(), tip0.z());  // the first frame went down to the tissue and touched it
+  for (std::size_t k = 1; k < held.size(); ++k)
+    EXPECT_EQ(held[k], held[0]) << "frame " << k << ": the tool moved on from an unconverged wall";
+  const auto& held_model = dynamic_cast<ImplicitModel&>(held_sim->model());
+  EXPECT_NEAR(held_model.info()["max_tool_lag_m"].get<double>(), (held[0] - target).norm(), 1e-12);
+
+  // (Until a contact pulls: such a frame hands nothing on whatever the bound, and the tool waits again.)
+  const auto [moving_sim, moving] = session(1e6, 0.5);
+  for (std::size_t k = 1; k < moving.size(); ++k)
+    EXPECT_LE((moving[k] - moving[k - 1]).norm(), step * (1 + 1e-12)) << "frame " << k;
+  for (std::size_t k = 1; k < 3; ++k) {
+    EXPECT_NEAR((moving[k] - moving[k - 1]).norm(), step, 1e-12 * step) << "frame " << k;
+    EXPECT_LT(moving[k].z(), moving[k - 1].z()) << "frame " << k;
+  }
+  const auto [at_hand_sim, at_hand] = session(1e-2, 0.0);
+  for (const Vec3& p : at_hand) EXPECT_EQ(p, target);
+  set_blas_threads(blas);
 }
 
 }  // namespace

@@ -44,6 +44,7 @@ ImplicitSettings read_implicit_settings(JsonReader& b) {
   s.refactor_residual = b.number("refactor_residual", d.refactor_residual, 0.0, 1e6);
   s.refactor_travel = b.number("refactor_travel", d.refactor_travel, 0.0, 1e6);
   s.max_tool_step = b.number("max_tool_step", d.max_tool_step, 0.0, 1e6);
+  s.realtime_tool_step = b.number("realtime_tool_step", d.realtime_tool_step, 0.0, 1e6);
   s.contact_substep = b.number("contact_substep", d.contact_substep, 0.0, 1e6);
   s.handoff_surface_residual = b.number("handoff_surface_residual", d.handoff_surface_residual, 1e-14, 1e6);
   s.min_newton_iterations = b.integer("min_newton_iterations", d.min_newton_iterations, 0, 1000);
@@ -119,7 +120,7 @@ ImplicitModel::ImplicitModel(const Problem& problem, const ImplicitSettings& set
   }
   loads_.assign(problem.tools().size(), ObstacleLoad{});
   // The continuation of contact_substep moves the tools itself (ToolPlacement::advance), as bounded steps do.
-  tools_.set_bounded(settings.max_tool_step > 0.0 || (embedded_ && settings.contact_substep > 0.0));
+  tools_.set_bounded(tools_bounded());
   place_tools(0.0);
   handoff_points_ = tools_.points(0.0);
   // Candidates within half a node spacing of a tool: more than a tool moves in a frame at hand speed.
@@ -166,6 +167,7 @@ ImplicitModel::~ImplicitModel() {
 
 void ImplicitModel::set_realtime(bool realtime) {
   realtime_ = realtime;
+  tools_.set_bounded(tools_bounded());
   // One BLAS thread: an OpenBLAS pool spinning on both cores would starve the haptic thread.
   if (realtime) set_blas_threads(1);
 }
@@ -196,11 +198,16 @@ double ImplicitModel::free_travel(std::size_t o) const {
   return reach < d ? reach : std::numeric_limits<double>::infinity();
 }
 
-void ImplicitModel::advance_tools() {
+bool ImplicitModel::tools_bounded() const {
+  return settings_.max_tool_step > 0.0 || (realtime_ && settings_.realtime_tool_step > 0.0) ||
+         (embedded_ && settings_.contact_substep > 0.0);
+}
+
+void ImplicitModel::advance_tools(double step_spacings) {
   // A tool out of contact goes at once as far as its way to the device's pose touches no node (a catheter
   // moving through the lumen at hand speed); from there, or when it is in contact, it moves by at most
-  // max_tool_step node spacings per frame.
-  const double bounded = settings_.max_tool_step * spacing_;
+  // step_spacings node spacings per frame.
+  const double bounded = step_spacings * spacing_;
   for (std::size_t o = 0; o < tools_.size(); ++o) {
     const double step = loads_[o].contacts > 0 ? bounded : free_travel(o) + bounded;
     max_tool_lag_ = std::max(max_tool_lag_, tools_.advance(o, step));
@@ -411,7 +418,10 @@ StepReport ImplicitModel::step() {
   const double s_next = ramped_load_factor(t_next, settings_.ramp_time_s);
   Vec3Array f_ext;
   problem_.external_forces(s_next, f_ext);
-  if (settings_.max_tool_step > 0.0) advance_tools();
+  if (settings_.max_tool_step > 0.0)
+    advance_tools(settings_.max_tool_step);
+  else if (realtime_ && settings_.realtime_tool_step > 0.0)
+    advance_tools(last_handoff_ ? settings_.realtime_tool_step : 0.0);
   prepare_frame(s_next, f_ext);
   const auto deadline = realtime_ && settings_.time_budget_s > 0.0
                             ? SteadyClock::now() + std::chrono::duration_cast<SteadyClock::duration>(
@@ -421,7 +431,12 @@ StepReport ImplicitModel::step() {
   const NewtonResult r =
       newton_.solve(x_, s_next, f_ext, InertiaTerm{1.0 / (h_ * h_), &anchor_}, deadline, tools_moved_);
   split_.solve_s += phase.seconds();
-  for (std::size_t i = 0; i < x_.size(); ++i) v_[i] = (x_[i] - x_old_[i]) / h_;
+  // The velocity of a frame that ended unconverged is partly the solver's correction, not motion: carried
+  // into the next frame's start x + h v it would add that correction again, and frames the budget stops
+  // then drift further from their equilibrium each time (on the real-time vein under a random hand, from a
+  // relative residual of 0.4 at the first contact to 10^2 within a second).
+  for (std::size_t i = 0; i < x_.size(); ++i)
+    v_[i] = r.converged ? Vec3((x_[i] - x_old_[i]) / h_) : Vec3::Zero();
   // The frame's loads are handed on when the frame is near enough its equilibrium, with no contact that pulls
   // (held, such a contact makes the pushing ones carry more: +128 % measured at a residual of 6e-3);
   // otherwise the last one that was keeps serving with its own tool pose (contact reactions far from
@@ -439,6 +454,7 @@ StepReport ImplicitModel::step() {
   } else {
     ++stale_handoffs_;
   }
+  last_handoff_ = handoff;
   t_ = t_next;
   s_ = s_next;
   for (const auto& p : x_)

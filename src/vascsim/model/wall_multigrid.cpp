@@ -50,6 +50,17 @@ WallMultigrid::WallMultigrid(const Problem& problem, const FreeDofs& free, const
                      .matrix();
   if (stab_rows_.rows() > 0)
     for (Index i = 0; i < n; ++i) stab_diag_[static_cast<std::size_t>(i)] = stab_rows_.coeff(i, i);
+  // Node k's through-wall line is k / layers (the lattice numbers the layers fastest).
+  layers_ = disc.cloud().wall_lattice->layers;
+  line_start_.assign(1, 0);
+  line_offset_.assign(1, 0);
+  for (Index first = 0; first < n; first += layers_) {
+    for (Index k = first; k < first + layers_; ++k)
+      if (!problem.constrained()[static_cast<std::size_t>(k)]) line_nodes_.push_back(k);
+    const Index m = static_cast<Index>(line_nodes_.size()) - line_start_.back();
+    line_start_.push_back(static_cast<Index>(line_nodes_.size()));
+    line_offset_.push_back(line_offset_.back() + static_cast<std::size_t>(9 * m * m));
+  }
   prolongation_ = wall_coarse_space(disc, problem.constrained());
   galerkin_ = std::make_unique<GalerkinHessian>(energy, prolongation_, shift_);
   const double along = std::max(1.0, disc.wall_stretch()) * disc.mean_spacing();
@@ -69,20 +80,56 @@ std::unique_ptr<WallMultigrid::Level> WallMultigrid::build_level(const Vec3Array
   auto level = reuse ? std::move(reuse) : std::make_unique<Level>();
   const Discretization& disc = problem_.discretization();
   energy_tangents(problem_.energy(), x, true, level->tangents);
-  // Diagonal blocks: node k's block gathers every energy i whose stencil holds k (itself and the transposed
-  // row).
-  const PairTable& T = disc.transposed();
-  level->jacobi_inverse.resize(free_.nodes.size());
-  for (std::size_t a = 0; a < free_.nodes.size(); ++a) {
-    const Index k = free_.nodes[a];
-    Mat3 D =
-        tangent_block(level->tangents[static_cast<std::size_t>(k)],
-                      disc.self_d()[static_cast<std::size_t>(k)], disc.self_d()[static_cast<std::size_t>(k)]);
-    for (Index e = T.row_start[k]; e < T.row_start[k + 1]; ++e)
-      D += tangent_block(level->tangents[static_cast<std::size_t>(T.col[static_cast<std::size_t>(e)])],
-                         T.d[static_cast<std::size_t>(e)], T.d[static_cast<std::size_t>(e)]);
-    D.diagonal().array() += stab_diag_[static_cast<std::size_t>(k)] + shift_[static_cast<std::size_t>(k)];
-    level->jacobi_inverse[a] = D.inverse();
+  // The lines' blocks: energy i couples every two members of its stencil (itself and its neighbours) by
+  // tangent_block(C_i, d_a, d_b); a line's block gathers the couplings of its own nodes.
+  const PairTable& P = disc.pairs();
+  const std::size_t lines = line_start_.size() - 1;
+  std::vector<Index> slot(static_cast<std::size_t>(disc.num_nodes()),
+                          -1);  // place in its line, -1: prescribed
+  for (std::size_t l = 0; l < lines; ++l)
+    for (Index a = line_start_[l]; a < line_start_[l + 1]; ++a)
+      slot[static_cast<std::size_t>(line_nodes_[static_cast<std::size_t>(a)])] = a - line_start_[l];
+  std::vector<double>& blocks = level->line_inverse;
+  blocks.assign(line_offset_.back(), 0.0);
+  const auto line_block = [&](Index k) {
+    const std::size_t l = static_cast<std::size_t>(k / layers_);
+    const Eigen::Index m = 3 * (line_start_[l + 1] - line_start_[l]);
+    return Eigen::Map<Eigen::MatrixXd>(blocks.data() + line_offset_[l], m, m);
+  };
+  std::vector<std::pair<Index, Vec3>> members;
+  for (Index i = 0; i < disc.num_nodes(); ++i) {
+    members.clear();
+    members.push_back({i, disc.self_d()[static_cast<std::size_t>(i)]});
+    for (Index e = P.row_start[i]; e < P.row_start[i + 1]; ++e)
+      members.push_back({P.col[static_cast<std::size_t>(e)], P.d[static_cast<std::size_t>(e)]});
+    const Mat9& C = level->tangents[static_cast<std::size_t>(i)];
+    for (const auto& [a, da] : members) {
+      const Index sa = slot[static_cast<std::size_t>(a)];
+      if (sa < 0) continue;
+      auto B = line_block(a);
+      for (const auto& [b, db] : members)
+        if (const Index sb = slot[static_cast<std::size_t>(b)]; sb >= 0 && b / layers_ == a / layers_)
+          B.block<3, 3>(3 * sa, 3 * sb) += tangent_block(C, da, db);
+    }
+  }
+  for (Index k : line_nodes_) {
+    auto B = line_block(k);
+    const Index a = slot[static_cast<std::size_t>(k)];
+    B.block<3, 3>(3 * a, 3 * a).diagonal().array() += shift_[static_cast<std::size_t>(k)];
+    if (stab_rows_.rows() == 0) continue;
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor, int>::InnerIterator it(stab_rows_, k); it; ++it)
+      if (const Index b = slot[static_cast<std::size_t>(it.col())];
+          b >= 0 && it.col() / layers_ == k / layers_)
+        B.block<3, 3>(3 * a, 3 * b).diagonal().array() += it.value();
+  }
+  for (std::size_t l = 0; l < lines; ++l) {
+    const Eigen::Index m = 3 * (line_start_[l + 1] - line_start_[l]);
+    if (m == 0) continue;
+    Eigen::Map<Eigen::MatrixXd> B(blocks.data() + line_offset_[l], m, m);
+    const Eigen::LLT<Eigen::MatrixXd> llt(B);
+    if (llt.info() != Eigen::Success)
+      throw NumericalError("wall multigrid: a through-wall line's block is not positive definite");
+    B = llt.solve(Eigen::MatrixXd::Identity(m, m));
   }
   galerkin_->assemble(level->tangents, level->coarse_matrix);
   if (!level->coarse.analysed()) level->coarse.analyse(level->coarse_matrix);
@@ -113,13 +160,20 @@ void WallMultigrid::prepare_window(const Vec3Array& x) {
   window_.clear();
   window_contacts_.clear();
   if (!contacts_.empty() || embedded_ != nullptr) {
-    for (Index k : free_.nodes) {
-      bool near = contacts_.in_contact(k);
-      for (std::size_t o = 0; !near && o < problem_.tools().size(); ++o)
-        near = obstacle_contact(embedded_ ? embedded_->geometry(o) : contacts_.geometry(o),
-                                x[static_cast<std::size_t>(k)])
-                   .value < window_m_;
-      if (near) {
+    // Whole through-wall lines, so that the smoothing outside never splits one.
+    for (std::size_t l = 0; l + 1 < line_start_.size(); ++l) {
+      bool near = false;
+      for (Index a = line_start_[l]; !near && a < line_start_[l + 1]; ++a) {
+        const Index k = line_nodes_[static_cast<std::size_t>(a)];
+        near = contacts_.in_contact(k);
+        for (std::size_t o = 0; !near && o < problem_.tools().size(); ++o)
+          near = obstacle_contact(embedded_ ? embedded_->geometry(o) : contacts_.geometry(o),
+                                  x[static_cast<std::size_t>(k)])
+                     .value < window_m_;
+      }
+      if (!near) continue;
+      for (Index a = line_start_[l]; a < line_start_[l + 1]; ++a) {
+        const Index k = line_nodes_[static_cast<std::size_t>(a)];
         window_slot_[static_cast<std::size_t>(k)] = static_cast<Index>(window_.size());
         window_.push_back(k);
       }
@@ -210,10 +264,31 @@ void WallMultigrid::update_window_contacts() const {
 void WallMultigrid::smooth(const Vec3Array& b, Vec3Array& z, bool constrained) const {
   z.assign(b.size(), Vec3::Zero());
   const double w = options_.jacobi_damping;
-  for (std::size_t a = 0; a < free_.nodes.size(); ++a) {
-    const Index k = free_.nodes[a];
-    if (window_slot_[static_cast<std::size_t>(k)] < 0)
-      z[static_cast<std::size_t>(k)] = w * (level_->jacobi_inverse[a] * b[static_cast<std::size_t>(k)]);
+  // Line Jacobi outside the window (prepare_window takes whole lines): the wall is stiffer through its
+  // thickness than along it, so a node's block alone leaves the through-wall error to the coarse level.
+  std::vector<double> bl;
+  for (std::size_t l = 0; l + 1 < line_start_.size(); ++l) {
+    const Index first = line_start_[l], nodes = line_start_[l + 1] - first;
+    if (nodes == 0 ||
+        window_slot_[static_cast<std::size_t>(line_nodes_[static_cast<std::size_t>(first)])] >= 0)
+      continue;
+    const std::size_t m = static_cast<std::size_t>(3 * nodes);
+    bl.resize(m);
+    for (Index a = 0; a < nodes; ++a) {
+      const Vec3& v = b[static_cast<std::size_t>(line_nodes_[static_cast<std::size_t>(first + a)])];
+      for (int c = 0; c < 3; ++c) bl[3 * static_cast<std::size_t>(a) + static_cast<std::size_t>(c)] = v[c];
+    }
+    // z = w A^{-1} b on the line (column-major, a few dozen entries: plain loops beat Eigen's dynamic ones).
+    const double* inv = level_->line_inverse.data() + line_offset_[l];
+    for (Index a = 0; a < nodes; ++a) {
+      Vec3& out = z[static_cast<std::size_t>(line_nodes_[static_cast<std::size_t>(first + a)])];
+      for (int c = 0; c < 3; ++c) {
+        const std::size_t row = 3 * static_cast<std::size_t>(a) + static_cast<std::size_t>(c);
+        double sum = 0.0;
+        for (std::size_t j = 0; j < m; ++j) sum += inv[j * m + row] * bl[j];
+        out[c] = w * sum;
+      }
+    }
   }
   if (window_.empty()) return;
   const Eigen::Index m = static_cast<Eigen::Index>(window_.size());

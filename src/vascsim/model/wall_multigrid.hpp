@@ -12,11 +12,14 @@
 //   response (bending and ovalisation over the whole vessel), which changes slowly: refreshed in the
 //   background;
 // - an exact window round the tools: the nodes within a couple of node spacings of a tool's surface, where
-// the
-//   contact and the strain change from frame to frame, solved with a dense Cholesky factor of H's block there
-//   built at every frame's start, with the contacts' normal constraints (a Woodbury correction on that
-//   factor);
-// - damped 3 x 3 block Jacobi on the other nodes, with the diagonal blocks of the last refresh.
+//   the contact and the strain change from frame to frame, solved with a dense Cholesky factor of H's block
+//   there built at every frame's start, with the contacts' normal constraints (a Woodbury correction on
+//   that factor);
+// - damped line Jacobi on the other nodes: one block per through-wall line (a lattice column's layers at one
+//   cross-section), with the blocks of the last refresh. The wall is stiffer across its thickness than along
+//   it, and a node's own 3 x 3 block left that coupling to the coarse level: the lines took 20 % fewer CG
+//   iterations on the real-time vein under a random hand (2,817 against 3,513 in 301 lockstep frames).
+//   The window takes whole lines, so none is split.
 // Applied as one symmetric V-cycle, smooth - coarse - smooth, with the solver's own Newton matrix for the two
 // residuals (set_operator), so conjugate gradients stay exact whatever the refresh state: on the 0.3 mm vein
 // pressed at 5 mm/s, 4-6 iterations per Newton step with every part fresh, 5-8 with the coarse level 0.1-0.2
@@ -41,7 +44,7 @@ struct WallMultigridOptions {
   double inv_h2 = 0.0;  ///< the inertia shift M/h^2 (1/s^2); 0 for a static solve
   double window_spacings =
       2.0;                      ///< the window's reach from a tool's surface, in node spacings along the wall
-  double jacobi_damping = 0.5;  ///< weight of the block-Jacobi smoothing outside the window
+  double jacobi_damping = 0.5;  ///< weight of the line-Jacobi smoothing outside the window
 };
 
 class WallMultigrid final : public EquilibriumPreconditioner {
@@ -58,7 +61,9 @@ class WallMultigrid final : public EquilibriumPreconditioner {
   class Level {
    public:
     Level();
-    std::vector<Mat3> jacobi_inverse;  ///< per free node (FreeDofs order): its diagonal block's inverse
+    /// Per through-wall line (wall_lines): the inverse of H's block on the line's free nodes, 3L x 3L for L
+    /// free nodes, stored column-major one after the other (line_offset).
+    std::vector<double> line_inverse;
     Eigen::SparseMatrix<double> coarse_matrix;  ///< A_c, N/m
     SparseCholesky coarse;                      ///< its factor (float solves)
     Mat9Array tangents;                         ///< every node's tangent at the level's configuration
@@ -94,7 +99,7 @@ class WallMultigrid final : public EquilibriumPreconditioner {
   void set_embedded_contact(const EmbeddedContact* contact) { embedded_ = contact; }
 
  private:
-  void smooth(const Vec3Array& b, Vec3Array& z, bool constrained) const;  // window solve + block Jacobi
+  void smooth(const Vec3Array& b, Vec3Array& z, bool constrained) const;  // window solve + line Jacobi
   void coarse_correction(const Vec3Array& b, Vec3Array& z, bool constrained) const;  // z += P A_c^{-1} P^T b
   void update_coarse_contacts() const;  // the coarse level's contact constraints, G = N P
   void update_window_contacts() const;  // the Woodbury factors of the contacts
@@ -107,6 +112,11 @@ class WallMultigrid final : public EquilibriumPreconditioner {
   std::vector<double> shift_;                                    // per node m_i / h^2, N/m
   std::vector<double> stab_diag_;                                // per node the stabiliser's diagonal, N/m
   Eigen::SparseMatrix<double, Eigen::RowMajor, int> stab_rows_;  // the stabiliser's (scalar) Hessian, N/m
+  // The wall's through-wall lines (a lattice column at one cross-section: its layers): their free nodes,
+  // line by line (line_start), and where each line's inverse starts in Level::line_inverse.
+  int layers_ = 1;
+  std::vector<Index> line_start_, line_nodes_;
+  std::vector<std::size_t> line_offset_;
   NodalProlongation prolongation_;
   std::unique_ptr<GalerkinHessian> galerkin_;
   std::unique_ptr<Level> level_;

@@ -39,8 +39,11 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 
 # The solver variants a run compares, each a list of scene overrides on the scene as bundled: "multigrid" is the
 # scene as bundled with the implicit model's defaults (the tools meet the wall's nodes, an active set; the wall
-# multigrid with float products; the tool at the device pose every frame; a 30 ms frame budget; frames above a
-# residual of 1e-2, or with a contact that pulls, hand on the last equilibrium's force); "multigrid-embedded" the
+# multigrid with float products; a 30 ms frame budget; frames above a residual of 1e-2, or with a contact that
+# pulls, hand on the last equilibrium's force, and the tool in contact moves towards the device by at most half a
+# node spacing per frame and only after a frame that handed on); "multigrid-at-hand" the same with the tool at the
+# device pose every frame (implicit.realtime_tool_step 0, which tears the wall under a fast random hand:
+# docs/reliability.md); "multigrid-embedded" the
 # same with the tools on the wall's surface (contact.surface "embedded": a carried first step per frame, at most
 # three per frame, frames handing on below a residual of 0.05); "multigrid-unbudgeted" the default with frames
 # that take the time they need; "multigrid-bounded" the multigrid with the factor's frame logic (below); "factor" is
@@ -48,6 +51,7 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 # in steps of 0.25 node spacings, no frame budget, every frame's force handed on).
 VARIANTS = {
     "multigrid": [],
+    "multigrid-at-hand": ["implicit.realtime_tool_step=0"],
     "multigrid-embedded": ["contact.surface=embedded"],
     "multigrid-unbudgeted": ["implicit.time_budget_s=0"],
     "multigrid-bounded": ["implicit.max_tool_step=0.25", "implicit.time_budget_s=0",
@@ -310,7 +314,7 @@ def main():
     ap.add_argument("--out", default="out/realtime-benchmark")
     ap.add_argument("--reference", help="a reference.csv of an earlier run (l_m, force_n) instead of computing it")
     ap.add_argument("--reference-step", type=float, default=0.1e-3, help="path between reference poses, m")
-    ap.add_argument("--variants", default="multigrid,multigrid-embedded,factor",
+    ap.add_argument("--variants", default="multigrid,multigrid-at-hand,multigrid-embedded,factor",
                     help="solver variants to compare, comma-separated: " + ", ".join(VARIANTS))
     ap.add_argument("--set", action="append", default=[], help="a scene override for the sessions (repeatable)")
     ap.add_argument("--publish", action="store_true",

@@ -31,7 +31,8 @@ END = "<!-- realtime-table: end -->"
 
 # The variants of realtime_benchmark.py as a reader knows them.
 LABELS = {
-    "multigrid": "default (wall multigrid, tools at the nodes, tool at the hand)",
+    "multigrid": "default (wall multigrid, tools at the nodes, the tool waits for an unconverged wall)",
+    "multigrid-at-hand": "the tool at the hand every frame (`--set implicit.realtime_tool_step=0`)",
     "multigrid-embedded": "tools on the wall's surface (`--set contact.surface=embedded`)",
     "multigrid-unbudgeted": "wall multigrid without a frame budget",
     "multigrid-bounded": "wall multigrid, tool in bounded steps",

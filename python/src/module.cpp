@@ -72,7 +72,8 @@ void bind_library(py::module_& m) {
   m.def(
       "set_threads",
       [](int n) {
-        if (n < 1 || n > 1024) throw InputError("set_threads: " + std::to_string(n) + " is outside 1..1024");
+        // The bound of `vascsim -j` (app/command.hpp, kMaxThreads): beyond it OpenMP may end the process.
+        if (n < 1 || n > 256) throw InputError("set_threads: " + std::to_string(n) + " is outside 1..256");
         omp_set_num_threads(n);
       },
       py::arg("threads"), "OpenMP threads for the following work (as `vascsim -j`).");

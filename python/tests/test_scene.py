@@ -77,3 +77,14 @@ def test_the_version_is_the_projects_and_the_clis():
     info = vascsim.build_info()
     assert info["version"] == vascsim.__version__
     assert f"bundled files: {info['bundled_files']}" in out.splitlines()
+
+
+def test_set_threads_has_the_bound_of_the_command_line():
+    # The bound of `vascsim -j` (1..256): beyond it OpenMP may end the process when it cannot start a team.
+    before = vascsim.threads()
+    for bad in (0, 257, 1024):
+        with pytest.raises(vascsim.InputError, match="outside 1..256"):
+            vascsim.set_threads(bad)
+    vascsim.set_threads(1)
+    assert vascsim.threads() == 1
+    vascsim.set_threads(before)

@@ -9,6 +9,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -50,6 +51,33 @@ TEST(CliThreads, AboveTheBoundIsOneLineNamingTheRangeAndExitCode2) {
         << r.messages[0];
     EXPECT_EQ(r.messages[0].find("no-such-scene"), std::string::npos) << r.messages[0];
   }
+}
+
+// The same bound for OMP_NUM_THREADS (its first count: OpenMP's is a list per nesting level) and for bench's
+// --threads, which reached OpenMP unbounded.
+TEST(CliThreads, OmpNumThreadsAndBenchThreadsHaveTheSameBound) {
+  const char* before = std::getenv("OMP_NUM_THREADS");
+  const std::string saved = before ? before : "";
+  for (const std::string value : {"1024", "300,2"}) {
+    SCOPED_TRACE(value);
+    setenv("OMP_NUM_THREADS", value.c_str(), 1);
+    const CliCapture r = run_cli_captured({"check", "no-such-scene.json"});
+    EXPECT_EQ(r.code, 2) << r.err;
+    ASSERT_EQ(r.messages.size(), 1u) << r.err;
+    EXPECT_NE(r.messages[0].find("OMP_NUM_THREADS=" + value + ": at most 256 threads"), std::string::npos)
+        << r.messages[0];
+  }
+  setenv("OMP_NUM_THREADS", "2", 1);
+  const CliCapture ok = run_cli_captured({"check", "no-such-scene.json"});
+  EXPECT_NE(ok.err.find("no-such-scene"), std::string::npos) << ok.err;  // accepted: the scene's own error
+  if (before)
+    setenv("OMP_NUM_THREADS", saved.c_str(), 1);
+  else
+    unsetenv("OMP_NUM_THREADS");
+  const CliCapture bench = run_cli_captured({"bench", "--threads", "1,1024"});
+  EXPECT_EQ(bench.code, 2) << bench.err;
+  ASSERT_EQ(bench.messages.size(), 1u) << bench.err;
+  EXPECT_NE(bench.messages[0].find("1024 not in range 1 to 256"), std::string::npos) << bench.messages[0];
 }
 
 TEST(CliThreads, ZeroOrNegativeIsOneLineNamingTheRangeAndExitCode2) {
@@ -126,7 +154,7 @@ TEST(CliThreads, ThreadsThatCannotStartAreOneLineAndExitCode2) {
   ASSERT_EQ(r.messages.size(), 1u) << r.err;
   EXPECT_EQ(r.messages[0].rfind("vascsim: error: -j 256: only ", 0), 0u) << r.messages[0];
   EXPECT_NE(r.messages[0].find("threads could be started"), std::string::npos) << r.messages[0];
-  EXPECT_NE(r.messages[0].find("choose a smaller -j"), std::string::npos) << r.messages[0];
+  EXPECT_NE(r.messages[0].find("choose fewer threads"), std::string::npos) << r.messages[0];
 #endif
 }
 

@@ -51,6 +51,19 @@ TEST(FailureClasses, SceneNestedTwoHundredThousandLevelsIsAnInputError) {
                      {box, "material.youngs_modulus_pa", "expected a number"});
 }
 
+// Regions that hold every node leave nothing to solve: the run used to exit 3 ("sparse Cholesky: analysis of
+// a 0 x 0 matrix failed"), for every model.
+TEST(FailureClasses, RegionsThatHoldEveryNodeAreAnInputError) {
+  const fs::path dir = fresh_test_dir();
+  const json all = json::parse(R"([{ "name": "all", "select": { "type": "box", "max_m": [1, 1, 1] },
+                                     "bc": { "type": "fixed" } }])");
+  const std::string box = box_scene(dir, {{"regions", all}});
+  for (const std::string model : {"quasi_static", "implicit", "xpbd"})
+    expect_input_error(
+        run_cli_captured({"run", box, "--set", "model=" + model, "--out", (dir / model).string()}),
+        {box, "'regions'", "hold all 125 nodes", "('all')"});
+}
+
 TEST(FailureClasses, VtkFrameThatCannotBeWrittenIsAnInputErrorNotAnAbort) {
   const fs::path dir = fresh_test_dir(), out = dir / "out";
   const std::string box = box_scene(dir, {{"output", {{"vtk", true}}}});

@@ -62,8 +62,11 @@ void add_bench_command(CLI::App& app, CliContext& ctx, std::vector<Command>& com
       ->delimiter(',')
       ->capture_default_str();
   flags->threads =
-      bench_app->add_option("--threads", o.threads, "OpenMP thread counts (default 1,2; or -j N)")
-          ->delimiter(',');
+      bench_app
+          ->add_option("--threads", o.threads,
+                       fmt::format("OpenMP thread counts, each 1 to {} (default 1,2; or -j N)", kMaxThreads))
+          ->delimiter(',')
+          ->check(CLI::Range(1, kMaxThreads));
   bench_app->add_option("--steps", o.steps, "Timed 1 ms steps per configuration")->capture_default_str();
   bench_app->add_option("--warmup", o.warmup_steps, "Untimed steps before them")->capture_default_str();
   bench_app->add_option("--set", o.overrides, "Override a scene key: path.to.key=value (repeatable)");

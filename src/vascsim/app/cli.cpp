@@ -44,18 +44,11 @@ void fall_through(CLI::App& app) {
   }
 }
 
-// The largest -j. Beyond the cores, threads only wait for one another (docs/performance.md, section 6), and
-// 256 is as many as the largest common machines have hardware threads (a two-socket server of 2 x 64 cores
-// with SMT); a fixed bound rather than a multiple of this machine's cores, so that a command line valid on
-// one machine is valid on another. It also keeps an absurd -j (1024, 100000) away from OpenMP, which ends the
-// process when it cannot create a team's threads (below).
-constexpr int kMaxThreads = 256;
-
 // libgomp ends the process (exit code 1, "libgomp: Thread creation failed") when it cannot create a thread of
 // a team, at the first parallel region. So the threads -j asks for are started here first, all alive at once
 // as OpenMP's team would be, and ended again: a limit on processes (ulimit -u) or on the address space for
 // their stacks (ulimit -v) is then one line and exit code 2, before any work.
-void check_threads_can_start(int threads) {
+void check_threads_can_start(int threads, const std::string& source) {
   std::latch release(1);
   std::vector<std::thread> started;
   std::string failure;
@@ -70,20 +63,29 @@ void check_threads_can_start(int threads) {
   for (std::thread& t : started) t.join();
   if (!failure.empty())
     throw InputError(
-        fmt::format("-j {}: only {} threads could be started ({}): a limit on processes (ulimit -u) or "
-                    "on memory (ulimit -v) allows fewer; choose a smaller -j",
-                    threads, started.size() + 1, failure));
+        fmt::format("{}: only {} threads could be started ({}): a limit on processes (ulimit -u) or "
+                    "on memory (ulimit -v) allows fewer; choose fewer threads",
+                    source, started.size() + 1, failure));
 }
 
 // -j, else OMP_NUM_THREADS (read by OpenMP itself), else the cores other work leaves idle
 // (thread_default.hpp).
 void apply_thread_count(int requested) {
   if (requested > 0) {
-    if (requested > 1) check_threads_can_start(requested);
+    if (requested > 1) check_threads_can_start(requested, fmt::format("-j {}", requested));
     omp_set_num_threads(requested);
     return;
   }
-  if (std::getenv("OMP_NUM_THREADS") != nullptr) return;
+  if (const char* env = std::getenv("OMP_NUM_THREADS")) {
+    // OpenMP reads it itself (a list of counts per nesting level: the first one is ours).
+    char* end = nullptr;
+    const long first = std::strtol(env, &end, 10);
+    if (end != env && first > kMaxThreads)
+      throw InputError(fmt::format("OMP_NUM_THREADS={}: at most {} threads (or -j N)", env, kMaxThreads));
+    if (end != env && first > 1)
+      check_threads_can_start(static_cast<int>(first), fmt::format("OMP_NUM_THREADS={}", env));
+    return;
+  }
   const int cores = omp_get_num_procs();
   const double load = load_average_1min();
   const int others = other_runnable_processes();

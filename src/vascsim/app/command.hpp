@@ -15,6 +15,14 @@ namespace vascsim {
 /// written, but those steps are not equilibria (docs/architecture.md, "Errors and exit codes").
 constexpr int kExitUnconverged = 4;
 
+// The largest thread count (-j, OMP_NUM_THREADS, bench --threads). Beyond the cores, threads only wait for
+// one another (docs/performance.md, section 6), and 256 is as many as the largest common machines have
+// hardware threads (a two-socket server of 2 x 64 cores with SMT); a fixed bound rather than a multiple of
+// this machine's cores, so that a command line valid on one machine is valid on another. It also keeps an
+// absurd count (1024, 100000) away from OpenMP, which ends the process when it cannot create a team's threads
+// (cli.cpp).
+constexpr int kMaxThreads = 256;
+
 /// What every command shares: the output streams and the global options (-q, -v, -j).
 struct CliContext {
   std::ostream& out;

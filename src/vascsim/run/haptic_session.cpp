@@ -216,13 +216,11 @@ std::vector<std::string> session_warnings(const Scene& scene, const SessionInput
                     "converging): {}",
                     name, path_reaches_tissue ? "reached the tissue, but " : "was driven by the device, and ",
                     history.count(), history.unconverged(), advice)};
-  if (!path_reaches_tissue)
-    return {fmt::format("the tool '{}' never touched the tissue (no contact and zero force in all {} frames)",
-                        name, history.count())};
+  // A trajectory of the scene's own can be checked; a device of the caller's cannot.
   return {fmt::format(
-      "the tool '{}' never touched the tissue (no contact and zero force in all {} frames): check the "
-      "positions of the trajectory (haptics.device.trajectory, m)",
-      name, history.count())};
+      "the tool '{}' never touched the tissue (no contact and zero force in all {} frames){}", name,
+      history.count(),
+      path_reaches_tissue ? ": check the positions of the trajectory (haptics.device.trajectory, m)" : "")};
 }
 
 }  // namespace

@@ -74,6 +74,16 @@ void Simulation::build(const BuildChecks& checks) {
           "tool may slip between nodes; set node_radius_m to about half the spacing (docs/haptics.md)",
           o.name, o.radius_m, o.node_radius_m, 2.0 * disc_->mean_spacing());
   check_motion_sizes();
+  if (problem_->num_constrained() == disc_->num_nodes()) {
+    std::string held;
+    for (const Region& r : problem_->regions())
+      if (r.bc == RegionBcType::Fixed || r.bc == RegionBcType::Displacement)
+        held += fmt::format("{}'{}'", held.empty() ? "" : ", ", r.name);
+    throw InputError(fmt::format(
+        "key 'regions': the fixed and displacement regions ({}) hold all {} nodes, so nothing is left to "
+        "deform; narrow their 'select' to the supports",
+        held, disc_->num_nodes()));
+  }
   model_ = make_model(scene.model, *problem_, scene.own_model_settings());
   setup_s_ = seconds_since(t0);
 }

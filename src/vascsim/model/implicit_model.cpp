@@ -199,7 +199,7 @@ double ImplicitModel::free_travel(std::size_t o) const {
 }
 
 bool ImplicitModel::tools_bounded() const {
-  return settings_.max_tool_step > 0.0 || (realtime_ && settings_.realtime_tool_step > 0.0) ||
+  return settings_.max_tool_step > 0.0 || (realtime_ && !embedded_ && settings_.realtime_tool_step > 0.0) ||
          (embedded_ && settings_.contact_substep > 0.0);
 }
 
@@ -420,7 +420,7 @@ StepReport ImplicitModel::step() {
   problem_.external_forces(s_next, f_ext);
   if (settings_.max_tool_step > 0.0)
     advance_tools(settings_.max_tool_step);
-  else if (realtime_ && settings_.realtime_tool_step > 0.0)
+  else if (realtime_ && !embedded_ && settings_.realtime_tool_step > 0.0)
     advance_tools(last_handoff_ ? settings_.realtime_tool_step : 0.0);
   prepare_frame(s_next, f_ext);
   const auto deadline = realtime_ && settings_.time_budget_s > 0.0

@@ -89,14 +89,15 @@ struct ImplicitSettings {
   /// next). With a bound, a frame never starts from a tool that jumped deep into the wall, but under a fast
   /// hand or a slow frame the model's tool trails the device.
   double max_tool_step = 0.0;
-  /// In a realtime session (with max_tool_step 0): a tool in contact moves towards the device's pose by at
-  /// most this many node spacings per frame, and only after a frame that handed its force on (its wall near
-  /// its equilibrium); after one that did not, it waits for the wall. A tool placed at the device's pose
-  /// every frame (0) runs ahead of a wall whose frames stop at the budget unconverged, and the nodes it then
-  /// enters are projected through the wall: in 10 s soaks of the real-time vein (`vascsim soak`, seed 1)
-  /// the wall inverted at the first contacts and no frame handed on a force; with 0.5 none inverted and the
-  /// tissue's force reached the hand. The price is the tool's lag behind a hand faster than the frames
-  /// (reported: max_tool_lag_m, the HUD).
+  /// In a realtime session, with the tools at the nodes (contact.surface "nodes"; the surface's tools reach
+  /// the device's pose by contact_substep's steps) and max_tool_step 0: a tool in contact moves towards the
+  /// device's pose by at most this many node spacings per frame, and only after a frame that handed its force
+  /// on (its wall near its equilibrium); after one that did not, it waits for the wall. A tool placed at the
+  /// device's pose every frame (0) runs ahead of a wall whose frames stop at the budget unconverged, and the
+  /// nodes it then enters are projected through the wall: in 10 s soaks of the real-time vein (`vascsim
+  /// soak`, seed 1) the wall inverted at the first contacts and no frame handed on a force; with 0.5 none
+  /// inverted and the tissue's force reached the hand. The price is the tool's lag behind a hand faster than
+  /// the frames (reported: max_tool_lag_m, the HUD).
   double realtime_tool_step = 0.5;
 };
 

@@ -54,9 +54,13 @@ WallMultigrid::WallMultigrid(const Problem& problem, const FreeDofs& free, const
   layers_ = disc.cloud().wall_lattice->layers;
   line_start_.assign(1, 0);
   line_offset_.assign(1, 0);
+  line_slot_.assign(static_cast<std::size_t>(n), -1);
   for (Index first = 0; first < n; first += layers_) {
     for (Index k = first; k < first + layers_; ++k)
-      if (!problem.constrained()[static_cast<std::size_t>(k)]) line_nodes_.push_back(k);
+      if (!problem.constrained()[static_cast<std::size_t>(k)]) {
+        line_slot_[static_cast<std::size_t>(k)] = static_cast<Index>(line_nodes_.size()) - line_start_.back();
+        line_nodes_.push_back(k);
+      }
     const Index m = static_cast<Index>(line_nodes_.size()) - line_start_.back();
     line_start_.push_back(static_cast<Index>(line_nodes_.size()));
     line_offset_.push_back(line_offset_.back() + static_cast<std::size_t>(9 * m * m));
@@ -84,11 +88,7 @@ std::unique_ptr<WallMultigrid::Level> WallMultigrid::build_level(const Vec3Array
   // tangent_block(C_i, d_a, d_b); a line's block gathers the couplings of its own nodes.
   const PairTable& P = disc.pairs();
   const std::size_t lines = line_start_.size() - 1;
-  std::vector<Index> slot(static_cast<std::size_t>(disc.num_nodes()),
-                          -1);  // place in its line, -1: prescribed
-  for (std::size_t l = 0; l < lines; ++l)
-    for (Index a = line_start_[l]; a < line_start_[l + 1]; ++a)
-      slot[static_cast<std::size_t>(line_nodes_[static_cast<std::size_t>(a)])] = a - line_start_[l];
+  const std::vector<Index>& slot = line_slot_;
   std::vector<double>& blocks = level->line_inverse;
   blocks.assign(line_offset_.back(), 0.0);
   const auto line_block = [&](Index k) {

@@ -116,6 +116,7 @@ class WallMultigrid final : public EquilibriumPreconditioner {
   // line by line (line_start), and where each line's inverse starts in Level::line_inverse.
   int layers_ = 1;
   std::vector<Index> line_start_, line_nodes_;
+  std::vector<Index> line_slot_;  // per node its place in its line, -1 for a prescribed node
   std::vector<std::size_t> line_offset_;
   NodalProlongation prolongation_;
   std::unique_ptr<GalerkinHessian> galerkin_;

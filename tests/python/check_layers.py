@@ -33,8 +33,8 @@ DEFAULT_ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 # docs/architecture.md, section 1: the layers bottom to top; the layers of one entry are siblings.
 LEVELS = [
     ("core",),
-    ("geometry", "constraints", "mapping", "interaction", "rod"),
-    ("io",),
+    ("geometry", "constraints", "mapping", "interaction"),
+    ("io", "rod"),
     ("model",),
     ("scene",),
     ("run",),

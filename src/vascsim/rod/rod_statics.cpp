@@ -35,15 +35,20 @@ struct FreeSet {
   }
 };
 
-double potential(const CosseratRod& rod, const Vec3Array& f) {
+using Potentials = std::vector<const RodPotential*>;
+
+double potential(const CosseratRod& rod, const Vec3Array& f, const Potentials& extra) {
   double p = rod.energy();
+  for (const RodPotential* e : extra) p += e->energy(rod);
   for (std::size_t i = 0; i < f.size(); ++i) p -= f[i].dot(rod.positions()[i]);
   return p;
 }
 
 // The gradient of Pi (forces subtracted) in force units: the rotational components divided by the length.
-Eigen::VectorXd scaled_gradient(const CosseratRod& rod, const Vec3Array& f, double length) {
+Eigen::VectorXd scaled_gradient(const CosseratRod& rod, const Vec3Array& f, double length,
+                                const Potentials& extra) {
   Eigen::VectorXd g = rod.gradient();
+  for (const RodPotential* e : extra) e->add_gradient(rod, g);
   for (std::size_t i = 0; i < f.size(); ++i)
     g.segment<3>(CosseratRod::position_dof(static_cast<Index>(i))) -= f[i];
   g.tail(3 * rod.num_edges()) /= length;
@@ -63,10 +68,20 @@ double roundoff_n(const CosseratRod& rod) {
          lmin;
 }
 
+Eigen::SparseMatrix<double> full_hessian(const CosseratRod& rod, const Potentials& extra) {
+  Eigen::SparseMatrix<double> H = rod.hessian();
+  if (extra.empty()) return H;
+  std::vector<Eigen::Triplet<double>> t;
+  for (const RodPotential* e : extra) e->add_hessian(rod, t);
+  Eigen::SparseMatrix<double> C(H.rows(), H.cols());
+  C.setFromTriplets(t.begin(), t.end());
+  return H + C;
+}
+
 }  // namespace
 
 RodStaticsReport solve_rod_statics(CosseratRod& rod, const std::vector<char>& held, const Vec3Array& forces,
-                                   const RodStaticsOptions& options) {
+                                   const RodStaticsOptions& options, const Potentials& potentials) {
   if (held.size() != static_cast<std::size_t>(rod.num_dofs()))
     throw std::invalid_argument("solve_rod_statics: one 'held' flag per generalised coordinate");
   if (!forces.empty() && forces.size() != static_cast<std::size_t>(rod.num_nodes()))
@@ -85,7 +100,7 @@ RodStaticsReport solve_rod_statics(CosseratRod& rod, const std::vector<char>& he
     const double floor = rod.stiffness().bend_twist_n_m2.maxCoeff() / (L * L);
     report.converged = false;
     for (int it = 0; it <= options.max_newton_iterations; ++it) {
-      const Eigen::VectorXd g = scaled_gradient(rod, f, L);
+      const Eigen::VectorXd g = scaled_gradient(rod, f, L, potentials);
       double reaction = 0.0, residual = 0.0;
       for (std::size_t k = 0; k < held.size(); ++k) {
         double& v = held[k] ? reaction : residual;
@@ -107,7 +122,7 @@ RodStaticsReport solve_rod_statics(CosseratRod& rod, const std::vector<char>& he
       }();
       Eigen::VectorXd gf(static_cast<Index>(fs.free.size()));
       for (std::size_t u = 0; u < fs.free.size(); ++u) gf[static_cast<Index>(u)] = g_raw[fs.free[u]];
-      const Eigen::SparseMatrix<double> H = fs.restrict(rod.hessian());
+      const Eigen::SparseMatrix<double> H = fs.restrict(full_hessian(rod, potentials));
       const double diag = H.diagonal().cwiseAbs().maxCoeff();
       Eigen::VectorXd df;
       for (double shift = 0.0;; shift = shift == 0.0 ? 1e-8 * diag : 10.0 * shift) {
@@ -123,22 +138,24 @@ RodStaticsReport solve_rod_statics(CosseratRod& rod, const std::vector<char>& he
       }
       Eigen::VectorXd d = Eigen::VectorXd::Zero(rod.num_dofs());
       for (std::size_t u = 0; u < fs.free.size(); ++u) d[fs.free[u]] = df[static_cast<Index>(u)];
-      // Backtracking on Pi (Armijo); a step that lowers the residual is taken when Pi's change is round-off.
-      const double p0 = potential(rod, f), slope = gf.dot(df);
+      // Backtracking on Pi (Armijo); where Pi's change is within its round-off (near equilibrium Pi's
+      // decrease, of the order of the residual squared, drowns in the stiff edges' energy) a step that lowers
+      // the residual is taken instead. (Taking any step that halves the residual, whatever Pi does, made the
+      // contact solves of a wire in the aorta's arch cycle.)
+      const double p0 = potential(rod, f, potentials), slope = gf.dot(df);
       const Vec3Array x0 = rod.positions();
       const std::vector<Quaternion> q0 = rod.frames();
       double alpha = 1.0;
       for (int k = 0; k < 40; ++k, alpha *= 0.5) {
         rod.set_configuration(x0, q0);
         rod.apply_increment(d, alpha);
-        const double p = potential(rod, f);
+        const double p = potential(rod, f, potentials);
         if (p <= p0 + 1e-4 * alpha * slope) break;
-        if (std::abs(p - p0) <= 1e-12 * std::abs(p0)) {
-          double r = 0.0;
-          const Eigen::VectorXd gt = scaled_gradient(rod, f, L);
-          for (std::size_t u = 0; u < fs.free.size(); ++u) r = std::max(r, std::abs(gt[fs.free[u]]));
-          if (r < residual) break;
-        }
+        if (std::abs(p - p0) > 1e-9 * std::abs(p0)) continue;  // a real increase: shorter
+        double r = 0.0;
+        const Eigen::VectorXd gt = scaled_gradient(rod, f, L, potentials);
+        for (std::size_t u = 0; u < fs.free.size(); ++u) r = std::max(r, std::abs(gt[fs.free[u]]));
+        if (r < residual) break;
       }
     }
     if (!report.converged) return report;
@@ -146,11 +163,11 @@ RodStaticsReport solve_rod_statics(CosseratRod& rod, const std::vector<char>& he
   return report;
 }
 
-bool rod_is_stable(const CosseratRod& rod, const std::vector<char>& held) {
+bool rod_is_stable(const CosseratRod& rod, const std::vector<char>& held, const Potentials& potentials) {
   if (held.size() != static_cast<std::size_t>(rod.num_dofs()))
     throw std::invalid_argument("rod_is_stable: one 'held' flag per generalised coordinate");
   const FreeSet fs(held);
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(fs.restrict(rod.hessian()));
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(fs.restrict(full_hessian(rod, potentials)));
   return ldlt.info() == Eigen::Success && (ldlt.vectorD().array() > 0.0).all();
 }
 

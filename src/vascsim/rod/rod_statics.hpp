@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "vascsim/rod/cosserat_rod.hpp"
+#include "vascsim/rod/rod_potential.hpp"
 
 namespace vascsim::rod {
 
@@ -28,12 +29,15 @@ struct RodStaticsReport {
 
 /// Solves for the equilibrium of `rod` from its current configuration. `held`: one flag per generalised
 /// coordinate (CosseratRod::position_dof, rotation_dof), true for a coordinate kept where it is; `forces`: a
-/// dead force per node (N; empty for none). Throws std::invalid_argument for sizes that do not match the rod.
+/// dead force per node (N; empty for none); `potentials`: energies added to the rod's (its contacts). Throws
+/// std::invalid_argument for sizes that do not match the rod.
 RodStaticsReport solve_rod_statics(CosseratRod& rod, const std::vector<char>& held, const Vec3Array& forces,
-                                   const RodStaticsOptions& options = {});
+                                   const RodStaticsOptions& options = {},
+                                   const std::vector<const RodPotential*>& potentials = {});
 
 /// Whether the Hessian of `rod` on its free coordinates (held as above) is positive definite: the equilibrium
 /// is stable (the count of negative pivots of its LDL^T factor, Sylvester's law of inertia).
-bool rod_is_stable(const CosseratRod& rod, const std::vector<char>& held);
+bool rod_is_stable(const CosseratRod& rod, const std::vector<char>& held,
+                   const std::vector<const RodPotential*>& potentials = {});
 
 }  // namespace vascsim::rod

@@ -108,11 +108,14 @@ Vec3Array LumenContact::forces(const CosseratRod& rod) const {
 
 LumenSolveReport solve_in_lumen(CosseratRod& rod, const std::vector<char>& held, const Vec3Array& forces,
                                 LumenContact& contact, double tolerance_m, int max_passes,
-                                const RodStaticsOptions& options) {
+                                const RodStaticsOptions& options,
+                                const std::vector<const RodPotential*>& others) {
   LumenSolveReport r;
+  std::vector<const RodPotential*> all{&contact};
+  all.insert(all.end(), others.begin(), others.end());
   int newton = 0;
   for (r.passes = 1;; ++r.passes) {
-    r.statics = solve_rod_statics(rod, held, forces, options, {&contact});
+    r.statics = solve_rod_statics(rod, held, forces, options, all);
     newton += r.statics.newton_iterations;
     r.max_penetration_m = contact.max_penetration(rod);
     if (!r.statics.converged || r.max_penetration_m <= tolerance_m || r.passes >= max_passes) break;

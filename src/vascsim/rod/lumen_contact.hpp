@@ -69,12 +69,14 @@ struct LumenSolveReport {
 
 /// The rod's equilibrium inside the lumen: solve_rod_statics with `contact`, then multiplier updates and
 /// solves again until no checked node is beyond the wall by more than `tolerance_m`, at most `max_passes`
-/// solves. The multipliers carry over to the next call (a warm start for the next frame). The default
-/// tolerance is 10^-6, not the free rod's 10^-10: a frictionless rod against a straight stretch of wall may
-/// roll round it at no cost (a singular Hessian), and Newton converges only linearly there (a wire in the
-/// aorta's arch took over 100 steps from 10^-6 to 10^-10; 10^-6 of EI / L^2 is nano-newtons).
+/// solves, with the energies `others` (friction, inertia) beside the contact. The multipliers carry over to
+/// the next call (a warm start for the next frame). The default tolerance is 10^-6, not the free rod's
+/// 10^-10: a frictionless rod against a straight stretch of wall may roll round it at no cost (a singular
+/// Hessian), and Newton converges only linearly there (a wire in the aorta's arch took over 100 steps from
+/// 10^-6 to 10^-10; 10^-6 of the contact forces is micro- to nano-newtons).
 LumenSolveReport solve_in_lumen(CosseratRod& rod, const std::vector<char>& held, const Vec3Array& forces,
                                 LumenContact& contact, double tolerance_m, int max_passes = 10,
-                                const RodStaticsOptions& options = {1, 100, 1e-6});
+                                const RodStaticsOptions& options = {1, 100, 1e-6},
+                                const std::vector<const RodPotential*>& others = {});
 
 }  // namespace vascsim::rod

@@ -96,17 +96,27 @@ RodStaticsReport solve_rod_statics(CosseratRod& rod, const std::vector<char>& he
     for (Vec3& v : f) v *= static_cast<double>(step) / options.load_steps;
     double fmax = 0.0;
     for (const Vec3& v : f) fmax = std::max(fmax, v.norm());
-    // EI / L^2, the force that bends the rod by about a radian: the scale of a rod loaded only by its clamps.
-    const double floor = rod.stiffness().bend_twist_n_m2.maxCoeff() / (L * L);
     report.converged = false;
     for (int it = 0; it <= options.max_newton_iterations; ++it) {
       const Eigen::VectorXd g = scaled_gradient(rod, f, L, potentials);
-      double reaction = 0.0, residual = 0.0;
+      // The force level the residual is measured against: the loads, the reactions, and the forces the rod's
+      // elasticity and the other energies exert (a rod turned only by its clamps, or held by its contacts
+      // against a small load, has no other).
+      const Eigen::VectorXd g_elastic = scaled_gradient(rod, {}, L, {});
+      const Eigen::VectorXd g_others = g - g_elastic + [&] {
+        Eigen::VectorXd loads = Eigen::VectorXd::Zero(rod.num_dofs());
+        for (std::size_t i = 0; i < f.size(); ++i)
+          loads.segment<3>(CosseratRod::position_dof(static_cast<Index>(i))) = f[i];
+        return loads;
+      }();
+      double reaction = 0.0, residual = 0.0, level = 0.0;
       for (std::size_t k = 0; k < held.size(); ++k) {
+        const Index u = static_cast<Index>(k);
         double& v = held[k] ? reaction : residual;
-        v = std::max(v, std::abs(g[static_cast<Index>(k)]));
+        v = std::max(v, std::abs(g[u]));
+        if (!held[k]) level = std::max({level, std::abs(g_elastic[u]), std::abs(g_others[u])});
       }
-      const double scale = std::max({fmax, reaction, floor});
+      const double scale = std::max({fmax, reaction, level, std::numeric_limits<double>::min()});
       report.relative_residual = residual / scale;
       if (residual <= options.rel_tolerance * scale + roundoff_n(rod)) {
         report.converged = true;

@@ -16,7 +16,8 @@ struct RodStaticsOptions {
   int load_steps = 1;               ///< equal increments of the forces
   int max_newton_iterations = 100;  ///< per load step
   /// Converged when the free gradient of Pi is at most this times the load's scale (the largest of the
-  /// forces, the reactions on the held coordinates and EI / L^2; the rotational components divided by the
+  /// forces, the reactions on the held coordinates and the forces of the rod's elasticity and of the other
+  /// energies on the free ones; the rotational components divided by the
   /// rod's length to make them forces), plus the round-off of the edges' stretch forces (EA 16 eps |x| / l).
   double rel_tolerance = 1e-10;
 };

@@ -101,6 +101,7 @@ class QuasiStaticModel final : public Model, public DeviceDrivenModel {
   std::unique_ptr<EquilibriumPreconditioner> preconditioner_;
   MeshlessFactor* meshless_ = nullptr;  // preconditioner_ when it is the meshless factor
   int refactorisations_ = 0;
+  bool final_load_step_ = false;  // advance() is solving the last load step (no refactorisation after it)
   std::vector<ObstacleLoad> obstacle_load_;
   long long contact_passes_ = 0;
   long long total_newton_ = 0, total_cg_ = 0;

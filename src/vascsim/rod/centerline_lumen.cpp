@@ -20,7 +20,6 @@ CenterlineLumen::CenterlineLumen(Centerline centerline, double radius_m)
   for (int k = 0; k <= n; ++k) {
     const double s = c_.length() * k / n;
     points_.push_back(c_.position(s));
-    tangents_.push_back(c_.tangent(s));
   }
   grid_ = std::make_unique<SpatialGrid>(points_, radius_m);
 }
@@ -38,7 +37,7 @@ LumenPoint CenterlineLumen::at(const Vec3& x) const {
   // The nearer of the chords beside it; the first and the last continued past the ends.
   const Index last = static_cast<Index>(points_.size()) - 1;
   Vec3 centre = points_[static_cast<std::size_t>(best)];
-  Vec3 axis = tangents_[static_cast<std::size_t>(best)];  // (replaced by the nearer chord's direction)
+  Vec3 axis = Vec3::UnitZ();  // the nearer chord's direction (there is always one: two samples at least)
   double nearest = std::numeric_limits<double>::infinity();
   for (Index a = std::max<Index>(0, best - 1); a < std::min(best + 1, last); ++a) {
     const Vec3& p = points_[static_cast<std::size_t>(a)];

@@ -27,7 +27,7 @@ class CenterlineLumen final : public Lumen {
  private:
   Centerline c_;
   double radius_m_ = 0.0;
-  Vec3Array points_, tangents_;  // the dense samples
+  Vec3Array points_;  // the dense samples
   std::unique_ptr<SpatialGrid> grid_;
 };
 

@@ -31,9 +31,7 @@ Quaternion dd_increment(int k, int m) {
 
 Quaternion exp_increment(const Vec3& psi) {
   const double a = psi.norm();
-  if (a < 1e-12) return Quaternion(1.0, 0.5 * psi.x(), 0.5 * psi.y(), 0.5 * psi.z()).normalized();
-  const Vec3 v = std::sin(0.5 * a) / a * psi;
-  return Quaternion(std::cos(0.5 * a), v.x(), v.y(), v.z());
+  return a > 0.0 ? Quaternion(Eigen::AngleAxisd(a, psi / a)) : Quaternion::Identity();
 }
 
 // Adds a local symmetric matrix `h` over the coordinates `dofs` (each a block of 3) to the triplets.

@@ -98,17 +98,16 @@ RodStaticsReport solve_rod_statics(CosseratRod& rod, const std::vector<char>& he
     for (const Vec3& v : f) fmax = std::max(fmax, v.norm());
     report.converged = false;
     for (int it = 0; it <= options.max_newton_iterations; ++it) {
-      const Eigen::VectorXd g = scaled_gradient(rod, f, L, potentials);
-      // The force level the residual is measured against: the loads, the reactions, and the forces the rod's
-      // elasticity and the other energies exert (a rod turned only by its clamps, or held by its contacts
-      // against a small load, has no other).
-      const Eigen::VectorXd g_elastic = scaled_gradient(rod, {}, L, {});
-      const Eigen::VectorXd g_others = g - g_elastic + [&] {
-        Eigen::VectorXd loads = Eigen::VectorXd::Zero(rod.num_dofs());
-        for (std::size_t i = 0; i < f.size(); ++i)
-          loads.segment<3>(CosseratRod::position_dof(static_cast<Index>(i))) = f[i];
-        return loads;
-      }();
+      // The rod's own forces and the other energies' apart: together with the loads they are the residual,
+      // and each is a force level the residual is measured against (a rod turned only by its clamps, or held
+      // by its contacts against a small load, has no other).
+      Eigen::VectorXd g_elastic = rod.gradient(), g_others = Eigen::VectorXd::Zero(rod.num_dofs());
+      for (const RodPotential* e : potentials) e->add_gradient(rod, g_others);
+      g_elastic.tail(3 * rod.num_edges()) /= L;
+      g_others.tail(3 * rod.num_edges()) /= L;
+      Eigen::VectorXd g = g_elastic + g_others;
+      for (std::size_t i = 0; i < f.size(); ++i)
+        g.segment<3>(CosseratRod::position_dof(static_cast<Index>(i))) -= f[i];
       double reaction = 0.0, residual = 0.0, level = 0.0;
       for (std::size_t k = 0; k < held.size(); ++k) {
         const Index u = static_cast<Index>(k);

@@ -7,14 +7,14 @@ import sys
 import time
 
 
-def sh(cmd, env=None, log=None):
-    """Runs cmd; exits with its stderr's tail when it fails; returns (stdout, wall seconds). log: a file for the
-    command's stdout and stderr."""
+def sh(cmd, env=None, log=None, ok=(0,)):
+    """Runs cmd; exits with its stderr's tail when it fails (an exit code not in ok); returns (stdout, wall
+    seconds). log: a file for the command's stdout and stderr."""
     t0 = time.time()
     proc = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, env=env)
     if log:
         pathlib.Path(log).write_text(proc.stdout + proc.stderr)
-    if proc.returncode != 0:
+    if proc.returncode not in ok:
         sys.exit(f"{' '.join(map(str, cmd))} failed ({proc.returncode}): {proc.stderr.strip()[-2000:]}")
     return proc.stdout, time.time() - t0
 

@@ -212,12 +212,21 @@ def session(args, case, path, ref, speed, variant, out):
     traj = run / "trajectory.csv"
     write_trajectory(path, path.schedule(speed), traj, note=f"press and slide at {speed * 1e3:g} mm/s")
     scene = scene_with_haptics(args.scene, traj, {})
+    mode = "realtime"
+    if args.lockstep_frame:
+        # Every frame converges, frames of the given length: the work a frame needs at this hand speed.
+        mode = "lockstep"
+        frame = args.lockstep_frame
+        scene["haptics"]["ticks_per_step"] = max(1, int(round(frame * 1e3)))
+        scene["implicit"].update({"frame_s": frame, "output_interval_s": frame,
+                                  "duration_s": path.schedule(speed)[-1][0]})
     scene_file = run / "scene.json"
     scene_file.write_text(json.dumps(scene, indent=1))
-    cmd = [args.vascsim, "-q", "run", scene_file, "--out", run, "--mode", "realtime"]
+    cmd = [args.vascsim, "-q", "run", scene_file, "--out", run, "--mode", mode]
     for s in VARIANTS[variant] + args.set:
         cmd += ["--set", s]
-    sh(cmd, log=run / "run.log")
+    # (A lockstep run with frames that did not converge exits 4, with its outputs written.)
+    sh(cmd, log=run / "run.log", ok=(0, 4) if args.lockstep_frame else (0,))
     summary = json.loads((run / "summary.json").read_text())
     frames = read_csv(run / "force_history.csv")
     ticks = read_csv(run / "haptic_ticks.csv")
@@ -249,6 +258,9 @@ def session(args, case, path, ref, speed, variant, out):
         "frames_per_s_in_wall_p10": quantile(rates, 0.1),
         "frames_not_converged_in_wall": sum(1 for f in wall if f["converged"] < 0.5),
         "frames_handing_on_an_older_force": solver.get("frames_handing_on_an_older_force"),
+        "newton_iterations": solver.get("newton_iterations"),
+        "cg_iterations": solver.get("cg_iterations"),
+        "frame_wall_median_ms_in_wall": quantile([f["step_wall_ms"] for f in wall], 0.5),
         "tool_lag_max_mm": max((f["tool_lag_m"] for f in frames), default=0.0) * 1e3,
         "frame_force_error_max": max(frame_err, default=float("nan")),
         "frame_force_error_median": quantile(frame_err, 0.5),
@@ -317,6 +329,9 @@ def main():
     ap.add_argument("--variants", default="multigrid,multigrid-at-hand,multigrid-embedded,factor",
                     help="solver variants to compare, comma-separated: " + ", ".join(VARIANTS))
     ap.add_argument("--set", action="append", default=[], help="a scene override for the sessions (repeatable)")
+    ap.add_argument("--lockstep-frame", type=float, default=0.0,
+                    help="run the sessions in lockstep with frames of this length, s (every frame converges: the work "
+                         "a frame needs at each hand speed) instead of in realtime; not with --publish")
     ap.add_argument("--publish", action="store_true",
                     help="copy benchmark.json to data/benchmarks/realtime-<scene>.json and regenerate the README's "
                          "\"Real time today\" table from it (scripts/realtime_table.py); only for a run on an idle "
@@ -326,6 +341,8 @@ def main():
     for v in variants:
         if v not in VARIANTS:
             sys.exit(f"--variants: unknown variant '{v}'; known: {', '.join(VARIANTS)}")
+    if args.publish and args.lockstep_frame:
+        sys.exit("--publish: the published table is of realtime sessions; drop --lockstep-frame")
     if args.scene not in CASES:
         sys.exit(f"--scene {args.scene}: no press-and-slide path is defined for it; known: {', '.join(CASES)}")
     case = CASES[args.scene]

@@ -1,5 +1,6 @@
 #include "vascsim/model/embedded_contact.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 
@@ -7,7 +8,9 @@ namespace vascsim {
 
 EmbeddedContact::EmbeddedContact(const ContactSurface& surface, const Vec3Array& rest_nodes_m,
                                  std::size_t tools)
-    : surface_(surface), rest_nodes_(rest_nodes_m), geometry_(tools) {}
+    : surface_(surface), rest_nodes_(rest_nodes_m), geometry_(tools) {
+  for (double l1 : surface_.phi_l1) phi_l1_max_ = std::max(phi_l1_max_, l1);
+}
 
 template <class F>
 void EmbeddedContact::for_each_penetration(const Vec3Array& x, F&& f) const {
@@ -17,6 +20,17 @@ void EmbeddedContact::for_each_penetration(const Vec3Array& x, F&& f) const {
   double u_max2 = 0.0;
   for (std::size_t i = 0; i < x.size(); ++i) u_max2 = std::max(u_max2, (x[i] - rest_nodes_[i]).squaredNorm());
   const double u_max = std::sqrt(u_max2);
+  // A box round each tool, as far out as any sample can reach, rejects most samples with six comparisons
+  // before the distance (which, over the 10^5 samples of the real-time vein, took a sixth of a frame).
+  std::vector<Eigen::AlignedBox3d> boxes;
+  boxes.reserve(geometry_.size());
+  for (const auto& g : geometry_) {
+    const double out = g.radius_m + phi_l1_max_ * u_max;
+    Eigen::AlignedBox3d box(g.a.cwiseMin(g.b), g.a.cwiseMax(g.b));
+    box.min().array() -= out;
+    box.max().array() += out;
+    boxes.push_back(box);
+  }
   const Vec3Array& S = surface_.rest_points;
   const auto& start = surface_.row_start;
   const auto& col = surface_.col;
@@ -24,7 +38,8 @@ void EmbeddedContact::for_each_penetration(const Vec3Array& x, F&& f) const {
   for (Index v = 0; v < surface_.num_samples(); ++v) {
     const double reach = surface_.phi_l1[static_cast<std::size_t>(v)] * u_max;
     bool near = false;
-    for (const auto& g : geometry_) near = near || obstacle_contact(g, S[v]).value <= reach;
+    for (std::size_t o = 0; !near && o < geometry_.size(); ++o)
+      near = boxes[o].contains(S[v]) && obstacle_contact(geometry_[o], S[v]).value <= reach;
     if (!near) continue;
     Vec3 xv = S[v];
     for (Index k = start[v]; k < start[v + 1]; ++k) {

@@ -78,6 +78,7 @@ class EmbeddedContact {
   const Vec3Array& rest_nodes_;
   std::vector<constraints::Capsule> geometry_;
   std::vector<Contact> active_;
+  double phi_l1_max_ = 0.0;  // the largest phi_l1 of the surface
 };
 
 }  // namespace vascsim

@@ -85,7 +85,8 @@ INSTANTIATE_TEST_SUITE_P(
                       "scenes/aorta-bent-catheter.json", "scenes/retinal-artery-twice-bent.json",
                       "scenes/realtime/hand-dorsal-vein.json",
                       "scenes/realtime/hand-dorsal-vein-catheter.json", "scenes/realtime/aorta-bent.json",
-                      "scenes/realtime/retinal-artery-twice-bent.json"),
+                      "scenes/realtime/retinal-artery-twice-bent.json",
+                      "scenes/navigation/aorta-bent-guidewire.json"),
     [](const ::testing::TestParamInfo<std::string>& info) {
       std::string name = info.param.substr(info.param.find('/') + 1);
       for (char& c : name)

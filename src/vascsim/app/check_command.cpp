@@ -203,6 +203,20 @@ void print_report(const Scene& scene, const nlohmann::json& r, std::ostream& out
                           -t["clearance_m"].get<double>(), where)
             : t["warning"].get<std::string>());
   }
+  if (scene.instrument) {
+    const rod::InstrumentSpec& i = *scene.instrument;
+    const rod::RodStiffness k = rod::rod_stiffness(i.section);
+    out << fmt::format(
+        "  instrument {}: {:.3g} mm across{}, EI {:.3g} N m^2, GJ {:.3g} N m^2, {:.0f} mm in edges of {:.3g} "
+        "mm, "
+        "friction {:.3g}; driven {:.1f} to {:.1f} mm over {:.3g} s: `vascsim navigate` runs it in the rigid "
+        "lumen (`run` simulates the wall alone)\n",
+        i.name, i.section.outer_diameter_m * 1e3,
+        i.section.inner_diameter_m > 0.0 ? fmt::format(" (lumen {:.3g} mm)", i.section.inner_diameter_m * 1e3)
+                                         : std::string(),
+        k.bend_twist_n_m2[0], k.bend_twist_n_m2[2], i.length_m * 1e3, i.edge_length_m * 1e3, i.friction,
+        i.drive.front().inserted_m * 1e3, i.drive.back().inserted_m * 1e3, i.drive.back().time_s);
+  }
   if (r.contains("warnings"))
     for (const auto& w : r["warnings"]) out << "  warning   " << w.get<std::string>() << "\n";
 }

@@ -134,6 +134,7 @@ int run_cli(const std::vector<std::string>& args, std::ostream& out, std::ostrea
   add_experiment_commands(app, ctx, commands);
   add_ahp_command(app, ctx, commands);
   add_soak_command(app, ctx, commands);
+  add_navigate_command(app, ctx, commands);
   for (const CommandAdder add : extra_commands) add(app, ctx, commands);
   fall_through(app);
   reject_empty_values(app);

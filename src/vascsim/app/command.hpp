@@ -53,6 +53,8 @@ void add_validate_commands(CLI::App& app, CliContext& ctx, std::vector<Command>&
 void add_bench_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 void add_ahp_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 void add_soak_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
+/// `navigate`: the scene's flexible instrument through the vessel's lumen (navigate_command.cpp).
+void add_navigate_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 /// `view` in a build without the viewer: one line saying so, exit code 2 (the viewer's own is viewer/).
 void add_view_stub_command(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 

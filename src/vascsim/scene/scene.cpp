@@ -996,6 +996,10 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   read_probes(root, sc);
   sc.gravity_m_s2 = root.vec3("gravity_m_s2", Vec3::Zero());
   read_tools(root, sc);
+  if (root.has("instrument")) {
+    JsonReader block = root.object("instrument");
+    sc.instrument = rod::read_instrument(block);
+  }
   centre_refinement_on_tool(root, sc);
   read_contact(root, sc);
   read_model_blocks(root, sc);

@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@
 #include "vascsim/model/point_primitive_energy.hpp"
 #include "vascsim/model/problem.hpp"
 #include "vascsim/model/rigid_obstacle.hpp"
+#include "vascsim/rod/instrument.hpp"
 
 namespace vascsim {
 
@@ -183,6 +185,9 @@ struct Scene {
   Vec3 gravity_m_s2 = Vec3::Zero();
   std::vector<RigidObstacle> obstacles;  ///< rigid tools, for models that take tools
   ContactSpec contact;                   ///< how the tools meet the tissue
+  /// A flexible instrument (guidewire, catheter) in the vessel's lumen, run by `vascsim navigate`
+  /// (run/navigation.hpp); `vascsim run` simulates the wall alone.
+  std::optional<rod::InstrumentSpec> instrument;
   /// The discretisation is the accurate wall configuration (quadratic basis, thickness reach, through-wall
   /// Gauss points) by the model's default: then contact.surface defaults to "embedded".
   bool accurate_wall_defaults = false;

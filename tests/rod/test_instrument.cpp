@@ -104,8 +104,9 @@ TEST(Instrument, TheDriveIsLinearBetweenKnotsAndHeldOutside) {
   EXPECT_NEAR(drive_at(d, 2.0).second, 90.0 * deg, 1e-15);
 }
 
-// The J tip turns back on the shaft: the last edge is the chord of the arc's last 1 mm, which runs against the
-// shaft turned back by half that edge's angle, 1 mm / 3 mm / 2 (to the round-off of the arc's nodes, 1e-9).
+// The J tip turns back on the shaft: the last edge is the chord of the arc's last 1 mm, which runs against
+// the shaft turned back by half that edge's angle, 1 mm / 3 mm / 2 (to the round-off of the arc's nodes,
+// 1e-9).
 TEST(Instrument, TheJTipTurnsBackOnTheShaft) {
   InstrumentSpec s = instrument_preset("guidewire-035");
   s.length_m = 0.05;

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -49,6 +51,65 @@ TEST(Navigation, TheWireStaysInTheLumenAndTheHandBalancesTheWall) {
   EXPECT_NEAR(r.frames.back().inserted_m, 0.05, 1e-12);
 }
 
+// An independent reference for the rod in a curved rigid tube: a straight wire fed without friction into a
+// long arc of a torus. Once its tip is well in, each millimetre fed adds a millimetre of wire bent to the
+// curvature kappa it has in the arc and shifts the rest along the arc unchanged, and frictionless contact
+// does no work: the insertion force is the bending energy per length, EI kappa^2 / 2 (an energy balance,
+// exact for the continuum; the straight leg is long enough that the arc's entry does not reach the port).
+// kappa is measured on the rod (the circle through three nodes, the median over the arc's steady part) and
+// must lie within the lumen's band, 1 / (R -+ c) for the clearance c = R_lumen - r (0.16 mm: +-0.3 %).
+// Tolerances: 0.3 % on the median force of the steady frames and 0.5 % on each (the 1 mm edges passing the
+// arc's entry move it by about +-0.15 %; the chords' curvature error is 2e-5).
+TEST(Navigation, AStraightWireFedIntoAnArcNeedsItsBendingEnergyPerLength) {
+  const json doc = json::parse(R"({
+    "name": "torus",
+    "model": "quasi_static",
+    "geometry": { "type": "vessel",
+                  "centerline": { "type": "bent", "radius_of_curvature_m": 0.05, "angle_deg": 270,
+                                  "leg_length_m": 0.05 },
+                  "outer_radius_m": 0.8e-3, "wall_thickness_m": 0.2e-3, "node_spacing_m": 0.2e-3 },
+    "regions": [ { "name": "end", "select": { "type": "cylinder_end", "end": "start" }, "bc": { "type": "fixed" } } ],
+    "instrument": { "preset": "guidewire-035", "length_m": 0.3, "friction": 0, "tip": { "shape": "straight" },
+                    "drive": [[0, 0.005, 0], [1, 0.205, 0]] }
+  })");
+  const Scene scene = parse_scene(doc, "torus.json");
+  const NavigationResult r = run_navigation(scene, {});
+  const rod::RodSection& s = scene.instrument->section;
+  const double ei = s.youngs_modulus_pa * std::numbers::pi * std::pow(s.outer_diameter_m, 4) / 64.0;
+  // The rod's radius of curvature in the arc's steady part (30 to 120 mm past the arc's start).
+  const Centerline c = build_centerline(scene.geometry.centerline);
+  const Vec3Array& x = r.final_positions_m;
+  std::vector<double> radii;
+  for (std::size_t i = 1; i + 1 < x.size(); ++i) {
+    const double at = c.closest_arc_length(x[i]);
+    if (at < 0.08 || at > 0.17) continue;
+    const Vec3 a = x[i - 1] - x[i], b = x[i + 1] - x[i];
+    radii.push_back(a.norm() * b.norm() * (a - b).norm() / (2.0 * a.cross(b).norm()));
+  }
+  ASSERT_GT(radii.size(), 50u);
+  std::nth_element(radii.begin(), radii.begin() + radii.size() / 2, radii.end());
+  const double radius = radii[radii.size() / 2];
+  const double clearance = (0.8e-3 - 0.2e-3) - 0.5 * s.outer_diameter_m;
+  EXPECT_GT(radius, 0.05 - clearance - 1e-6);
+  EXPECT_LT(radius, 0.05 + clearance + 1e-6);
+  const double expected = ei / (2.0 * radius * radius);  // 0.3675 N
+  std::vector<double> steady;
+  for (const NavigationFrame& f : r.frames)
+    if (f.inserted_m > 0.15) {
+      EXPECT_TRUE(f.converged) << f.inserted_m;
+      EXPECT_NEAR(f.insertion_force_n, expected, 5e-3 * expected) << f.inserted_m * 1e3 << " mm in";
+      steady.push_back(f.insertion_force_n);
+    }
+  ASSERT_GT(steady.size(), 20u);
+  std::nth_element(steady.begin(), steady.begin() + steady.size() / 2, steady.end());
+  const double median = steady[steady.size() / 2];
+  std::printf(
+      "[ navigation ] rod's radius in the arc %.5g mm; steady insertion force %.6g N, EI / (2 R^2) = %.6g N "
+      "(%+.3f %%)\n",
+      radius * 1e3, median, expected, 100.0 * (median / expected - 1.0));
+  EXPECT_NEAR(median, expected, 3e-3 * expected);
+}
+
 // In a straight vessel nothing resists a frictionless turn: the angled tip's offset from the axis turns with
 // the proximal end (90 degrees, to 1e-3 rad: the equilibria's tolerance), and the hand feels no torque.
 TEST(Navigation, TurningTheProximalEndTurnsTheTip) {
@@ -81,7 +142,8 @@ TEST(Navigation, AScenesThatCannotBeNavigatedSayWhy) {
     }
     return std::string();
   };
-  EXPECT_NE(error_of({"instrument.outer_diameter_m=0.0199"}).find("does not fit the lumen"), std::string::npos);
+  EXPECT_NE(error_of({"instrument.outer_diameter_m=0.0199"}).find("does not fit the lumen"),
+            std::string::npos);
   EXPECT_NE(error_of({"instrument.port_s_m=1"}).find("instrument.port_s_m"), std::string::npos);
   const Scene plain = load_scene(test::source_path("scenes/aorta-bent.json"));
   EXPECT_THROW(run_navigation(plain, {}), InputError);

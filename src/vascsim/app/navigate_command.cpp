@@ -10,8 +10,8 @@
 
 #include "vascsim/app/command.hpp"
 #include "vascsim/app/progress.hpp"
-#include "vascsim/core/error.hpp"
 #include "vascsim/core/atomic_file.hpp"
+#include "vascsim/core/error.hpp"
 #include "vascsim/run/navigation.hpp"
 
 namespace vascsim {

@@ -110,6 +110,11 @@ int run_session(const Scene& scene, const std::filesystem::path& out_dir, const 
 int run_headless(const Scene& scene, const std::filesystem::path& out_dir, const RunFlags& flags,
                  CliContext& ctx) {
   spdlog::info("scene '{}' ({}), model {}, output {}", scene.name, scene.file, scene.model, out_dir.string());
+  if (scene.instrument)
+    spdlog::info(
+        "the scene's instrument '{}' is not part of this run (the wall alone): `vascsim navigate {}` runs it "
+        "in the vessel's lumen",
+        scene.instrument->name, scene.file);
   Progress progress(ctx.err, ctx.err_is_terminal(), scene.name, ctx.quiet);
   RunOptions opt;
   opt.out_dir = out_dir;

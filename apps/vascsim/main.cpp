@@ -1,11 +1,13 @@
 // vascsim command-line entry point; everything lives in vascsim::run_cli (src/vascsim/app/cli.cpp), plus the
-// viewer's `view` command when it is built (src/vascsim/viewer/view_command.hpp).
+// viewer's `view` command and the pictures of `navigate --pictures` when it is built
+// (src/vascsim/viewer/view_command.hpp, navigation_pictures.hpp).
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include "vascsim/app/cli.hpp"
 #ifdef VASCSIM_HAS_VIEWER
+#include "vascsim/viewer/navigation_pictures.hpp"
 #include "vascsim/viewer/view_command.hpp"
 #endif
 
@@ -14,6 +16,7 @@ int main(int argc, char** argv) {
   std::vector<vascsim::CommandAdder> extra;
 #ifdef VASCSIM_HAS_VIEWER
   extra.push_back(&vascsim::viewer::add_view_command);
+  extra.push_back(&vascsim::viewer::install_navigation_pictures);
 #endif
   return vascsim::run_cli(args, std::cout, std::cerr, extra);
 }

@@ -11,7 +11,6 @@
 #include <sstream>
 
 #include <fmt/format.h>
-#include <stb_image.h>
 
 #include "render_test_support.hpp"
 #include "vascsim/app/cli.hpp"
@@ -27,18 +26,6 @@ namespace fs = std::filesystem;
 const std::string kScene = std::string(VASCSIM_SOURCE_DIR) + "/tests/data/tiny-bent-vessel.json";
 constexpr int kWidth = 320, kHeight = 200;
 constexpr double kYaw = 30.0, kPitch = 20.0;  // a view that shows the bend
-
-Image read_png(const fs::path& file) {
-  int w = 0, h = 0, n = 0;
-  stbi_uc* data = stbi_load(file.c_str(), &w, &h, &n, 4);
-  Image image;
-  if (data == nullptr) return image;
-  image.width = w;
-  image.height = h;
-  image.rgba.assign(data, data + static_cast<std::size_t>(4) * w * h);
-  stbi_image_free(data);
-  return image;
-}
 
 // `vascsim -q view tiny-bent-vessel.json --paused --screenshot ... <extra>`, in process; the picture.
 Image view(const std::vector<std::string>& extra) {

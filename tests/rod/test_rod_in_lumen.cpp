@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "vascsim/rod/centerline_lumen.hpp"
+#include "vascsim/rod/lumen_contact.hpp"
 #include "vascsim/rod/rod_feeder.hpp"
 
 namespace vascsim::rod {
@@ -23,23 +24,6 @@ CosseratRod j_wire(double length_m) {
   return CosseratRod(shaped_tip_rod(Vec3::Zero(), Vec3::UnitZ(), Vec3::UnitX(), length_m,
                                     static_cast<int>(std::lround(length_m / 1e-3)), 3e-3, std::numbers::pi),
                      rod_stiffness(lumen_wire()));
-}
-
-// The largest distance a point of the rod (its nodes and its edges' midpoints) past the port is beyond the
-// lumen's wall, m.
-double worst_outside(const CosseratRod& rod, const std::vector<char>& outside, const Lumen& lumen) {
-  double worst = -1.0;
-  const Vec3Array& x = rod.positions();
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    if (outside[i]) continue;
-    const LumenPoint p = lumen.at(x[i]);
-    worst = std::max(worst, p.distance_m + kWireRadius - p.radius_m);
-    if (i > 0 && !outside[i - 1]) {
-      const LumenPoint m = lumen.at(0.5 * (x[i] + x[i - 1]));
-      worst = std::max(worst, m.distance_m + kWireRadius - m.radius_m);
-    }
-  }
-  return worst;
 }
 
 TEST(RodInLumen, AWireFedIntoTheBentAortasArchAt20MmPerSecondNeverLeavesTheLumen) {
@@ -64,7 +48,7 @@ TEST(RodInLumen, AWireFedIntoTheBentAortasArchAt20MmPerSecondNeverLeavesTheLumen
                                      << " after " << r.statics.newton_iterations
                                      << " Newton steps, the tip at s = "
                                      << c.closest_arc_length(rod.positions().back()) * 1e3 << " mm";
-    worst = std::max(worst, worst_outside(rod, feeder.outside(), lumen));
+    worst = std::max(worst, worst_outside(rod, feeder.outside(), lumen, kWireRadius));
     // The bound: no point of the rod farther outside the lumen than a tenth of its radius, at every
     // frame.
     ASSERT_LT(worst, 0.1 * kWireRadius) << "frame " << frames << ", " << inserted * 1e3 << " mm inserted";

@@ -7,6 +7,7 @@
 //   vascsim [-q|-v] [-j THREADS] validate cantilever [--out DIR] [--sizes 2,3,4,6]
 //   vascsim [-q|-v] bench [SCENE.json] [--model xpbd] [--nodes 1000,3000,10000,30000] [--threads 1,2]
 //     [--steps 200] [--warmup 20] [--set key=value ...] [--out FILE.csv|FILE.json ...]
+//   vascsim [-q|-v] navigate SCENE.json [--set key=value ...] [--out DIR] [--pictures]
 //   vascsim view SCENE.json [--set key=value ...] [--screenshot FILE.png --frames N --size WxH]  (viewer
 //   builds)
 // Exit codes: 0 success, 1 internal error (a bug), 2 bad input (scene, key, value, file; a run too large to
@@ -27,7 +28,8 @@ struct CliContext;
 struct Command;
 
 /// Registers a command that lives outside this library (command.hpp): the viewer's `view`, which needs
-/// OpenGL. apps/vascsim passes it when built with VASCSIM_BUILD_VIEWER.
+/// OpenGL, or a part of one (the viewer's pictures for `navigate --pictures`, set in the CliContext).
+/// apps/vascsim passes them when built with VASCSIM_BUILD_VIEWER.
 using CommandAdder = void (*)(CLI::App& app, CliContext& ctx, std::vector<Command>& commands);
 
 /// Runs one command line. Without an adder for `view`, `vascsim view` says in one line that this build has no

@@ -5,11 +5,15 @@
 // run_cli maps to exit codes (InputError 2, NumericalError 3, anything else 1).
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <functional>
 #include <ostream>
 #include <vector>
 
 namespace vascsim {
+
+struct Scene;
+struct NavigationResult;
 
 /// Exit code of a run that finished but with steps (or lockstep frames) that did not converge: everything is
 /// written, but those steps are not equilibria (docs/architecture.md, "Errors and exit codes").
@@ -23,13 +27,20 @@ constexpr int kExitUnconverged = 4;
 // (cli.cpp).
 constexpr int kMaxThreads = 256;
 
+/// Draws a finished navigation into `out_dir` and names each file written on `out` (`vascsim navigate
+/// --pictures`). It needs OpenGL, which only the viewer library links: builds with the viewer install it in
+/// the CliContext (viewer/navigation_pictures.hpp).
+using NavigationPictureWriter = void (*)(const Scene& scene, const NavigationResult& result,
+                                         const std::filesystem::path& out_dir, std::ostream& out);
+
 /// What every command shares: the output streams and the global options (-q, -v, -j).
 struct CliContext {
   std::ostream& out;
   std::ostream& err;
   bool quiet = false;
   bool verbose = false;
-  int threads = 0;  ///< -j; 0: OpenMP's default
+  int threads = 0;                                        ///< -j; 0: OpenMP's default
+  NavigationPictureWriter navigation_pictures = nullptr;  ///< null: a build without the viewer
   /// True when `err` is this process's terminal (a redrawn progress bar instead of lines).
   bool err_is_terminal() const;
 };

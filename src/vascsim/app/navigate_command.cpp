@@ -1,12 +1,14 @@
 // `vascsim navigate SCENE`: the scene's flexible instrument advanced through the vessel's lumen by its drive
 // (run/navigation.hpp), with instrument.csv (a row per frame), instrument_final.csv (the rod's last shape)
-// and summary.json in the output folder.
+// and summary.json in the output folder; with --pictures also navigation_lit.png and
+// navigation_fluoroscopy.png (drawn by the viewer library: CliContext::navigation_pictures).
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <numbers>
 
 #include "vascsim/app/command.hpp"
 #include "vascsim/app/progress.hpp"
@@ -21,6 +23,7 @@ namespace {
 struct NavigateFlags {
   std::string scene, out;
   std::vector<std::string> sets;
+  bool pictures = false;
 };
 
 nlohmann::json summary(const Scene& scene, const NavigationResult& r) {
@@ -70,6 +73,11 @@ nlohmann::json summary(const Scene& scene, const NavigationResult& r) {
 }
 
 int navigate(NavigateFlags& flags, CliContext& ctx) {
+  // Before the run, which may take minutes: a build without GL cannot draw its end.
+  if (flags.pictures && ctx.navigation_pictures == nullptr)
+    throw InputError(
+        "--pictures: this vascsim was built without the viewer: configure with -DVASCSIM_BUILD_VIEWER=ON "
+        "(the GL packages are in scripts/install-deps.sh)");
   const Scene scene = load_scene(flags.scene, flags.sets);
   if (!scene.instrument)
     throw InputError(
@@ -96,11 +104,12 @@ int navigate(NavigateFlags& flags, CliContext& ctx) {
       "(largest {:.3g} N), torque {:.3g} N m, largest wall force {:.3g} N, never beyond the wall by more "
       "than {:.3g} "
       "mm; {} frames, median {:.1f} ms; wrote {}\n",
-      scene.name, scene.instrument->name, last.inserted_m * 1e3, last.twist_rad * 180.0 / 3.141592653589793,
+      scene.name, scene.instrument->name, last.inserted_m * 1e3, last.twist_rad * 180.0 / std::numbers::pi,
       last.tip_s_m * 1e3, last.insertion_force_n, s["insertion_force_max_n"].get<double>(), last.torque_n_m,
       s["wall_force_max_n"].get<double>(), std::max(0.0, s["outside_max_m"].get<double>()) * 1e3,
       r.frames.size(), s["frame_wall_ms_median"].get<double>(),
       (options.out_dir / "instrument.csv").string());
+  if (flags.pictures) ctx.navigation_pictures(scene, r, options.out_dir, ctx.out);
   if (r.perforation_frames > 0)
     spdlog::warn(
         "{}: in {} frames a wall force exceeded the perforation threshold instrument.perforation_force_n "
@@ -128,6 +137,10 @@ void add_navigate_command(CLI::App& app, CliContext& ctx, std::vector<Command>& 
       ->required();
   cmd->add_option("--set", flags->sets, "Override a scene key: path.to.key=value (repeatable)");
   cmd->add_option("--out", flags->out, "Output folder (default: out/<scene name>)");
+  cmd->add_flag("--pictures", flags->pictures,
+                "After the run, draw the vessel with the instrument's last shape: navigation_lit.png (the "
+                "wall cut open) and navigation_fluoroscopy.png (an AP X-ray) in the output folder; headless "
+                "OpenGL (EGL), builds with the viewer");
   commands.push_back({cmd, [flags, &ctx] { return navigate(*flags, ctx); }});
 }
 

@@ -43,6 +43,13 @@ Bounds scene_bounds(const RenderFrame& frame) {
       hi = hi.cwiseMax(p.cast<double>() + r);
     }
   }
+  for (const InstrumentTube& tube : frame.instruments) {
+    const Vec3 r = Vec3::Constant(tube.radius_m);
+    for (const Float3& p : tube.centreline_m) {
+      lo = lo.cwiseMin(p.cast<double>() - r);
+      hi = hi.cwiseMax(p.cast<double>() + r);
+    }
+  }
   Bounds b;
   if (lo.allFinite() && hi.allFinite()) {
     b.min = lo;
@@ -105,6 +112,14 @@ void validate_frame(const RenderFrame& frame) {
     const ToolCapsule& t = frame.tools[k];
     if (!t.back_m.allFinite() || !t.tip_m.allFinite() || !(t.radius_m > 0.0f) || !std::isfinite(t.radius_m))
       throw InputError(fmt::format("render frame: tool {} has a non-finite end or a radius <= 0", k));
+  }
+  for (std::size_t k = 0; k < frame.instruments.size(); ++k) {
+    const InstrumentTube& tube = frame.instruments[k];
+    if (!(tube.radius_m > 0.0f) || !std::isfinite(tube.radius_m))
+      throw InputError(fmt::format("render frame: instrument {} has a radius <= 0", k));
+    for (std::size_t i = 0; i < tube.centreline_m.size(); ++i)
+      if (!tube.centreline_m[i].allFinite())
+        throw InputError(fmt::format("render frame: instrument {} point {} is not finite", k, i));
   }
   if (frame.force && (!frame.force->origin_m.allFinite() || !frame.force->force_n.allFinite()))
     throw InputError("render frame: the force arrow is not finite");

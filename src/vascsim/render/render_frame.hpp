@@ -31,6 +31,15 @@ struct ToolCapsule {
   Float3 colour = Float3(0.85f, 0.87f, 0.9f);
 };
 
+/// A flexible instrument (guidewire, catheter) drawn as a tube of `radius_m` swept along its centre-line, a
+/// polyline through the rod's nodes, closed by flat ends. Like a tool it is strongly radio-opaque.
+struct InstrumentTube {
+  std::vector<Float3> centreline_m;  ///< at least two distinct points to be drawn
+  float radius_m = 0.5e-3f;
+  /// Colour in the lit view (linear RGB in [0, 1]).
+  Float3 colour = Float3(0.35f, 0.78f, 0.95f);
+};
+
 /// The contact force on the tool, drawn as an arrow whose tail is at the contact point. Its colour turns
 /// from green to red when |force_n| exceeds threshold_n (amber between 80 % and 100 % of it).
 struct ForceArrow {
@@ -73,6 +82,7 @@ struct RenderFrame {
 
   // --- Tools and contact ---
   std::vector<ToolCapsule> tools;
+  std::vector<InstrumentTube> instruments;
   std::optional<ForceArrow> force;
 
   // --- Bookkeeping ---
@@ -89,7 +99,7 @@ struct Bounds {
   Vec3 centre() const { return 0.5 * (min + max); }
   double radius() const { return 0.5 * (max - min).norm(); }
 };
-/// Bounds of the surface and the tools (what sets the arrow's automatic scale).
+/// Bounds of the surface, the tools and the instruments (what sets the arrow's automatic scale).
 Bounds scene_bounds(const RenderFrame& frame);
 /// scene_bounds() extended to the force arrow's head: what the camera frames.
 Bounds frame_bounds(const RenderFrame& frame);

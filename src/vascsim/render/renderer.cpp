@@ -8,6 +8,7 @@
 #include <random>
 
 #include "vascsim/render/gl_program.hpp"
+#include "vascsim/render/instrument_geometry.hpp"
 #include "vascsim/render/lumen_caps.hpp"
 #include "vascsim/render/shaders.hpp"
 #include "vascsim/render/tool_geometry.hpp"
@@ -64,7 +65,7 @@ struct Renderer::Impl {
   ScalarField scalar_info;  // range and label (values go to the GPU)
   std::vector<Float3> normals_scratch;
 
-  // Tools (capsules) and the force arrow: rebuilt every upload.
+  // Tools (capsules), flexible instruments (tubes) and the force arrow: rebuilt every upload.
   GLuint solid_vao = 0, solid_position_vbo = 0, solid_normal_vbo = 0, solid_ebo = 0;
   SolidMesh solid_mesh;
   struct ToolDraw {
@@ -72,7 +73,7 @@ struct Renderer::Impl {
     Float3 colour;
   };
   std::vector<ToolDraw> tool_draws;
-  std::size_t tool_triangles = 0;  // tools first, then the arrow
+  std::size_t tool_triangles = 0;  // tools and instruments first, then the arrow
   std::size_t arrow_first = 0, arrow_count = 0;
   Float3 arrow_colour = Float3::Zero();
 
@@ -321,7 +322,8 @@ std::size_t Renderer::upload_topology(const RenderFrame& frame) {
   return bytes;
 }
 
-// The tools as capsules and the force arrow, coloured by the safety threshold.
+// The tools as capsules, the instruments as tubes (both drawn and X-rayed as tools) and the force arrow,
+// coloured by the safety threshold.
 std::size_t Renderer::upload_tools_and_arrow(const RenderFrame& frame) {
   Impl& m = *impl_;
   std::size_t bytes = 0;
@@ -331,6 +333,11 @@ std::size_t Renderer::upload_tools_and_arrow(const RenderFrame& frame) {
     const std::size_t first = m.solid_mesh.triangles.size();
     append_capsule(m.solid_mesh, tool);
     m.tool_draws.push_back({first, m.solid_mesh.triangles.size() - first, tool.colour});
+  }
+  for (const InstrumentTube& tube : frame.instruments) {
+    const std::size_t first = m.solid_mesh.triangles.size();
+    append_tube(m.solid_mesh, tube);
+    m.tool_draws.push_back({first, m.solid_mesh.triangles.size() - first, tube.colour});
   }
   m.tool_triangles = m.solid_mesh.triangles.size();
   m.arrow_first = m.tool_triangles;
@@ -533,7 +540,7 @@ void Renderer::draw_wall(const View& view, const OrbitCamera& camera, const Rend
   glBindTexture(GL_TEXTURE_2D, 0);
 }
 
-// The tools and the force arrow.
+// The tools, the instruments and the force arrow.
 void Renderer::draw_solids(const View& view, const RenderSettings& settings) {
   Impl& m = *impl_;
   const Eigen::Matrix4f& view_proj = view.view_proj;

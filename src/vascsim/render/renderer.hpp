@@ -1,7 +1,8 @@
 #pragma once
 // Draws a RenderFrame with OpenGL 3.3 core: the lit view (vessel wall with a procedural texture or the
-// colour map, tools, force arrow, node and tetrahedron overlays, optional cutaway) or the fluoroscopy
-// view (grey X-ray projection of the contrast-filled lumen, the wall and the radio-opaque tools).
+// colour map, tools, instruments, force arrow, node and tetrahedron overlays, optional cutaway) or the
+// fluoroscopy view (grey X-ray projection of the contrast-filled lumen, the wall and the radio-opaque tools
+// and instruments).
 //
 // Use on the render thread with the context current. upload() copies a frame into GPU buffers (only
 // the per-frame arrays when the topology is unchanged); draw() renders the last uploaded frame into a
@@ -39,7 +40,7 @@ struct RenderSettings {
   double carm_lao_deg = 0.0;      ///< fluoroscopy: + LAO / - RAO, degrees
   double carm_cranial_deg = 0.0;  ///< fluoroscopy: + cranial / - caudal, degrees
   bool show_surface = true;
-  bool show_tools = true;
+  bool show_tools = true;  ///< the rigid tools and the flexible instruments
   bool show_force = true;
   bool show_nodes = false;
   bool show_tets = false;

@@ -2,6 +2,7 @@
 
 #include <epoxy/gl.h>
 #include <fmt/format.h>
+#include <stb_image.h>
 #include <stb_image_write.h>
 
 #include <cstring>
@@ -41,6 +42,18 @@ void write_png(const std::string& path, const Image& image) {
     for (int c = 0; c < 3; ++c) rgb[3 * i + c] = image.rgba[4 * i + c];
   if (stbi_write_png(path.c_str(), image.width, image.height, 3, rgb.data(), image.width * 3) == 0)
     throw InputError(fmt::format("cannot write the screenshot {}", path));
+}
+
+Image read_png(const std::string& path) {
+  int w = 0, h = 0, channels = 0;
+  stbi_uc* data = stbi_load(path.c_str(), &w, &h, &channels, 4);
+  Image image;
+  if (data == nullptr) return image;
+  image.width = w;
+  image.height = h;
+  image.rgba.assign(data, data + static_cast<std::size_t>(4) * w * h);
+  stbi_image_free(data);
+  return image;
 }
 
 }  // namespace vascsim::render

@@ -1,5 +1,6 @@
 #pragma once
-// Reading the finished frame back (glReadPixels, rows flipped to top-first) and writing it as a PNG.
+// Reading the finished frame back (glReadPixels, rows flipped to top-first) and writing it as a PNG; reading
+// a PNG back.
 
 #include <cstdint>
 #include <string>
@@ -23,5 +24,8 @@ Image read_frame(const GlContext& context);
 
 /// Writes `image` as an RGB PNG. Throws InputError naming the path if it cannot be written.
 void write_png(const std::string& path, const Image& image);
+
+/// Reads a PNG as 8-bit RGBA (tests, comparisons); an empty Image (width 0) if it cannot be read.
+Image read_png(const std::string& path);
 
 }  // namespace vascsim::render

@@ -106,6 +106,22 @@ Vec3Array LumenContact::forces(const CosseratRod& rod) const {
   return f;
 }
 
+double worst_outside(const CosseratRod& rod, const std::vector<char>& outside, const Lumen& lumen,
+                     double rod_radius_m) {
+  double worst = -std::numeric_limits<double>::infinity();
+  const Vec3Array& x = rod.positions();
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (outside[i]) continue;
+    const LumenPoint p = lumen.at(x[i]);
+    worst = std::max(worst, p.distance_m + rod_radius_m - p.radius_m);
+    if (i > 0 && !outside[i - 1]) {
+      const LumenPoint m = lumen.at(0.5 * (x[i] + x[i - 1]));
+      worst = std::max(worst, m.distance_m + rod_radius_m - m.radius_m);
+    }
+  }
+  return worst;
+}
+
 LumenSolveReport solve_in_lumen(CosseratRod& rod, const std::vector<char>& held, const Vec3Array& forces,
                                 LumenContact& contact, double tolerance_m, int max_passes,
                                 const RodStaticsOptions& options,

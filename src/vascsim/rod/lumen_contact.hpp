@@ -61,6 +61,13 @@ class LumenContact final : public RodPotential {
   std::vector<char> exempt_;
 };
 
+/// How far the rod's surface goes beyond the lumen's wall at most, m (<= 0: nowhere; -infinity when every
+/// node is outside the body): checked at the nodes and at the edges' midpoints, where a straight edge across
+/// a bend cuts the corner that the nodes alone would miss. Nodes flagged in `outside` (one flag per node: the
+/// part of the rod before the access port) and the edges touching them are skipped.
+double worst_outside(const CosseratRod& rod, const std::vector<char>& outside, const Lumen& lumen,
+                     double rod_radius_m);
+
 struct LumenSolveReport {
   RodStaticsReport statics;      ///< of the last pass (its Newton iterations: of all passes)
   int passes = 0;                ///< equilibria solved (multiplier updates + 1)

@@ -23,24 +23,6 @@ namespace {
 
 using rod::CosseratRod;
 
-// How far the rod's surface goes beyond the lumen's wall at its nodes and its edges' midpoints past the port,
-// m.
-double worst_outside(const CosseratRod& r, const std::vector<char>& outside, const rod::Lumen& lumen,
-                     double rod_radius_m) {
-  double worst = -std::numeric_limits<double>::infinity();
-  const Vec3Array& x = r.positions();
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    if (outside[i]) continue;
-    const rod::LumenPoint p = lumen.at(x[i]);
-    worst = std::max(worst, p.distance_m + rod_radius_m - p.radius_m);
-    if (i > 0 && !outside[i - 1]) {
-      const rod::LumenPoint m = lumen.at(0.5 * (x[i] + x[i - 1]));
-      worst = std::max(worst, m.distance_m + rod_radius_m - m.radius_m);
-    }
-  }
-  return worst;
-}
-
 // The hand's force along the port's axis and moment about it, from the rod's elastic forces on the
 // coordinates the port holds (at an equilibrium, what holds them balances them).
 std::pair<double, double> hand_load(const CosseratRod& r, const std::vector<char>& held, const Vec3& axis) {
@@ -147,7 +129,7 @@ NavigationResult run_navigation(const Scene& scene, const NavigationOptions& opt
       f.wall_force_sum_n += p;
       f.nodes_in_contact += m > 0.0 ? 1 : 0;
     }
-    f.outside_max_m = worst_outside(rod, feeder.outside(), lumen, r);
+    f.outside_max_m = rod::worst_outside(rod, feeder.outside(), lumen, r);
     f.newton_iterations = rep.statics.newton_iterations;
     f.converged = rep.statics.converged && rep.max_penetration_m <= tolerance;
     f.perforation_risk = spec.perforation_force_n > 0.0 && f.wall_force_max_n > spec.perforation_force_n;

@@ -60,7 +60,31 @@ std::vector<render::Float2> cylindrical_uv(const Vec3Array& vertices, const Vec3
   return uv;
 }
 
+// Per vertex: on the outer wall if one of its triangles is (all of them without flags).
+std::vector<std::uint8_t> outer_vertices(const RenderSurface& s) {
+  std::vector<std::uint8_t> outer(s.rest_vertices.size(), s.outer.empty() ? 1 : 0);
+  for (std::size_t t = 0; t < s.outer.size(); ++t)
+    if (s.outer[t] != 0)
+      for (const Index v : s.triangles[t]) outer[static_cast<std::size_t>(v)] = 1;
+  return outer;
+}
+
 }  // namespace
+
+void fill_rest_surface(const RenderSurface& s, const Vec3& superior, render::RenderFrame& frame) {
+  render::assign_positions(frame, s.rest_vertices);
+  render::assign_normals(frame, s.rest_normals);
+  frame.triangles.clear();
+  for (const auto& t : s.triangles)
+    frame.triangles.push_back({static_cast<std::uint32_t>(t[0]), static_cast<std::uint32_t>(t[1]),
+                               static_cast<std::uint32_t>(t[2])});
+  frame.uv.clear();
+  for (const auto& uv : s.uv) frame.uv.push_back(uv.cast<float>());
+  if (frame.uv.empty()) frame.uv = cylindrical_uv(s.rest_vertices, superior);
+  frame.outer = outer_vertices(s);
+  frame.uv_aspect = s.uv.empty() ? 1.0f : uv_aspect_of(s);
+  ++frame.topology_version;
+}
 
 void SurfaceSnapshot::rebuild(Simulation& simulation, std::uint64_t build) {
   const Body& body = simulation.body();
@@ -80,11 +104,7 @@ void SurfaceSnapshot::rebuild(Simulation& simulation, std::uint64_t build) {
   uv_.clear();
   for (const auto& uv : s.uv) uv_.push_back(uv.cast<float>());
   if (uv_.empty()) uv_ = cylindrical_uv(s.rest_vertices, simulation.scene().viewer.superior);
-  // Per vertex: on the outer wall if one of its triangles is.
-  outer_.assign(nv, s.outer.empty() ? 1 : 0);
-  for (std::size_t t = 0; t < s.outer.size(); ++t)
-    if (s.outer[t] != 0)
-      for (const Index v : s.triangles[t]) outer_[static_cast<std::size_t>(v)] = 1;
+  outer_ = outer_vertices(s);
   uv_aspect_ = s.uv.empty() ? 1.0f : uv_aspect_of(s);
   if (nv > 0) lo_ = hi_ = s.rest_vertices.front();
   for (const Vec3& p : s.rest_vertices) lo_ = lo_.cwiseMin(p), hi_ = hi_.cwiseMax(p);

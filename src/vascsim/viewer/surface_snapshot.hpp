@@ -3,7 +3,7 @@
 // the node displacements by the MLS map (float, every frame), its normals, the displacement colour field (or
 // on request the stress), and on request the node cloud and the virtual tetrahedra. Runs on the simulation
 // thread (the producer); the topology (triangles, uv, outer flags) is copied into a frame slot only when the
-// slot holds an older build's.
+// slot holds an older build's. fill_rest_surface() gives the same surface without a simulation, at rest.
 
 #include <array>
 #include <cstdint>
@@ -14,6 +14,11 @@
 #include "vascsim/viewer/viewer_frame.hpp"
 
 namespace vascsim::viewer {
+
+/// Fills the frame's surface with `surface` at rest (a rigid wall, e.g. `vascsim navigate`'s): positions,
+/// normals, triangles, uv (wrapped round `superior` when the surface has none), outer flags; bumps
+/// topology_version.
+void fill_rest_surface(const RenderSurface& surface, const Vec3& superior, render::RenderFrame& frame);
 
 class SurfaceSnapshot {
  public:

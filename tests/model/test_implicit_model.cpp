@@ -283,3 +283,24 @@ TEST(ImplicitModel, ARealtimeToolWaitsForAWallThatHasNotCaughtUp) {
 
 }  // namespace
 }  // namespace vascsim
+
+// The forcing cap (implicit.max_forcing) trades CG iterations per Newton step against Newton steps: it must
+// change the work a press takes, never the equilibrium it reaches. Both runs hold the press to a relative
+// residual of 1e-9, so their forces agree to round-off; 1e-4 is the bound the press test above holds the
+// same frames to against quasi_static.
+TEST(ImplicitModel, TheForcingCapChangesTheWorkNotTheEquilibrium) {
+  auto press = [](double cap) {
+    json doc = implicit_press_scene("implicit");
+    doc["implicit"]["max_forcing"] = cap;
+    Simulation sim(parse_scene(doc, "catheter-block"));
+    const StepRecord last = test::run_to_end(sim);
+    return std::make_pair(last.obstacles.at(0).force_vector_n, sim.model().info());
+  };
+  const auto [loose_force, loose] = press(0.1);
+  const auto [tight_force, tight] = press(0.01);
+  std::printf("[ implicit ] forcing cap 0.1: %d Newton / %d CG, %.6g N; 0.01: %d / %d, %.6g N\n",
+              loose["newton_iterations"].get<int>(), loose["cg_iterations"].get<int>(), loose_force.norm(),
+              tight["newton_iterations"].get<int>(), tight["cg_iterations"].get<int>(), tight_force.norm());
+  EXPECT_NE(loose["cg_iterations"].get<int>(), tight["cg_iterations"].get<int>()) << "the cap must be read";
+  EXPECT_LT((tight_force - loose_force).norm(), 1e-4 * loose_force.norm());
+}

@@ -48,6 +48,7 @@ ImplicitSettings read_implicit_settings(JsonReader& b) {
   s.contact_substep = b.number("contact_substep", d.contact_substep, 0.0, 1e6);
   s.handoff_surface_residual = b.number("handoff_surface_residual", d.handoff_surface_residual, 1e-14, 1e6);
   s.min_newton_iterations = b.integer("min_newton_iterations", d.min_newton_iterations, 0, 1000);
+  s.max_forcing = b.number("max_forcing", d.max_forcing, 1e-6, 0.5);
   b.finish();
   return s;
 }
@@ -66,6 +67,7 @@ NewtonSettings newton_settings(const ImplicitSettings& s) {
   // A frame's tool enters the wall by a whole frame's travel before the first Newton step (embedded contact).
   n.contact_normal_stiffness_only = true;
   n.min_newton_iterations = s.min_newton_iterations;
+  n.max_forcing = s.max_forcing;
   return n;
 }
 }  // namespace

@@ -312,7 +312,7 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
     const double eta =
         moving ? 1e-2
                : std::clamp(std::max(std::sqrt(out.residual), 0.3 * settings_.rel_tolerance / out.residual),
-                            1e-6, 0.1);
+                            1e-6, settings_.max_forcing);
     double reduction = 1.0;
     const int cg = conjugate_gradients(x, r, eta, inertia, dx,
                                        timed ? deadline : SteadyClock::time_point::max(), &reduction);

@@ -46,6 +46,9 @@ struct NewtonSettings {
   bool contact_normal_stiffness_only = false;
   /// Newton steps a solve takes before its deadline can stop it (the prescribed first step counts).
   int min_newton_iterations = 0;
+  /// The largest forcing term: a Newton step's CG reduces its residual at least this much (Eisenstat-Walker
+  /// sqrt(residual) below it, and no tighter than the step needs to reach the tolerance).
+  double max_forcing = 0.1;
 };
 
 /// Backward Euler's inertia term: 1/(2 h^2) sum_i m_i |x_i - a_i|^2 over the free nodes.

@@ -54,6 +54,7 @@ VARIANTS = {
     "multigrid-at-hand": ["implicit.realtime_tool_step=0"],
     "multigrid-embedded": ["contact.surface=embedded"],
     "multigrid-unbudgeted": ["implicit.time_budget_s=0"],
+    "multigrid-converged": ["implicit.realtime_tool_step=0", "implicit.time_budget_s=0"],
     "multigrid-bounded": ["implicit.max_tool_step=0.25", "implicit.time_budget_s=0",
                           "implicit.handoff_max_residual=1e6"],
     "factor": ["implicit.preconditioner=meshless", "implicit.single_precision=false", "implicit.max_tool_step=0.25",

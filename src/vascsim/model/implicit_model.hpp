@@ -47,9 +47,9 @@ struct ImplicitSettings {
   int max_cg_iterations = 20;     ///< per Newton iteration (more means a stale factor: see refactor_*)
   /// The largest forcing term: each Newton step's CG reduces its residual at least this much. A frame's
   /// problem is nearly linear (the tool moved a fraction of a node spacing), so 3 % instead of 10 % saves
-  /// Newton steps, each a CG restart plus forces, energies and a relinearisation: in lockstep frames of 1/60 s
-  /// on the benchmark's press and slide (docs/model/24-implicit.md, "The forcing term"), 263 Newton / 889 CG
-  /// against 406 / 1,161 at 1 mm/s, 148 / 896 against 180 / 823 at 5 mm/s.
+  /// Newton steps, each a CG restart plus forces, energies and a relinearisation: in lockstep frames of 1/60
+  /// s on the benchmark's press and slide (docs/model/24-implicit.md, "The forcing term"), 263 Newton / 889
+  /// CG against 406 / 1,161 at 1 mm/s, 148 / 896 against 180 / 823 at 5 mm/s.
   double max_forcing = 0.03;
   /// Realtime sessions: a frame stops at this wall time, partially converged, and the next one goes on from
   /// there (0: no budget), s.

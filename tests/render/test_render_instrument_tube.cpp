@@ -1,4 +1,4 @@
-// A flexible instrument in the renderer (render/instrument_geometry.hpp): its tube mesh on the CPU (rings at
+// A flexible instrument in the renderer (render/tool_geometry.hpp): its tube mesh on the CPU (rings at
 // the radius with outward normals, closed and outward-oriented, no twist round a bend, degenerate input
 // dropped), and headless pictures of it inside the demo vessel: darker than the vessel behind it along its
 // projected path in fluoroscopy, and in its own colour in front of the cut-away wall in the lit view.
@@ -12,7 +12,7 @@
 #include "render_test_support.hpp"
 #include "vascsim/core/error.hpp"
 #include "vascsim/geometry/centerline.hpp"
-#include "vascsim/render/instrument_geometry.hpp"
+#include "vascsim/render/tool_geometry.hpp"
 
 namespace vascsim::render::test {
 namespace {

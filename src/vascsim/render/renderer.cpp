@@ -8,7 +8,6 @@
 #include <random>
 
 #include "vascsim/render/gl_program.hpp"
-#include "vascsim/render/instrument_geometry.hpp"
 #include "vascsim/render/lumen_caps.hpp"
 #include "vascsim/render/shaders.hpp"
 #include "vascsim/render/tool_geometry.hpp"

@@ -1,8 +1,11 @@
 #include "vascsim/render/tool_geometry.hpp"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 namespace vascsim::render {
 
@@ -61,6 +64,38 @@ void cap(SolidMesh& m, std::uint32_t ring, const Float3& centre, const Float3& n
   }
 }
 
+// The centre-line without repeated points: a zero-length segment has no direction.
+std::vector<Float3> distinct_points(const InstrumentTube& tube) {
+  std::vector<Float3> points;
+  const float min_step = 1e-3f * tube.radius_m;
+  for (const Float3& p : tube.centreline_m)
+    if (points.empty() || (p - points.back()).norm() > min_step) points.push_back(p);
+  return points;
+}
+
+// The axis of each ring: the segment's direction at the ends, the mean of the two segments' between (the
+// previous segment's where the line turns back on itself and the mean vanishes).
+std::vector<Float3> ring_tangents(const std::vector<Float3>& p) {
+  const std::size_t n = p.size();
+  std::vector<Float3> segment(n - 1);
+  for (std::size_t j = 0; j + 1 < n; ++j) segment[j] = (p[j + 1] - p[j]).normalized();
+  std::vector<Float3> tangent(n);
+  tangent.front() = segment.front();
+  tangent.back() = segment.back();
+  for (std::size_t i = 1; i + 1 < n; ++i) {
+    const Float3 mean = segment[i - 1] + segment[i];
+    tangent[i] = mean.norm() > 1e-4f ? Float3(mean.normalized()) : segment[i - 1];
+  }
+  return tangent;
+}
+
+// A flat disc closing an end at `centre`, facing `outward`, with vertices of its own (normal along the axis).
+void end_disc(SolidMesh& m, const Float3& centre, float r, const Float3& e1, const Float3& e2, int segments,
+              const Float3& axis, const Float3& outward) {
+  const std::uint32_t ring = add_ring(m, centre, r, e1, e2, segments, [&](const Float3&) { return outward; });
+  cap(m, ring, centre, outward, segments, outward.dot(axis) > 0.0f);
+}
+
 }  // namespace
 
 void SolidMesh::clear() {
@@ -112,6 +147,31 @@ void append_capsule(SolidMesh& m, const ToolCapsule& tool, int segments) {
                         k0 = previous + static_cast<std::uint32_t>(k);
     m.triangles.push_back({k0, k1, apex});
   }
+}
+
+void append_tube(SolidMesh& m, const InstrumentTube& tube, int sides) {
+  sides = std::max(sides, 3);
+  const std::vector<Float3> p = distinct_points(tube);
+  if (p.size() < 2) return;
+  const std::vector<Float3> tangent = ring_tangents(p);
+  const float r = tube.radius_m;
+  Float3 e1, e2;
+  basis(tangent.front(), e1, e2);
+  end_disc(m, p.front(), r, e1, e2, sides, tangent.front(), -tangent.front());
+  std::uint32_t previous = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (i > 0) {
+      // Parallel transport: the smallest rotation from the last tangent to this one, then re-orthogonalised
+      // against rounding.
+      e1 = Eigen::Quaternionf::FromTwoVectors(tangent[i - 1], tangent[i]) * e1;
+      e1 = (e1 - e1.dot(tangent[i]) * tangent[i]).normalized();
+      e2 = tangent[i].cross(e1);
+    }
+    const std::uint32_t ring = add_ring(m, p[i], r, e1, e2, sides, [](const Float3& d) { return d; });
+    if (i > 0) connect(m, previous, ring, sides);
+    previous = ring;
+  }
+  end_disc(m, p.back(), r, e1, e2, sides, tangent.back(), tangent.back());
 }
 
 void append_arrow(SolidMesh& m, const Float3& origin, const Float3& vec, float radius, int segments) {

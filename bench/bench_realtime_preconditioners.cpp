@@ -14,7 +14,8 @@
 //                                   multigrid's level build (tangents, smoother blocks, Galerkin coarse
 //                                   matrix and its factor).
 // Arguments {variant, OpenMP threads}: variant 0 is the one replaced, 1 the one in use. Counter ns_per_pair:
-// wall time per call over the neighbour pairs (the product's figure of merit; docs/performance.md). The state
+// wall time per call over the neighbour pairs (the product's figure of merit; docs/performance.md); and
+// stabilizer_nnz, the entries of the stabiliser's 2-hop matrix the float product also applies. The state
 // is the rest configuration with a 10 um smooth perturbation (the costs do not depend on the deformation).
 //
 // Run: build/bench/vascsim_bench --benchmark_filter=Realtime --benchmark_repetitions=5
@@ -31,6 +32,7 @@
 #include "vascsim/model/contact_active_set.hpp"
 #include "vascsim/model/meshless_factor.hpp"
 #include "vascsim/model/single_precision_hessian.hpp"
+#include "vascsim/model/stabilizer_matrix.hpp"
 #include "vascsim/model/wall_multigrid.hpp"
 #include "vascsim/run/simulation.hpp"
 #include "vascsim/scene/scene.hpp"
@@ -87,6 +89,8 @@ void BM_RealtimeHessianProduct(benchmark::State& state) {
   } else {
     SinglePrecisionHessian single(energy);
     single.linearize(c.x);
+    if (energy.stabilizer_matrix())
+      state.counters["stabilizer_nnz"] = energy.stabilizer_matrix()->matrix().nonZeros();
     for (auto _ : state) {
       single.product(c.v, out);
       benchmark::DoNotOptimize(out.data());

@@ -6,12 +6,14 @@
 #include <vector>
 
 #include "vascsim/app/cli.hpp"
+#include "vascsim/core/blas_control.hpp"
 #ifdef VASCSIM_HAS_VIEWER
 #include "vascsim/viewer/navigation_pictures.hpp"
 #include "vascsim/viewer/view_command.hpp"
 #endif
 
 int main(int argc, char** argv) {
+  vascsim::restart_with_blas_core(argv);  // OpenBLAS's own kernels on CPUs newer than its table
   std::vector<std::string> args(argv + 1, argv + argc);
   std::vector<vascsim::CommandAdder> extra;
 #ifdef VASCSIM_HAS_VIEWER

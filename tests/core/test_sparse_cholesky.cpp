@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <random>
 
 #include "support/test_support.hpp"
@@ -189,6 +190,30 @@ TEST(SparseCholesky, BlasIsFoundAndItsThreadsCanBeSet) {
   EXPECT_EQ(blas_threads(), 1);
   EXPECT_EQ(settable, !blas_config().empty());
   ::testing::Test::RecordProperty("blas_config", blas_config());
+}
+
+// OpenBLAS falls back to its generic Prescott kernels on CPUs newer than its table; the program then restarts
+// with the kernels of the instruction sets the CPU has. A core OpenBLAS chose itself, or one the user set, is
+// never overridden, and an override names kernels the CPU can run.
+TEST(SparseCholesky, BlasCoreOverrideOnlyReplacesTheGenericFallback) {
+  const char* set = std::getenv("OPENBLAS_CORETYPE");
+  const std::string saved = set ? set : "";
+  setenv("OPENBLAS_CORETYPE", "Haswell", 1);
+  EXPECT_EQ(blas_core_override(), "");  // the user's choice stands
+  unsetenv("OPENBLAS_CORETYPE");
+  const std::string core = blas_core_override();
+  ::testing::Test::RecordProperty("blas_core_override", core);
+  if (!core.empty()) {
+    const std::string config = blas_config();
+    EXPECT_NE(config.find("Prescott"), std::string::npos) << config;  // only the generic fallback
+    __builtin_cpu_init();
+    if (core == "SkylakeX")
+      EXPECT_TRUE(__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw"));
+    else
+      EXPECT_TRUE(core == "Haswell" && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
+          << core;
+  }
+  if (set) setenv("OPENBLAS_CORETYPE", saved.c_str(), 1);
 }
 
 }  // namespace

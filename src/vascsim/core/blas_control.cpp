@@ -1,6 +1,8 @@
 #include "vascsim/core/blas_control.hpp"
 
 #include <dlfcn.h>
+#include <strings.h>
+#include <unistd.h>
 
 #include <climits>
 #include <cstdlib>
@@ -50,6 +52,28 @@ int apply_default_blas_threads() {
       set_blas_threads(1);
   });
   return blas_threads();
+}
+
+std::string blas_core_override() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (std::getenv("OPENBLAS_CORETYPE") != nullptr) return {};
+  using Fn = char* (*)();
+  auto f = reinterpret_cast<Fn>(symbol("openblas_get_corename"));
+  if (!f || f() == nullptr || strcasecmp(f(), "Prescott") != 0) return {};
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+      __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl"))
+    return "SkylakeX";
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return "Haswell";
+#endif
+  return {};
+}
+
+void restart_with_blas_core(char** argv) {
+  const std::string core = blas_core_override();
+  if (core.empty() || setenv("OPENBLAS_CORETYPE", core.c_str(), 1) != 0) return;
+  execv("/proc/self/exe", argv);
+  unsetenv("OPENBLAS_CORETYPE");  // exec failed: run on as before
 }
 
 }  // namespace vascsim

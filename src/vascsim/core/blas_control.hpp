@@ -35,4 +35,19 @@ int blas_threads();
 /// (30 s of it in the kernel's sched_yield). Returns the thread count in force afterwards.
 int apply_default_blas_threads();
 
+/// The OPENBLAS_CORETYPE this process should have started with: OpenBLAS chooses its kernels from a table of
+/// CPU models when it loads and, for a model newer than the table, falls back to its generic "Prescott"
+/// (SSE3) kernels. OpenBLAS 0.3.21 (Debian 12's) does so on an Intel Xeon of family 6, model 207, where the
+/// wall multigrid's coarse solves then run 1.2x and its level builds 1.4x slower (docs/performance.md, "Real
+/// time at hand speed"). Returns "SkylakeX" (AVX-512 F, BW, DQ, VL) or "Haswell" (AVX2, FMA) when OpenBLAS
+/// runs Prescott on such a CPU; empty when OpenBLAS chose its own core, OPENBLAS_CORETYPE is set, or the BLAS
+/// is not OpenBLAS.
+std::string blas_core_override();
+
+/// When blas_core_override() names a core: sets OPENBLAS_CORETYPE to it and executes this program again
+/// (/proc/self/exe) with the same arguments, because OpenBLAS reads the variable only when it loads. Returns
+/// when there is nothing to do or the exec failed (the program then runs on with the generic kernels). Call
+/// it first thing in main, before any thread starts.
+void restart_with_blas_core(char** argv);
+
 }  // namespace vascsim

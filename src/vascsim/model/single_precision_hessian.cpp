@@ -57,6 +57,8 @@ SinglePrecisionHessian::SinglePrecisionHessian(const PointPrimitiveEnergy& energ
     }
   }
   F_.resize(static_cast<std::size_t>(n));
+  Fc_.resize(static_cast<std::size_t>(n));
+  Ft_.resize(static_cast<std::size_t>(n));
   S_.resize(static_cast<std::size_t>(n));
   S_plus_.resize(static_cast<std::size_t>(n));
   Q_.resize(static_cast<std::size_t>(n));
@@ -74,6 +76,8 @@ void SinglePrecisionHessian::linearize(const Vec3Array& x) {
     const Mat3 E = 0.5 * (F.transpose() * F - I);
     const Mat3 S = lambda * E.trace() * I + 2.0 * mu * E;
     F_[static_cast<std::size_t>(i)] = F.cast<float>();
+    Fc_[static_cast<std::size_t>(i)] << F.cast<float>(), Eigen::RowVector3f::Zero();
+    Ft_[static_cast<std::size_t>(i)] << F.transpose().cast<float>(), Eigen::RowVector3f::Zero();
     S_[static_cast<std::size_t>(i)] = S.cast<float>();
     Eigen::SelfAdjointEigenSolver<Mat3> es;
     es.computeDirect(S);
@@ -87,57 +91,76 @@ void SinglePrecisionHessian::linearize(const Vec3Array& x) {
 }
 
 void SinglePrecisionHessian::product(const Vec3Array& v, Vec3Array& out, bool positive) const {
+  // Vectors are padded to four floats (w = 0) so that each pair's update is a few 4-wide operations
+  // instead of a dozen scalar ones: the product is bound by the instructions per pair, not by memory (its
+  // arrays stay in cache), docs/performance.md "Real time at hand speed".
   const std::vector<Eigen::Matrix3f>& S = positive ? S_plus_ : S_;
   const Index n = static_cast<Index>(F_.size());
-  const Eigen::Matrix3f I = Eigen::Matrix3f::Identity();
   out.resize(static_cast<std::size_t>(n));
 #pragma omp parallel if (n >= kParallelMinNodes)
   {
 #pragma omp for schedule(static)
-    for (Index i = 0; i < n; ++i)
-      v_[static_cast<std::size_t>(i)] = v[static_cast<std::size_t>(i)].cast<float>();
-      // Pass 1: dF_i = sum_j (v_j - v_i) d_ij^T, and dP_i = V_i (dF S + F dS)
-      // (docs/model/10-hessian-product.md).
+    for (Index i = 0; i < n; ++i) {
+      const Vec3& vi = v[static_cast<std::size_t>(i)];
+      v_[static_cast<std::size_t>(i)] = Eigen::Vector4f(
+          static_cast<float>(vi.x()), static_cast<float>(vi.y()), static_cast<float>(vi.z()), 0.f);
+    }
+    // Pass 1: dF_i = sum_j (v_j - v_i) d_ij^T, and dP_i = V_i (dF S + F dS)
+    // (docs/model/10-hessian-product.md).
 #pragma omp for schedule(static)
     for (Index i = 0; i < n; ++i) {
-      const Eigen::Vector3f vi = v_[static_cast<std::size_t>(i)];
-      Eigen::Vector3f c0 = Eigen::Vector3f::Zero(), c1 = c0, c2 = c0;
+      const Eigen::Vector4f vi = v_[static_cast<std::size_t>(i)];
+      Eigen::Vector4f c0 = Eigen::Vector4f::Zero(), c1 = c0, c2 = c0;
       for (Index e = row_start_[static_cast<std::size_t>(i)],
                  end = row_start_[static_cast<std::size_t>(i) + 1];
            e < end; ++e) {
         const Pair& p = pairs_[static_cast<std::size_t>(e)];
-        const Eigen::Vector3f dv = v_[static_cast<std::size_t>(p.node)] - vi;
+        const Eigen::Vector4f dv = v_[static_cast<std::size_t>(p.node)] - vi;
         c0 += p.d[0] * dv;
         c1 += p.d[1] * dv;
         c2 += p.d[2] * dv;
       }
-      Eigen::Matrix3f dF;
-      dF.col(0) = c0;
-      dF.col(1) = c1;
-      dF.col(2) = c2;
-      const Eigen::Matrix3f& F = F_[static_cast<std::size_t>(i)];
-      const Eigen::Matrix3f dE = 0.5f * (dF.transpose() * F + F.transpose() * dF);
-      const Eigen::Matrix3f dS = lambda_ * dE.trace() * I + 2.0f * mu_ * dE;
-      Q_[static_cast<std::size_t>(i)] =
-          volume_[static_cast<std::size_t>(i)] * (dF * S[static_cast<std::size_t>(i)] + F * dS);
+      // With F's columns (Fc) and rows (Ft) as 4-wide columns, every 3 x 3 product below is a sum of
+      // column-times-scalar terms: G = F^T dF, dE = sym(G), dS = lambda tr(dE) I + 2 mu dE,
+      // dP = V (dF S + F dS), column by column.
+      const Eigen::Matrix<float, 4, 3>& Fc = Fc_[static_cast<std::size_t>(i)];
+      const Eigen::Matrix<float, 4, 3>& Ft = Ft_[static_cast<std::size_t>(i)];
+      const Eigen::Vector4f* c[3] = {&c0, &c1, &c2};
+      Eigen::Vector4f g[3];
+      for (int b = 0; b < 3; ++b)
+        g[b] = Ft.col(0) * (*c[b])[0] + Ft.col(1) * (*c[b])[1] + Ft.col(2) * (*c[b])[2];
+      Eigen::Matrix3f dS;
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) dS(a, b) = mu_ * (g[b][a] + g[a][b]);
+      const float tr = lambda_ * (g[0][0] + g[1][1] + g[2][2]);
+      dS.diagonal().array() += tr;
+      const Eigen::Matrix3f& Si = S[static_cast<std::size_t>(i)];
+      const float V = volume_[static_cast<std::size_t>(i)];
+      Eigen::Matrix<float, 4, 3>& Qi = Q_[static_cast<std::size_t>(i)];
+      for (int b = 0; b < 3; ++b)
+        Qi.col(b) = V * (c0 * Si(0, b) + c1 * Si(1, b) + c2 * Si(2, b) + Fc.col(0) * dS(0, b) +
+                         Fc.col(1) * dS(1, b) + Fc.col(2) * dS(2, b));
     }
     // Pass 2: out_k = dP_k d_kk + sum_{i: k in N_i} dP_i d_ik, plus the stabiliser sum_c K_kc (v_c - v_k).
 #pragma omp for schedule(static)
     for (Index k = 0; k < n; ++k) {
-      Eigen::Vector3f f = Q_[static_cast<std::size_t>(k)] * self_d_[static_cast<std::size_t>(k)];
+      const Eigen::Matrix<float, 4, 3>& Qk = Q_[static_cast<std::size_t>(k)];
+      const Eigen::Vector3f& dk = self_d_[static_cast<std::size_t>(k)];
+      Eigen::Vector4f f = Qk.col(0) * dk.x() + Qk.col(1) * dk.y() + Qk.col(2) * dk.z();
       for (Index e = trow_start_[static_cast<std::size_t>(k)],
                  end = trow_start_[static_cast<std::size_t>(k) + 1];
            e < end; ++e) {
         const Pair& p = transposed_[static_cast<std::size_t>(e)];
-        f += Q_[static_cast<std::size_t>(p.node)] * Eigen::Map<const Eigen::Vector3f>(p.d);
+        const Eigen::Matrix<float, 4, 3>& Qi = Q_[static_cast<std::size_t>(p.node)];
+        f += Qi.col(0) * p.d[0] + Qi.col(1) * p.d[1] + Qi.col(2) * p.d[2];
       }
-      const Eigen::Vector3f vk = v_[static_cast<std::size_t>(k)];
+      const Eigen::Vector4f vk = v_[static_cast<std::size_t>(k)];
       for (Index e = stab_start_[static_cast<std::size_t>(k)],
                  end = stab_start_[static_cast<std::size_t>(k) + 1];
            e < end; ++e)
         f += stab_value_[static_cast<std::size_t>(e)] *
              (v_[static_cast<std::size_t>(stab_col_[static_cast<std::size_t>(e)])] - vk);
-      out[static_cast<std::size_t>(k)] = f.cast<double>();
+      out[static_cast<std::size_t>(k)] = f.head<3>().cast<double>();
     }
   }
 }

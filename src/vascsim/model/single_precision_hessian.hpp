@@ -4,10 +4,11 @@
 // linear solves need a relative accuracy of 1e-1 to 1e-3, far above float's 1e-7.
 //
 // Why: the product is the unit of a frame's cost (each conjugate-gradient iteration with the wall multigrid
-// takes three), and it is bound by memory, not arithmetic (the same speed with AVX-512 as with SSE2): the
-// double product reads each neighbour pair's index and gradient vector twice (28 bytes each time) and the
-// stabiliser's 2-hop matrix (12 bytes per entry). Here the pairs take 16 bytes and the stabiliser 8, and the
-// per-node linearisation F_i, S_i 72 bytes instead of 144.
+// takes three). Its arrays stay in cache (the pairs take 16 bytes, the stabiliser's 2-hop matrix 8 per entry,
+// the per-node F_i, S_i 72 bytes), so its speed is the instructions per pair: vectors are padded to four
+// floats and every update, the per-node 3 x 3 algebra included, is a sum of 4-wide column operations (on the
+// real-time vein 0.86 ms a product on one thread instead of 1.50 with 3-float vectors;
+// docs/performance.md, "Real time at hand speed").
 //
 // Same mathematics as PointPrimitiveEnergy::hessian_product (docs/model/10-hessian-product.md), for the
 // energies it supports: the built-in St Venant-Kirchhoff law with the Green strain (no material law, no
@@ -54,8 +55,10 @@ class SinglePrecisionHessian {
   std::vector<float> stab_value_;
   // Per node: F_i and S_i (linearize), and the product's intermediate dP_i.
   std::vector<Eigen::Matrix3f> F_, S_, S_plus_;
-  mutable std::vector<Eigen::Matrix3f> Q_;
-  mutable std::vector<Eigen::Vector3f> v_;
+  std::vector<Eigen::Matrix<float, 4, 3>> Fc_, Ft_;  // F and F^T padded to four rows, for the product
+  // (padded to four rows: the product's updates are 4-wide).
+  mutable std::vector<Eigen::Matrix<float, 4, 3>> Q_;
+  mutable std::vector<Eigen::Vector4f> v_;
 };
 
 }  // namespace vascsim

@@ -62,6 +62,15 @@ TEST(ToolReach, TrajectoryOfADevicePosedCatheter) {
   p1.position_m = Vec3(0, -0.3e-3, 0);
   r = tool_reach_on_trajectory(catheter, Trajectory({p0, p1, p2}), 2.0, row_of_nodes());
   EXPECT_TRUE(r.touches());
+  EXPECT_NEAR(r.clearance_m, -0.3e-3, 1e-12);  // the deepest pass, at t = 1 s
+  // Asked for the first contact only (a session needs no more): the first pose past the row, on the way down
+  // (the tip crosses the row 2/2.3 of the way to t = 1 s), not the deepest.
+  const ToolReach first =
+      tool_reach_on_trajectory(catheter, Trajectory({p0, p1, p2}), 2.0, row_of_nodes(), true);
+  EXPECT_TRUE(first.touches());
+  EXPECT_GT(first.clearance_m, -0.3e-3 + 1e-6);
+  EXPECT_GT(first.at, 2.0 / 2.3 - 1e-9);
+  EXPECT_LT(first.at, 1.0);
 }
 
 }  // namespace

@@ -247,7 +247,7 @@ nlohmann::json run_haptic_session(const Scene& scene, const HapticRunOptions& op
   std::optional<ToolReach> reach;
   if (options.device == nullptr)
     reach = tool_reach_on_trajectory(scene.obstacles[in.tool], in.trajectory, in.duration_s,
-                                     sim.discretization().rest_positions());
+                                     sim.discretization().rest_positions(), true);
   // The scene's own warnings lead summary.json's (`vascsim run` logged them with the model's accuracy
   // warnings).
   std::vector<std::string> warnings = scene.warnings;

@@ -35,7 +35,7 @@ ToolReach tool_reach_by_load(const RigidObstacle& tool, const Vec3Array& nodes_m
 }
 
 ToolReach tool_reach_on_trajectory(const RigidObstacle& tool, const Trajectory& trajectory, double duration_s,
-                                   const Vec3Array& nodes_m) {
+                                   const Vec3Array& nodes_m, bool first_contact) {
   ToolReach r{tool.name, std::numeric_limits<double>::infinity(), 0.0, true};
   const double t0 = trajectory.start_time_s(), t1 = t0 + duration_s;
   const double reach = std::max(tool.length_m, (tool.b_m - tool.a_m).norm()) + tool.radius_m;
@@ -54,6 +54,7 @@ ToolReach tool_reach_on_trajectory(const RigidObstacle& tool, const Trajectory& 
       const DevicePose p = trajectory.at(t);
       const double c = clearance(obstacle_posed(tool, p.position_m, p.orientation), nodes_m);
       if (c < r.clearance_m) r.clearance_m = c, r.at = t;
+      if (first_contact && r.touches()) return r;
     }
   }
   const DevicePose end = trajectory.at(t1);

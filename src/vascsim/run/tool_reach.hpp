@@ -28,9 +28,11 @@ struct ToolReach {
 ToolReach tool_reach_by_load(const RigidObstacle& tool, const Vec3Array& nodes_m);
 
 /// A tool posed by a device playing `trajectory` from its start for `duration_s`: the poses sampled so that
-/// no point of the tool moves more than a quarter of its radius between samples.
+/// no point of the tool moves more than a quarter of its radius between samples. With `first_contact`, the
+/// search ends at the first pose that reaches the tissue (enough for touches(); the deepest pass needs the
+/// whole path).
 ToolReach tool_reach_on_trajectory(const RigidObstacle& tool, const Trajectory& trajectory, double duration_s,
-                                   const Vec3Array& nodes_m);
+                                   const Vec3Array& nodes_m, bool first_contact = false);
 
 /// One line for a tool that does not reach the tissue: the gap, where, and the scene key that places it.
 std::string tool_reach_warning(const ToolReach& reach, const RigidObstacle& tool, std::size_t obstacle_index);

@@ -28,8 +28,6 @@
 namespace vascsim {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 bool contains(const std::vector<double>& x, double v) {
   return std::any_of(x.begin(), x.end(), [v](double p) { return std::abs(p - v) < 1e-12; });
 }
@@ -138,11 +136,12 @@ TEST(GradedLattice, TheCellsTileTheWallAndTheWindowEdgesAreLatticeLines) {
     EXPECT_GE(c.theta_hi_deg, 0.0);
     EXPECT_LE(c.s_lo_m, w.s_m[i]);
     EXPECT_GE(c.s_hi_m, w.s_m[i]);
-    area += spec.outer_radius_m * (c.theta_hi_deg - c.theta_lo_deg) * kPi / 180.0 * (c.s_hi_m - c.s_lo_m);
+    area += spec.outer_radius_m * (c.theta_hi_deg - c.theta_lo_deg) * std::numbers::pi / 180.0 *
+            (c.s_hi_m - c.s_lo_m);
     if (std::abs(w.s_m[i] - v.s_m[0]) < 1e-12) turn += c.theta_hi_deg - c.theta_lo_deg;
   }
   EXPECT_NEAR(turn, 360.0, 1e-9);
-  EXPECT_NEAR(area / (2.0 * kPi * spec.outer_radius_m * arch.length()), 1.0, 1e-12);
+  EXPECT_NEAR(area / (2.0 * std::numbers::pi * spec.outer_radius_m * arch.length()), 1.0, 1e-12);
 }
 
 nlohmann::json graded_aorta() {
@@ -251,7 +250,7 @@ TEST(GradedLattice, ThePointNearestAToolProjectsOntoItsArcLength) {
   for (double s : {3e-3, 10e-3, 0.37 * arch.length(), 0.5 * arch.length(), arch.length() - 4e-3})
     for (double angle_deg : {0.0, 90.0, 180.0, 250.0}) {
       const Frame f = arch.frame(s);
-      const double a = angle_deg * kPi / 180.0;
+      const double a = angle_deg * std::numbers::pi / 180.0;
       const Vec3 p = arch.position(s) + 12.5e-3 * (std::cos(a) * f.N + std::sin(a) * f.B);
       EXPECT_NEAR(arch.closest_arc_length(p), s, 1e-9) << "s " << s << " angle " << angle_deg;
     }

@@ -18,7 +18,6 @@
 namespace {
 
 using namespace vascsim;
-constexpr double kPi = std::numbers::pi;
 
 // Distance from p to the analytic bent centre-line of bent_centerline(rc, 180 deg, leg): leg along +z
 // at x = 0, half circle centred at (rc, 0, leg) in the x-z plane, leg along -z at x = 2 rc.
@@ -61,7 +60,7 @@ double max_orthonormality_error(const Centerline& cl, int n) {
 TEST(Centerline, ArcLengthAndPositionsMatchTheAnalyticArch) {
   const double rc = 40e-3, leg = 10e-3;
   const Centerline cl = bent_centerline(rc, 180.0, leg);
-  EXPECT_NEAR(cl.length(), 2 * leg + kPi * rc, 1e-9 * cl.length());
+  EXPECT_NEAR(cl.length(), 2 * leg + std::numbers::pi * rc, 1e-9 * cl.length());
   EXPECT_NEAR(cl.min_radius_of_curvature(), rc, 1e-3 * rc);
   for (int i = 0; i <= 200; ++i) {
     const double s = cl.length() * i / 200;
@@ -69,11 +68,11 @@ TEST(Centerline, ArcLengthAndPositionsMatchTheAnalyticArch) {
     Vec3 exact;
     if (s <= leg) {
       exact = Vec3(0, 0, s);
-    } else if (s <= leg + kPi * rc) {
+    } else if (s <= leg + std::numbers::pi * rc) {
       const double a = (s - leg) / rc;
       exact = Vec3(rc * (1 - std::cos(a)), 0, leg + rc * std::sin(a));
     } else {
-      exact = Vec3(2 * rc, 0, leg - (s - leg - kPi * rc));
+      exact = Vec3(2 * rc, 0, leg - (s - leg - std::numbers::pi * rc));
     }
     EXPECT_LT((p - exact).norm(), 1e-9) << "s = " << s;
     EXPECT_LT((cl.tangent(s) - cl.frame(s).T).norm(), 1e-15);
@@ -88,7 +87,7 @@ TEST(Centerline, FramesAreOrthonormalAndRotationMinimising) {
   const double a = 10e-3, c = 3e-3;
   Vec3Array pts;
   for (int i = 0; i <= 72; ++i) {
-    const double t = i * kPi / 18.0;
+    const double t = i * std::numbers::pi / 18.0;
     pts.emplace_back(a * std::cos(t), a * std::sin(t), c * t);
   }
   const Centerline helix(pts);
@@ -178,8 +177,8 @@ TEST(SweptVessel, AorticArchIsPositivePappusAndInsideTheWall) {
   // the path length of its centroid, which is the centre-line. The remaining error is the chordal
   // sampling of the bend, O((Delta/rc)^2) ~ 3e-4 bound; measured below.
   const int nt = v.angular_nodes;
-  const double poly = nt * std::sin(2 * kPi / nt) / (2 * kPi);
-  const double pappus = kPi * (R * R - r * r) * cl.length();
+  const double poly = nt * std::sin(2 * std::numbers::pi / nt) / (2 * std::numbers::pi);
+  const double pappus = std::numbers::pi * (R * R - r * r) * cl.length();
   const double rel = std::abs(vol / (poly * pappus) - 1.0);
   std::printf("arch: %zu nodes, %zu tets, volume %.9g m^3, Pappus %.9g, polygon factor %.6f, rel err %.3g\n",
               v.cloud.positions.size(), v.cloud.tets.size(), vol, pappus, poly, rel);

@@ -25,7 +25,6 @@ namespace vascsim {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPi = std::numbers::pi;
 
 // A per-test scratch directory under the system temp dir, removed afterwards.
 class TempDir {
@@ -108,7 +107,8 @@ TriangleMesh tube_lumen(double R, double L, int n, int m, bool capped) {
   TriangleMesh t;
   for (int k = 0; k <= m; ++k)
     for (int i = 0; i < n; ++i)
-      t.vertices.emplace_back(R * std::cos(2 * kPi * i / n), R * std::sin(2 * kPi * i / n), L * k / m);
+      t.vertices.emplace_back(R * std::cos(2 * std::numbers::pi * i / n),
+                              R * std::sin(2 * std::numbers::pi * i / n), L * k / m);
   auto id = [n](int i, int k) { return static_cast<Index>((i % n) + n * k); };
   for (int k = 0; k < m; ++k)
     for (int i = 0; i < n; ++i) {
@@ -134,10 +134,10 @@ TriangleMesh flipped(TriangleMesh m) {
 
 // Polygon (n sides, circumradius R) helpers for analytic references.
 double polygon_perimeter(double R, int n) {
-  return 2.0 * n * R * std::sin(kPi / n);
+  return 2.0 * n * R * std::sin(std::numbers::pi / n);
 }
 double polygon_area(double R, int n) {
-  return 0.5 * n * R * R * std::sin(2 * kPi / n);
+  return 0.5 * n * R * R * std::sin(2 * std::numbers::pi / n);
 }
 
 // 6 sqrt(2) V / l_rms^3 (1 for the regular tet, 0.657 for a Kuhn tet), the measure make_mesh_wall
@@ -161,7 +161,8 @@ double min_tet_quality(const NodeCloud& c) {
 // mean-curvature term M = (pi L + pi P / 2) (side edges: exterior angle 2 pi / n; base edges: pi / 2).
 double capped_tube_wall_volume(double R, int n, double L, double t) {
   const double P = polygon_perimeter(R, n), A = polygon_area(R, n);
-  return (2 * A + P * L) * t + kPi * (L + P / 2) * t * t + 4.0 / 3.0 * kPi * t * t * t;
+  return (2 * A + P * L) * t + std::numbers::pi * (L + P / 2) * t * t +
+         4.0 / 3.0 * std::numbers::pi * t * t * t;
 }
 
 // Every edge of the wall surface is shared by exactly two triangles running it in opposite
@@ -301,7 +302,7 @@ TEST(MeshImport, RejectsNonOrientableSurface) {
   TriangleMesh m;
   const int n = 6;
   for (int i = 0; i < n; ++i) {
-    const double u = 2 * kPi * i / n;
+    const double u = 2 * std::numbers::pi * i / n;
     for (int s = -1; s <= 1; s += 2) {
       const double w = 0.3 * s;
       m.vertices.emplace_back((1 + w * std::cos(u / 2)) * std::cos(u),
@@ -354,7 +355,7 @@ TEST(MeshGeometry, SignedDistanceToCappedTube) {
   TriangleMesh m = tube_lumen(R, L, n, 8, true);
   orient_outward(m);
   const MeshDistance d(m);
-  const double tol = R * (1.0 - std::cos(kPi / n)) + 1e-12;
+  const double tol = R * (1.0 - std::cos(std::numbers::pi / n)) + 1e-12;
   for (const double r : {0.0, 0.5, 1.9, 2.1, 3.0})
     for (const double z : {0.7, 2.0, 3.3}) {
       const Vec3 p(r * std::cos(0.3), r * std::sin(0.3), z);
@@ -424,7 +425,7 @@ TEST(MeshWall, OpenTubeLumenInvariants) {
   // exactly t, radius R + t along the face normal or the vertex ray: in [(R + t) cos(pi/n), R + t]);
   // interior lattice nodes at depth in [Delta / 2, t - Delta / 2]; z in [0, L] (clipped at the
   // openings); outward is radial.
-  const double r_min = c.R * std::cos(kPi / c.n) - 1e-12, r_max = c.R + c.t + 1e-12;
+  const double r_min = c.R * std::cos(std::numbers::pi / c.n) - 1e-12, r_max = c.R + c.t + 1e-12;
   int on_inner = 0, on_outer = 0;
   for (std::size_t i = 0; i < cl.positions.size(); ++i) {
     const Vec3& x = cl.positions[i];
@@ -436,7 +437,7 @@ TEST(MeshWall, OpenTubeLumenInvariants) {
     } else if (w.node_surface[i] == 2) {
       ++on_outer;
       ASSERT_EQ(w.depth_m[i], c.t);
-      ASSERT_GE(r, (c.R + c.t) * std::cos(kPi / c.n) - 1e-12);
+      ASSERT_GE(r, (c.R + c.t) * std::cos(std::numbers::pi / c.n) - 1e-12);
     } else {
       ASSERT_EQ(w.node_surface[i], 0);
       ASSERT_GE(w.depth_m[i], 0.5 * delta - 1e-12);
@@ -463,7 +464,8 @@ TEST(MeshWall, OpenTubeLumenInvariants) {
   TriangleMesh oriented = lumen;
   orient_outward(oriented);
   const MeshDistance d(oriented);
-  const double sag = 0.1 * delta + 3 * delta * delta / (8 * c.R) + c.R * (1 - std::cos(kPi / c.n));
+  const double sag =
+      0.1 * delta + 3 * delta * delta / (8 * c.R) + c.R * (1 - std::cos(std::numbers::pi / c.n));
   double z_lo = c.L, z_hi = 0.0;
   for (const Tet& t : cl.tets) {
     const Vec3 &a = cl.positions[t[0]], &b = cl.positions[t[1]], &e = cl.positions[t[2]],
@@ -494,7 +496,7 @@ TEST(MeshWall, OpenTubeLumenInvariants) {
   // tolerance covers the outer chords (sag Delta^2 / (8 (R + t)) ~ 0.01 Delta over t) and the few
   // cells dropped by the quality and edge filters. Before snapping this ratio was 0.675 (the node band
   // stopped ~Delta / 2 short of each surface).
-  const double ring = polygon_perimeter(c.R, c.n) * c.t + kPi * c.t * c.t;
+  const double ring = polygon_perimeter(c.R, c.n) * c.t + std::numbers::pi * c.t * c.t;
   const double volume = vascsim::test::total_tet_volume(cl);
   EXPECT_GT(z_lo, 0.0);
   EXPECT_LT(z_lo, delta);
@@ -609,7 +611,7 @@ TEST(MeshWall, NoTetSpansANarrowLumen) {
         for (int s = 1; s < 16; ++s) {
           const Vec3 q = cl.positions[t[i]] + (s / 16.0) * (cl.positions[t[j]] - cl.positions[t[i]]);
           // distance into the lumen of the polygonal tube <= graze (0.1 Delta); circle bound used
-          ASSERT_GE(q.head<2>().norm(), c.R * std::cos(kPi / c.n) - 0.1 * delta - 1e-12);
+          ASSERT_GE(q.head<2>().norm(), c.R * std::cos(std::numbers::pi / c.n) - 0.1 * delta - 1e-12);
         }
 }
 
@@ -629,14 +631,15 @@ TEST(MeshWall, ClosedWallFromNestedSurfaces) {
   s.source = "wall.ply";
   const MeshWall w = make_mesh_wall(both, s);
   // Thinnest wall measured at vertices: an inner vertex lies t cos(pi/n) from the outer polygon's sides.
-  EXPECT_NEAR(w.thickness_m, c.t * std::cos(kPi / c.n), 1e-12);
+  EXPECT_NEAR(w.thickness_m, c.t * std::cos(std::numbers::pi / c.n), 1e-12);
   const NodeCloud& cl = w.cloud;
   ASSERT_GT(cl.tets.size(), 0u);
   for (std::size_t i = 0; i < cl.positions.size(); ++i) {
     const Vec3& x = cl.positions[i];
     const double r = x.head<2>().norm();
     // (nodes snapped onto the inner surface lie on it: allow rounding)
-    const bool in_inner = r < c.R * std::cos(kPi / c.n) - 1e-12 && x.z() > 1e-12 && x.z() < c.L - 1e-12;
+    const bool in_inner =
+        r < c.R * std::cos(std::numbers::pi / c.n) - 1e-12 && x.z() > 1e-12 && x.z() < c.L - 1e-12;
     ASSERT_FALSE(in_inner) << "node in the cavity";
     ASSERT_LE(r, c.R + c.t + 1e-12);
     ASSERT_GE(w.depth_m[i], 0.0);

@@ -15,8 +15,6 @@
 namespace vascsim::rod {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
-
 // A 0.035-inch wire of 60 GPa (nitinol's order), 10 mm long in 8 edges, with a J tip of 2 mm radius over 120
 // degrees: natural curvature and a twist-free frame along it.
 RodSection j_tip_wire() {
@@ -25,7 +23,7 @@ RodSection j_tip_wire() {
 
 CosseratRod j_tip_rod() {
   return CosseratRod(shaped_tip_rod(Vec3(0.01, -0.02, 0.003), Vec3(1, 0.2, 0), Vec3(0, 0, 1), 10e-3, 8, 2e-3,
-                                    2.0 * kPi / 3.0),
+                                    2.0 * std::numbers::pi / 3.0),
                      rod_stiffness(j_tip_wire()));
 }
 
@@ -60,10 +58,10 @@ TEST(CosseratRod, TheRestShapeCarriesNoForceEvenWithAShapedTip) {
   // ... and the shape is the J asked for: the last edge is the chord of the arc from s = 8.75 mm to 10 mm,
   // the arc starting at s = 10 - 2 x 2 pi / 3 mm, so its axis has turned by the mean of the arc's angles
   // there.
-  const double shaft = 10e-3 - 2e-3 * 2.0 * kPi / 3.0;
-  const double expected = 0.5 * ((8.75e-3 - shaft) + (10e-3 - shaft)) / 2e-3 * 180.0 / kPi;
+  const double shaft = 10e-3 - 2e-3 * 2.0 * std::numbers::pi / 3.0;
+  const double expected = 0.5 * ((8.75e-3 - shaft) + (10e-3 - shaft)) / 2e-3 * 180.0 / std::numbers::pi;
   const Vec3 first = rod.frames().front() * Vec3::UnitZ(), last = rod.frames().back() * Vec3::UnitZ();
-  EXPECT_NEAR(std::acos(std::clamp(first.dot(last), -1.0, 1.0)) * 180.0 / kPi, expected, 1e-9);
+  EXPECT_NEAR(std::acos(std::clamp(first.dot(last), -1.0, 1.0)) * 180.0 / std::numbers::pi, expected, 1e-9);
 }
 
 TEST(CosseratRod, ARigidMotionChangesNeitherItsEnergyNorItsStrain) {
@@ -185,7 +183,8 @@ TEST(CosseratRod, BadInputIsAnInputError) {
   EXPECT_THROW(rod_stiffness(RodSection{1e-3, 0.0, 60e9, 10e9}), InputError);   // nu = 2
   EXPECT_THROW(straight_rod(Vec3::Zero(), Vec3::UnitX(), Vec3::UnitX(), 0.01, 4), InputError);
   EXPECT_THROW(straight_rod(Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(), 0.01, 0), InputError);
-  EXPECT_THROW(shaped_tip_rod(Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(), 0.01, 10, 0.01, kPi), InputError);
+  EXPECT_THROW(shaped_tip_rod(Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(), 0.01, 10, 0.01, std::numbers::pi),
+               InputError);
 }
 
 }  // namespace

@@ -32,6 +32,7 @@
 #include <Eigen/SparseCore>
 #include <memory>
 
+#include "vascsim/core/dense_cholesky.hpp"
 #include "vascsim/core/sparse_cholesky.hpp"
 #include "vascsim/model/contact_active_set.hpp"
 #include "vascsim/model/embedded_contact.hpp"
@@ -128,7 +129,7 @@ class WallMultigrid final : public EquilibriumPreconditioner {
   // The window: its nodes, each node's place in it (-1 outside), H's block there and its factor.
   std::vector<Index> window_;
   std::vector<Index> window_slot_;
-  Eigen::LLT<Eigen::MatrixXd> window_factor_;
+  DenseCholesky window_factor_;
   Mat9Array window_tangents_;
   std::vector<Index> window_energies_;
   // The contacts inside the window and their Woodbury factors: Zc = A_W^{-1} N^T, (N Zc)^{-1}.

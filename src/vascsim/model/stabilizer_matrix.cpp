@@ -63,16 +63,13 @@ double StabilizerMatrix::energy(const Vec3Array& u) const {
   const int* outer = K_.outerIndexPtr();
   const int* inner = K_.innerIndexPtr();
   const double* value = K_.valuePtr();
-  // K is symmetric: the pairs above the diagonal (each row's columns are sorted) once, counted twice.
-  double sum = 0.0;  // sum_{r<c} K_rc |u_c - u_r|^2
+  double sum = 0.0;  // sum_{r,c} K_rc |u_c - u_r|^2
 #pragma omp parallel for schedule(static) reduction(+ : sum) if (n >= kParallelMinNodes)
-  for (Index r = 0; r < n; ++r) {
-    const int* first = std::upper_bound(inner + outer[r], inner + outer[r + 1], static_cast<int>(r));
-    const Vec3 ur = u[static_cast<std::size_t>(r)];
-    for (int p = static_cast<int>(first - inner); p < outer[r + 1]; ++p)
-      sum += value[p] * (u[static_cast<std::size_t>(inner[p])] - ur).squaredNorm();
-  }
-  return -0.5 * sum;
+  for (Index r = 0; r < n; ++r)
+    for (int p = outer[r]; p < outer[r + 1]; ++p)
+      sum +=
+          value[p] * (u[static_cast<std::size_t>(inner[p])] - u[static_cast<std::size_t>(r)]).squaredNorm();
+  return -0.25 * sum;
 }
 
 }  // namespace vascsim

@@ -289,9 +289,16 @@ void WallMultigrid::smooth(const Vec3Array& b, Vec3Array& z, bool constrained) c
       continue;
     const std::size_t m = static_cast<std::size_t>(3 * nodes);
     bl.resize(m);
+    bool zero = true;
     for (Index a = 0; a < nodes; ++a) {
       const Vec3& v = b[static_cast<std::size_t>(line_nodes_[static_cast<std::size_t>(first + a)])];
       for (int c = 0; c < 3; ++c) bl[3 * static_cast<std::size_t>(a) + static_cast<std::size_t>(c)] = v[c];
+      zero = zero && v.isZero(0.0);
+    }
+    if (zero) {  // (the haptic hand-off's columns are zero on all but a few lines)
+      for (Index a = 0; a < nodes; ++a)
+        z[static_cast<std::size_t>(line_nodes_[static_cast<std::size_t>(first + a)])].setZero();
+      continue;
     }
     // z = w A^{-1} b on the line (column-major, a few dozen entries: plain loops beat Eigen's dynamic ones).
     const double* inv = level_->line_inverse.data() + line_offset_[l];

@@ -59,7 +59,8 @@ std::string blas_core_override() {
   if (std::getenv("OPENBLAS_CORETYPE") != nullptr) return {};
   using Fn = char* (*)();
   auto f = reinterpret_cast<Fn>(symbol("openblas_get_corename"));
-  if (!f || f() == nullptr || strcasecmp(f(), "Prescott") != 0) return {};
+  const char* core = f ? f() : nullptr;
+  if (core == nullptr || strcasecmp(core, "Prescott") != 0) return {};
   __builtin_cpu_init();
   if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
       __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl"))

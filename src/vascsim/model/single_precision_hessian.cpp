@@ -56,7 +56,6 @@ SinglePrecisionHessian::SinglePrecisionHessian(const PointPrimitiveEnergy& energ
       stab_start_[static_cast<std::size_t>(r) + 1] = static_cast<Index>(stab_col_.size());
     }
   }
-  F_.resize(static_cast<std::size_t>(n));
   Fc_.resize(static_cast<std::size_t>(n));
   Ft_.resize(static_cast<std::size_t>(n));
   S_.resize(static_cast<std::size_t>(n));
@@ -75,7 +74,6 @@ void SinglePrecisionHessian::linearize(const Vec3Array& x) {
     const Mat3 F = disc.deformation_gradient(i, x);
     const Mat3 E = 0.5 * (F.transpose() * F - I);
     const Mat3 S = lambda * E.trace() * I + 2.0 * mu * E;
-    F_[static_cast<std::size_t>(i)] = F.cast<float>();
     Fc_[static_cast<std::size_t>(i)] << F.cast<float>(), Eigen::RowVector3f::Zero();
     Ft_[static_cast<std::size_t>(i)] << F.transpose().cast<float>(), Eigen::RowVector3f::Zero();
     S_[static_cast<std::size_t>(i)] = S.cast<float>();
@@ -95,7 +93,7 @@ void SinglePrecisionHessian::product(const Vec3Array& v, Vec3Array& out, bool po
   // instead of a dozen scalar ones: the product is bound by the instructions per pair, not by memory (its
   // arrays stay in cache), docs/performance.md "Real time at hand speed".
   const std::vector<Eigen::Matrix3f>& S = positive ? S_plus_ : S_;
-  const Index n = static_cast<Index>(F_.size());
+  const Index n = static_cast<Index>(Fc_.size());
   out.resize(static_cast<std::size_t>(n));
 #pragma omp parallel if (n >= kParallelMinNodes)
   {

@@ -54,7 +54,7 @@ class SinglePrecisionHessian {
   std::vector<Index> stab_start_, stab_col_;
   std::vector<float> stab_value_;
   // Per node: F_i and S_i (linearize), and the product's intermediate dP_i.
-  std::vector<Eigen::Matrix3f> F_, S_, S_plus_;
+  std::vector<Eigen::Matrix3f> S_, S_plus_;
   std::vector<Eigen::Matrix<float, 4, 3>> Fc_, Ft_;  // F and F^T padded to four rows, for the product
   // (padded to four rows: the product's updates are 4-wide).
   mutable std::vector<Eigen::Matrix<float, 4, 3>> Q_;

@@ -180,5 +180,42 @@ TEST(EmbeddedContact, ACarriedSetKeepsOnlyTheSamplesThatWereInContact) {
   EXPECT_EQ(carried.active(), 0);
 }
 
+// A carried sample the tool left by at most set_carried_gap's gap stays in the carried set, its penalty
+// pulling it back; farther ones drop out. A tool translating by d changes each sample's signed distance by at
+// most |d| (the distance is 1-Lipschitz), so with a gap of |d| the carried set is the whole previous one.
+TEST(EmbeddedContact, ACarriedSetHoldsTheSamplesTheToolLeftWithinTheGap) {
+  std::mt19937 rng(13);
+  Fixture f = make_fixture(rng);
+  EmbeddedContact contact(f.surface, f.X, 1);
+  const constraints::Capsule sphere = pressing_sphere();  // 50 um into the surface
+  contact.place(0, sphere);
+  contact.linearize(f.X);
+  const int before = contact.active();
+  ASSERT_GT(before, 5);
+  ASSERT_LT(contact.loads({sphere.a}).at(0).force_vector_n.z(), 0.0);  // pushes the tissue down
+  // Slid 0.2 mm and lifted 20 um: the samples behind it leave, and with the move as the gap all are held.
+  const Vec3 slide(0.2e-3, 0.0, 20e-6);
+  contact.set_carried_gap(slide.norm());
+  contact.place(0, {sphere.a + slide, sphere.b + slide, sphere.radius_m});
+  contact.relinearize_carried(f.X);
+  EXPECT_EQ(contact.active(), before);
+  // Lifted 0.1 mm (every sample 50-100 um clear): held within a gap of 0.1 mm, the samples pull the tissue
+  // up towards the tool; with a gap of 40 um all drop out.
+  for (const double gap : {0.1e-3, 40e-6}) {
+    contact.place(0, sphere);
+    contact.linearize(f.X);
+    const Vec3 up(0.0, 0.0, 0.1e-3);
+    contact.set_carried_gap(gap);
+    contact.place(0, {sphere.a + up, sphere.b + up, sphere.radius_m});
+    contact.relinearize_carried(f.X);
+    if (gap > 50e-6) {
+      EXPECT_EQ(contact.active(), before);
+      EXPECT_GT(contact.loads({sphere.a + up}).at(0).force_vector_n.z(), 0.0);
+    } else {
+      EXPECT_EQ(contact.active(), 0);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace vascsim

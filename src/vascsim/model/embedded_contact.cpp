@@ -101,7 +101,7 @@ void EmbeddedContact::relinearize_carried(const Vec3Array& x) {
       xv += surface_.val[static_cast<std::size_t>(k)] * (x[i] - rest_nodes_[i]);
     }
     const auto c = obstacle_contact(geometry_[static_cast<std::size_t>(old.tool)], xv);
-    if (c.value < 0.0) kept.push_back(make_contact(old.sample, old.tool, xv, c));
+    if (c.value < 0.0 || c.value <= carried_gap_m_) kept.push_back(make_contact(old.sample, old.tool, xv, c));
   }
   active_ = std::move(kept);
 }

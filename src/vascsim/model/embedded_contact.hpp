@@ -31,10 +31,16 @@ class EmbeddedContact {
   /// Finds the penetrating samples at x; forces, Hessian products and loads then refer to x.
   void linearize(const Vec3Array& x);
   /// Re-linearises at x (the tools placed anew) the samples that were in contact at the last linearisation,
-  /// and only those (the ones the tools left drop out): the contact set carried into a frame whose tools
-  /// moved, so that its first Newton step answers their move without the samples the moved tools sweep
-  /// through, most of which the wall's response takes out of contact again.
+  /// and only those: the contact set carried into a frame whose tools moved, so that its first Newton step
+  /// answers their move without the samples the moved tools sweep through, most of which the wall's response
+  /// takes out of contact again. A carried sample the tools left by a gap of at most set_carried_gap's is
+  /// held there for that step, its penalty pulling it back (a tool sliding along the wall leaves the samples
+  /// behind it: released, they would let the wall spring back into the tool, and the step would meet every
+  /// sample ahead at once); farther ones drop out.
   void relinearize_carried(const Vec3Array& x);
+  /// The gap up to which relinearize_carried holds a sample the tools left, m (0, the default: none; the
+  /// length the tools moved since the last linearisation holds the samples a slide left).
+  void set_carried_gap(double gap_m) { carried_gap_m_ = gap_m; }
   /// Adds the contact forces on the nodes (-dU_c/dx at the linearisation), N.
   void add_forces(Vec3Array& f) const;
   /// Adds (d^2 U_c/dx^2) p at the linearisation; with `normal_only`, only its positive semi-definite normal
@@ -79,6 +85,7 @@ class EmbeddedContact {
   std::vector<constraints::Capsule> geometry_;
   std::vector<Contact> active_;
   double phi_l1_max_ = 0.0;  // the largest phi_l1 of the surface
+  double carried_gap_m_ = 0.0;
 };
 
 }  // namespace vascsim

@@ -46,6 +46,7 @@ ImplicitSettings read_implicit_settings(JsonReader& b) {
   s.max_tool_step = b.number("max_tool_step", d.max_tool_step, 0.0, 1e6);
   s.realtime_tool_step = b.number("realtime_tool_step", d.realtime_tool_step, 0.0, 1e6);
   s.contact_substep = b.number("contact_substep", d.contact_substep, 0.0, 1e6);
+  s.warm_start_residual = b.number("warm_start_residual", d.warm_start_residual, 0.0, 1e6);
   s.handoff_surface_residual = b.number("handoff_surface_residual", d.handoff_surface_residual, 1e-14, 1e6);
   s.min_newton_iterations = b.integer("min_newton_iterations", d.min_newton_iterations, 0, 1000);
   s.max_forcing = b.number("max_forcing", d.max_forcing, 1e-6, 0.5);
@@ -387,6 +388,65 @@ void ImplicitModel::approach_tools(double s, const Vec3Array& f_ext) {
   for (std::size_t o = 0; o < tools_.size(); ++o) tools_.advance(o, inf);
 }
 
+std::vector<Vec3> ImplicitModel::frame_goal_points(double s) const {
+  // With max_tool_step the tools were already moved their bounded step (advance_tools); otherwise the frame
+  // takes them to the device's poses.
+  return settings_.max_tool_step > 0.0 ? tools_.points(s) : tools_.target_points(s);
+}
+
+bool ImplicitModel::warm_start_from_motion(double s) {
+  // The wall's response to a tool's move is nearly linear over a frame: the last frame's motion m, scaled by
+  // the projection c of this frame's move d onto the last one's d', predicts this frame's. It applies only
+  // when that motion joined two states near equilibrium (otherwise it carries the solver's corrections), and
+  // when d runs along d' (a turn, from pressing to sliding, would be predicted by the wrong motion).
+  if (!(settings_.warm_start_residual > 0.0) || !motion_trusted_ || last_motion_.size() != x_.size() ||
+      last_tool_move_.size() != tools_.size() || frame_tool_points_.size() != tools_.size())
+    return false;
+  const std::vector<Vec3> targets = frame_goal_points(s);
+  double dd = 0.0, dd_last = 0.0, d_last2 = 0.0;
+  for (std::size_t o = 0; o < tools_.size(); ++o) {
+    const Vec3 d = targets[o] - frame_tool_points_[o];
+    dd += d.squaredNorm();
+    dd_last += d.dot(last_tool_move_[o]);
+    d_last2 += last_tool_move_[o].squaredNorm();
+  }
+  // (A hundredth of a node spacing is no move, as for tools_moved_.)
+  const double still = 1e-4 * spacing_ * spacing_;
+  if (d_last2 <= still || dd <= still) return false;
+  const double c = dd_last / d_last2;
+  // |d - c d'|^2 = |d|^2 - c^2 |d'|^2: the part of the move the last motion does not predict, at most a fifth
+  // of it; and at most twice the last move (a longer extrapolation leaves the linear range).
+  if (!(c > 0.0 && c <= 2.0) || dd - c * c * d_last2 > 0.04 * dd) return false;
+  if (!(settings_.max_tool_step > 0.0))
+    for (std::size_t o = 0; o < tools_.size(); ++o)
+      tools_.advance(o, std::numeric_limits<double>::infinity());
+  for (Index i : free_.nodes) x_[i] += c * last_motion_[i];
+  ++warm_started_frames_;
+  return true;
+}
+
+void ImplicitModel::advect_with_tools(double s) {
+  // A tool sliding along the wall carries its dent with it: the displacement field moves by the tool's move
+  // T along the wall, u'(X) = u(X - T), to first order x_i - (F_i - I) T.
+  if (frame_tool_points_.size() != tools_.size()) return;
+  const std::vector<Vec3> targets = frame_goal_points(s);
+  int in_contact = 0;
+  Vec3 T = Vec3::Zero();
+  for (std::size_t o = 0; o < tools_.size(); ++o) {
+    const Vec3 f = loads_[o].force_vector_n;
+    if (loads_[o].contacts == 0 || !(f.norm() > 0.0)) continue;
+    ++in_contact;
+    const Vec3 n = f.normalized();
+    const Vec3 d = targets[o] - frame_tool_points_[o];
+    T = d - n.dot(d) * n;
+  }
+  if (in_contact != 1 || T.norm() <= 1e-2 * spacing_) return;
+  const Vec3Array x = x_;
+  const Discretization& disc = problem_.discretization();
+  for (Index i : free_.nodes) x_[i] = x[i] - (disc.deformation_gradient(i, x) - Mat3::Identity()) * T;
+  ++advected_frames_;
+}
+
 void ImplicitModel::prepare_frame(double s, const Vec3Array& f_ext) {
   // The inertia's anchor a = x_n + h v_n, prescribed nodes at their positions at s, the tools placed.
   const Index n = problem_.discretization().num_nodes();
@@ -400,8 +460,25 @@ void ImplicitModel::prepare_frame(double s, const Vec3Array& f_ext) {
     // surfaces.
     x_[i] = problem_.constrained()[i] ? problem_.prescribed_position(i, s) : embedded_ ? x_[i] : anchor_[i];
   }
-  approach_tools(s, f_ext);
+  if (embedded_) {
+    // The carried step holds the samples the tools left by up to their move (EmbeddedContact).
+    const std::vector<Vec3> targets = frame_goal_points(s);
+    double move = 0.0;
+    if (frame_tool_points_.size() == targets.size())
+      for (std::size_t o = 0; o < targets.size(); ++o)
+        move = std::max(move, (targets[o] - frame_tool_points_[o]).norm());
+    embedded_->set_carried_gap(move);
+  }
+  warm_started_ = embedded_ && warm_start_from_motion(s);
+  if (!warm_started_ && embedded_) advect_with_tools(s);
+  if (!warm_started_) approach_tools(s, f_ext);
   place_tools(s);
+  const std::vector<Vec3> previous = frame_tool_points_;
+  frame_tool_points_ = tools_.points(s);
+  frame_tool_move_.assign(frame_tool_points_.size(), Vec3::Zero());
+  if (previous.size() == frame_tool_points_.size())
+    for (std::size_t o = 0; o < previous.size(); ++o)
+      frame_tool_move_[o] = frame_tool_points_[o] - previous[o];
   contacts_.project(x_, true);
   // (A hundredth of a node spacing is no move: a hand held still jitters by less.)
   tools_moved_ = false;
@@ -430,8 +507,8 @@ StepReport ImplicitModel::step() {
                                                        std::chrono::duration<double>(settings_.time_budget_s))
                             : SteadyClock::time_point::max();
   Stopwatch phase;
-  const NewtonResult r =
-      newton_.solve(x_, s_next, f_ext, InertiaTerm{1.0 / (h_ * h_), &anchor_}, deadline, tools_moved_);
+  const NewtonResult r = newton_.solve(x_, s_next, f_ext, InertiaTerm{1.0 / (h_ * h_), &anchor_}, deadline,
+                                       tools_moved_ && !warm_started_);
   split_.solve_s += phase.seconds();
   // The velocity of a frame that ended unconverged is partly the solver's correction, not motion: carried
   // into the next frame's start x + h v it would add that correction again, and frames the budget stops
@@ -439,6 +516,13 @@ StepReport ImplicitModel::step() {
   // relative residual of 0.4 at the first contact to 10^2 within a second).
   for (std::size_t i = 0; i < x_.size(); ++i)
     v_[i] = r.converged ? Vec3((x_[i] - x_old_[i]) / h_) : Vec3::Zero();
+  // This frame's motion predicts the next one's when it started and ended near an equilibrium.
+  const bool near_equilibrium = r.converged || r.residual <= settings_.warm_start_residual;
+  motion_trusted_ = near_equilibrium && start_near_equilibrium_;
+  start_near_equilibrium_ = near_equilibrium;
+  last_motion_.resize(x_.size());
+  for (std::size_t i = 0; i < x_.size(); ++i) last_motion_[i] = x_[i] - x_old_[i];
+  last_tool_move_ = frame_tool_move_;
   // The frame's loads are handed on when the frame is near enough its equilibrium, with no contact that pulls
   // (held, such a contact makes the pushing ones carry more: +128 % measured at a residual of 6e-3);
   // otherwise the last one that was keeps serving with its own tool pose (contact reactions far from
@@ -522,6 +606,8 @@ nlohmann::json ImplicitModel::info() const {
                       {"max_tool_lag_m", max_tool_lag_},
                       {"frames_handing_on_an_older_force", stale_handoffs_},
                       {"contact_substeps", substeps_},
+                      {"warm_started_frames", warm_started_frames_},
+                      {"advected_frames", advected_frames_},
                       {"handoff_max_residual", settings_.handoff_max_residual},
                       {"time_budget_s", settings_.time_budget_s},
                       {"duration_s", settings_.duration_s},

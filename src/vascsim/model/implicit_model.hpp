@@ -69,6 +69,13 @@ struct ImplicitSettings {
   /// force's error (on the real-time vein frames below 0.05 were within 0.4-1.7 % of their equilibrium's
   /// force, and frames stopped by the budget rarely get below 1e-2 while the hand moves).
   double handoff_surface_residual = 0.05;
+  /// With the tools on the wall's surface: a frame whose tools move on along their last frame's move starts
+  /// from the wall's motion over that frame, scaled to the new move, instead of the carried step (a frame
+  /// that starts there is close to its equilibrium: in lockstep frames of 1/60 s on the benchmark's 1 mm/s
+  /// press, one Newton step of 3-4 CG iterations against three of about 20), when both ends of that frame
+  /// were within this relative residual of their equilibria (0: never). Above it the motion is mostly the
+  /// solver's correction, and a prediction from it runs away.
+  double warm_start_residual = 0.1;
   /// Newton steps every frame takes before time_budget_s can end it, with the tools on the wall's surface (0:
   /// the budget alone decides).
   int min_newton_iterations = 0;
@@ -155,8 +162,11 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
       std::size_t tool) const;  // how far a tool can go towards its pose before it touches a node, m
   void prepare_frame(double s, const Vec3Array& f_ext);  // prescribed nodes, warm start, tools, contacts
   void approach_tools(double s,
-                      const Vec3Array& f_ext);  // contact_substep's continuation to the device poses
-  void maybe_refactor(const NewtonResult& r);   // the drift triggers
+                      const Vec3Array& f_ext);          // contact_substep's continuation to the device poses
+  std::vector<Vec3> frame_goal_points(double s) const;  // where this frame's tools end
+  bool warm_start_from_motion(double s);       // warm_start_residual's start; false where it does not apply
+  void advect_with_tools(double s);            // otherwise, with a tool sliding: its dent moved along with it
+  void maybe_refactor(const NewtonResult& r);  // the drift triggers
   /// A factor at x, refilling `reuse` (a factor no frame uses any more) when given.
   std::unique_ptr<Factor> build_factor(const Vec3Array& x, std::unique_ptr<Factor> reuse = nullptr) const;
   void install(std::unique_ptr<Factor> f);
@@ -173,6 +183,13 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   bool realtime_ = false;
   bool last_handoff_ = true;  // the last frame handed its force on (realtime_tool_step lets the tool move)
   Vec3Array x_, v_, anchor_, x_old_;
+  // warm_start_residual: the wall's motion over the last frame and its tools' move, whether both ends of that
+  // frame were near their equilibria, the tools' points of the frame being solved and their move from the
+  // last one.
+  Vec3Array last_motion_;
+  std::vector<Vec3> last_tool_move_, frame_tool_points_, frame_tool_move_;
+  bool motion_trusted_ = false, start_near_equilibrium_ = true, warm_started_ = false;
+  long long warm_started_frames_ = 0, advected_frames_ = 0;
   bool tools_moved_ =
       false;  // a tool moved since the last frame (its first Newton step carries the contacts)
   FreeDofs free_;

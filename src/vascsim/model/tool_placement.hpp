@@ -71,6 +71,13 @@ class ToolPlacement {
       p.push_back(posed_[o] ? used_[o].position : tool_point_at(tools_[o], s));
     return p;
   }
+  /// Every tool's target (the device's pose for a posed tool, else its point at load factor s), m.
+  std::vector<Vec3> target_points(double s) const {
+    std::vector<Vec3> p;
+    for (std::size_t o = 0; o < tools_.size(); ++o)
+      p.push_back(posed_[o] ? target_[o].position : tool_point_at(tools_[o], s));
+    return p;
+  }
   std::size_t size() const { return tools_.size(); }
 
  private:

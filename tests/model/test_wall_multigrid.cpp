@@ -268,6 +268,46 @@ TEST(WallMultigrid, ConjugateGradientsReachTheDirectSolution) {
   EXPECT_LE(it, 100);
 }
 
+// A Newton step taken whole that raises the force residual is searched from the state before it
+// (NewtonSettings::deferred_line_search). Under a load that bends the piece by several wall thicknesses in
+// one backward-Euler step from rest, a whole step overshoots: the deferred search rejects it and reaches the
+// equilibrium of the Armijo search, to 1e-6 of the largest displacement (both solve to 1e-9 of
+// the load).
+TEST(WallMultigrid, ADeferredLineSearchSearchesTheStepsThatRaiseTheResidual) {
+  MultigridRig rig;
+  ContactActiveSet none(rig.P, rig.free, false);
+  NewtonSettings ns;
+  ns.rel_tolerance = 1e-9;
+  ns.max_newton_iterations = 200;
+  ns.max_cg_iterations = 500;
+  Vec3Array f_ext(rig.x.size(), Vec3::Zero());
+  for (Index i : rig.free.nodes) f_ext[i] = Vec3(0.0, -1e-4, 0.0);  // N per node, towards the axis
+  const Vec3Array rest = rig.P.discretization().rest_positions();
+  Vec3Array x[2];
+  NewtonResult result[2];
+  for (int deferred = 0; deferred < 2; ++deferred) {
+    ns.deferred_line_search = deferred == 1;
+    NewtonEquilibrium newton(rig.P, rig.free, none, ns);
+    newton.set_preconditioner(rig.mg.get());
+    x[deferred] = rig.P.discretization().rest_positions();
+    result[deferred] = newton.solve(x[deferred], 1.0, f_ext, InertiaTerm{rig.inv_h2, &rest});
+    EXPECT_TRUE(result[deferred].converged) << "deferred " << deferred;
+  }
+  double largest = 0.0, diff = 0.0;
+  const Vec3Array& X = rig.P.discretization().rest_positions();
+  for (std::size_t i = 0; i < X.size(); ++i) {
+    largest = std::max(largest, (x[0][i] - X[i]).norm());
+    diff = std::max(diff, (x[1][i] - x[0][i]).norm());
+  }
+  std::printf(
+      "[ multigrid ] deflection %.4g mm: Armijo %d Newton steps, deferred %d (%d whole steps searched)\n",
+      largest * 1e3, result[0].iterations, result[1].iterations, result[1].rejected_whole_steps);
+  EXPECT_GT(largest, 0.5e-3);
+  EXPECT_GT(result[1].rejected_whole_steps, 0);
+  EXPECT_EQ(result[0].rejected_whole_steps, 0);
+  EXPECT_LT(diff, 1e-6 * largest);
+}
+
 // The implicit model with the multigrid and with the Cholesky factor of the whole Hessian reach the same
 // equilibrium under the catheter (each frame to a relative residual of 1e-9): the tool force agrees to 1e-5
 // relative (the two solvers stop at different points within the tolerance; 1e-9 of the reactions moves the

@@ -38,6 +38,7 @@ ImplicitSettings read_implicit_settings(JsonReader& b) {
   s.single_precision = b.boolean("single_precision", d.single_precision);
   s.level_refresh_frames = b.integer("level_refresh_frames", d.level_refresh_frames, 1, 1000000);
   s.line_search = b.boolean("line_search", d.line_search);
+  s.deferred_line_search = b.boolean("deferred_line_search", d.deferred_line_search);
   s.haptic_candidates = b.integer("haptic_candidates", d.haptic_candidates, 0, 24);
   s.refactor_cg_rate = b.number("refactor_cg_rate", d.refactor_cg_rate, 0.0, 1.0);
   s.refactor_cg_iterations = b.integer("refactor_cg_iterations", d.refactor_cg_iterations, 1, 100000);
@@ -62,6 +63,7 @@ NewtonSettings newton_settings(const ImplicitSettings& s) {
   n.max_cg_iterations = s.max_cg_iterations;
   n.max_contact_passes = 50;
   n.line_search = s.line_search;
+  n.deferred_line_search = s.deferred_line_search;
   // Contacts at the nodes that pull are let go below a residual of 1e-3 (releasing at any residual was
   // measured no better: docs/performance.md section 12).
   n.release_below_residual = 1e-3;

@@ -88,7 +88,11 @@ struct ImplicitSettings {
   /// With the multigrid, the coarse level is rebuilt every this many frames (in the background in a realtime
   /// session).
   int level_refresh_frames = 6;
-  bool line_search = true;     ///< Armijo line search in every Newton iteration (off: whole steps)
+  bool line_search = true;  ///< Armijo line search in every Newton iteration (off: whole steps)
+  /// With line_search and the tools on the wall's surface: each Newton step is taken whole first, and
+  /// searched only when the force residual there is no smaller (NewtonSettings::deferred_line_search): the
+  /// two energy evaluations of a frame's first step are saved where the step is good.
+  bool deferred_line_search = true;
   int haptic_candidates = 24;  ///< contacts and near contacts handed to the haptic thread (0: K only)
   /// Refactor when CG reduced the residual by less than this per iteration (NewtonResult::cg_rate: about 0.1
   /// with a fresh factor, towards 1 as it goes stale),

@@ -253,9 +253,37 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
   accepted_potential_.reset();  // x comes from outside
   double best = INFINITY;
   int stalled = 0;
+  // deferred_line_search: the state before a step taken whole, its force residual and the step.
+  const bool defer = settings_.line_search && settings_.deferred_line_search && contacts_.empty();
+  Vec3Array x_before, dx_before, r_before;
+  bool unchecked = false;
   for (int it = 0;; ++it) {
     carried_ = carry_contacts && it == 0;
     out.residual = residual(x, s, f_ext, inertia, r);
+    if (unchecked) {
+      unchecked = false;
+      if (!(residual_norm(r) < residual_norm(r_before))) {
+        // The whole step made the forces worse: back to the state before it, and search along the step from
+        // there (or, out of time, end there).
+        spdlog::debug("equilibrium:   the whole step raised the residual to {:.3e}: line search",
+                      out.residual);
+        x.swap(x_before);
+        accepted_potential_.reset();
+        ++out.rejected_whole_steps;
+        if (it >= settings_.min_newton_iterations && SteadyClock::now() >= deadline) {
+          out.residual = residual(x, s, f_ext, inertia, r);
+        } else {
+          if (!line_search(x, r_before, f_ext, inertia, dx_before, trial)) {
+            spdlog::debug("equilibrium:   the line search found no decrease");
+            out.residual = residual(x, s, f_ext, inertia, r);
+            out.converged = false;
+            break;
+          }
+          x.swap(trial);
+          continue;
+        }
+      }
+    }
     if (spdlog::should_log(spdlog::level::debug))
       spdlog::debug("equilibrium: s = {:.4g}, Newton {}: relative residual {:.3e}{}", s, it, out.residual,
                     embedded_ ? fmt::format(" ({} samples in contact, tool force {:.4e} N)",
@@ -320,7 +348,14 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
     if (cg > 0 && reduction > 0.0) out.cg_rate = std::max(out.cg_rate, std::pow(reduction, 1.0 / cg));
     spdlog::debug("equilibrium:   CG {} iterations (eta {:.1e})", cg, eta);
     // The carried step is taken whole, never searched: its contact forces are not the gradient of Pi.
-    if (settings_.line_search && !moving) {
+    if (defer && !moving) {
+      x_before = x;
+      dx_before = dx;
+      r_before = r;
+      unchecked = true;
+      for (std::size_t i = 0; i < x.size(); ++i) x[i] += dx[i];
+      accepted_potential_.reset();
+    } else if (settings_.line_search && !moving) {
       if (!line_search(x, r, f_ext, inertia, dx, trial)) {
         spdlog::debug("equilibrium:   the line search found no decrease");
         out.converged = false;

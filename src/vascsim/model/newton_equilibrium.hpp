@@ -33,6 +33,11 @@ struct NewtonSettings {
   /// is taken whole, which saves an energy evaluation per iteration when the increments are small (real-time
   /// frames warm-started from the last equilibrium).
   bool line_search = true;
+  /// With line_search and the tools on the wall's surface (or none): each Newton step is first taken whole,
+  /// and the line search runs only when the force residual there is no smaller than before the step (then
+  /// from the state before it). The energy evaluations of an accepted step (two at a solve's first step) are
+  /// saved; a solve that ends right after a rejected step ends at the state before it.
+  bool deferred_line_search = false;
   /// Contacts that pull are released once the relative residual is below this (1e-3: well before the
   /// tolerance, so that Newton does not polish an active set that is about to change). A real-time frame,
   /// which stops after a few iterations, releases at any residual (infinity).
@@ -64,8 +69,9 @@ struct NewtonResult {
   int contact_passes = 0;  ///< active-set releases
   double residual = 0.0;   ///< relative residual reached
   bool converged = true;
-  bool out_of_time = false;     ///< stopped at the deadline
-  bool loads_measured = false;  ///< the contact reactions of the final state are in last_residual()
+  bool out_of_time = false;      ///< stopped at the deadline
+  int rejected_whole_steps = 0;  ///< deferred_line_search: whole steps that raised the residual (searched)
+  bool loads_measured = false;   ///< the contact reactions of the final state are in last_residual()
   /// How well the preconditioner matched the Newton matrix: the geometric mean, over the CG iterations of the
   /// solve, of the residual reduction per iteration (|r_k| / |r_0|)^(1/k); 0 when CG never ran. About 0.1 or
   /// less with a factor of the current matrix, approaching 1 as the factor goes stale.

@@ -96,7 +96,9 @@ int NewtonEquilibrium::conjugate_gradients(const Vec3Array& x, const Vec3Array& 
   Vec3Array r(n, Vec3::Zero()), z, p, Hp;
   const auto lin = single_ ? PointPrimitiveEnergy::Linearization{} : problem_.energy().linearize(x);
   if (single_) single_->linearize(x);
-  if (embedded_ && !carried_) embedded_->linearize(x);
+  // (solve() says when the residual it just evaluated at x left the embedded contact linearised there.)
+  if (embedded_ && !carried_ && !embedded_linearized_) embedded_->linearize(x);
+  embedded_linearized_ = false;
   use_correction_ = preconditioner_ != nullptr && !preconditioner_->handles_contacts() &&
                     !contacts_.empty() && correction_.update(*preconditioner_, compliance_);
   // A multigrid preconditioner smooths with this very matrix (the linearisation above).
@@ -342,6 +344,7 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
                : std::clamp(std::max(std::sqrt(out.residual), 0.3 * settings_.rel_tolerance / out.residual),
                             1e-6, settings_.max_forcing);
     double reduction = 1.0;
+    embedded_linearized_ = !carried_;  // residual() above, at this x
     const int cg = conjugate_gradients(x, r, eta, inertia, dx,
                                        timed ? deadline : SteadyClock::time_point::max(), &reduction);
     out.cg_iterations += cg;

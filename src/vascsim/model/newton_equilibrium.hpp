@@ -155,7 +155,9 @@ class NewtonEquilibrium {
   SinglePrecisionHessian* single_ = nullptr;
   Vec3Array r_unfiltered_;
   double force_floor_ = 0.0;
-  bool carried_ = false;                  // this evaluation keeps the embedded contact's carried-over set
+  bool carried_ = false;  // this evaluation keeps the embedded contact's carried-over set
+  mutable bool embedded_linearized_ =
+      false;                              // solve(): the residual linearised the embedded contact at CG's x
   mutable NodeCompliance compliance_;     // P^{-1} E_i per node, per factor (node_compliance.hpp)
   mutable ContactCorrection correction_;  // cached per contact set and factor (contact_correction.hpp)
   mutable bool use_correction_ = false;

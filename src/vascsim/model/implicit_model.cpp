@@ -396,7 +396,7 @@ std::vector<Vec3> ImplicitModel::frame_goal_points(double s) const {
   return settings_.max_tool_step > 0.0 ? tools_.points(s) : tools_.target_points(s);
 }
 
-bool ImplicitModel::warm_start_from_motion(double s) {
+bool ImplicitModel::warm_start_from_motion(const std::vector<Vec3>& targets) {
   // The wall's response to a tool's move is nearly linear over a frame: the last frame's motion m, scaled by
   // the projection c of this frame's move d onto the last one's d', predicts this frame's. It applies only
   // when that motion joined two states near equilibrium (otherwise it carries the solver's corrections), and
@@ -404,7 +404,6 @@ bool ImplicitModel::warm_start_from_motion(double s) {
   if (!(settings_.warm_start_residual > 0.0) || !motion_trusted_ || last_motion_.size() != x_.size() ||
       last_tool_move_.size() != tools_.size() || frame_tool_points_.size() != tools_.size())
     return false;
-  const std::vector<Vec3> targets = frame_goal_points(s);
   double dd = 0.0, dd_last = 0.0, d_last2 = 0.0;
   for (std::size_t o = 0; o < tools_.size(); ++o) {
     const Vec3 d = targets[o] - frame_tool_points_[o];
@@ -427,11 +426,10 @@ bool ImplicitModel::warm_start_from_motion(double s) {
   return true;
 }
 
-void ImplicitModel::advect_with_tools(double s) {
+void ImplicitModel::advect_with_tools(const std::vector<Vec3>& targets) {
   // A tool sliding along the wall carries its dent with it: the displacement field moves by the tool's move
   // T along the wall, u'(X) = u(X - T), to first order x_i - (F_i - I) T.
   if (frame_tool_points_.size() != tools_.size()) return;
-  const std::vector<Vec3> targets = frame_goal_points(s);
   int in_contact = 0;
   Vec3 T = Vec3::Zero();
   for (std::size_t o = 0; o < tools_.size(); ++o) {
@@ -470,9 +468,11 @@ void ImplicitModel::prepare_frame(double s, const Vec3Array& f_ext) {
       for (std::size_t o = 0; o < targets.size(); ++o)
         move = std::max(move, (targets[o] - frame_tool_points_[o]).norm());
     embedded_->set_carried_gap(move);
+    warm_started_ = warm_start_from_motion(targets);
+    if (!warm_started_) advect_with_tools(targets);
+  } else {
+    warm_started_ = false;
   }
-  warm_started_ = embedded_ && warm_start_from_motion(s);
-  if (!warm_started_ && embedded_) advect_with_tools(s);
   if (!warm_started_) approach_tools(s, f_ext);
   place_tools(s);
   const std::vector<Vec3> previous = frame_tool_points_;

@@ -168,8 +168,10 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   void approach_tools(double s,
                       const Vec3Array& f_ext);          // contact_substep's continuation to the device poses
   std::vector<Vec3> frame_goal_points(double s) const;  // where this frame's tools end
-  bool warm_start_from_motion(double s);       // warm_start_residual's start; false where it does not apply
-  void advect_with_tools(double s);            // otherwise, with a tool sliding: its dent moved along with it
+  bool warm_start_from_motion(
+      const std::vector<Vec3>& targets);  // warm_start_residual's start; false where it does not apply
+  void advect_with_tools(
+      const std::vector<Vec3>& targets);       // otherwise, with a tool sliding: its dent moved along with it
   void maybe_refactor(const NewtonResult& r);  // the drift triggers
   /// A factor at x, refilling `reuse` (a factor no frame uses any more) when given.
   std::unique_ptr<Factor> build_factor(const Vec3Array& x, std::unique_ptr<Factor> reuse = nullptr) const;

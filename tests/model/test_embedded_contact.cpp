@@ -1,6 +1,7 @@
 // Embedded contact (model/embedded_contact.hpp): the penalty's forces are minus the gradient of its energy,
 // its Hessian products the derivative of those forces, and the tool's force is what the nodes receive (the
-// shape functions are a partition of unity, so the reaction is consistent with the map).
+// shape functions are a partition of unity, so the reaction is consistent with the map); the wall's answer
+// to the contact is that force less the residual on the contact's nodes.
 
 #include <gtest/gtest.h>
 
@@ -215,6 +216,52 @@ TEST(EmbeddedContact, ACarriedSetHoldsTheSamplesTheToolLeftWithinTheGap) {
       EXPECT_EQ(contact.active(), 0);
     }
   }
+}
+
+// The wall's answer to the contact (reaction_loads) is the penalty's force minus the residual on the free
+// nodes the contact's samples move: with the residual the penalty's own nodal forces, it is zero (those
+// nodes then hold the contact alone); a residual on a node no sample moves, or on a prescribed node, changes
+// nothing; and the residual's moment comes off the tool's moment. Exact sums: 1e-12 of the force.
+TEST(EmbeddedContact, TheWallsAnswerIsThePenaltyLessTheResidualOnTheContactsNodes) {
+  std::mt19937 rng(3);
+  Fixture f = make_fixture(rng);
+  EmbeddedContact contact(f.surface, f.X, 1);
+  const constraints::Capsule sphere = pressing_sphere();
+  contact.place(0, sphere);
+  contact.linearize(f.X);
+  ASSERT_GT(contact.active(), 0);
+  const std::vector<Vec3> at = {sphere.a};
+  const ObstacleLoad penalty = contact.loads(at).at(0);
+  const double tol = 1e-12 * penalty.force_vector_n.norm();
+  std::vector<char> constrained(f.X.size(), 0);
+  Vec3Array residual(f.X.size(), Vec3::Zero());
+  contact.add_forces(residual);
+  EXPECT_NEAR(contact.reaction_loads(at, f.X, residual, constrained).at(0).force_vector_n.norm(), 0.0, tol);
+  // A residual only on nodes no penetrating sample moves.
+  std::vector<char> touched(f.X.size(), 0);
+  contact.for_each_contact([&](Index v, double, const Vec3&) {
+    for (Index k = f.surface.row_start[v]; k < f.surface.row_start[v + 1]; ++k) touched[f.surface.col[k]] = 1;
+  });
+  residual.assign(f.X.size(), Vec3::Zero());
+  Index lone = -1;
+  for (std::size_t i = 0; i < f.X.size(); ++i) {
+    if (!touched[i]) residual[i] = Vec3(1.0, 2.0, 3.0), lone = static_cast<Index>(i);
+  }
+  ASSERT_GE(lone, 0);
+  ObstacleLoad r = contact.reaction_loads(at, f.X, residual, constrained).at(0);
+  EXPECT_NEAR((r.force_vector_n - penalty.force_vector_n).norm(), 0.0, tol);
+  // One touched node: its residual comes off the force, its moment off the moment; prescribed, nothing.
+  const auto it = std::find(touched.begin(), touched.end(), 1);
+  const std::size_t node = static_cast<std::size_t>(it - touched.begin());
+  residual.assign(f.X.size(), Vec3::Zero());
+  residual[node] = 1e-3 * penalty.force_vector_n.norm() * Vec3(0.3, -0.5, 0.8);
+  r = contact.reaction_loads(at, f.X, residual, constrained).at(0);
+  EXPECT_NEAR((r.force_vector_n - (penalty.force_vector_n - residual[node])).norm(), 0.0, tol);
+  const Vec3 moment = penalty.torque_vector_n_m - (f.X[node] - sphere.a).cross(residual[node]);
+  EXPECT_NEAR((r.torque_vector_n_m - moment).norm(), 0.0, tol * sphere.radius_m);
+  constrained[node] = 1;
+  r = contact.reaction_loads(at, f.X, residual, constrained).at(0);
+  EXPECT_NEAR((r.force_vector_n - penalty.force_vector_n).norm(), 0.0, tol);
 }
 
 }  // namespace

@@ -419,11 +419,11 @@ TEST(WallMultigrid, AToolThatJumpsIntoTheWallEndsTheFrameAtThePose) {
 
 // A press 0.4 mm into the wall and a slide of 0.6 mm along it in 20 um frames through device poses, every
 // frame solved to its tolerance (the tools on the wall's surface). Started from the last frame's motion
-// scaled to the new move (warm_start_residual), the frames reach the states of frames started from the last
-// state, to within 1 % of the force at every frame (each frame's force is within about 0.3 % of its
-// equilibrium at the tolerance of 1e-3), with fewer Newton steps and at most 80 % of the conjugate-gradient
-// iterations (measured: 72 %; on the real-time vein's lockstep press, a sixth). Without the warm start the
-// slide's frames carry the dent along (advected_frames).
+// scaled to the new move (warm_start_residual), the press's frames reach the states of frames started from
+// the last state, to within 1 % of the force at every frame (each frame's force is within about 0.3 % of its
+// equilibrium at the tolerance of 1e-3), with fewer Newton steps and at most 90 % of the conjugate-gradient
+// iterations over the whole path (measured: 82 %; the press is 20 of its 50 frames). The slide's frames carry
+// the dent along (advected_frames) with or without it: a move along the wall is not warm-started.
 TEST(WallMultigrid, WarmStartedFramesReachTheSameEquilibriaWithLessWork) {
   json settings = piece_settings();
   settings["max_newton_iterations"] = 40;
@@ -452,9 +452,10 @@ TEST(WallMultigrid, WarmStartedFramesReachTheSameEquilibriaWithLessWork) {
     const nlohmann::json info = model.info();
     cg[warm] = info["cg_iterations"].get<long long>();
     newton[warm] = info["newton_iterations"].get<long long>();
-    EXPECT_GT(info["advected_frames"].get<long long>(), 0);
+    EXPECT_GE(info["advected_frames"].get<long long>(), 25);
     if (warm) {
-      EXPECT_GT(info["warm_started_frames"].get<long long>(), 40);
+      EXPECT_GT(info["warm_started_frames"].get<long long>(), 15);
+      EXPECT_LE(info["warm_started_frames"].get<long long>(), 20);
     } else {
       EXPECT_EQ(info["warm_started_frames"].get<long long>(), 0);
     }
@@ -470,7 +471,53 @@ TEST(WallMultigrid, WarmStartedFramesReachTheSameEquilibriaWithLessWork) {
     }
   }
   EXPECT_LT(newton[1], newton[0]);
-  EXPECT_LT(5 * cg[1], 4 * cg[0]);
+  EXPECT_LT(10 * cg[1], 9 * cg[0]);
+}
+
+// Frames that stop far from their equilibrium (a relative tolerance of 0.1, the loosest a scene takes: they
+// end at residuals up to 0.09) along a press 0.4 mm into the wall and a slide of 0.3 mm, in 50 um frames,
+// hand on forces within 5 % (the real-time target) of those of the same frames solved to 1e-3: the wall's
+// answer to the contact (EmbeddedContact::reaction_loads), not the penalty's own force, which a sample a
+// micrometre off its equilibrium changes by milli-newtons (measured: 1.4 %; the penalty's force, 17 %).
+TEST(WallMultigrid, FramesFarFromEquilibriumHandOnTheWallsAnswerToTheContact) {
+  const json base = device_posed_piece(piece_settings());
+  const Vec3 touch = piece_touch();
+  const Eigen::Quaterniond q = piece_pointing();
+  std::vector<Vec3> poses;
+  for (int k = 1; k <= 8; ++k) poses.push_back(touch - Vec3(0, 0.05e-3 * k, 0));
+  for (int k = 1; k <= 6; ++k) poses.push_back(poses[7] + Vec3(0, 0, 0.05e-3 * k));
+  std::vector<Vec3> forces[2];
+  std::vector<double> residuals;
+  for (int loose = 0; loose < 2; ++loose) {
+    json d = base;
+    d["implicit"]["rel_tolerance"] = loose ? 0.1 : 1e-3;
+    d["implicit"]["max_newton_iterations"] = 40;
+    d["implicit"]["max_cg_iterations"] = 200;
+    d["implicit"]["handoff_surface_residual"] = 1.0;
+    Simulation sim(parse_scene(d, "piece"));
+    auto& model = dynamic_cast<ImplicitModel&>(sim.model());
+    model.set_tool_pose(0, touch, q);
+    model.step();
+    for (const Vec3& p : poses) {
+      model.set_tool_pose(0, p, q);
+      const StepReport r = model.step();
+      ASSERT_TRUE(r.converged) << "tolerance " << (loose ? 0.1 : 1e-3) << ", pose " << forces[loose].size();
+      if (loose) residuals.push_back(r.residual);
+      forces[loose].push_back(model.tool_loads().at(0).force_vector_n);
+    }
+  }
+  double worst = 0.0, res_max = 0.0;
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    if (forces[0][k].norm() < 0.2 * forces[0].back().norm()) continue;  // (the contact's onset)
+    worst = std::max(worst, (forces[1][k] - forces[0][k]).norm() / forces[0][k].norm());
+    res_max = std::max(res_max, residuals[k]);
+  }
+  std::printf(
+      "[ multigrid ] frames at residuals up to %.3g hand on forces within %.2f %% of the converged ones\n",
+      res_max, 100.0 * worst);
+  ASSERT_GT(forces[0].back().norm(), 1e-3);
+  EXPECT_GT(res_max, 0.05);  // the frames did stop far from their equilibria
+  EXPECT_LT(worst, 0.05);
 }
 
 }  // namespace

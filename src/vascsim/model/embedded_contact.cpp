@@ -141,6 +141,50 @@ std::vector<ObstacleLoad> EmbeddedContact::loads(const std::vector<Vec3>& tool_p
   return out;
 }
 
+std::vector<ObstacleLoad> EmbeddedContact::reaction_loads(const std::vector<Vec3>& tool_points,
+                                                          const Vec3Array& x, const Vec3Array& residual,
+                                                          const std::vector<char>& constrained) const {
+  std::vector<ObstacleLoad> out = loads(tool_points);
+  // The free nodes the samples move, each with each tool's weight on it (|phi_vi| |f_v|), in node order.
+  struct Share {
+    Index node;
+    int tool;
+    double weight;
+  };
+  std::vector<Share> shares;
+  for (const Contact& c : active_)
+    for (Index k = surface_.row_start[c.sample]; k < surface_.row_start[c.sample + 1]; ++k) {
+      const Index i = surface_.col[static_cast<std::size_t>(k)];
+      if (!constrained[static_cast<std::size_t>(i)])
+        shares.push_back({i, c.tool, std::abs(surface_.val[static_cast<std::size_t>(k)]) * c.force.norm()});
+    }
+  std::sort(shares.begin(), shares.end(), [](const Share& a, const Share& b) {
+    return a.node != b.node ? a.node < b.node : a.tool < b.tool;
+  });
+  std::vector<double> per_tool(geometry_.size());
+  for (std::size_t a = 0; a < shares.size();) {
+    const Index i = shares[a].node;
+    std::fill(per_tool.begin(), per_tool.end(), 0.0);
+    double total = 0.0;
+    std::size_t b = a;
+    for (; b < shares.size() && shares[b].node == i; ++b) {
+      per_tool[static_cast<std::size_t>(shares[b].tool)] += shares[b].weight;
+      total += shares[b].weight;
+    }
+    const Vec3& r = residual[static_cast<std::size_t>(i)];
+    for (std::size_t o = 0; o < per_tool.size(); ++o) {
+      // (A node touched only by samples at zero depth goes to the first tool that touches it.)
+      const double share =
+          total > 0.0 ? per_tool[o] / total : (o == static_cast<std::size_t>(shares[a].tool));
+      if (share == 0.0) continue;
+      out[o].force_vector_n -= share * r;
+      out[o].torque_vector_n_m -= share * (x[static_cast<std::size_t>(i)] - tool_points.at(o)).cross(r);
+    }
+    a = b;
+  }
+  return out;
+}
+
 double EmbeddedContact::squared_force() const {
   std::vector<Vec3> per_tool(geometry_.size(), Vec3::Zero());
   for (const Contact& c : active_) per_tool[static_cast<std::size_t>(c.tool)] += c.force;

@@ -418,6 +418,17 @@ bool ImplicitModel::warm_start_from_motion(const std::vector<Vec3>& targets) {
   // |d - c d'|^2 = |d|^2 - c^2 |d'|^2: the part of the move the last motion does not predict, at most a fifth
   // of it; and at most twice the last move (a longer extrapolation leaves the linear range).
   if (!(c > 0.0 && c <= 2.0) || dd - c * c * d_last2 > 0.04 * dd) return false;
+  // A tool in contact that moves more along the wall than into it (a slide, |tangential| > |d| / 2) has its
+  // dent carried along instead (advect_with_tools): a slide's last motion is mostly the correction of its
+  // frame's start, and extrapolated it leaves the wall off the tool (in realtime sessions on the real-time
+  // vein, every such frame ended with no sample in contact).
+  for (std::size_t o = 0; o < tools_.size(); ++o) {
+    const Vec3 f = loads_[o].force_vector_n;
+    if (loads_[o].contacts == 0 || !(f.norm() > 0.0)) continue;
+    const Vec3 n = f.normalized();
+    const Vec3 d = targets[o] - frame_tool_points_[o];
+    if ((d - n.dot(d) * n).squaredNorm() > 0.25 * d.squaredNorm()) return false;
+  }
   if (!(settings_.max_tool_step > 0.0))
     for (std::size_t o = 0; o < tools_.size(); ++o)
       tools_.advance(o, std::numeric_limits<double>::infinity());
@@ -535,8 +546,11 @@ StepReport ImplicitModel::step() {
   if (handoff) {
     if (!contacts_.empty()) loads_ = contacts_.loads(newton_.last_residual(), x_, tools_.points(s_next));
     if (embedded_) {
+      // The wall's answer to the contact, not the penalty's (EmbeddedContact::reaction_loads): the residual
+      // of the solve's last evaluation, at this very state and contact set.
       embedded_->linearize(x_);
-      loads_ = embedded_->loads(tools_.points(s_next));
+      loads_ = embedded_->reaction_loads(tools_.points(s_next), x_, newton_.last_residual(),
+                                         problem_.constrained());
     }
     handoff_points_ = tools_.points(s_next);
   } else {

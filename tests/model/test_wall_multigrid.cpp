@@ -13,6 +13,7 @@
 #include "support/scenes.hpp"
 #include "vascsim/core/sparse_cholesky.hpp"
 #include "vascsim/model/contact_active_set.hpp"
+#include "vascsim/model/embedded_contact.hpp"
 #include "vascsim/model/energy_hessian.hpp"
 #include "vascsim/model/galerkin_hessian.hpp"
 #include "vascsim/model/implicit_model.hpp"
@@ -305,6 +306,62 @@ TEST(WallMultigrid, ADeferredLineSearchSearchesTheStepsThatRaiseTheResidual) {
   EXPECT_GT(largest, 0.5e-3);
   EXPECT_GT(result[1].rejected_whole_steps, 0);
   EXPECT_EQ(result[0].rejected_whole_steps, 0);
+  EXPECT_LT(diff, 1e-6 * largest);
+}
+
+// With the tools on the wall's surface, a Newton step moves no node farther than NewtonSettings::max_step_m
+// (a longer one is scaled down): under the load above, whose first whole step bends the piece by about
+// 0.7 mm, one Newton step limited to 0.1 mm moves no node farther than that (to round-off, 1e-12 m), and the
+// limited solve still reaches the unlimited one's equilibrium, to 1e-6 of the largest displacement (both to
+// 1e-9 of the load). The embedded contact has no tool: the limit alone is under test.
+TEST(WallMultigrid, ANewtonStepIsLimitedToTheLongestStepAllowed) {
+  MultigridRig rig;
+  ContactActiveSet none(rig.P, rig.free, false);
+  ContactSurface no_samples;
+  no_samples.row_start.push_back(0);
+  EmbeddedContact surface(no_samples, rig.P.discretization().rest_positions(), 0);
+  NewtonSettings ns;
+  ns.rel_tolerance = 1e-9;
+  ns.max_newton_iterations = 400;
+  ns.max_cg_iterations = 500;
+  ns.deferred_line_search = true;
+  Vec3Array f_ext(rig.x.size(), Vec3::Zero());
+  for (Index i : rig.free.nodes) f_ext[i] = Vec3(0.0, -1e-4, 0.0);  // N per node, towards the axis
+  const Vec3Array& X = rig.P.discretization().rest_positions();
+  const Vec3Array rest = X;
+  auto longest_move = [&](const Vec3Array& x) {
+    double m = 0.0;
+    for (std::size_t i = 0; i < X.size(); ++i) m = std::max(m, (x[i] - X[i]).norm());
+    return m;
+  };
+  constexpr double kLimit = 0.1e-3;
+  Vec3Array x[2];
+  NewtonResult result[2];
+  for (int limited = 0; limited < 2; ++limited) {
+    ns.max_step_m = limited ? kLimit : 0.0;
+    NewtonEquilibrium newton(rig.P, rig.free, none, ns);
+    newton.set_preconditioner(rig.mg.get());
+    newton.set_embedded_contact(&surface);
+    Vec3Array one_step = X;
+    newton.solve(one_step, 1.0, f_ext, InertiaTerm{rig.inv_h2, &rest}, SteadyClock::time_point::max(), false,
+                 1);
+    if (limited) {
+      EXPECT_LE(longest_move(one_step), kLimit + 1e-12);
+    } else {
+      EXPECT_GT(longest_move(one_step), 3.0 * kLimit);
+    }
+    x[limited] = X;
+    result[limited] = newton.solve(x[limited], 1.0, f_ext, InertiaTerm{rig.inv_h2, &rest});
+    EXPECT_TRUE(result[limited].converged) << "limited " << limited;
+  }
+  double diff = 0.0;
+  for (std::size_t i = 0; i < X.size(); ++i) diff = std::max(diff, (x[1][i] - x[0][i]).norm());
+  const double largest = longest_move(x[0]);
+  std::printf(
+      "[ multigrid ] deflection %.4g mm: %d Newton steps, %d with steps limited to 0.1 mm (%d of them)\n",
+      largest * 1e3, result[0].iterations, result[1].iterations, result[1].limited_steps);
+  EXPECT_EQ(result[0].limited_steps, 0);
+  EXPECT_GT(result[1].limited_steps, 0);
   EXPECT_LT(diff, 1e-6 * largest);
 }
 

@@ -41,6 +41,7 @@ class EmbeddedContact {
   /// The gap up to which relinearize_carried holds a sample the tools left, m (0, the default: none; the
   /// length the tools moved since the last linearisation holds the samples a slide left).
   void set_carried_gap(double gap_m) { carried_gap_m_ = gap_m; }
+  double carried_gap() const { return carried_gap_m_; }
   /// Adds the contact forces on the nodes (-dU_c/dx at the linearisation), N.
   void add_forces(Vec3Array& f) const;
   /// Adds (d^2 U_c/dx^2) p at the linearisation; with `normal_only`, only its positive semi-definite normal

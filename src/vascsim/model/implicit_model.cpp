@@ -56,7 +56,7 @@ ImplicitSettings read_implicit_settings(JsonReader& b) {
 }
 
 namespace {
-NewtonSettings newton_settings(const ImplicitSettings& s) {
+NewtonSettings newton_settings(const ImplicitSettings& s, double spacing_m) {
   NewtonSettings n;
   n.rel_tolerance = s.rel_tolerance;
   n.max_newton_iterations = s.max_newton_iterations;
@@ -71,6 +71,8 @@ NewtonSettings newton_settings(const ImplicitSettings& s) {
   n.contact_normal_stiffness_only = true;
   n.min_newton_iterations = s.min_newton_iterations;
   n.max_forcing = s.max_forcing;
+  // A frame's Newton step moves no node farther than a node spacing (a carried step: twice the tools' move).
+  n.max_step_m = spacing_m;
   return n;
 }
 }  // namespace
@@ -107,7 +109,7 @@ ImplicitModel::ImplicitModel(const Problem& problem, const ImplicitSettings& set
       free_(problem),
       contacts_(problem, free_, problem.contact_surface() == nullptr),
       tools_(problem.tools()),
-      newton_(problem, free_, contacts_, newton_settings(settings)) {
+      newton_(problem, free_, contacts_, newton_settings(settings, problem.discretization().mean_spacing())) {
   if (!(settings.frame_s > 0.0) || !(settings.output_interval_s > 0.0) || !(settings.duration_s > 0.0))
     throw InputError("implicit: frame_s, output_interval_s and duration_s must be > 0");
   if (problem.num_constrained() == 0)

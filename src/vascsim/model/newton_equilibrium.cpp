@@ -350,6 +350,17 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
     out.cg_iterations += cg;
     if (cg > 0 && reduction > 0.0) out.cg_rate = std::max(out.cg_rate, std::pow(reduction, 1.0 / cg));
     spdlog::debug("equilibrium:   CG {} iterations (eta {:.1e})", cg, eta);
+    if (embedded_ && settings_.max_step_m > 0.0) {
+      const double limit =
+          moving ? std::max(settings_.max_step_m, 2.0 * embedded_->carried_gap()) : settings_.max_step_m;
+      double longest = 0.0;
+      for (Index i : free_.nodes) longest = std::max(longest, dx[i].norm());
+      if (!(longest <= limit)) {
+        for (Vec3& d : dx) d = std::isfinite(longest) ? Vec3(d * (limit / longest)) : Vec3::Zero();
+        ++out.limited_steps;
+        spdlog::debug("equilibrium:   a step of {:.3e} m limited to {:.3e} m", longest, limit);
+      }
+    }
     // The carried step is taken whole, never searched: its contact forces are not the gradient of Pi.
     if (defer && !moving) {
       x_before = x;

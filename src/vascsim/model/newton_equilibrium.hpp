@@ -54,6 +54,12 @@ struct NewtonSettings {
   /// The largest forcing term: a Newton step's CG reduces its residual at least this much (Eisenstat-Walker
   /// sqrt(residual) below it, and no tighter than the step needs to reach the tolerance).
   double max_forcing = 0.1;
+  /// Tools on the wall's surface: the longest a Newton step may move a node, m (0: no limit); a longer step
+  /// is scaled down to it, and a carried step to twice the tools' move if that is longer. Where compression
+  /// makes the Newton matrix indefinite, CG's iterates can grow without bound before it meets the negative
+  /// curvature, and a carried step (taken whole) or a whole step of the deferred line search would take the
+  /// wall there (under the soak's random hand, a step of metres, then a non-finite state).
+  double max_step_m = 0.0;
 };
 
 /// Backward Euler's inertia term: 1/(2 h^2) sum_i m_i |x_i - a_i|^2 over the free nodes.
@@ -71,6 +77,7 @@ struct NewtonResult {
   bool converged = true;
   bool out_of_time = false;      ///< stopped at the deadline
   int rejected_whole_steps = 0;  ///< deferred_line_search: whole steps that raised the residual (searched)
+  int limited_steps = 0;         ///< Newton steps scaled down to max_step_m
   bool loads_measured = false;   ///< the contact reactions of the final state are in last_residual()
   /// How well the preconditioner matched the Newton matrix: the geometric mean, over the CG iterations of the
   /// solve, of the residual reduction per iteration (|r_k| / |r_0|)^(1/k); 0 when CG never ran. About 0.1 or

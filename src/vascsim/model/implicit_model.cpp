@@ -541,10 +541,13 @@ StepReport ImplicitModel::step() {
   // The frame's loads are handed on when the frame is near enough its equilibrium, with no contact that pulls
   // (held, such a contact makes the pushing ones carry more: +128 % measured at a residual of 6e-3);
   // otherwise the last one that was keeps serving with its own tool pose (contact reactions far from
-  // equilibrium are not a force).
+  // equilibrium are not a force). With the tools on the wall's surface the frame before must have ended
+  // below the threshold too: a frame that starts from a wall thrown far off (a residual of 18 under a 5 mm/s
+  // slide) can end below it with hundreds of samples in the tool, whose penalty sets the residual's scale.
   const bool handoff = r.converged ||
                        (r.residual <= settings_.handoff_max_residual && contacts_.pulling() == 0) ||
-                       (embedded_ && r.residual <= settings_.handoff_surface_residual);
+                       (embedded_ && r.residual <= settings_.handoff_surface_residual &&
+                        (frames_ == 0 || last_residual_ <= settings_.handoff_surface_residual));
   if (handoff) {
     if (!contacts_.empty()) loads_ = contacts_.loads(newton_.last_residual(), x_, tools_.points(s_next));
     if (embedded_) {

@@ -68,9 +68,10 @@ struct ImplicitSettings {
   /// relative residual instead of handoff_max_residual. The force handed on is the wall's answer to the
   /// contact (EmbeddedContact::reaction_loads), which stays near the equilibrium's where the penalty's own
   /// force is far off (a sample a micrometre off carries milli-newtons): on the real-time vein under a hand
-  /// at 1 mm/s, frames at residuals of 0.1-0.6 handed on forces within 4 % of the continuum. Above 1 the
-  /// wall's imbalance exceeds the force it would hand on.
-  double handoff_surface_residual = 1.0;
+  /// at 1 mm/s, frames at residuals of 0.1-0.3 handed on forces within 4 % of the continuum. The frame
+  /// before must have ended below it too. Higher thresholds let through frames of a wall thrown off by a
+  /// hand faster than the frames (at 5 mm/s, 0.44-0.75 with 12 N where the continuum has 10 mN).
+  double handoff_surface_residual = 0.3;
   /// With the tools on the wall's surface: a frame whose tools press on along their last frame's move starts
   /// from the wall's motion over that frame, scaled to the new move, instead of the carried step (a frame
   /// that starts there is close to its equilibrium: in lockstep frames of 1/60 s on the benchmark's 1 mm/s

@@ -424,13 +424,9 @@ bool ImplicitModel::warm_start_from_motion(const std::vector<Vec3>& targets) {
   // dent carried along instead (advect_with_tools): a slide's last motion is mostly the correction of its
   // frame's start, and extrapolated it leaves the wall off the tool (in realtime sessions on the real-time
   // vein, every such frame ended with no sample in contact).
-  for (std::size_t o = 0; o < tools_.size(); ++o) {
-    const Vec3 f = loads_[o].force_vector_n;
-    if (loads_[o].contacts == 0 || !(f.norm() > 0.0)) continue;
-    const Vec3 n = f.normalized();
-    const Vec3 d = targets[o] - frame_tool_points_[o];
-    if ((d - n.dot(d) * n).squaredNorm() > 0.25 * d.squaredNorm()) return false;
-  }
+  for (std::size_t o = 0; o < tools_.size(); ++o)
+    if (const auto T = move_along_wall(o, targets))
+      if (T->squaredNorm() > 0.25 * (targets[o] - frame_tool_points_[o]).squaredNorm()) return false;
   if (!(settings_.max_tool_step > 0.0))
     for (std::size_t o = 0; o < tools_.size(); ++o)
       tools_.advance(o, std::numeric_limits<double>::infinity());
@@ -439,20 +435,23 @@ bool ImplicitModel::warm_start_from_motion(const std::vector<Vec3>& targets) {
   return true;
 }
 
+std::optional<Vec3> ImplicitModel::move_along_wall(std::size_t o, const std::vector<Vec3>& targets) const {
+  // Along the wall: perpendicular to the force the tool last handed on.
+  const Vec3 f = loads_[o].force_vector_n;
+  if (loads_[o].contacts == 0 || !(f.norm() > 0.0)) return std::nullopt;
+  const Vec3 n = f.normalized();
+  const Vec3 d = targets[o] - frame_tool_points_[o];
+  return Vec3(d - n.dot(d) * n);
+}
+
 void ImplicitModel::advect_with_tools(const std::vector<Vec3>& targets) {
   // A tool sliding along the wall carries its dent with it: the displacement field moves by the tool's move
   // T along the wall, u'(X) = u(X - T), to first order x_i - (F_i - I) T.
   if (frame_tool_points_.size() != tools_.size()) return;
   int in_contact = 0;
   Vec3 T = Vec3::Zero();
-  for (std::size_t o = 0; o < tools_.size(); ++o) {
-    const Vec3 f = loads_[o].force_vector_n;
-    if (loads_[o].contacts == 0 || !(f.norm() > 0.0)) continue;
-    ++in_contact;
-    const Vec3 n = f.normalized();
-    const Vec3 d = targets[o] - frame_tool_points_[o];
-    T = d - n.dot(d) * n;
-  }
+  for (std::size_t o = 0; o < tools_.size(); ++o)
+    if (const auto along = move_along_wall(o, targets)) ++in_contact, T = *along;
   if (in_contact != 1 || T.norm() <= 1e-2 * spacing_) return;
   const Vec3Array x = x_;
   const Discretization& disc = problem_.discretization();

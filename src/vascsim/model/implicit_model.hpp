@@ -174,6 +174,8 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   std::vector<Vec3> frame_goal_points(double s) const;  // where this frame's tools end
   bool warm_start_from_motion(
       const std::vector<Vec3>& targets);  // warm_start_residual's start; false where it does not apply
+  std::optional<Vec3> move_along_wall(std::size_t tool, const std::vector<Vec3>& targets)
+      const;  // a tool in contact: the part of its move to targets along the wall; else nullopt
   void advect_with_tools(
       const std::vector<Vec3>& targets);       // otherwise, with a tool sliding: its dent moved along with it
   void maybe_refactor(const NewtonResult& r);  // the drift triggers

@@ -374,14 +374,18 @@ void ImplicitModel::approach_tools(double s, const Vec3Array& f_ext) {
   // spend longer on a longer way, or every frame after it comes later still.
   constexpr double kMaxSteps = 3.0;
   const double step = std::max(settings_.contact_substep * spacing_, total / kMaxSteps);
+  const long long substeps_before = substeps_;
+  double far = 0.0;
   for (;;) {
-    double far = 0.0;
+    far = 0.0;
     for (std::size_t o = 0; o < tools_.size(); ++o) far = std::max(far, tools_.distance_to_target(o));
     if (!(settings_.contact_substep > 0.0) || far <= step * (1.0 + 1e-9)) break;
     // Every tool a step's fraction of its way, so that they arrive together.
     for (std::size_t o = 0; o < tools_.size(); ++o)
       tools_.advance(o, step / far * tools_.distance_to_target(o));
     place_tools(s);
+    // The samples it left are held up to this step's length (the length moved since their linearisation).
+    embedded_->set_carried_gap(step);
     embedded_->relinearize_carried(x_);
     if (multigrid_) multigrid_->prepare_window(x_);
     const NewtonResult r = newton_.solve(x_, s, f_ext, InertiaTerm{1.0 / (h_ * h_), &anchor_},
@@ -389,6 +393,8 @@ void ImplicitModel::approach_tools(double s, const Vec3Array& f_ext) {
     cg_total_ += r.cg_iterations;
     ++substeps_;
   }
+  // The frame's own carried step answers what remains of the way.
+  if (substeps_ != substeps_before) embedded_->set_carried_gap(far);
   for (std::size_t o = 0; o < tools_.size(); ++o) tools_.advance(o, inf);
 }
 

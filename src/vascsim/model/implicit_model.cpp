@@ -398,6 +398,42 @@ void ImplicitModel::approach_tools(double s, const Vec3Array& f_ext) {
   for (std::size_t o = 0; o < tools_.size(); ++o) tools_.advance(o, inf);
 }
 
+bool ImplicitModel::thrown_off() const {
+  // A wall whose force residual exceeds a thousand times E dx^2 (the force that strains a node's
+  // neighbourhood by 100 %; 11 N on the real-time vein, whose tool force is about 10 mN) is far from any
+  // equilibrium the frames can reach: frames that kept up with a hand reached at most 157 times it (the
+  // carried steps' penalty forces), frames that diverged passed 10^3 a frame or two before their state
+  // became non-finite (a wandering hand, frames of one Newton step 0.2 s apart, in lockstep).
+  constexpr double kThrownOff = 1e3;
+  const double scale = problem_.discretization().material().youngs_modulus_pa * spacing_ * spacing_;
+  const Vec3Array& r = newton_.last_residual();
+  double r2 = 0.0;
+  for (Index i : free_.nodes) {
+    const auto k = static_cast<std::size_t>(i);
+    if (!x_[k].allFinite()) return true;
+    if (k < r.size()) r2 += r[k].squaredNorm();
+  }
+  return !(std::sqrt(r2) <= kThrownOff * scale);
+}
+
+void ImplicitModel::recover() {
+  // Back to the last frame that handed on, its tools where they were then: the next frames carry them to the
+  // device's poses from there. The hand keeps feeling that frame's force meanwhile.
+  if (recoveries_++ == 0)
+    spdlog::warn(
+        "implicit: frame {} (t = {:.3g} s) threw the wall off its equilibria (a hand faster than the frames "
+        "follow): back to the last frame that handed on its force, the tool behind the hand until the frames "
+        "catch up (summary.json counts such frames: frames_thrown_off)",
+        frames_, t_ + h_);
+  x_ = safe_->x;
+  std::fill(v_.begin(), v_.end(), Vec3::Zero());
+  tools_.restore(safe_->tools);
+  frame_tool_points_ = safe_->frame_tool_points;
+  frame_tool_move_.assign(frame_tool_points_.size(), Vec3::Zero());
+  place_tools(s_);
+  embedded_->linearize(x_);
+}
+
 std::vector<Vec3> ImplicitModel::frame_goal_points(double s) const {
   // With max_tool_step the tools were already moved their bounded step (advance_tools); otherwise the frame
   // takes them to the device's poses.
@@ -521,15 +557,31 @@ StepReport ImplicitModel::step() {
     advance_tools(settings_.max_tool_step);
   else if (realtime_ && !embedded_ && settings_.realtime_tool_step > 0.0)
     advance_tools(last_handoff_ ? settings_.realtime_tool_step : 0.0);
-  prepare_frame(s_next, f_ext);
-  const auto deadline = realtime_ && settings_.time_budget_s > 0.0
-                            ? SteadyClock::now() + std::chrono::duration_cast<SteadyClock::duration>(
-                                                       std::chrono::duration<double>(settings_.time_budget_s))
-                            : SteadyClock::time_point::max();
+  NewtonResult r;
+  bool failed = false;
   Stopwatch phase;
-  const NewtonResult r = newton_.solve(x_, s_next, f_ext, InertiaTerm{1.0 / (h_ * h_), &anchor_}, deadline,
-                                       tools_moved_ && !warm_started_);
+  try {
+    prepare_frame(s_next, f_ext);
+    const auto deadline =
+        realtime_ && settings_.time_budget_s > 0.0
+            ? SteadyClock::now() + std::chrono::duration_cast<SteadyClock::duration>(
+                                       std::chrono::duration<double>(settings_.time_budget_s))
+            : SteadyClock::time_point::max();
+    phase.restart();
+    r = newton_.solve(x_, s_next, f_ext, InertiaTerm{1.0 / (h_ * h_), &anchor_}, deadline,
+                      tools_moved_ && !warm_started_);
+  } catch (const NumericalError& e) {
+    if (!safe_) throw;
+    spdlog::debug("implicit: frame {}: {}", frames_, e.what());
+    failed = true;
+  }
   split_.solve_s += phase.seconds();
+  const bool recovered = safe_ && (failed || thrown_off());
+  if (recovered) {
+    recover();
+    r = NewtonResult{};
+    r.residual = safe_->residual;
+  }
   // The velocity of a frame that ended unconverged is partly the solver's correction, not motion: carried
   // into the next frame's start x + h v it would add that correction again, and frames the budget stops
   // then drift further from their equilibrium each time (on the real-time vein under a random hand, from a
@@ -537,7 +589,7 @@ StepReport ImplicitModel::step() {
   for (std::size_t i = 0; i < x_.size(); ++i)
     v_[i] = r.converged ? Vec3((x_[i] - x_old_[i]) / h_) : Vec3::Zero();
   // This frame's motion predicts the next one's when it started and ended near an equilibrium.
-  const bool near_equilibrium = r.converged || r.residual <= settings_.warm_start_residual;
+  const bool near_equilibrium = !recovered && (r.converged || r.residual <= settings_.warm_start_residual);
   motion_trusted_ = near_equilibrium && start_near_equilibrium_;
   start_near_equilibrium_ = near_equilibrium;
   last_motion_.resize(x_.size());
@@ -549,10 +601,12 @@ StepReport ImplicitModel::step() {
   // equilibrium are not a force). With the tools on the wall's surface the frame before must have ended
   // below the threshold too: a frame that starts from a wall thrown far off (a residual of 18 under a 5 mm/s
   // slide) can end below it with hundreds of samples in the tool, whose penalty sets the residual's scale.
-  const bool handoff = r.converged ||
-                       (r.residual <= settings_.handoff_max_residual && contacts_.pulling() == 0) ||
-                       (embedded_ && r.residual <= settings_.handoff_surface_residual &&
-                        (frames_ == 0 || last_residual_ <= settings_.handoff_surface_residual));
+  // (A frame that went back to the last one that handed on hands on nothing new.)
+  const bool handoff =
+      !recovered &&
+      (r.converged || (r.residual <= settings_.handoff_max_residual && contacts_.pulling() == 0) ||
+       (embedded_ && r.residual <= settings_.handoff_surface_residual &&
+        (frames_ == 0 || last_residual_ <= settings_.handoff_surface_residual)));
   if (handoff) {
     if (!contacts_.empty()) loads_ = contacts_.loads(newton_.last_residual(), x_, tools_.points(s_next));
     if (embedded_) {
@@ -563,6 +617,7 @@ StepReport ImplicitModel::step() {
                                          problem_.constrained());
     }
     handoff_points_ = tools_.points(s_next);
+    if (embedded_) safe_ = SafeState{x_, tools_.placed(), frame_tool_points_, r.residual};
   } else {
     ++stale_handoffs_;
   }
@@ -634,6 +689,7 @@ nlohmann::json ImplicitModel::info() const {
                       {"contact_substeps", substeps_},
                       {"warm_started_frames", warm_started_frames_},
                       {"advected_frames", advected_frames_},
+                      {"frames_thrown_off", recoveries_},
                       {"handoff_max_residual", settings_.handoff_max_residual},
                       {"time_budget_s", settings_.time_budget_s},
                       {"duration_s", settings_.duration_s},

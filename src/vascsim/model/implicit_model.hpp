@@ -177,7 +177,9 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   std::optional<Vec3> move_along_wall(std::size_t tool, const std::vector<Vec3>& targets)
       const;  // a tool in contact: the part of its move to targets along the wall; else nullopt
   void advect_with_tools(
-      const std::vector<Vec3>& targets);       // otherwise, with a tool sliding: its dent moved along with it
+      const std::vector<Vec3>& targets);  // otherwise, with a tool sliding: its dent moved along with it
+  bool thrown_off() const;  // the last solve left the wall far from any equilibrium (or not finite)
+  void recover();           // back to safe_
   void maybe_refactor(const NewtonResult& r);  // the drift triggers
   /// A factor at x, refilling `reuse` (a factor no frame uses any more) when given.
   std::unique_ptr<Factor> build_factor(const Vec3Array& x, std::unique_ptr<Factor> reuse = nullptr) const;
@@ -222,8 +224,17 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   std::vector<ObstacleLoad> loads_;   // the handed-on loads (the last frame below handoff_max_residual)
   std::vector<Vec3> handoff_points_;  // the tools' points of that frame
   long long stale_handoffs_ = 0;
-  long long substeps_ = 0;  // contact_substep's continuation steps, all frames                  // frames
-                            // that kept an older frame's hand-off
+  long long substeps_ = 0;  // contact_substep's continuation steps, all frames
+  // Tools on the wall's surface: the state of the last frame that handed on, with its tools, which a frame
+  // that throws the wall off goes back to (thrown_off, recover).
+  struct SafeState {
+    Vec3Array x;
+    std::vector<ToolPlacement::Pose> tools;
+    std::vector<Vec3> frame_tool_points;
+    double residual = 0.0;
+  };
+  std::optional<SafeState> safe_;
+  long long recoveries_ = 0;
   std::vector<std::optional<ToolLinearization>> linearization_;  // per tool, after the last frame
   std::unique_ptr<HapticCandidates> candidates_;
   double spacing_ = 0.0;

@@ -80,11 +80,18 @@ class ToolPlacement {
   }
   std::size_t size() const { return tools_.size(); }
 
- private:
   struct Pose {
     Vec3 position = Vec3::Zero();
     Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
   };
+  /// Where the model has every tool, to go back to with restore().
+  std::vector<Pose> placed() const { return used_; }
+  /// Every tool back where placed() found it (the device's poses stay the targets).
+  void restore(const std::vector<Pose>& placed) {
+    for (std::size_t o = 0; o < tools_.size(); ++o) place(o, placed.at(o));
+  }
+
+ private:
   void place(std::size_t o, const Pose& p) {
     used_[o] = p;
     geometry_[o] = obstacle_posed(tools_[o], p.position, p.orientation);

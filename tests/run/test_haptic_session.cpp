@@ -261,10 +261,11 @@ TEST(HapticSession, ImplicitSlowFramesKeepEveryTickNearTheEquilibrium) {
 // as it goes. The target, 10 % at every tick, is asserted deterministically by the lockstep test
 // above; here the frames arrive when the shared machine lets them, a frame's force is a frame old when it
 // lands, and each extrapolation spans two frames: measured 8-13 % at 40-58 frames/s with other jobs on the
-// machine, so the bound is 15 %. It presumes frames at most 50 ms apart (the lockstep test's regime): on a
-// machine so loaded that the model's thread was held longer between two frames, the accuracy check is skipped
-// (saying so, with the gap), while every tick must still be finite and within the clamp, and the loop must
-// run.
+// machine, and 15.3-16.4 % over a burst of ticks after a late frame at 85 frames/s with a build and a
+// benchmark beside it (load 3), so the bound is 20 %. It presumes frames at most 50 ms apart (the lockstep
+// test's regime): on a machine so loaded that the model's thread was held longer between two frames, the
+// accuracy check is skipped (saying so, with the gap), while every tick must still be finite and within the
+// clamp, and the loop must run.
 TEST(HapticSession, ImplicitRealtimeTicksFollowTheEquilibrium) {
   const fs::path d = fresh_dir("implicit-realtime");
   const fs::path press = write_slow_press(d);
@@ -288,7 +289,7 @@ TEST(HapticSession, ImplicitRealtimeTicksFollowTheEquilibrium) {
   if (gap > 0.05)
     GTEST_SKIP() << "the machine held the model's thread for " << 1e3 * gap
                  << " ms between two frames (> 50 ms): tick accuracy not checked";
-  const TickComparison c = compare_ticks(d / "realtime", equilibrium_by_height(d / "lockstep"), 0.15);
+  const TickComparison c = compare_ticks(d / "realtime", equilibrium_by_height(d / "lockstep"), 0.2);
   std::printf(
       "[ session  ] implicit realtime: %d ticks in contact, worst tick %.1f %% from the equilibrium\n",
       c.compared, 100 * c.worst);

@@ -504,6 +504,34 @@ TEST(SceneValidation, AMisspeltKeyIsNamedBeforeWhatItsDefaultBreaks) {
   }
 }
 
+// A key a block accepts is not taken for a misspelling of another it lacks, and is listed among the keys
+// allowed whether or not the scene has it: an instrument's inner_diameter_m beside a missing outer_diameter_m
+// (it was reported as "unknown key (did you mean 'outer_diameter_m'?)"), the top level's instrument (it was
+// neither suggested nor listed without an instrument block), and an instrument's preset (not listed without
+// one).
+TEST(SceneValidation, AKeyTheBlockAcceptsIsNeverTakenForAMisspelling) {
+  json custom = json::parse(R"({ "inner_diameter_m": 2e-4, "youngs_modulus_pa": 6e10, "poisson_ratio": 0.3,
+                                 "density_kg_m3": 6450, "length_m": 0.05, "drive": [[0, 0.01, 0]] })");
+  {
+    json s = tiny_tube();
+    s["instrument"] = custom;
+    expect_scene_error(s, "instrument.outer_diameter_m", {"missing; a number in"});
+  }
+  {
+    json s = tiny_tube();
+    s["instrment"] = custom;
+    expect_scene_error(s, "instrment",
+                       {"unknown key (did you mean 'instrument'?); allowed here: ", " instrument, "});
+  }
+  {
+    json s = tiny_tube();
+    s["instrument"] = custom;
+    s["instrument"]["outer_diameter_m"] = 4e-4;
+    s["instrument"]["bogus"] = 1;
+    expect_scene_error(s, "instrument.bogus", {"allowed here: ", " preset, "});
+  }
+}
+
 TEST(SceneValidation, ReferenceNeedsAForceRegion) {
   json s = tiny_box();
   s["geometry"] = {

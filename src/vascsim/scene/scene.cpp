@@ -988,7 +988,7 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   sc.model = root.string("model", default_model_name(root.has("haptics")), model_names());
   const std::string formulation = root.string("formulation", "sound", {"sound", "paper_literal"});
   const bool literal = formulation == "paper_literal";
-  root.allow({"haptics"});  // read when present
+  root.allow({"haptics", "instrument"});  // read when present
   if (!root.has("geometry")) root.missing("geometry", "a geometry object is required");
   sc.geometry = read_geometry(root.object("geometry"));
   read_material(root, sc);

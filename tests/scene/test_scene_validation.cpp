@@ -437,6 +437,101 @@ TEST(SceneValidation, AnUnknownKeyNamesTheNearestAllowedKeyAndEveryAllowedKey) {
                       "node_spacing_m, outer_radius_m, refine, type, wall_thickness_m"});
 }
 
+// A misspelt key whose default breaks something else is named first, as typed and with the key meant, in
+// every block: the problem its default made follows it (it was reported alone, naming a key the file holds
+// correctly or never held: "key 'obstacles.0.radius_m': missing", "key 'regions.2.bc.direction': unknown key;
+// allowed here: type").
+TEST(SceneValidation, AMisspeltKeyIsNamedBeforeWhatItsDefaultBreaks) {
+  {  // a catheter's shape: the default sphere needs a radius
+    json s = tiny_tube();
+    s["obstacles"] = json::parse(R"([{ "name": "catheter", "shpe": "catheter", "tip_m": [0, 2.6e-3, 0.8e-3],
+                                       "direction": [0, -1, 0], "push_m": 1e-4 }])");
+    expect_scene_error(
+        s, "obstacles.0.shpe",
+        {"unknown key (did you mean 'shape'?); without 'shape': key 'obstacles.0.radius_m': missing; "
+         "a number in"});
+  }
+  {  // a bc's type: the default probe takes no direction
+    json s = tiny_tube();
+    s["regions"][2]["bc"]["tye"] = s["regions"][2]["bc"]["type"];
+    s["regions"][2]["bc"].erase("type");
+    expect_scene_error(s, "regions.2.bc.tye", {"unknown key (did you mean 'type'?); allowed here: type"});
+  }
+  {  // the alternative to s_center_m
+    json s = tiny_tube();
+    s["regions"][2]["select"].erase("z_center_m");
+    s["regions"][2]["select"]["s_center_fractoin"] = 0.5;
+    expect_scene_error(s, "regions.2.select.s_center_fractoin",
+                       {"unknown key (did you mean 's_center_fraction'?); without 's_center_fraction': key "
+                        "'regions.2.select.s_center_m': missing; a number in"});
+  }
+  {  // the viewer's superior: the default +z is the anterior given
+    json s = tiny_tube();
+    s["viewer"] = json::parse(R"({ "supeior": [0, 1, 0], "anterior": [0, 0, 1] })");
+    expect_scene_error(
+        s, "viewer.supeior",
+        {"unknown key (did you mean 'superior'?); without 'superior': key 'viewer.anterior': must be a "
+         "non-zero vector not parallel to viewer.superior"});
+  }
+  {  // a block under another name: its required key is missing
+    json s = tiny_tube();
+    s["model"] = "implicit";
+    s["haptics"] = json::parse(R"({ "devce": { "type": "scripted", "trajectory": "press.csv" } })");
+    expect_scene_error(
+        s, "haptics.devce",
+        {"unknown key (did you mean 'device'?); without 'device': key 'haptics.device.trajectory': "
+         "missing; a string is required"});
+  }
+  {  // the top level's regions, which the lattice is fitted to
+    json s = tiny_tube();
+    s["geometry"]["fit_lattice_to_patch"] = "strips";
+    s["regons"] = s["regions"];
+    s.erase("regions");
+    s.erase("probes");
+    expect_scene_error(
+        s, "regons",
+        {"unknown key (did you mean 'regions'?); without 'regions': key 'geometry.fit_lattice_to_patch': "
+         "there is no wall_patch region to fit the lattice to"});
+  }
+  {  // an instrument's preset
+    json s = tiny_tube();
+    s["instrument"] =
+        json::parse(R"({ "preet": "guidewire-035", "length_m": 0.05, "drive": [[0, 0.01, 0]] })");
+    expect_scene_error(
+        s, "instrument.preet",
+        {"unknown key (did you mean 'preset'?); without 'preset': key 'instrument.outer_diameter_m': "
+         "missing; a number in"});
+  }
+}
+
+// A key a block accepts is not taken for a misspelling of another it lacks, and is listed among the keys
+// allowed whether or not the scene has it: an instrument's inner_diameter_m beside a missing outer_diameter_m
+// (it was reported as "unknown key (did you mean 'outer_diameter_m'?)"), the top level's instrument (it was
+// neither suggested nor listed without an instrument block), and an instrument's preset (not listed without
+// one).
+TEST(SceneValidation, AKeyTheBlockAcceptsIsNeverTakenForAMisspelling) {
+  json custom = json::parse(R"({ "inner_diameter_m": 2e-4, "youngs_modulus_pa": 6e10, "poisson_ratio": 0.3,
+                                 "density_kg_m3": 6450, "length_m": 0.05, "drive": [[0, 0.01, 0]] })");
+  {
+    json s = tiny_tube();
+    s["instrument"] = custom;
+    expect_scene_error(s, "instrument.outer_diameter_m", {"missing; a number in"});
+  }
+  {
+    json s = tiny_tube();
+    s["instrment"] = custom;
+    expect_scene_error(s, "instrment",
+                       {"unknown key (did you mean 'instrument'?); allowed here: ", " instrument, "});
+  }
+  {
+    json s = tiny_tube();
+    s["instrument"] = custom;
+    s["instrument"]["outer_diameter_m"] = 4e-4;
+    s["instrument"]["bogus"] = 1;
+    expect_scene_error(s, "instrument.bogus", {"allowed here: ", " preset, "});
+  }
+}
+
 TEST(SceneValidation, ReferenceNeedsAForceRegion) {
   json s = tiny_box();
   s["geometry"] = {

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <array>
 #include <cmath>
 
 #include "vascsim/core/error.hpp"
@@ -46,10 +47,37 @@ std::string JsonReader::key_path(const std::string& key) const {
 }
 
 void JsonReader::fail(const std::string& key, const std::string& message) const {
-  throw InputError(fmt::format("{}: key '{}': {}", file_, key_path(key), message));
+  report(fmt::format("key '{}': {}", key_path(key), message));
+}
+
+std::optional<JsonReader::Misspelling> JsonReader::misspelling() const {
+  // The keys the reader looked for (read, allowed or asked about) that the object lacks: a present key it
+  // knows nothing of one edit from one of them (a letter dropped, added or changed, two neighbours swapped)
+  // is that key misspelt, and its default stood in for the value meant. One edit, not nearest_name's few: a
+  // key the reader has not reached yet may be two from one it has (min_newton_iterations after
+  // max_newton_iterations).
+  const auto known = [&](const std::string& k) {
+    return read_.count(k) > 0 || allowed_.count(k) > 0 || asked_.count(k) > 0;
+  };
+  for (const auto& [k, v] : object_.items()) {
+    if (known(k)) continue;
+    for (const std::set<std::string>* looked_for :
+         std::array<const std::set<std::string>*, 3>{&read_, &allowed_, &asked_})
+      for (const std::string& t : *looked_for)
+        if (!object_.contains(t) && edit_distance(k, t) == 1) return Misspelling{key_path(k), t};
+  }
+  return absent_as_;
+}
+
+void JsonReader::report(const std::string& problem) const {
+  if (const std::optional<Misspelling> m = misspelling())
+    throw InputError(fmt::format("{}: key '{}': unknown key (did you mean '{}'?); without '{}': {}", file_,
+                                 m->typed_path, m->meant, m->meant, problem));
+  throw InputError(fmt::format("{}: {}", file_, problem));
 }
 
 bool JsonReader::has(const std::string& key) const {
+  asked_.insert(key);
   return object_.contains(key);
 }
 
@@ -164,6 +192,13 @@ JsonReader JsonReader::object(const std::string& key) {
   if (v && !v->is_object()) fail(key, fmt::format("expected an object, found {}", type_name(*v)));
   JsonReader child(v ? *v : empty_object(), key_path(key), file_);
   child.fields_ = fields_;
+  if (!v) {
+    // An absent block typed under another name: its problems (a required key missing) are that name's.
+    if (const std::optional<std::string> typo = misspelling_of(key))
+      child.absent_as_ = Misspelling{key_path(*typo), key};
+    else
+      child.absent_as_ = absent_as_;
+  }
   return child;
 }
 
@@ -189,17 +224,29 @@ void JsonReader::allow(std::initializer_list<const char*> keys) {
   for (const char* k : keys) allowed_.insert(k);
 }
 
-void JsonReader::missing(const std::string& key, const std::string& what) const {
-  // The keys present that nothing has read or may read: one of them close to `key` is its misspelling, the
-  // user's actual mistake, so it is named first (else the message names only a key the file never held).
+std::optional<std::string> JsonReader::misspelling_of(const std::string& key) const {
+  // The keys present that nothing has read, may read or asked about: the one closest to `key` (within
+  // nearest_name's few edits) is its misspelling.
   std::optional<std::string> typo;
   for (const auto& [k, v] : object_.items())
-    if (k != key && !read_.count(k) && !allowed_.count(k) && nearest_name(k, {key}) &&
+    if (k != key && !read_.count(k) && !allowed_.count(k) && !asked_.count(k) && nearest_name(k, {key}) &&
         (!typo || edit_distance(k, key) < edit_distance(*typo, key)))
       typo = k;
-  if (typo)
+  return typo;
+}
+
+void JsonReader::missing(const std::string& key, const std::string& what) const {
+  // A misspelling is the user's actual mistake, so it is named first (else the message names only a key the
+  // file never held): one edit from `key` or from another key the reader looked for (the alternative `key`
+  // stands for, z_center_m for s_center_m; a key whose default made `key` required), else a few from `key`.
+  const std::optional<Misspelling> near = misspelling();
+  if (near && near->meant != key) fail(key, "missing; " + what);
+  std::optional<std::string> typed_path = near ? std::optional<std::string>(near->typed_path) : std::nullopt;
+  if (!typed_path)
+    if (const std::optional<std::string> typo = misspelling_of(key)) typed_path = key_path(*typo);
+  if (typed_path)
     throw InputError(fmt::format("{}: key '{}': unknown key (did you mean '{}'?); '{}' is missing: {}", file_,
-                                 key_path(*typo), key, key, what));
+                                 *typed_path, key, key, what));
   fail(key, "missing; " + what);
 }
 
@@ -207,14 +254,24 @@ void JsonReader::finish() const {
   std::set<std::string> known_set = read_;
   known_set.insert(allowed_.begin(), allowed_.end());
   const std::vector<std::string> known(known_set.begin(), known_set.end());
-  for (const auto& [k, v] : object_.items())
-    if (!read_.count(k)) {  // an allowed key that is present is read, or rejected with its own message before
-      const std::optional<std::string> near = nearest_name(k, known);
-      throw InputError(
-          fmt::format("{}: key '{}': unknown key{}{}", file_, key_path(k),
-                      near ? fmt::format(" (did you mean '{}'?)", *near) : "",
-                      known.empty() ? "" : fmt::format("; allowed here: {}", fmt::join(known, ", "))));
+  // Of the keys never read (an allowed key that is present is read, or rejected with its own message before),
+  // a misspelling of a key the object lacks first: its default may be what made the others unknown (a "tye"
+  // left a region's bc "probe", which takes no "direction").
+  std::optional<std::string> first, first_near;
+  for (const auto& [k, v] : object_.items()) {
+    if (read_.count(k)) continue;
+    const std::optional<std::string> near = nearest_name(k, known);
+    if (!first) first = k, first_near = near;
+    if (near && !object_.contains(*near)) {
+      first = k, first_near = near;
+      break;
     }
+  }
+  if (first)
+    throw InputError(
+        fmt::format("{}: key '{}': unknown key{}{}", file_, key_path(*first),
+                    first_near ? fmt::format(" (did you mean '{}'?)", *first_near) : "",
+                    known.empty() ? "" : fmt::format("; allowed here: {}", fmt::join(known, ", "))));
 }
 
 }  // namespace vascsim

@@ -107,6 +107,9 @@ double value(JsonReader& b, bool preset, const std::string& key, double fallback
 }  // namespace
 
 InstrumentSpec read_instrument(JsonReader& b) {
+  // "preset" is listed as allowed without one; inner_diameter_m, read after outer_diameter_m, is not that key
+  // misspelt.
+  b.allow({"preset", "inner_diameter_m"});
   const bool preset = b.has("preset");
   InstrumentSpec s =
       preset ? instrument_preset(b.string("preset", "", instrument_presets())) : InstrumentSpec{};

@@ -676,6 +676,8 @@ void read_contact(JsonReader& root, Scene& sc) {
 // Every registered model's block, read by the model's own reader (so `--set other_model.key=...` is checked
 // too, and `--set model=...` finds its settings).
 void read_model_blocks(JsonReader& root, Scene& sc) {
+  // Each block is known before the first is read: "implicit" is not "explicit" misspelt.
+  for (const ModelEntry& e : model_registry()) root.allow({e.name.c_str()});
   for (const ModelEntry& e : model_registry()) {
     JsonReader block = root.object(e.name);
     sc.model_settings[e.name] = e.read_settings(block);
@@ -748,7 +750,8 @@ void read_reference(JsonReader& root, Scene& sc) {
     bool found = false;
     for (const auto& r : sc.regions)
       found = found || (r.name == sc.reference.region && r.bc == RegionBcType::Force);
-    if (!found) ref.fail("region", fmt::format("no force region named '{}'", sc.reference.region));
+    // A check across blocks: the root's (a misspelt "regions" is named first).
+    if (!found) root.fail("reference.region", fmt::format("no force region named '{}'", sc.reference.region));
   }
   ref.finish();
 }
@@ -985,7 +988,7 @@ Scene parse_scene(const nlohmann::json& doc, const std::string& file) {
   sc.model = root.string("model", default_model_name(root.has("haptics")), model_names());
   const std::string formulation = root.string("formulation", "sound", {"sound", "paper_literal"});
   const bool literal = formulation == "paper_literal";
-  root.allow({"haptics"});  // read when present
+  root.allow({"haptics", "instrument"});  // read when present
   if (!root.has("geometry")) root.missing("geometry", "a geometry object is required");
   sc.geometry = read_geometry(root.object("geometry"));
   read_material(root, sc);

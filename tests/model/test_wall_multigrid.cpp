@@ -366,6 +366,47 @@ TEST(WallMultigrid, ANewtonStepIsLimitedToTheLongestStepAllowed) {
   EXPECT_LT(diff, 1e-6 * largest);
 }
 
+// A residual at the very state of the last one reuses its internal forces (NewtonSettings::reuse_forces):
+// truncated solves of one Newton step each, as a real-time frame's carried steps are, each start where the
+// last one ended, so each after the first saves an evaluation. Reusing changes nothing: the same states bit
+// for bit, the same Newton and CG iterations, and every evaluation either made or reused.
+TEST(WallMultigrid, AResidualAtTheLastStateReusesItsForcesAndChangesNothing) {
+  MultigridRig rig;
+  ContactActiveSet none(rig.P, rig.free, false);
+  NewtonSettings ns;
+  ns.rel_tolerance = 1e-9;
+  ns.max_cg_iterations = 500;
+  const Vec3Array rest = rig.P.discretization().rest_positions();
+  constexpr int kSolves = 6;
+  Vec3Array x[2];
+  long long made[2], reused[2];
+  int newton_steps[2] = {0, 0}, cg[2] = {0, 0};
+  for (int reuse = 0; reuse < 2; ++reuse) {
+    ns.reuse_forces = reuse == 1;
+    NewtonEquilibrium newton(rig.P, rig.free, none, ns);
+    newton.set_preconditioner(rig.mg.get());
+    x[reuse] = rest;
+    for (int k = 1; k <= kSolves; ++k) {
+      Vec3Array f_ext(rig.x.size(), Vec3::Zero());
+      for (Index i : rig.free.nodes) f_ext[i] = Vec3(0.0, -2e-5 * k, 0.0);  // N per node, growing
+      const NewtonResult r = newton.solve(x[reuse], 1.0, f_ext, InertiaTerm{rig.inv_h2, &rest},
+                                          SteadyClock::time_point::max(), false, 1);
+      newton_steps[reuse] += r.iterations;
+      cg[reuse] += r.cg_iterations;
+    }
+    made[reuse] = newton.force_evaluations();
+    reused[reuse] = newton.force_evaluations_reused();
+  }
+  std::printf("[ multigrid ] %d one-step solves: %lld force evaluations, %lld of them reused\n", kSolves,
+              made[0], reused[1]);
+  EXPECT_EQ(reused[0], 0);
+  EXPECT_GE(reused[1], kSolves - 1);  // every solve after the first starts at the last one's end
+  EXPECT_EQ(made[1] + reused[1], made[0]);
+  EXPECT_EQ(newton_steps[1], newton_steps[0]);
+  EXPECT_EQ(cg[1], cg[0]);
+  for (std::size_t i = 0; i < rest.size(); ++i) ASSERT_EQ(x[1][i], x[0][i]) << "node " << i;
+}
+
 // The implicit model with the multigrid and with the Cholesky factor of the whole Hessian reach the same
 // equilibrium under the catheter (each frame to a relative residual of 1e-9): the tool force agrees to 1e-5
 // relative (the two solvers stop at different points within the tolerance; 1e-9 of the reactions moves the

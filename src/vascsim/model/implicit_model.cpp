@@ -690,6 +690,8 @@ nlohmann::json ImplicitModel::info() const {
                       {"warm_started_frames", warm_started_frames_},
                       {"advected_frames", advected_frames_},
                       {"frames_thrown_off", recoveries_},
+                      {"force_evaluations", newton_.force_evaluations()},
+                      {"force_evaluations_reused", newton_.force_evaluations_reused()},
                       {"handoff_max_residual", settings_.handoff_max_residual},
                       {"time_budget_s", settings_.time_budget_s},
                       {"duration_s", settings_.duration_s},

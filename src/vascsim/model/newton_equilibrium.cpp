@@ -157,7 +157,20 @@ double NewtonEquilibrium::residual(Vec3Array& x, double s, const Vec3Array& f_ex
   // applied loads and the inertial forces.
   const Index n = problem_.discretization().num_nodes();
   Vec3Array f_int;
-  problem_.energy().forces(x, f_int);
+  if (settings_.reuse_forces && forces_x_.size() == x.size() &&
+      std::equal(x.begin(), x.end(), forces_x_.begin(), [](const Vec3& a, const Vec3& b) {
+        return a.x() == b.x() && a.y() == b.y() && a.z() == b.z();
+      })) {
+    f_int = forces_;
+    ++force_evaluations_reused_;
+  } else {
+    problem_.energy().forces(x, f_int);
+    ++force_evaluations_;
+    if (settings_.reuse_forces) {
+      forces_x_ = x;
+      forces_ = f_int;
+    }
+  }
   double reaction2 = 0.0, ext2 = 0.0, inertial2 = 0.0;
   if (embedded_) {
     if (carried_)

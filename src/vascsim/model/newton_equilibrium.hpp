@@ -60,6 +60,11 @@ struct NewtonSettings {
   /// curvature, and a carried step (taken whole) or a whole step of the deferred line search would take the
   /// wall there (under the soak's random hand, a step of metres, then a non-finite state).
   double max_step_m = 0.0;
+  /// A residual at the very state of the last one (bit for bit) reuses its internal forces: a real-time
+  /// frame's carried steps each end with a residual at the state the next one starts from, and a frame ends
+  /// at the state the next frame starts from unless it predicts a new one. Off only to check that reusing
+  /// changes nothing.
+  bool reuse_forces = true;
 };
 
 /// Backward Euler's inertia term: 1/(2 h^2) sum_i m_i |x_i - a_i|^2 over the free nodes.
@@ -140,6 +145,9 @@ class NewtonEquilibrium {
   /// The unfiltered residual f_int + f_ext - inertia of the last evaluation (the contacts' reactions are
   /// -r.n); on prescribed nodes it is the support reaction.
   const Vec3Array& last_residual() const { return r_unfiltered_; }
+  /// Internal-force evaluations the residuals needed, and those NewtonSettings::reuse_forces saved.
+  long long force_evaluations() const { return force_evaluations_; }
+  long long force_evaluations_reused() const { return force_evaluations_reused_; }
   const FreeDofs& free() const { return free_; }
 
  private:
@@ -169,6 +177,8 @@ class NewtonEquilibrium {
   mutable ContactCorrection correction_;  // cached per contact set and factor (contact_correction.hpp)
   mutable bool use_correction_ = false;
   std::optional<double> accepted_potential_;  // Pi of the trial the last line search accepted, J
+  Vec3Array forces_x_, forces_;               // the last internal forces and the state they are of
+  long long force_evaluations_ = 0, force_evaluations_reused_ = 0;
 };
 
 }  // namespace vascsim

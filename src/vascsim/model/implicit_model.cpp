@@ -366,14 +366,13 @@ void ImplicitModel::refresh_multigrid() {
 }
 
 void ImplicitModel::approach_tools(double s, const Vec3Array& f_ext) {
-  if (!embedded_ || settings_.max_tool_step > 0.0) return;
+  if (!embedded_ || tool_step_spacings() > 0.0) return;
   const double inf = std::numeric_limits<double>::infinity();
   double total = 0.0;
   for (std::size_t o = 0; o < tools_.size(); ++o) total = std::max(total, tools_.distance_to_target(o));
-  // At most kMaxSteps steps (the last one the frame's own first Newton step): a frame that came late must not
-  // spend longer on a longer way, or every frame after it comes later still.
-  constexpr double kMaxSteps = 3.0;
-  const double step = std::max(settings_.contact_substep * spacing_, total / kMaxSteps);
+  // At most kMaxCarriedSteps steps (the last one the frame's own first Newton step): a frame that came late
+  // must not spend longer on a longer way, or every frame after it comes later still.
+  const double step = std::max(settings_.contact_substep * spacing_, total / kMaxCarriedSteps);
   const long long substeps_before = substeps_;
   double far = 0.0;
   for (;;) {
@@ -425,6 +424,7 @@ void ImplicitModel::recover() {
         "follow): back to the last frame that handed on its force, the tool behind the hand until the frames "
         "catch up (summary.json counts such frames: frames_thrown_off)",
         frames_, t_ + h_);
+  catching_up_ = settings_.contact_substep > 0.0;
   x_ = safe_->x;
   std::fill(v_.begin(), v_.end(), Vec3::Zero());
   tools_.restore(safe_->tools);
@@ -434,10 +434,20 @@ void ImplicitModel::recover() {
   embedded_->linearize(x_);
 }
 
+double ImplicitModel::tool_step_spacings() const {
+  // After a frame that threw the wall off, the tools catch up with the device in steps of contact_substep
+  // node spacings, one after each frame that handed on (a hand held past a frame's reach would otherwise
+  // throw the wall off again at every frame; steps taken at every frame outran a wall whose frames were
+  // one Newton step each, and its far-off states became the ones to go back to).
+  return settings_.max_tool_step > 0.0 ? settings_.max_tool_step
+         : catching_up_                ? settings_.contact_substep
+                                       : 0.0;
+}
+
 std::vector<Vec3> ImplicitModel::frame_goal_points(double s) const {
   // With max_tool_step the tools were already moved their bounded step (advance_tools); otherwise the frame
   // takes them to the device's poses.
-  return settings_.max_tool_step > 0.0 ? tools_.points(s) : tools_.target_points(s);
+  return tool_step_spacings() > 0.0 ? tools_.points(s) : tools_.target_points(s);
 }
 
 bool ImplicitModel::warm_start_from_motion(const std::vector<Vec3>& targets) {
@@ -469,7 +479,7 @@ bool ImplicitModel::warm_start_from_motion(const std::vector<Vec3>& targets) {
   for (std::size_t o = 0; o < tools_.size(); ++o)
     if (const auto T = move_along_wall(o, targets))
       if (T->squaredNorm() > 0.25 * (targets[o] - frame_tool_points_[o]).squaredNorm()) return false;
-  if (!(settings_.max_tool_step > 0.0))
+  if (!(tool_step_spacings() > 0.0))
     for (std::size_t o = 0; o < tools_.size(); ++o)
       tools_.advance(o, std::numeric_limits<double>::infinity());
   for (Index i : free_.nodes) x_[i] += c * last_motion_[i];
@@ -555,6 +565,8 @@ StepReport ImplicitModel::step() {
   problem_.external_forces(s_next, f_ext);
   if (settings_.max_tool_step > 0.0)
     advance_tools(settings_.max_tool_step);
+  else if (catching_up_)
+    advance_tools(last_handoff_ ? tool_step_spacings() : 0.0);
   else if (realtime_ && !embedded_ && settings_.realtime_tool_step > 0.0)
     advance_tools(last_handoff_ ? settings_.realtime_tool_step : 0.0);
   NewtonResult r;
@@ -622,6 +634,13 @@ StepReport ImplicitModel::step() {
     ++stale_handoffs_;
   }
   last_handoff_ = handoff;
+  if (catching_up_ && handoff) {
+    // Caught up once a frame's carried steps of contact_substep spacings reach the device from a wall that
+    // handed on.
+    double behind = 0.0;
+    for (std::size_t o = 0; o < tools_.size(); ++o) behind = std::max(behind, tools_.distance_to_target(o));
+    catching_up_ = behind > kMaxCarriedSteps * settings_.contact_substep * spacing_;
+  }
   t_ = t_next;
   s_ = s_next;
   for (const auto& p : x_)

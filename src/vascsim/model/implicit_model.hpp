@@ -235,6 +235,9 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   };
   std::optional<SafeState> safe_;
   long long recoveries_ = 0;
+  bool catching_up_ = false;  // the tools follow the device in bounded steps since a frame went back
+  static constexpr double kMaxCarriedSteps = 3.0;  // a frame's carried steps to the device's pose, at most
+  double tool_step_spacings() const;  // the bound on a frame's tool travel, node spacings (0: none)
   std::vector<std::optional<ToolLinearization>> linearization_;  // per tool, after the last frame
   std::unique_ptr<HapticCandidates> candidates_;
   double spacing_ = 0.0;

@@ -75,6 +75,35 @@ CASES = {
         "quaternion": [0.7071067811865476, -0.7071067811865476, 0.0, 0.0],
         "tool_radius": 1e-3, "youngs_modulus": 0.5e6, "poisson": 0.45, "spacing_along_wall": 0.3e-3,
     },
+    # The 10 mm probe of validation/scenes/aorta-press.json at the crown of the bent aorta's arch (theta = 180 deg at
+    # mid-length, the outer wall at z = 52.5 mm), pressed 2 mm along -z and slid 3 mm along +x, the arch's tangent
+    # there (a straight slide: the outer wall, of radius 42.5 mm along the arch, falls 0.11 mm under its end).
+    # Its tip points along -z: the identity orientation. The real-time scene is 1.0 mm under the path (a graded
+    # window), the reference's spacing.
+    "scenes/realtime/aorta-bent-probe.json": {
+        "reference_scene": "validation/scenes/aorta-press.json",
+        "surface": [30e-3, 0.0, 52.5e-3],
+        "press_dir": [0.0, 0.0, -1.0],
+        "slide_dir": [1.0, 0.0, 0.0],
+        "lift": 0.25e-3, "depth": 2.0e-3, "slide": 3.0e-3, "hold": 0.2,
+        "quaternion": [1.0, 0.0, 0.0, 0.0],
+        "tool_radius": 5e-3, "youngs_modulus": 1.0e6, "poisson": 0.45, "spacing_along_wall": 1.0e-3,
+    },
+    # A micro-probe of 100 um diameter on the twice-bent retinal artery between the bends (theta = 90 deg, the +y
+    # side, at mid-length: the centre-line's inflection point (0.25, 0, 0.733) mm, the outer wall at y = 80 um),
+    # pressed 32 um (40 % of the radius) along -y and slid 100 um along the centre-line's tangent there (the
+    # centre-line leaves that straight line by 10 um at its end, sideways to the press). Orientation as the vein's.
+    # The real-time scene is 10 um under the path (a graded window); the reference is the same press at a uniform
+    # 10 um (no independent FEM reference for this vessel).
+    "scenes/realtime/retinal-artery-twice-bent-probe.json": {
+        "reference_scene": "scenes/retinal-artery-twice-bent-probe.json",
+        "surface": [0.25e-3, 80e-6, 0.7330127018922193e-3],
+        "press_dir": [0.0, -1.0, 0.0],
+        "slide_dir": [0.8660254037844386, 0.0, 0.5],
+        "lift": 5e-6, "depth": 32e-6, "slide": 100e-6, "hold": 0.2,
+        "quaternion": [0.7071067811865476, -0.7071067811865476, 0.0, 0.0],
+        "tool_radius": 50e-6, "youngs_modulus": 0.5e6, "poisson": 0.45, "spacing_along_wall": 10e-6,
+    },
 }
 
 

@@ -72,7 +72,8 @@ VARIANTS = {
 # `press_dir` to `depth` below the wall, holds, slides along `slide_dir` by `slide`, and holds; `quaternion` turns
 # the tool's tip (along -z in its own frame) onto `press_dir`. `tool_radius`, the material and the node spacing
 # along the wall under the path say where the contact is resolved (resolved()); `reference_step`: the path between
-# the reference's equilibria. The vein: a 6 Fr catheter on the straight vein, its tip pointing along -y (a -90
+# the reference's equilibria; `coupling` (optional): haptics.coupling for the reference and the sessions, for a
+# tool whose force would otherwise hold it behind the hand (the proxy is F / stiffness behind the device). The vein: a 6 Fr catheter on the straight vein, its tip pointing along -y (a -90
 # degree turn about x).
 CASES = {
     "scenes/realtime/hand-dorsal-vein-catheter.json": {
@@ -99,6 +100,9 @@ CASES = {
         "quaternion": [1.0, 0.0, 0.0, 0.0],
         "tool_radius": 5e-3, "youngs_modulus": 1.0e6, "poisson": 0.45, "spacing_along_wall": 1.0e-3,
         "reference_step": 0.15e-3,
+        # The default coupling (500 N/m) would hold the tool F/k = 0.5 mm above the hand at 0.27 N: the reference
+        # stopped 1.55 mm deep. 10 kN/m: 0.03 mm; a 20 g proxy keeps the 1 kHz coupling stable.
+        "coupling": {"stiffness_n_per_m": 1e4, "proxy_mass_kg": 0.02},
     },
     # A micro-probe of 100 um diameter on the twice-bent retinal artery between the bends (theta = 90 deg, the +y
     # side, at mid-length: the centre-line's inflection point (0.25, 0, 0.733) mm, the outer wall at y = 80 um),
@@ -187,10 +191,12 @@ def write_trajectory(path, knots, file, dt=1e-3, note=""):
             f.write(f"{t:.6f},{p[0]:.9g},{p[1]:.9g},{p[2]:.9g},{q[0]},{q[1]},{q[2]},{q[3]}\n")
 
 
-def scene_with_haptics(scene_file, trajectory, mode_settings):
+def scene_with_haptics(scene_file, trajectory, mode_settings, case):
     doc = json.loads(pathlib.Path(scene_file).read_text())
     doc["haptics"] = {"device": {"type": "scripted", "trajectory": str(pathlib.Path(trajectory).resolve())},
                       "ticks_per_step": 10}
+    if "coupling" in case:
+        doc["haptics"]["coupling"] = dict(case["coupling"])
     for block, values in mode_settings.items():
         doc.setdefault(block, {}).update(values)
     return doc
@@ -208,7 +214,7 @@ def reference(args, case, path, out):
     knots = [(k * frame_s, min(k * step, path.length)) for k in range(n + 1)]
     traj = out / "reference-trajectory.csv"
     write_trajectory(path, knots, traj, note="reference poses along the benchmark's path")
-    scene = scene_with_haptics(case["reference_scene"], traj, {"quasi_static": {"frame_s": frame_s}})
+    scene = scene_with_haptics(case["reference_scene"], traj, {"quasi_static": {"frame_s": frame_s}}, case)
     scene_file = out / "reference-scene.json"
     scene_file.write_text(json.dumps(scene, indent=1))
     print(f"reference: {n + 1} equilibria of {case['reference_scene']} along the path (lockstep, minutes) ...",
@@ -254,7 +260,7 @@ def session(args, case, path, ref, speed, variant, out):
     run.mkdir(parents=True, exist_ok=True)
     traj = run / "trajectory.csv"
     write_trajectory(path, path.schedule(speed), traj, note=f"press and slide at {speed * 1e3:g} mm/s")
-    scene = scene_with_haptics(args.scene, traj, {})
+    scene = scene_with_haptics(args.scene, traj, {}, case)
     mode = "realtime"
     if args.lockstep_frame:
         # Every frame converges, frames of the given length: the work a frame needs at this hand speed.

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Real time at a trainee's hand speed (docs/performance.md, "Real time at hand speed").
 
-A scripted hand presses the catheter of a real-time scene into the wall and slides it along the wall, at each of
+A scripted hand presses the tool of a real-time scene into the wall and slides it along the wall, at each of
 several speeds, through the 1 kHz haptic loop in realtime mode (the haptic thread at wall-clock 1 kHz, the model
 on the other core), and the run is compared with the converged continuum:
 
@@ -13,12 +13,18 @@ on the other core), and the run is compared with the converged continuum:
     contact is resolved (its Hertz diameter spans 1.4 node spacings along the wall, docs/validation.md "The
     contact's onset"); each frame's own force likewise; the force latency and the haptic loop's rate and jitter.
 
-The reference is the fine quasi_static scene of the same set-up (for the vein: scenes/hand-dorsal-vein-catheter.json,
-30,552 nodes, within 0.3 % of the CalculiX reference at 1.2 mm) driven along the same path in lockstep, one
-equilibrium every --reference-step of the path; the force at a tick is interpolated along the path at the tick's
-tool pose. It takes about half an hour on 2 cores and is cached in the output folder (--reference to reuse a file).
+The reference is the fine quasi_static scene of the same set-up driven along the same path in lockstep, one
+equilibrium every --reference-step of the path (default: the scene's in CASES); the force at a tick is interpolated
+along the path at the tick's tool pose. Per scene (--scene, CASES): the vein's catheter against
+scenes/hand-dorsal-vein-catheter.json (30,552 nodes, within 0.3 % of the CalculiX reference at 1.2 mm; 35
+equilibria, about half an hour on 2 cores); the aorta's 10 mm probe against validation/scenes/aorta-press.json
+(34,040 nodes, -0.1 to +1.8 % of the CalculiX reference to 2 mm; 37 equilibria); the retinal artery's micro-probe
+against scenes/retinal-artery-twice-bent-probe.json (29,216 nodes, no independent reference; 36 equilibria). The
+reference is cached in the output folder (--reference to reuse a file).
 
     /usr/bin/python3 scripts/realtime_benchmark.py --vascsim build/vascsim --out out/realtime-benchmark
+    /usr/bin/python3 scripts/realtime_benchmark.py --vascsim build/vascsim --scene scenes/realtime/aorta-bent-probe.json \
+        --out out/realtime-benchmark-aorta-bent-probe
 
 Run it on an otherwise idle machine: it records the load average and the machine in benchmark.json.
 """
@@ -62,9 +68,13 @@ VARIANTS = {
                "implicit.time_budget_s=0", "implicit.handoff_max_residual=1e6"],
 }
 
-# The press-and-slide of a 6 Fr catheter on the straight vein, per scene: the tip starts `lift` above the outer
-# wall at `start`, is pushed along `press_dir` to `depth` below the wall, holds, slides along `slide_dir` by
-# `slide`, and holds. Orientation: the catheter's tip pointing along -y (a -90 degree turn about x).
+# The press-and-slide per scene: the tip starts `lift` above the outer wall at `surface`, is pushed along
+# `press_dir` to `depth` below the wall, holds, slides along `slide_dir` by `slide`, and holds; `quaternion` turns
+# the tool's tip (along -z in its own frame) onto `press_dir`. `tool_radius`, the material and the node spacing
+# along the wall under the path say where the contact is resolved (resolved()); `reference_step`: the path between
+# the reference's equilibria; `coupling` (optional): haptics.coupling for the reference and the sessions, for a
+# tool whose force would otherwise hold it behind the hand (the proxy is F / stiffness behind the device). The vein: a 6 Fr catheter on the straight vein, its tip pointing along -y (a -90
+# degree turn about x).
 CASES = {
     "scenes/realtime/hand-dorsal-vein-catheter.json": {
         "reference_scene": "scenes/hand-dorsal-vein-catheter.json",
@@ -74,6 +84,41 @@ CASES = {
         "lift": 0.2e-3, "depth": 1.2e-3, "slide": 2.0e-3, "hold": 0.2,
         "quaternion": [0.7071067811865476, -0.7071067811865476, 0.0, 0.0],
         "tool_radius": 1e-3, "youngs_modulus": 0.5e6, "poisson": 0.45, "spacing_along_wall": 0.3e-3,
+        "reference_step": 0.1e-3,
+    },
+    # The 10 mm probe of validation/scenes/aorta-press.json at the crown of the bent aorta's arch (theta = 180 deg at
+    # mid-length, the outer wall at z = 52.5 mm), pressed 2 mm along -z and slid 3 mm along +x, the arch's tangent
+    # there (a straight slide: the outer wall, of radius 42.5 mm along the arch, falls 0.11 mm under its end).
+    # Its tip points along -z: the identity orientation. The real-time scene is 1.0 mm under the path (a graded
+    # window), the reference's spacing.
+    "scenes/realtime/aorta-bent-probe.json": {
+        "reference_scene": "validation/scenes/aorta-press.json",
+        "surface": [30e-3, 0.0, 52.5e-3],
+        "press_dir": [0.0, 0.0, -1.0],
+        "slide_dir": [1.0, 0.0, 0.0],
+        "lift": 0.25e-3, "depth": 2.0e-3, "slide": 3.0e-3, "hold": 0.2,
+        "quaternion": [1.0, 0.0, 0.0, 0.0],
+        "tool_radius": 5e-3, "youngs_modulus": 1.0e6, "poisson": 0.45, "spacing_along_wall": 1.0e-3,
+        "reference_step": 0.15e-3,
+        # The default coupling (500 N/m) would hold the tool F/k = 0.5 mm above the hand at 0.27 N: the reference
+        # stopped 1.55 mm deep. 10 kN/m: 0.03 mm; a 20 g proxy keeps the 1 kHz coupling stable.
+        "coupling": {"stiffness_n_per_m": 1e4, "proxy_mass_kg": 0.02},
+    },
+    # A micro-probe of 100 um diameter on the twice-bent retinal artery between the bends (theta = 90 deg, the +y
+    # side, at mid-length: the centre-line's inflection point (0.25, 0, 0.733) mm, the outer wall at y = 80 um),
+    # pressed 32 um (40 % of the radius) along -y and slid 100 um along the centre-line's tangent there (the
+    # centre-line leaves that straight line by 10 um at its end, sideways to the press). Orientation as the vein's.
+    # The real-time scene is 10 um under the path (a graded window); the reference is the same press at a uniform
+    # 10 um (no independent FEM reference for this vessel).
+    "scenes/realtime/retinal-artery-twice-bent-probe.json": {
+        "reference_scene": "scenes/retinal-artery-twice-bent-probe.json",
+        "surface": [0.25e-3, 80e-6, 0.7330127018922193e-3],
+        "press_dir": [0.0, -1.0, 0.0],
+        "slide_dir": [0.8660254037844386, 0.0, 0.5],
+        "lift": 5e-6, "depth": 32e-6, "slide": 100e-6, "hold": 0.2,
+        "quaternion": [0.7071067811865476, -0.7071067811865476, 0.0, 0.0],
+        "tool_radius": 50e-6, "youngs_modulus": 0.5e6, "poisson": 0.45, "spacing_along_wall": 10e-6,
+        "reference_step": 4e-6,
     },
 }
 
@@ -146,10 +191,12 @@ def write_trajectory(path, knots, file, dt=1e-3, note=""):
             f.write(f"{t:.6f},{p[0]:.9g},{p[1]:.9g},{p[2]:.9g},{q[0]},{q[1]},{q[2]},{q[3]}\n")
 
 
-def scene_with_haptics(scene_file, trajectory, mode_settings):
+def scene_with_haptics(scene_file, trajectory, mode_settings, case):
     doc = json.loads(pathlib.Path(scene_file).read_text())
     doc["haptics"] = {"device": {"type": "scripted", "trajectory": str(pathlib.Path(trajectory).resolve())},
                       "ticks_per_step": 10}
+    if "coupling" in case:
+        doc["haptics"]["coupling"] = dict(case["coupling"])
     for block, values in mode_settings.items():
         doc.setdefault(block, {}).update(values)
     return doc
@@ -161,13 +208,13 @@ def reference(args, case, path, out):
     if cache.exists():
         rows = read_csv(cache)
         return [r["l_m"] for r in rows], [r["force_n"] for r in rows]
-    step = args.reference_step
+    step = args.reference_step or case["reference_step"]
     n = int(math.ceil(path.length / step))
     frame_s = 0.01  # 10 ticks of 1 ms per pose
     knots = [(k * frame_s, min(k * step, path.length)) for k in range(n + 1)]
     traj = out / "reference-trajectory.csv"
     write_trajectory(path, knots, traj, note="reference poses along the benchmark's path")
-    scene = scene_with_haptics(case["reference_scene"], traj, {"quasi_static": {"frame_s": frame_s}})
+    scene = scene_with_haptics(case["reference_scene"], traj, {"quasi_static": {"frame_s": frame_s}}, case)
     scene_file = out / "reference-scene.json"
     scene_file.write_text(json.dumps(scene, indent=1))
     print(f"reference: {n + 1} equilibria of {case['reference_scene']} along the path (lockstep, minutes) ...",
@@ -213,7 +260,7 @@ def session(args, case, path, ref, speed, variant, out):
     run.mkdir(parents=True, exist_ok=True)
     traj = run / "trajectory.csv"
     write_trajectory(path, path.schedule(speed), traj, note=f"press and slide at {speed * 1e3:g} mm/s")
-    scene = scene_with_haptics(args.scene, traj, {})
+    scene = scene_with_haptics(args.scene, traj, {}, case)
     mode = "realtime"
     if args.lockstep_frame:
         # Every frame converges, frames of the given length: the work a frame needs at this hand speed.
@@ -327,7 +374,9 @@ def main():
     ap.add_argument("--speeds", default="1,2,5", help="hand speeds, mm/s (comma-separated)")
     ap.add_argument("--out", default="out/realtime-benchmark")
     ap.add_argument("--reference", help="a reference.csv of an earlier run (l_m, force_n) instead of computing it")
-    ap.add_argument("--reference-step", type=float, default=0.1e-3, help="path between reference poses, m")
+    ap.add_argument("--reference-step", type=float, default=None,
+                    help="path between reference poses, m (default: the scene's in CASES: 0.1 mm for the vein, "
+                         "0.15 mm for the aorta, 4 um for the retinal artery)")
     ap.add_argument("--variants", default="multigrid,multigrid-at-hand,multigrid-embedded,factor",
                     help="solver variants to compare, comma-separated: " + ", ".join(VARIANTS))
     ap.add_argument("--set", action="append", default=[], help="a scene override for the sessions (repeatable)")

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The README's "Real time today" table, generated from a real-time benchmark's result (one set of numbers).
+"""The README's "Real time today" tables, generated from the real-time benchmark's results (one per scene).
 
 scripts/realtime_benchmark.py measures a press-and-slide through the 1 kHz haptic loop and writes benchmark.json;
 its --publish copies that file to data/benchmarks/realtime-<scene>.json and runs this script, which writes the
@@ -8,15 +8,16 @@ table between the README's markers
     <!-- realtime-table: begin ... -->
     <!-- realtime-table: end -->
 
-The other docs link to that table instead of quoting its numbers. `--check` (run by `make test`,
-tests/python/check_realtime_table.py) fails when the README's table is not the one these files give, so the
+The other docs link to that table instead of quoting its numbers. `--check` (run by `make test`: the
+ctest python_realtime_table) fails when the README's table is not the one these files give, so the
 table cannot be edited by hand or drift from the measurement it names.
 
     /usr/bin/python3 scripts/realtime_table.py --readme README.md            # rewrite the README's table
     /usr/bin/python3 scripts/realtime_table.py --readme README.md --check    # exit 1 if it differs
 
 Inputs: data/benchmarks/realtime-*.json (one per bundled real-time scene the benchmark can drive: a scene with
-a tool and a press-and-slide path in realtime_benchmark.py's CASES), in file-name order.
+a tool and a press-and-slide path in realtime_benchmark.py's CASES), one table each, in the order of ORDER (the
+vein first), then any other file in file-name order.
 """
 import argparse
 import glob
@@ -38,6 +39,9 @@ LABELS = {
     "multigrid-bounded": "wall multigrid, tool in bounded steps",
     "factor": "before (factor of the Hessian, tool in bounded steps)",
 }
+# The scenes' tables in the README, in this order (by the published file's name); others follow by name.
+ORDER = ["realtime-hand-dorsal-vein-catheter.json", "realtime-aorta-bent-probe.json",
+         "realtime-retinal-artery-twice-bent-probe.json"]
 TARGET = ("| **target** | up to 5 mm/s | **≥ 60 (≥ 30)** | | **≤ 0.05 mm** | **≤ 5 % at every tick** | | "
           "**≤ one frame** | ≥ 999 Hz, ≤ 0.2 ms |")
 
@@ -104,6 +108,14 @@ def block(files):
     return "\n\n".join([BEGIN] + parts + [END])
 
 
+def ordered(files):
+    """The published files in the README's order: those of ORDER as listed, then the others by name."""
+    def key(f):
+        name = os.path.basename(f)
+        return (ORDER.index(name), name) if name in ORDER else (len(ORDER), name)
+    return sorted(files, key=key)
+
+
 def replace(text, new_block, readme):
     begin, end = text.find(BEGIN), text.find(END)
     if begin < 0 or end < begin:
@@ -118,7 +130,7 @@ def main():
                     help="folder of the published results (realtime-*.json)")
     ap.add_argument("--check", action="store_true", help="change nothing; exit 1 if the table differs")
     args = ap.parse_args()
-    files = sorted(glob.glob(os.path.join(args.data, "realtime-*.json")))
+    files = ordered(glob.glob(os.path.join(args.data, "realtime-*.json")))
     with open(args.readme, encoding="utf-8") as f:
         text = f.read()
     updated = replace(text, block(files), args.readme)

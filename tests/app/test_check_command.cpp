@@ -83,9 +83,11 @@ INSTANTIATE_TEST_SUITE_P(
                       "scenes/hand-dorsal-vein-catheter.json", "scenes/hand-dorsal-vein-catheter-graded.json",
                       "scenes/aorta-bent.json", "scenes/aorta-bent-graded.json",
                       "scenes/aorta-bent-catheter.json", "scenes/retinal-artery-twice-bent.json",
-                      "scenes/realtime/hand-dorsal-vein.json",
+                      "scenes/retinal-artery-twice-bent-probe.json", "scenes/realtime/hand-dorsal-vein.json",
                       "scenes/realtime/hand-dorsal-vein-catheter.json", "scenes/realtime/aorta-bent.json",
+                      "scenes/realtime/aorta-bent-probe.json",
                       "scenes/realtime/retinal-artery-twice-bent.json",
+                      "scenes/realtime/retinal-artery-twice-bent-probe.json",
                       "scenes/navigation/aorta-bent-guidewire.json"),
     [](const ::testing::TestParamInfo<std::string>& info) {
       std::string name = info.param.substr(info.param.find('/') + 1);

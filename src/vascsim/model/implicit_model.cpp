@@ -424,7 +424,7 @@ void ImplicitModel::recover() {
         "follow): back to the last frame that handed on its force, the tool behind the hand until the frames "
         "catch up (summary.json counts such frames: frames_thrown_off)",
         frames_, t_ + h_);
-  catching_up_ = settings_.contact_substep > 0.0;
+  catching_up_ = true;
   x_ = safe_->x;
   std::fill(v_.begin(), v_.end(), Vec3::Zero());
   tools_.restore(safe_->tools);
@@ -435,13 +435,11 @@ void ImplicitModel::recover() {
 }
 
 double ImplicitModel::tool_step_spacings() const {
-  // After a frame that threw the wall off, the tools catch up with the device in steps of contact_substep
+  // After a frame that threw the wall off, the tools catch up with the device in steps of kCatchUpStep
   // node spacings, one after each frame that handed on (a hand held past a frame's reach would otherwise
   // throw the wall off again at every frame; steps taken at every frame outran a wall whose frames were
   // one Newton step each, and its far-off states became the ones to go back to).
-  return settings_.max_tool_step > 0.0 ? settings_.max_tool_step
-         : catching_up_                ? settings_.contact_substep
-                                       : 0.0;
+  return settings_.max_tool_step > 0.0 ? settings_.max_tool_step : catching_up_ ? kCatchUpStep : 0.0;
 }
 
 std::vector<Vec3> ImplicitModel::frame_goal_points(double s) const {
@@ -639,7 +637,7 @@ StepReport ImplicitModel::step() {
     // handed on.
     double behind = 0.0;
     for (std::size_t o = 0; o < tools_.size(); ++o) behind = std::max(behind, tools_.distance_to_target(o));
-    catching_up_ = behind > kMaxCarriedSteps * settings_.contact_substep * spacing_;
+    catching_up_ = behind > kMaxCarriedSteps * kCatchUpStep * spacing_;
   }
   t_ = t_next;
   s_ = s_next;

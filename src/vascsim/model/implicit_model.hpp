@@ -62,8 +62,10 @@ struct ImplicitSettings {
   /// than this many mean node spacings since the last one gets there in steps of at most this length, each
   /// one linear response of the wall with the contact set carried from the step before (a few
   /// conjugate-gradient iterations round the tool), before its Newton iterations (0: in one step). The tools
-  /// still end every frame at the device's pose.
-  double contact_substep = 0.5;
+  /// still end every frame at the device's pose. A whole spacing: with half of one, frames at 2 mm/s that
+  /// came late took a carried step more, came later still, and settled at half the rate (docs/performance.md
+  /// section 12).
+  double contact_substep = 1.0;
   /// With the tools on the wall's surface (contact.surface "embedded") a frame hands its force on below this
   /// relative residual instead of handoff_max_residual. The force handed on is the wall's answer to the
   /// contact (EmbeddedContact::reaction_loads), which stays near the equilibrium's where the penalty's own
@@ -237,6 +239,9 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   long long recoveries_ = 0;
   bool catching_up_ = false;  // the tools follow the device in bounded steps since a frame went back
   static constexpr double kMaxCarriedSteps = 3.0;  // a frame's carried steps to the device's pose, at most
+  // The catch-up's step, node spacings: half of one (a whole one, on the vein piece held 2 mm deep with one
+  // Newton step a frame, threw the wall off twice more and handed on 19 mN where the equilibrium has 12 mN).
+  static constexpr double kCatchUpStep = 0.5;
   double tool_step_spacings() const;  // the bound on a frame's tool travel, node spacings (0: none)
   std::vector<std::optional<ToolLinearization>> linearization_;  // per tool, after the last frame
   std::unique_ptr<HapticCandidates> candidates_;

@@ -51,7 +51,7 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 # device pose every frame (implicit.realtime_tool_step 0, which tears the wall under a fast random hand:
 # docs/reliability.md); "multigrid-embedded" the
 # same with the tools on the wall's surface (contact.surface "embedded": a carried first step per frame, at most
-# three per frame, frames handing on below a residual of 0.05); "multigrid-unbudgeted" the default with frames
+# three per frame of up to a node spacing each, frames handing on below a residual of 0.3 twice in a row); "multigrid-unbudgeted" the default with frames
 # that take the time they need; "multigrid-converged" the tool at the device pose with frames that take the time
 # they need (measured: frames of seconds, docs/performance.md section 12); "multigrid-bounded" the multigrid with the factor's frame logic (below); "factor" is
 # the real-time path the multigrid replaced (a sparse factor of the meshless Hessian, the tool following the device

@@ -51,8 +51,8 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 # device pose every frame (implicit.realtime_tool_step 0, which tears the wall under a fast random hand:
 # docs/reliability.md); "multigrid-embedded" the
 # same with the tools on the wall's surface (contact.surface "embedded": a carried first step per frame, at most
-# three per frame of up to a node spacing each, frames handing on below a residual of 0.3 twice in a row); "multigrid-unbudgeted" the default with frames
-# that take the time they need; "multigrid-converged" the tool at the device pose with frames that take the time
+# three per frame of up to a node spacing each, frames handing on below a residual of 0.3 twice in a row);
+# "multigrid-unbudgeted" the default with frames that take the time they need; "multigrid-converged" the tool at the device pose with frames that take the time
 # they need (measured: frames of seconds, docs/performance.md section 12); "multigrid-bounded" the multigrid with the factor's frame logic (below); "factor" is
 # the real-time path the multigrid replaced (a sparse factor of the meshless Hessian, the tool following the device
 # in steps of 0.25 node spacings, no frame budget, every frame's force handed on).
@@ -73,8 +73,8 @@ VARIANTS = {
 # the tool's tip (along -z in its own frame) onto `press_dir`. `tool_radius`, the material and the node spacing
 # along the wall under the path say where the contact is resolved (resolved()); `reference_step`: the path between
 # the reference's equilibria; `coupling` (optional): haptics.coupling for the reference and the sessions, for a
-# tool whose force would otherwise hold it behind the hand (the proxy is F / stiffness behind the device). The vein: a 6 Fr catheter on the straight vein, its tip pointing along -y (a -90
-# degree turn about x).
+# tool whose force would otherwise hold it behind the hand (the proxy is F / stiffness behind the device).
+# The vein: a 6 Fr catheter on the straight vein, its tip pointing along -y (a -90 degree turn about x).
 CASES = {
     "scenes/realtime/hand-dorsal-vein-catheter.json": {
         "reference_scene": "scenes/hand-dorsal-vein-catheter.json",

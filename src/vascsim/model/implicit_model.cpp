@@ -443,8 +443,8 @@ double ImplicitModel::tool_step_spacings() const {
 }
 
 std::vector<Vec3> ImplicitModel::frame_goal_points(double s) const {
-  // With max_tool_step the tools were already moved their bounded step (advance_tools); otherwise the frame
-  // takes them to the device's poses.
+  // With max_tool_step, or while catching up after a frame thrown off, the tools were already moved their
+  // bounded step (advance_tools); otherwise the frame takes them to the device's poses.
   return tool_step_spacings() > 0.0 ? tools_.points(s) : tools_.target_points(s);
 }
 
@@ -564,7 +564,7 @@ StepReport ImplicitModel::step() {
   if (settings_.max_tool_step > 0.0)
     advance_tools(settings_.max_tool_step);
   else if (catching_up_)
-    advance_tools(last_handoff_ ? tool_step_spacings() : 0.0);
+    advance_tools(last_handoff_ ? kCatchUpStep : 0.0);
   else if (realtime_ && !embedded_ && settings_.realtime_tool_step > 0.0)
     advance_tools(last_handoff_ ? settings_.realtime_tool_step : 0.0);
   NewtonResult r;
@@ -633,8 +633,8 @@ StepReport ImplicitModel::step() {
   }
   last_handoff_ = handoff;
   if (catching_up_ && handoff) {
-    // Caught up once a frame's carried steps of contact_substep spacings reach the device from a wall that
-    // handed on.
+    // Caught up once the device is within kMaxCarriedSteps catch-up steps of a wall that handed on (the
+    // frame's carried steps take the rest).
     double behind = 0.0;
     for (std::size_t o = 0; o < tools_.size(); ++o) behind = std::max(behind, tools_.distance_to_target(o));
     catching_up_ = behind > kMaxCarriedSteps * kCatchUpStep * spacing_;

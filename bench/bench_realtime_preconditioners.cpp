@@ -148,6 +148,33 @@ void BM_RealtimePreconditionerRefresh(benchmark::State& state) {
   set_counters(state, c);
 }
 
+// The fixed costs of a frame, besides its CG iterations: the internal forces of a residual (double precision,
+// the stabiliser's 2-hop matrix included) and the float operator's linearisation at a new state (every
+// node's tangent).
+void BM_RealtimeForces(benchmark::State& state) {
+  const RealtimeCase& c = realtime_case();
+  omp_set_num_threads(static_cast<int>(state.range(1)));
+  const PointPrimitiveEnergy& energy = c.sim->problem().energy();
+  Vec3Array f;
+  for (auto _ : state) benchmark::DoNotOptimize(energy.forces(c.x, f));
+  set_counters(state, c);
+}
+
+void BM_RealtimeLinearize(benchmark::State& state) {
+  const RealtimeCase& c = realtime_case();
+  omp_set_num_threads(static_cast<int>(state.range(1)));
+  SinglePrecisionHessian single(c.sim->problem().energy());
+  for (auto _ : state) single.linearize(c.x);
+  set_counters(state, c);
+}
+
+void threads_only(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"variant", "threads"})
+      ->ArgsProduct({{1}, {1, 2}})
+      ->UseRealTime()
+      ->Unit(benchmark::kMillisecond);
+}
+
 void variants(benchmark::internal::Benchmark* b) {
   b->ArgNames({"variant", "threads"})
       ->ArgsProduct({{0, 1}, {1, 2}})
@@ -158,5 +185,7 @@ void variants(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_RealtimeHessianProduct)->Apply(variants);
 BENCHMARK(BM_RealtimePreconditionerApply)->Apply(variants);
 BENCHMARK(BM_RealtimePreconditionerRefresh)->Apply(variants)->Iterations(3);
+BENCHMARK(BM_RealtimeForces)->Apply(threads_only);
+BENCHMARK(BM_RealtimeLinearize)->Apply(threads_only);
 
 }  // namespace

@@ -747,5 +747,57 @@ TEST(WallMultigrid, AfterAFrameThrownOffTheToolsCatchUpWithTheDeviceInStepsSlow)
   EXPECT_LE(handed_on, 1.2 * equilibrium);
 }
 
+// Frames too short for their work (a slow machine, or a budget a fraction of a frame's cost: at time_budget_s
+// 6 ms a realtime frame's carried step on the real-time vein gets about one CG iteration): on that vein,
+// every frame one carried step of one CG iteration, the device pressing 15 um a frame 1.2 mm into the wall (1
+// mm/s at 15 ms frames) and held. The wall does not keep up: the tool presses into a wall that hardly moved,
+// the penalty's force grows to newtons, and the residual, relative to that force, falls below the hand-off's
+// threshold. No such wall may be handed on: every force handed on stays below twice that of the equilibrium
+// at the device's deepest pose (the hand keeps an older force instead, and the tool lags: it stays at the
+// wall here). Without the check that the penalty's force and the wall's answer agree, frames handed on
+// 0.66 N against the equilibrium's 10 mN there, and 35 frames threw the wall off.
+TEST(WallMultigrid, FramesTooShortForTheirWorkHandOnNoCrushedWallSlow) {
+  const std::string file =
+      std::string(VASCSIM_SOURCE_DIR) + "/scenes/realtime/hand-dorsal-vein-catheter.json";
+  const std::vector<std::string> common = {"contact.surface=embedded", "implicit.duration_s=100"};
+  std::vector<std::string> starved = common;
+  starved.insert(starved.end(), {"implicit.max_newton_iterations=1", "implicit.max_cg_iterations=1",
+                                 "implicit.frame_s=0.015"});
+  const Eigen::Quaterniond q = orientation_pointing(Vec3(0, -1, 0));
+  const Vec3 start(0.0, 1.7e-3, 10e-3);  // 0.2 mm above the outer wall
+  const double press = 1.4e-3;           // to 1.2 mm into it
+  Simulation sim(load_scene(file, starved));
+  auto& model = dynamic_cast<ImplicitModel&>(sim.model());
+  double handed_on = 0.0;
+  for (int k = 0; k <= 120; ++k) {
+    model.set_tool_pose(0, start - Vec3(0, std::min(press, 15e-6 * k), 0), q);
+    model.step();
+    handed_on = std::max(handed_on, model.tool_loads().at(0).force_vector_n.norm());
+  }
+  const double tool_depth = start.y() - 0.2e-3 - (*model.tool_position_used(0)).y();
+  // The equilibrium at the device's deepest pose, approached in 0.05 mm frames solved to their tolerance.
+  Simulation ref(load_scene(file, common));
+  auto& converged = dynamic_cast<ImplicitModel&>(ref.model());
+  for (int k = 0; k <= 28; ++k) {
+    converged.set_tool_pose(0, start - Vec3(0, press * k / 28, 0), q);
+    converged.step();
+  }
+  StepReport r;
+  for (int k = 0; k < 20 && !(r.converged && k > 1); ++k) r = converged.step();
+  ASSERT_TRUE(r.converged);
+  const double equilibrium = converged.tool_loads().at(0).force_vector_n.norm();
+  const auto info = model.info();
+  std::printf(
+      "[ multigrid ] frames of one CG iteration on the real-time vein: at most %.4g N handed on (the "
+      "equilibrium at the device's pose %.4g N), the tool %.3f mm into the wall, %lld frames thrown off, "
+      "%lld "
+      "refused for a penalty that disagreed with the wall\n",
+      handed_on, equilibrium, tool_depth * 1e3, info["frames_thrown_off"].get<long long>(),
+      info["frames_penalty_and_wall_disagreed"].get<long long>());
+  ASSERT_GT(equilibrium, 5e-3);
+  EXPECT_GT(info["frames_penalty_and_wall_disagreed"].get<long long>(), 0);  // the case does crush the wall
+  EXPECT_LE(handed_on, 2.0 * equilibrium);
+}
+
 }  // namespace
 }  // namespace vascsim

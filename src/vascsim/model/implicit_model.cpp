@@ -434,6 +434,22 @@ void ImplicitModel::recover() {
   embedded_->linearize(x_);
 }
 
+bool ImplicitModel::penalty_agrees(const std::vector<ObstacleLoad>& penalty,
+                                   const std::vector<ObstacleLoad>& wall) const {
+  // A residual relative to the largest force in play is no measure of a wall that the tools crush: there
+  // the penalty's force sets that scale. Frames that kept up with a hand had the two forces within a factor
+  // of 0.94-2.3 of each other; frames too short for their carried steps (time_budget_s 6 ms on the
+  // real-time vein) handed on walls whose penalty carried 2-42 N against their own 0.3-0.5 N, a hundred
+  // times the continuum's 3-7 mN. Forces below a hundredth of E dx^2 are the contact's onset: no check.
+  const double negligible =
+      1e-2 * problem_.discretization().material().youngs_modulus_pa * spacing_ * spacing_;
+  for (std::size_t o = 0; o < penalty.size() && o < wall.size(); ++o) {
+    const double p = penalty[o].force_vector_n.norm(), w = wall[o].force_vector_n.norm();
+    if (std::max(p, w) > negligible && !(std::min(p, w) >= kPenaltyAgreement * std::max(p, w))) return false;
+  }
+  return true;
+}
+
 double ImplicitModel::tool_step_spacings() const {
   // After a frame that threw the wall off, the tools catch up with the device in steps of kCatchUpStep
   // node spacings, one after each frame that handed on (a hand held past a frame's reach would otherwise
@@ -612,20 +628,25 @@ StepReport ImplicitModel::step() {
   // below the threshold too: a frame that starts from a wall thrown far off (a residual of 18 under a 5 mm/s
   // slide) can end below it with hundreds of samples in the tool, whose penalty sets the residual's scale.
   // (A frame that went back to the last one that handed on hands on nothing new.)
-  const bool handoff =
-      !recovered &&
-      (r.converged || (r.residual <= settings_.handoff_max_residual && contacts_.pulling() == 0) ||
-       (embedded_ && r.residual <= settings_.handoff_surface_residual &&
-        (frames_ == 0 || last_residual_ <= settings_.handoff_surface_residual)));
+  bool handoff = !recovered &&
+                 (r.converged || (r.residual <= settings_.handoff_max_residual && contacts_.pulling() == 0) ||
+                  (embedded_ && r.residual <= settings_.handoff_surface_residual &&
+                   (frames_ == 0 || last_residual_ <= settings_.handoff_surface_residual)));
+  std::vector<ObstacleLoad> wall_answer;
+  if (handoff && embedded_) {
+    // The wall's answer to the contact, not the penalty's (EmbeddedContact::reaction_loads): the residual
+    // of the solve's last evaluation, at this very state and contact set.
+    embedded_->linearize(x_);
+    wall_answer =
+        embedded_->reaction_loads(tools_.points(s_next), x_, newton_.last_residual(), problem_.constrained());
+    if (!r.converged && !penalty_agrees(embedded_->loads(tools_.points(s_next)), wall_answer)) {
+      handoff = false;
+      ++disagreements_;
+    }
+  }
   if (handoff) {
     if (!contacts_.empty()) loads_ = contacts_.loads(newton_.last_residual(), x_, tools_.points(s_next));
-    if (embedded_) {
-      // The wall's answer to the contact, not the penalty's (EmbeddedContact::reaction_loads): the residual
-      // of the solve's last evaluation, at this very state and contact set.
-      embedded_->linearize(x_);
-      loads_ = embedded_->reaction_loads(tools_.points(s_next), x_, newton_.last_residual(),
-                                         problem_.constrained());
-    }
+    if (embedded_) loads_ = std::move(wall_answer);
     handoff_points_ = tools_.points(s_next);
     if (embedded_) safe_ = SafeState{x_, tools_.placed(), frame_tool_points_, r.residual};
   } else {
@@ -707,6 +728,7 @@ nlohmann::json ImplicitModel::info() const {
                       {"warm_started_frames", warm_started_frames_},
                       {"advected_frames", advected_frames_},
                       {"frames_thrown_off", recoveries_},
+                      {"frames_penalty_and_wall_disagreed", disagreements_},
                       {"force_evaluations", newton_.force_evaluations()},
                       {"force_evaluations_reused", newton_.force_evaluations_reused()},
                       {"handoff_max_residual", settings_.handoff_max_residual},

@@ -237,11 +237,16 @@ class ImplicitModel final : public Model, public DeviceDrivenModel {
   };
   std::optional<SafeState> safe_;
   long long recoveries_ = 0;
-  bool catching_up_ = false;  // the tools follow the device in bounded steps since a frame went back
+  long long disagreements_ = 0;  // frames not handed on: the penalty and the wall's answer disagreed
+  bool catching_up_ = false;     // the tools follow the device in bounded steps since a frame went back
   static constexpr double kMaxCarriedSteps = 3.0;  // a frame's carried steps to the device's pose, at most
   // The catch-up's step, node spacings: half of one (a whole one, on the vein piece held 2 mm deep with one
   // Newton step a frame, threw the wall off twice more and handed on 19 mN where the equilibrium has 12 mN).
   static constexpr double kCatchUpStep = 0.5;
+  // A frame with the tools on the wall's surface hands on only where the penalty's force and the wall's
+  // answer are within this factor of each other (penalty_agrees).
+  static constexpr double kPenaltyAgreement = 0.25;
+  bool penalty_agrees(const std::vector<ObstacleLoad>& penalty, const std::vector<ObstacleLoad>& wall) const;
   double tool_step_spacings() const;  // the bound on a frame's tool travel, node spacings (0: none)
   std::vector<std::optional<ToolLinearization>> linearization_;  // per tool, after the last frame
   std::unique_ptr<HapticCandidates> candidates_;

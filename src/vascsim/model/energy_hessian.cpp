@@ -293,7 +293,8 @@ void EnergyHessian::skip_unstored_blocks() {
 }
 
 void EnergyHessian::compute_tangents(const Vec3Array& x) {
-  energy_tangents(energy_, x, opt_.project_psd, tangent_);
+  energy_tangents(energy_, x, opt_.project_psd ? TangentProjection::Spectral : TangentProjection::None,
+                  tangent_);
 }
 
 void EnergyHessian::assemble(const Vec3Array& x, const std::vector<double>& diagonal_shift) {

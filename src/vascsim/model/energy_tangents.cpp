@@ -29,7 +29,8 @@ Mat9 tangent_of(const Fn& dP) {
   return C;
 }
 
-Mat9 point_tangent(const PointPrimitiveEnergy& energy, Index i, const Mat3& F, int points, bool project_psd) {
+Mat9 point_tangent(const PointPrimitiveEnergy& energy, Index i, const Mat3& F, int points,
+                   TangentProjection projection) {
   const Discretization& disc = energy.discretization();
   const EnergyOptions& eo = energy.options();
   const double lambda = energy.strain_lambda(), mu = energy.shear_modulus(), kv = eo.volume_stiffness_pa;
@@ -45,7 +46,14 @@ Mat9 point_tangent(const PointPrimitiveEnergy& energy, Index i, const Mat3& F, i
   } else {
     // SVK: P = F S, S = lambda tr(E) I + 2 mu E, E = 1/2 (F^T F - I) (Eqs. 5-7 with the 1/2).
     const Mat3 E = 0.5 * (F.transpose() * F - I);
-    const Mat3 S = lambda * E.trace() * I + 2.0 * mu * E;
+    Mat3 S = lambda * E.trace() * I + 2.0 * mu * E;
+    if (projection == TangentProjection::ClampedStress) {
+      // dF : dF S+ >= 0 and dF : F (lambda tr(dE) I + 2 mu dE) = lambda tr(dE)^2 + 2 mu |dE|^2 >= 0.
+      Eigen::SelfAdjointEigenSolver<Mat3> es;
+      es.computeDirect(S);
+      if (es.eigenvalues().minCoeff() < 0.0)
+        S = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
+    }
     C = svk_scale * tangent_of([&](const Mat3& dF) {
           const Mat3 dE = 0.5 * (dF.transpose() * F + F.transpose() * dF);
           return Mat3(dF * S + F * (lambda * dE.trace() * I + 2.0 * mu * dE));
@@ -62,7 +70,7 @@ Mat9 point_tangent(const PointPrimitiveEnergy& energy, Index i, const Mat3& F, i
   }
   // Exact tangents are symmetric; symmetrise the rounding (into a new matrix: C^T must not alias C).
   const Mat9 Csym = (0.5 * disc.volumes()[static_cast<std::size_t>(i)] / points) * (C + C.transpose());
-  if (!project_psd) return Csym;
+  if (projection != TangentProjection::Spectral) return Csym;
   // A positive definite tangent (every node at rest, most under load) is its own projection: a 9x9 Cholesky
   // tells that for a tenth of an eigendecomposition.
   if (Eigen::LLT<Mat9>(Csym).info() == Eigen::Success) return Csym;
@@ -71,8 +79,8 @@ Mat9 point_tangent(const PointPrimitiveEnergy& energy, Index i, const Mat3& F, i
   return es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
 }
 
-void node_tangents(const PointPrimitiveEnergy& energy, const Vec3Array& x, bool project_psd, Index i,
-                   Mat9Array& out) {
+void node_tangents(const PointPrimitiveEnergy& energy, const Vec3Array& x, TangentProjection projection,
+                   Index i, Mat9Array& out) {
   const Discretization& disc = energy.discretization();
   const int points = disc.energy_points();
   // F_i and its derivatives dF_i/du_k once per node; each energy point q has F_i + sum_k o_qk dF_i/du_k.
@@ -81,20 +89,29 @@ void node_tangents(const PointPrimitiveEnergy& energy, const Vec3Array& x, bool 
   disc.deformation_gradient_derivatives(i, x, Di);
   for (int q = 0; q < points; ++q)
     out[static_cast<std::size_t>(i * points + q)] =
-        point_tangent(energy, i, disc.point_gradient(i, q, Fi, Di), points, project_psd);
+        point_tangent(energy, i, disc.point_gradient(i, q, Fi, Di), points, projection);
 }
 
 }  // namespace
 
-void energy_tangents(const PointPrimitiveEnergy& energy, const Vec3Array& x, bool project_psd, Mat9Array& out,
-                     const std::vector<Index>* nodes) {
+TangentProjection positive_projection(const PointPrimitiveEnergy& energy) {
+  const EnergyOptions& o = energy.options();
+  return !o.law && o.strain == StrainMeasure::GreenHalf && o.volume_stiffness_pa == 0.0
+             ? TangentProjection::ClampedStress
+             : TangentProjection::Spectral;
+}
+
+void energy_tangents(const PointPrimitiveEnergy& energy, const Vec3Array& x, TangentProjection projection,
+                     Mat9Array& out, const std::vector<Index>* nodes) {
+  if (projection == TangentProjection::ClampedStress && positive_projection(energy) != projection)
+    projection = TangentProjection::Spectral;
   const Discretization& disc = energy.discretization();
   const Index n = disc.num_nodes();
   out.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(disc.energy_points()));
   const std::size_t count = nodes ? nodes->size() : static_cast<std::size_t>(n);
 #pragma omp parallel for schedule(static) if (count >= static_cast <std::size_t>(kParallelMinNodes))
   for (std::size_t k = 0; k < count; ++k)
-    node_tangents(energy, x, project_psd, nodes ? (*nodes)[k] : static_cast<Index>(k), out);
+    node_tangents(energy, x, projection, nodes ? (*nodes)[k] : static_cast<Index>(k), out);
 }
 
 Mat3 tangent_block(const Mat9& C, const Vec3& dk, const Vec3& dl) {

@@ -18,12 +18,25 @@ namespace vascsim {
 
 using Mat9Array = std::vector<Mat9, Eigen::aligned_allocator<Mat9>>;
 
+/// How a tangent is made positive semi-definite (SVK under compression is indefinite, and a preconditioner
+/// must be positive definite).
+enum class TangentProjection {
+  None,      ///< the exact tangent
+  Spectral,  ///< its negative eigenvalues set to zero (a 9 x 9 eigendecomposition where it is indefinite)
+  /// the geometric stiffness's stress clamped to its positive part, S -> S+ in dF S + F dS (the built-in SVK
+  /// law with the Green strain and no volume term only; otherwise Spectral): the same positive form as the
+  /// single-precision Newton operator's (single_precision_hessian.hpp), at a 3 x 3 eigendecomposition
+  ClampedStress
+};
+
+/// ClampedStress where the energy allows it (the law SinglePrecisionHessian supports), otherwise Spectral.
+TangentProjection positive_projection(const PointPrimitiveEnergy& energy);
+
 /// Fills out[i * points + q] for every energy point q of the nodes in `nodes` (null: every node) at
-/// configuration x (m). Symmetrised; with project_psd, negative eigenvalues are set to zero (SVK under
-/// compression is indefinite, and a preconditioner must be positive definite). `out` is resized to all nodes'
+/// configuration x (m), symmetrised and projected as `projection` says. `out` is resized to all nodes'
 /// points; entries of other nodes are left as they were. Parallel over nodes (OpenMP) when there are many.
-void energy_tangents(const PointPrimitiveEnergy& energy, const Vec3Array& x, bool project_psd, Mat9Array& out,
-                     const std::vector<Index>* nodes = nullptr);
+void energy_tangents(const PointPrimitiveEnergy& energy, const Vec3Array& x, TangentProjection projection,
+                     Mat9Array& out, const std::vector<Index>* nodes = nullptr);
 
 /// The 3 x 3 block sum_{c,d} C[(a,c),(b,d)] dk[c] dl[d] (a, b the block's row and column): how node l's
 /// displacement moves node k's force through one point's tangent C. N/m for C in N m and d in 1/m.

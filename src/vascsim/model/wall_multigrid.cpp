@@ -31,7 +31,11 @@ bool WallMultigrid::supports(const Problem& problem) {
 
 WallMultigrid::WallMultigrid(const Problem& problem, const FreeDofs& free, const ContactActiveSet& contacts,
                              const WallMultigridOptions& options)
-    : problem_(problem), free_(free), contacts_(contacts), options_(options) {
+    : problem_(problem),
+      free_(free),
+      contacts_(contacts),
+      options_(options),
+      projection_(positive_projection(problem.energy())) {
   if (!supports(problem))
     throw std::invalid_argument(
         "WallMultigrid: the nodes form no wall lattice with one energy point per node");
@@ -84,7 +88,7 @@ std::unique_ptr<WallMultigrid::Level> WallMultigrid::build_level(const Vec3Array
   const Stopwatch clock;
   auto level = reuse ? std::move(reuse) : std::make_unique<Level>();
   const Discretization& disc = problem_.discretization();
-  energy_tangents(problem_.energy(), x, true, level->tangents);
+  energy_tangents(problem_.energy(), x, projection_, level->tangents);
   // The lines' blocks: energy i couples every two members of its stencil (itself and its neighbours) by
   // tangent_block(C_i, d_a, d_b); a line's block gathers the couplings of its own nodes.
   const PairTable& P = disc.pairs();
@@ -195,7 +199,7 @@ void WallMultigrid::prepare_window(const Vec3Array& x) {
         seen[static_cast<std::size_t>(i)] = 1, window_energies_.push_back(i);
     }
   }
-  energy_tangents(problem_.energy(), x, true, window_tangents_, &window_energies_);
+  energy_tangents(problem_.energy(), x, projection_, window_tangents_, &window_energies_);
   const Eigen::Index m = static_cast<Eigen::Index>(window_.size());
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(3 * m, 3 * m);
   // Only the lower triangle (block rows a >= b) is assembled: the factor reads no more. Node i's energy

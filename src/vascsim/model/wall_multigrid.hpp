@@ -36,6 +36,7 @@
 #include "vascsim/core/sparse_cholesky.hpp"
 #include "vascsim/model/contact_active_set.hpp"
 #include "vascsim/model/embedded_contact.hpp"
+#include "vascsim/model/energy_tangents.hpp"
 #include "vascsim/model/equilibrium_preconditioner.hpp"
 #include "vascsim/model/galerkin_hessian.hpp"
 
@@ -110,6 +111,8 @@ class WallMultigrid final : public EquilibriumPreconditioner {
   const ContactActiveSet& contacts_;
   const EmbeddedContact* embedded_ = nullptr;
   WallMultigridOptions options_;
+  // The tangents' positive form: the Newton operator's own where it has one (energy_tangents.hpp).
+  TangentProjection projection_;
   std::vector<double> shift_;                                    // per node m_i / h^2, N/m
   std::vector<double> stab_diag_;                                // per node the stabiliser's diagonal, N/m
   Eigen::SparseMatrix<double, Eigen::RowMajor, int> stab_rows_;  // the stabiliser's (scalar) Hessian, N/m

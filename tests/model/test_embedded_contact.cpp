@@ -9,6 +9,7 @@
 #include <random>
 
 #include "vascsim/model/embedded_contact.hpp"
+#include "vascsim/model/rigid_obstacle.hpp"
 
 namespace vascsim {
 namespace {
@@ -47,6 +48,49 @@ Fixture make_fixture(std::mt19937& rng) {
 
 constraints::Capsule pressing_sphere() {
   return {Vec3(0.1e-3, -0.05e-3, 0.95e-3), Vec3(0.1e-3, -0.05e-3, 0.95e-3), 1e-3};
+}
+
+// The penalty's energy summed over every sample, as the contact did before it kept a list of the samples near
+// the tools (EmbeddedContact::make_candidates).
+double energy_over_every_sample(const Fixture& f, const constraints::Capsule& tool, const Vec3Array& x) {
+  const ContactSurface& s = f.surface;
+  double e = 0.0;
+  for (Index v = 0; v < s.num_samples(); ++v) {
+    Vec3 xv = s.rest_points[v];
+    for (Index k = s.row_start[v]; k < s.row_start[v + 1]; ++k)
+      xv += s.val[static_cast<std::size_t>(k)] *
+            (x[s.col[static_cast<std::size_t>(k)]] - f.X[s.col[static_cast<std::size_t>(k)]]);
+    const double c = obstacle_contact(tool, xv).value;
+    if (c < 0.0) e += 0.5 * s.stiffness_pa_per_m * s.area_m2[static_cast<std::size_t>(v)] * c * c;
+  }
+  return e;
+}
+
+// The samples near the tools are listed once and reused while the tools and the nodes move by less than a
+// quarter of the tool's radius (75 um for this 0.3 mm sphere): along a press of 10 steps of 10 um and a slide
+// of 30 steps of 20 um across the patch, with the nodes moving about 10 um at random at every step, and then
+// the tool held while the nodes move under it by 15 um a step for 20 steps, the energy equals that summed
+// over every sample, to the last bit (the same penetrating samples in the same order). A list kept after the
+// tool moved farther, or the nodes, misses samples the slide brings in.
+TEST(EmbeddedContact, TheSamplesNearTheToolsAreAllThatCanTouchThem) {
+  std::mt19937 rng(11);
+  Fixture f = make_fixture(rng);
+  EmbeddedContact contact(f.surface, f.X, 1);
+  std::normal_distribution<double> n(0.0, 6e-6);
+  constraints::Capsule tool{Vec3(-0.3e-3, 0.0, 0.3e-3), Vec3(-0.3e-3, 0.0, 0.3e-3), 0.3e-3};  // touching
+  Vec3Array x = f.X;
+  int touching = 0;
+  for (int k = 0; k < 60; ++k) {
+    const Vec3 step = k < 10 ? Vec3(0, 0, -10e-6) : k < 40 ? Vec3(20e-6, 0, 0) : Vec3::Zero();
+    tool.a += step;
+    tool.b += step;
+    contact.place(0, tool);
+    for (Vec3& p : x) p += k < 40 ? Vec3(n(rng), n(rng), n(rng)) : Vec3(15e-6, 0, 0);
+    const double e = contact.energy(x);
+    EXPECT_EQ(e, energy_over_every_sample(f, tool, x)) << "step " << k;
+    touching += e > 0.0;
+  }
+  EXPECT_GT(touching, 50);  // the tool was in the patch
 }
 
 // Central differences of the energy with a step of 1 nm (1e-6 of the box; the energy is piecewise quadratic,

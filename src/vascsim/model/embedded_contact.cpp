@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace vascsim {
 
@@ -12,40 +13,76 @@ EmbeddedContact::EmbeddedContact(const ContactSurface& surface, const Vec3Array&
   for (double l1 : surface_.phi_l1) phi_l1_max_ = std::max(phi_l1_max_, l1);
 }
 
-template <class F>
-void EmbeddedContact::for_each_penetration(const Vec3Array& x, F&& f) const {
-  if (geometry_.empty()) return;
-  // |x_v - S_v| <= phi_l1_v max_i |u_i| and the distance is 1-Lipschitz: a sample farther than that from
-  // every tool at rest cannot touch one now (most of the surface, at no cost beyond a distance per tool).
-  double u_max2 = 0.0;
-  for (std::size_t i = 0; i < x.size(); ++i) u_max2 = std::max(u_max2, (x[i] - rest_nodes_[i]).squaredNorm());
-  const double u_max = std::sqrt(u_max2);
-  // A box round each tool, as far out as any sample can reach, rejects most samples with six comparisons
-  // before the distance (which, over the 10^5 samples of the real-time vein, took a sixth of a frame).
+bool EmbeddedContact::candidates_hold(const Vec3Array& x) const {
+  if (candidate_x_.size() != x.size() || candidate_geometry_.size() != geometry_.size()) return false;
+  // The signed distance to a capsule changes by at most how far its segment's ends and its radius moved.
+  for (std::size_t o = 0; o < geometry_.size(); ++o) {
+    const constraints::Capsule &g = geometry_[o], &c = candidate_geometry_[o];
+    const double moved = std::max((g.a - c.a).norm(), (g.b - c.b).norm()) + std::abs(g.radius_m - c.radius_m);
+    if (!(moved <= candidate_slack_m_)) return false;
+  }
+  const double slack2 = candidate_slack_m_ * candidate_slack_m_;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    if (!((x[i] - candidate_x_[i]).squaredNorm() <= slack2)) return false;
+  return true;
+}
+
+void EmbeddedContact::make_candidates(const Vec3Array& x, double u_max) const {
+  // A sample at signed distance d from a tool now stays out of it while the tool moves by less than s and its
+  // nodes by less than s each (x_v moves by at most phi_l1_v s): the candidates are the samples with
+  // d <= (1 + phi_l1_v) s, s a quarter of the thinnest tool's radius, so that the list serves a frame's
+  // residuals and line search, and the next frames while a hand moves the tool 0.04-0.2 mm a frame.
+  double thinnest = std::numeric_limits<double>::infinity();
+  for (const auto& g : geometry_) thinnest = std::min(thinnest, g.radius_m);
+  candidate_slack_m_ = 0.25 * thinnest;
+  candidate_geometry_ = geometry_;
+  candidate_x_ = x;
+  // |x_v - S_v| <= phi_l1_v max_i |u_i| and the distance is 1-Lipschitz, so a box round each tool, as far out
+  // as any sample can reach, rejects most samples with six comparisons before any distance.
   std::vector<Eigen::AlignedBox3d> boxes;
   boxes.reserve(geometry_.size());
   for (const auto& g : geometry_) {
-    const double out = g.radius_m + phi_l1_max_ * u_max;
+    const double out = g.radius_m + phi_l1_max_ * (u_max + candidate_slack_m_) + candidate_slack_m_;
     Eigen::AlignedBox3d box(g.a.cwiseMin(g.b), g.a.cwiseMax(g.b));
     box.min().array() -= out;
     box.max().array() += out;
     boxes.push_back(box);
   }
   const Vec3Array& S = surface_.rest_points;
-  const auto& start = surface_.row_start;
-  const auto& col = surface_.col;
-  const auto& val = surface_.val;
+  candidates_.clear();
   for (Index v = 0; v < surface_.num_samples(); ++v) {
-    const double reach = surface_.phi_l1[static_cast<std::size_t>(v)] * u_max;
+    const double phi = surface_.phi_l1[static_cast<std::size_t>(v)];
+    bool inside = false;
+    for (std::size_t o = 0; !inside && o < geometry_.size(); ++o) inside = boxes[o].contains(S[v]);
+    if (!inside) continue;
+    const Vec3 xv = sample_position(v, x);
     bool near = false;
     for (std::size_t o = 0; !near && o < geometry_.size(); ++o)
-      near = boxes[o].contains(S[v]) && obstacle_contact(geometry_[o], S[v]).value <= reach;
-    if (!near) continue;
-    Vec3 xv = S[v];
-    for (Index k = start[v]; k < start[v + 1]; ++k) {
-      const Index i = col[static_cast<std::size_t>(k)];
-      xv += val[static_cast<std::size_t>(k)] * (x[i] - rest_nodes_[i]);
-    }
+      near = obstacle_contact(geometry_[o], xv).value <= (1.0 + phi) * candidate_slack_m_;
+    if (near) candidates_.push_back(v);
+  }
+}
+
+Vec3 EmbeddedContact::sample_position(Index v, const Vec3Array& x) const {
+  Vec3 xv = surface_.rest_points[v];
+  for (Index k = surface_.row_start[v]; k < surface_.row_start[v + 1]; ++k) {
+    const Index i = surface_.col[static_cast<std::size_t>(k)];
+    xv += surface_.val[static_cast<std::size_t>(k)] * (x[i] - rest_nodes_[i]);
+  }
+  return xv;
+}
+
+template <class F>
+void EmbeddedContact::for_each_penetration(const Vec3Array& x, F&& f) const {
+  if (geometry_.empty()) return;
+  if (!candidates_hold(x)) {
+    double u_max2 = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      u_max2 = std::max(u_max2, (x[i] - rest_nodes_[i]).squaredNorm());
+    make_candidates(x, std::sqrt(u_max2));
+  }
+  for (Index v : candidates_) {
+    const Vec3 xv = sample_position(v, x);
     int deepest = -1;
     constraints::ContactConstraint c;
     for (std::size_t o = 0; o < geometry_.size(); ++o) {
@@ -95,11 +132,7 @@ void EmbeddedContact::relinearize_carried(const Vec3Array& x) {
   std::vector<Contact> kept;
   kept.reserve(active_.size());
   for (const Contact& old : active_) {
-    Vec3 xv = surface_.rest_points[old.sample];
-    for (Index k = surface_.row_start[old.sample]; k < surface_.row_start[old.sample + 1]; ++k) {
-      const Index i = surface_.col[static_cast<std::size_t>(k)];
-      xv += surface_.val[static_cast<std::size_t>(k)] * (x[i] - rest_nodes_[i]);
-    }
+    const Vec3 xv = sample_position(old.sample, x);
     const auto c = obstacle_contact(geometry_[static_cast<std::size_t>(old.tool)], xv);
     if (c.value < 0.0 || c.value <= carried_gap_m_) kept.push_back(make_contact(old.sample, old.tool, xv, c));
   }

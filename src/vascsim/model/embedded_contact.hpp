@@ -92,9 +92,20 @@ class EmbeddedContact {
   template <class F>
   void for_each_penetration(const Vec3Array& x, F&& f) const;
 
+  // The samples that may penetrate a tool while the tools stay within candidate_slack_m_ of where they were
+  // when the list was made and no node moves farther than that from where it was then (ascending;
+  // for_each_penetration).
+  bool candidates_hold(const Vec3Array& x) const;
+  Vec3 sample_position(Index v, const Vec3Array& x) const;  // x_v, m
+  void make_candidates(const Vec3Array& x, double u_max) const;
+
   const ContactSurface& surface_;
   const Vec3Array& rest_nodes_;
   std::vector<constraints::Capsule> geometry_;
+  mutable std::vector<Index> candidates_;
+  mutable std::vector<constraints::Capsule> candidate_geometry_;
+  mutable Vec3Array candidate_x_;  // the nodes when the list was made, m
+  mutable double candidate_slack_m_ = 0.0;
   std::vector<Contact> active_;
   double phi_l1_max_ = 0.0;  // the largest phi_l1 of the surface
   double carried_gap_m_ = 0.0;

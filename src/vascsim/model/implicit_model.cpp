@@ -632,22 +632,22 @@ StepReport ImplicitModel::step() {
                  (r.converged || (r.residual <= settings_.handoff_max_residual && contacts_.pulling() == 0) ||
                   (embedded_ && r.residual <= settings_.handoff_surface_residual &&
                    (frames_ == 0 || last_residual_ <= settings_.handoff_surface_residual)));
+  const std::vector<Vec3> tool_points = tools_.points(s_next);
   std::vector<ObstacleLoad> wall_answer;
   if (handoff && embedded_) {
     // The wall's answer to the contact, not the penalty's (EmbeddedContact::reaction_loads): the residual
     // of the solve's last evaluation, at this very state and contact set.
     embedded_->linearize(x_);
-    wall_answer =
-        embedded_->reaction_loads(tools_.points(s_next), x_, newton_.last_residual(), problem_.constrained());
-    if (!r.converged && !penalty_agrees(embedded_->loads(tools_.points(s_next)), wall_answer)) {
+    wall_answer = embedded_->reaction_loads(tool_points, x_, newton_.last_residual(), problem_.constrained());
+    if (!r.converged && !penalty_agrees(embedded_->loads(tool_points), wall_answer)) {
       handoff = false;
       ++disagreements_;
     }
   }
   if (handoff) {
-    if (!contacts_.empty()) loads_ = contacts_.loads(newton_.last_residual(), x_, tools_.points(s_next));
+    if (!contacts_.empty()) loads_ = contacts_.loads(newton_.last_residual(), x_, tool_points);
     if (embedded_) loads_ = std::move(wall_answer);
-    handoff_points_ = tools_.points(s_next);
+    handoff_points_ = tool_points;
     if (embedded_) safe_ = SafeState{x_, tools_.placed(), frame_tool_points_, r.residual};
   } else {
     ++stale_handoffs_;

@@ -119,7 +119,7 @@ void BM_RealtimePreconditionerApply(benchmark::State& state) {
     mg.install(mg.build_level(c.x));
     SinglePrecisionHessian single(p.energy());
     single.linearize(c.x);
-    const NewtonOperator op = [&](const Vec3Array& a, Vec3Array& b) { single.product(a, b, true); };
+    const NewtonOperator op = [&](const Vec3Array& a, Vec3Array& b) { single.product(a, b, ProductForm::Smoothing); };
     mg.set_operator(&op);
     for (auto _ : state) benchmark::DoNotOptimize(mg.apply(c.v, z));
     mg.set_operator(nullptr);

@@ -72,19 +72,20 @@ void NewtonEquilibrium::precondition(const Vec3Array& r, Vec3Array& z) const {
 
 void NewtonEquilibrium::hessian_product(const PointPrimitiveEnergy::Linearization& lin, const Vec3Array& x,
                                         const Vec3Array& p, const InertiaTerm& inertia, Vec3Array& Hp,
-                                        bool positive) const {
+                                        bool smoothing) const {
   if (single_)
-    single_->product(p, Hp, positive);
+    single_->product(p, Hp, smoothing ? ProductForm::Smoothing : ProductForm::Exact);
   else
     problem_.energy().hessian_product(lin, p, Hp);
-  if (embedded_) embedded_->add_hessian_product(p, Hp, positive || settings_.contact_normal_stiffness_only);
+  if (embedded_)
+    embedded_->add_hessian_product(p, Hp, smoothing || settings_.contact_normal_stiffness_only);
   for (std::size_t i = 0; i < Hp.size(); ++i)
     if (problem_.constrained()[i]) Hp[i].setZero();
   if (inertia.active()) {
     const auto& m = problem_.discretization().masses();
     for (Index i : free_.nodes) Hp[i] += (inertia.inv_h2 * m[i]) * p[i];
   }
-  if (!positive) contacts_.add_curvature(x, p, Hp);
+  if (!smoothing) contacts_.add_curvature(x, p, Hp);
   contacts_.filter(Hp);
 }
 

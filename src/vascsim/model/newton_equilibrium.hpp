@@ -153,11 +153,12 @@ class NewtonEquilibrium {
  private:
   double residual(Vec3Array& x, double s, const Vec3Array& f_ext, const InertiaTerm& inertia, Vec3Array& r);
   void precondition(const Vec3Array& r, Vec3Array& z) const;
-  /// positive: the operator a multigrid preconditioner smooths with (single-precision products only): the
-  /// geometric stiffness clamped to positive semi-definite and no contact curvature, so that the V-cycle
-  /// stays symmetric positive definite where compression makes the exact Hessian indefinite.
+  /// smoothing: the operator a multigrid preconditioner smooths with (single-precision products only,
+  /// ProductForm::Smoothing): the geometric stiffness clamped to positive semi-definite, no stabiliser and no
+  /// contact curvature, so that the V-cycle stays symmetric positive definite where compression makes the
+  /// exact Hessian indefinite, at about half a product's cost.
   void hessian_product(const PointPrimitiveEnergy::Linearization& lin, const Vec3Array& x, const Vec3Array& p,
-                       const InertiaTerm& inertia, Vec3Array& Hp, bool positive = false) const;
+                       const InertiaTerm& inertia, Vec3Array& Hp, bool smoothing = false) const;
   bool line_search(const Vec3Array& x, const Vec3Array& r, const Vec3Array& f_ext, const InertiaTerm& inertia,
                    Vec3Array& dx, Vec3Array& trial);
 

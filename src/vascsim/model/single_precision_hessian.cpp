@@ -88,11 +88,12 @@ void SinglePrecisionHessian::linearize(const Vec3Array& x) {
   }
 }
 
-void SinglePrecisionHessian::product(const Vec3Array& v, Vec3Array& out, bool positive) const {
+void SinglePrecisionHessian::product(const Vec3Array& v, Vec3Array& out, ProductForm form) const {
   // Vectors are padded to four floats (w = 0) so that each pair's update is a few 4-wide operations
   // instead of a dozen scalar ones: the product is bound by the instructions per pair, not by memory (its
   // arrays stay in cache), docs/performance.md "Real time at hand speed".
-  const std::vector<Eigen::Matrix3f>& S = positive ? S_plus_ : S_;
+  const std::vector<Eigen::Matrix3f>& S = form == ProductForm::Exact ? S_ : S_plus_;
+  const bool stabilised = form != ProductForm::Smoothing;
   const Index n = static_cast<Index>(Fc_.size());
   out.resize(static_cast<std::size_t>(n));
 #pragma omp parallel if (n >= kParallelMinNodes)
@@ -154,7 +155,7 @@ void SinglePrecisionHessian::product(const Vec3Array& v, Vec3Array& out, bool po
       }
       const Eigen::Vector4f vk = v_[static_cast<std::size_t>(k)];
       for (Index e = stab_start_[static_cast<std::size_t>(k)],
-                 end = stab_start_[static_cast<std::size_t>(k) + 1];
+                 end = stabilised ? stab_start_[static_cast<std::size_t>(k) + 1] : e;
            e < end; ++e)
         f += stab_value_[static_cast<std::size_t>(e)] *
              (v_[static_cast<std::size_t>(stab_col_[static_cast<std::size_t>(e)])] - vk);

@@ -23,6 +23,16 @@
 
 namespace vascsim {
 
+/// Which matrix SinglePrecisionHessian::product applies.
+enum class ProductForm {
+  Exact,     ///< K(x), the energy's Hessian
+  Positive,  ///< K(x) with the geometric part's stress clamped to its positive part (semi-definite)
+  /// Positive without the stabiliser: the matrix a multigrid smooths with (its V-cycle stays symmetric
+  /// whatever matrix it smooths with; the stabiliser's 2-hop couplings, about half a product's work, are
+  /// weak beside the elastic ones, and its window and line blocks keep them).
+  Smoothing,
+};
+
 class SinglePrecisionHessian {
  public:
   /// Whether `energy` is one this product reproduces.
@@ -34,10 +44,11 @@ class SinglePrecisionHessian {
   /// F_i and the SVK stress S_i at configuration x (m), for the products that follow.
   void linearize(const Vec3Array& x);
   /// out = K(x) v (N for v in m; K the energy's Hessian at the last linearize, stabiliser included), every
-  /// node. With `positive`, the geometric part dF S uses S with its negative eigenvalues set to zero: K is
-  /// then positive semi-definite at any state (the material part F dS always is; dF S is where compression
-  /// makes SVK indefinite), as a multigrid's smoothing needs; the exact K elsewhere.
-  void product(const Vec3Array& v, Vec3Array& out, bool positive = false) const;
+  /// node. ProductForm::Positive: the geometric part dF S uses S with its negative eigenvalues set to zero:
+  /// K is then positive semi-definite at any state (the material part F dS always is; dF S is where
+  /// compression makes SVK indefinite), as a multigrid's smoothing needs; Smoothing: that without the
+  /// stabiliser.
+  void product(const Vec3Array& v, Vec3Array& out, ProductForm form = ProductForm::Exact) const;
 
  private:
   struct Pair {

@@ -77,6 +77,11 @@ void SinglePrecisionHessian::linearize(const Vec3Array& x) {
     Fc_[static_cast<std::size_t>(i)] << F.cast<float>(), Eigen::RowVector3f::Zero();
     Ft_[static_cast<std::size_t>(i)] << F.transpose().cast<float>(), Eigen::RowVector3f::Zero();
     S_[static_cast<std::size_t>(i)] = S.cast<float>();
+    // Positive definite by its leading minors (Sylvester): S itself, without an eigendecomposition.
+    if (S(0, 0) > 0.0 && S(0, 0) * S(1, 1) - S(0, 1) * S(1, 0) > 0.0 && S.determinant() > 0.0) {
+      S_plus_[static_cast<std::size_t>(i)] = S_[static_cast<std::size_t>(i)];
+      continue;
+    }
     Eigen::SelfAdjointEigenSolver<Mat3> es;
     es.computeDirect(S);
     S_plus_[static_cast<std::size_t>(i)] =

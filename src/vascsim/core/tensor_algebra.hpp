@@ -2,6 +2,8 @@
 // Small 3x3 tensor helpers shared by the point-primitive energy, the hyperelastic laws and the tet
 // constraints (header-only, inlined in the hot paths).
 
+#include <Eigen/Eigenvalues>
+
 #include "vascsim/core/types.hpp"
 
 namespace vascsim {
@@ -29,6 +31,16 @@ inline Mat3 cofactor_derivative(const Mat3& F, const Mat3& dF) {
 /// Double contraction A : B = sum_kl A_kl B_kl.
 inline double ddot(const Mat3& A, const Mat3& B) {
   return A.cwiseProduct(B).sum();
+}
+
+/// A symmetric S with its negative eigenvalues set to zero; S itself (to the bit) when it has none. Positive
+/// definite by its leading minors (Sylvester) needs no eigendecomposition: most stresses under load.
+inline Mat3 positive_part(const Mat3& S) {
+  if (S(0, 0) > 0.0 && S(0, 0) * S(1, 1) - S(0, 1) * S(1, 0) > 0.0 && S.determinant() > 0.0) return S;
+  Eigen::SelfAdjointEigenSolver<Mat3> es;
+  es.computeDirect(S);
+  if (es.eigenvalues().minCoeff() >= 0.0) return S;
+  return es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
 }
 
 }  // namespace vascsim

@@ -49,10 +49,7 @@ Mat9 point_tangent(const PointPrimitiveEnergy& energy, Index i, const Mat3& F, i
     Mat3 S = lambda * E.trace() * I + 2.0 * mu * E;
     if (projection == TangentProjection::ClampedStress) {
       // dF : dF S+ >= 0 and dF : F (lambda tr(dE) I + 2 mu dE) = lambda tr(dE)^2 + 2 mu |dE|^2 >= 0.
-      Eigen::SelfAdjointEigenSolver<Mat3> es;
-      es.computeDirect(S);
-      if (es.eigenvalues().minCoeff() < 0.0)
-        S = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
+      S = positive_part(S);
     }
     C = svk_scale * tangent_of([&](const Mat3& dF) {
           const Mat3 dE = 0.5 * (dF.transpose() * F + F.transpose() * dF);

@@ -1,9 +1,9 @@
 #include "vascsim/model/single_precision_hessian.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <stdexcept>
 
 #include "vascsim/core/parallel.hpp"
+#include "vascsim/core/tensor_algebra.hpp"
 #include "vascsim/model/stabilizer_matrix.hpp"
 
 namespace vascsim {
@@ -77,19 +77,7 @@ void SinglePrecisionHessian::linearize(const Vec3Array& x) {
     Fc_[static_cast<std::size_t>(i)] << F.cast<float>(), Eigen::RowVector3f::Zero();
     Ft_[static_cast<std::size_t>(i)] << F.transpose().cast<float>(), Eigen::RowVector3f::Zero();
     S_[static_cast<std::size_t>(i)] = S.cast<float>();
-    // Positive definite by its leading minors (Sylvester): S itself, without an eigendecomposition.
-    if (S(0, 0) > 0.0 && S(0, 0) * S(1, 1) - S(0, 1) * S(1, 0) > 0.0 && S.determinant() > 0.0) {
-      S_plus_[static_cast<std::size_t>(i)] = S_[static_cast<std::size_t>(i)];
-      continue;
-    }
-    Eigen::SelfAdjointEigenSolver<Mat3> es;
-    es.computeDirect(S);
-    S_plus_[static_cast<std::size_t>(i)] =
-        es.eigenvalues().minCoeff() >= 0.0
-            ? S_[static_cast<std::size_t>(i)]
-            : Mat3(es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() *
-                   es.eigenvectors().transpose())
-                  .cast<float>();
+    S_plus_[static_cast<std::size_t>(i)] = positive_part(S).cast<float>();
   }
 }
 

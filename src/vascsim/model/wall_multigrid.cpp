@@ -35,7 +35,8 @@ WallMultigrid::WallMultigrid(const Problem& problem, const FreeDofs& free, const
       free_(free),
       contacts_(contacts),
       options_(options),
-      projection_(positive_projection(problem.energy())) {
+      projection_(positive_projection(problem.energy())),
+      window_factor_(options.single_precision_window) {
   if (!supports(problem))
     throw std::invalid_argument(
         "WallMultigrid: the nodes form no wall lattice with one energy point per node");

@@ -47,6 +47,8 @@ struct WallMultigridOptions {
   double window_spacings =
       2.0;                      ///< the window's reach from a tool's surface, in node spacings along the wall
   double jacobi_damping = 0.5;  ///< weight of the line-Jacobi smoothing outside the window
+  /// The window's factor in float (DenseCholesky): its solves, two per V-cycle, stream half the memory.
+  bool single_precision_window = true;
 };
 
 class WallMultigrid final : public EquilibriumPreconditioner {

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <random>
 
@@ -34,6 +35,26 @@ TEST(QuadraticFitStabiliser, ForcesAndHessianAreTheEnergysDerivatives) {
   const Material mat = test::tissue(1e5);
   const Discretization disc(test::lattice(6, 0.2, 11), mat);
   test::expect_stabiliser_derivatives<PointPrimitiveEnergy>(disc, quadratic_fit(0.5));
+}
+
+// Residuals ask for the forces without the energy (the stabiliser's matrix then skips its energy sum): the
+// forces are the same to the bit (the sum never enters them), the energy is NaN rather than a partial sum,
+// and with the energy it is energy(x)'s total (to 1e-12 relative: the same terms summed in another order).
+TEST(QuadraticFitStabiliser, ForcesWithoutTheEnergyAreTheSameForces) {
+  const Material mat = test::tissue(1e5);
+  const Discretization disc(test::lattice(6, 0.2, 11), mat);
+  const PointPrimitiveEnergy energy(disc, quadratic_fit(0.5));
+  Vec3Array x = disc.rest_positions();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-0.2 * kDelta, 0.2 * kDelta);
+  for (Vec3& p : x) p += Vec3(0.1 * p.x() + u(rng), u(rng), -0.05 * p.z() + u(rng));
+  Vec3Array with, without;
+  const double U = energy.forces(x, with);
+  EXPECT_TRUE(std::isnan(energy.forces(x, without, false)));
+  ASSERT_EQ(with.size(), without.size());
+  for (std::size_t i = 0; i < with.size(); ++i) EXPECT_EQ(with[i], without[i]) << "node " << i;
+  EXPECT_NEAR(U, energy.energy(x).total(), 1e-12 * std::abs(U));
+  EXPECT_GT(std::abs(energy.energy(x).stabilizer), 0.0);
 }
 
 // T3: a rigid motion (rotation by 0.7 rad and a translation of 3 spacings) costs no stabiliser energy and no

@@ -32,7 +32,7 @@ NewtonEquilibrium::NewtonEquilibrium(const Problem& problem, const FreeDofs& fre
   // so the floor is at least 10 / rel_tolerance times it (about 1e-7 N on the vein at 0.3 mm, where the loads
   // are mN).
   Vec3Array f_rest;
-  problem.energy().forces(disc.rest_positions(), f_rest);
+  problem.energy().forces(disc.rest_positions(), f_rest, false);
   double noise2 = 0.0;
   for (Index i : free.nodes) noise2 += f_rest[static_cast<std::size_t>(i)].squaredNorm();
   force_floor_ = std::max(force_floor_, 10.0 * std::sqrt(noise2) / settings.rel_tolerance);
@@ -77,8 +77,7 @@ void NewtonEquilibrium::hessian_product(const PointPrimitiveEnergy::Linearizatio
     single_->product(p, Hp, smoothing ? ProductForm::Smoothing : ProductForm::Exact);
   else
     problem_.energy().hessian_product(lin, p, Hp);
-  if (embedded_)
-    embedded_->add_hessian_product(p, Hp, smoothing || settings_.contact_normal_stiffness_only);
+  if (embedded_) embedded_->add_hessian_product(p, Hp, smoothing || settings_.contact_normal_stiffness_only);
   for (std::size_t i = 0; i < Hp.size(); ++i)
     if (problem_.constrained()[i]) Hp[i].setZero();
   if (inertia.active()) {
@@ -165,7 +164,7 @@ double NewtonEquilibrium::residual(Vec3Array& x, double s, const Vec3Array& f_ex
     f_int = forces_;
     ++force_evaluations_reused_;
   } else {
-    problem_.energy().forces(x, f_int);
+    problem_.energy().forces(x, f_int, false);
     ++force_evaluations_;
     if (settings_.reuse_forces) {
       forces_x_ = x;
@@ -232,7 +231,7 @@ bool NewtonEquilibrium::line_search(const Vec3Array& x, const Vec3Array& r, cons
       // Near the solution the energy decrease falls below round-off; accept the full step when it reduces
       // the force residual instead.
       Vec3Array f_trial;
-      problem_.energy().forces(trial, f_trial);
+      problem_.energy().forces(trial, f_trial, false);
       if (embedded_) {
         embedded_->linearize(trial);
         embedded_->add_forces(f_trial);

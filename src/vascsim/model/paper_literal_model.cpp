@@ -233,7 +233,7 @@ void PaperLiteralModel::step(double s_next) {
   const auto& m = problem_.discretization().masses();
   const auto& fixed = problem_.constrained();
   const double dt = dt_;
-  impl_->energy.forces(x_, f_int_);
+  impl_->energy.forces(x_, f_int_, false);
   problem_.external_forces(s_next, f_ext_);
 #pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
   for (Index i = 0; i < n; ++i) {

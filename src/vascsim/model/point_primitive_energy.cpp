@@ -1,6 +1,7 @@
 #include "vascsim/model/point_primitive_energy.hpp"
 
 #include <fmt/format.h>
+#include <limits>
 
 #include "vascsim/core/error.hpp"
 #include "vascsim/core/parallel.hpp"
@@ -242,7 +243,7 @@ void PointPrimitiveEnergy::add_point_stress(Index i, int q, const Mat3& P, Mat3&
   for (int c = 0; c < disc_.point_directions(); ++c) R[c] += disc_.point_offset(i, q, c) * P;
 }
 
-double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f) const {
+double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f, bool with_energy) const {
   const Index n = disc_.num_nodes();
   const int points = disc_.energy_points(), G = disc_.point_directions();
   Workspace& ws = workspace(n);
@@ -285,9 +286,12 @@ double PointPrimitiveEnergy::forces(const Vec3Array& x, Vec3Array& f) const {
     const Vec3Array& X = disc_.rest_positions();
     for (Index i = 0; i < n; ++i)
       ws.u[static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(i)] - X[static_cast<std::size_t>(i)];
-    stabilizer += stab_matrix_->add_product(ws.u, f, -1.0);  // f_hg = -K u
+    if (with_energy)
+      stabilizer += stab_matrix_->add_product_and_energy(ws.u, f, -1.0);  // f_hg = -K u
+    else
+      stab_matrix_->add_product(ws.u, f, -1.0);
   }
-  return strain + volume + stabilizer;
+  return with_energy ? strain + volume + stabilizer : std::numeric_limits<double>::quiet_NaN();
 }
 
 PointPrimitiveEnergy::Linearization PointPrimitiveEnergy::linearize(const Vec3Array& x) const {

@@ -138,7 +138,7 @@ void QuasiStaticModel::predict(double s, const Vec3Array& f_ext, StepReport& rep
     contacts_.project(trial, true);
   } else {
     Vec3Array f_int, r(n), dx, Hd;
-    E.forces(x_, f_int);
+    E.forces(x_, f_int, false);
     for (Index i = 0; i < n; ++i) r[i] = f_int[i] + f_ext[i];
     if (moved) {
       E.hessian_product(x_, dp, Hd);

@@ -21,8 +21,10 @@ class StabilizerMatrix {
   /// quadratic: the residuals of a quadratic fit, whatever the basis (Discretization::fit_residual_operator).
   StabilizerMatrix(const Discretization& disc, const std::vector<double>& c, bool quadratic);
 
-  /// out += sign * K v, coordinate by coordinate (v in m gives N). Returns v . K v / 2 (J for v = u).
-  double add_product(const Vec3Array& v, Vec3Array& out, double sign) const;
+  /// out += sign * K v, coordinate by coordinate (v in m gives N).
+  void add_product(const Vec3Array& v, Vec3Array& out, double sign) const;
+  /// The same, and returns v . K v / 2 (J for v = u) from the same pass.
+  double add_product_and_energy(const Vec3Array& v, Vec3Array& out, double sign) const;
   /// u . K u / 2, J for u in m.
   double energy(const Vec3Array& u) const;
   /// K itself (scalar, n x n, N/m: the stabiliser's Hessian is K times the 3 x 3 identity).

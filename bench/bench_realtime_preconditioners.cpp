@@ -119,7 +119,9 @@ void BM_RealtimePreconditionerApply(benchmark::State& state) {
     mg.install(mg.build_level(c.x));
     SinglePrecisionHessian single(p.energy());
     single.linearize(c.x);
-    const NewtonOperator op = [&](const Vec3Array& a, Vec3Array& b) { single.product(a, b, ProductForm::Smoothing); };
+    const NewtonOperator op = [&](const Vec3Array& a, Vec3Array& b) {
+      single.product(a, b, ProductForm::Smoothing);
+    };
     mg.set_operator(&op);
     for (auto _ : state) benchmark::DoNotOptimize(mg.apply(c.v, z));
     mg.set_operator(nullptr);
@@ -149,8 +151,8 @@ void BM_RealtimePreconditionerRefresh(benchmark::State& state) {
 }
 
 // The fixed costs of a frame, besides its CG iterations: the internal forces of a residual (double precision,
-// the stabiliser's 2-hop matrix included, no energy) and the float operator's linearisation at a new state (every
-// node's tangent).
+// the stabiliser's 2-hop matrix included, no energy) and the float operator's linearisation at a new state
+// (every node's tangent).
 void BM_RealtimeForces(benchmark::State& state) {
   const RealtimeCase& c = realtime_case();
   omp_set_num_threads(static_cast<int>(state.range(1)));

@@ -4,10 +4,11 @@
 // linear solves need a relative accuracy of 1e-1 to 1e-3, far above float's 1e-7.
 //
 // Why: the product is the unit of a frame's cost (each conjugate-gradient iteration with the wall multigrid
-// takes three). Its arrays stay in cache (the pairs take 16 bytes, the stabiliser's 2-hop matrix 8 per entry,
-// the per-node F_i, S_i 72 bytes), so its speed is the instructions per pair: vectors are padded to four
-// floats and every update, the per-node 3 x 3 algebra included, is a sum of 4-wide column operations (on the
-// real-time vein 0.86 ms a product on one thread instead of 1.50 with 3-float vectors;
+// takes three: CG's own, and two in the smoothing form, without the stabiliser's 2-hop matrix, which is about
+// half of a product's work). Its arrays stay in cache (the pairs take 16 bytes, the stabiliser's 2-hop matrix
+// 8 per entry, the per-node F_i, S_i 72 bytes), so its speed is the instructions per pair: vectors are padded
+// to four floats and every update, the per-node 3 x 3 algebra included, is a sum of 4-wide column operations
+// (on the real-time vein 0.86 ms a product on one thread instead of 1.50 with 3-float vectors;
 // docs/performance.md, "Real time at hand speed").
 //
 // Same mathematics as PointPrimitiveEnergy::hessian_product (docs/model/10-hessian-product.md), for the

@@ -13,17 +13,18 @@
 //   background;
 // - an exact window round the tools: the nodes within a couple of node spacings of a tool's surface, where
 //   the contact and the strain change from frame to frame, solved with a dense Cholesky factor of H's block
-//   there built at every frame's start, with the contacts' normal constraints (a Woodbury correction on
-//   that factor);
+//   there (in float) built at every frame's start, with the contacts' normal constraints (a Woodbury
+//   correction on that factor);
 // - damped line Jacobi on the other nodes: one block per through-wall line (a lattice column's layers at one
 //   cross-section), with the blocks of the last refresh. The wall is stiffer across its thickness than along
 //   it, and a node's own 3 x 3 block left that coupling to the coarse level: the lines took 20 % fewer CG
 //   iterations on the real-time vein under a random hand (2,817 against 3,513 in 301 lockstep frames).
 //   The window takes whole lines, so none is split.
-// Applied as one symmetric V-cycle, smooth - coarse - smooth, with the solver's own Newton matrix for the two
-// residuals (set_operator), so conjugate gradients stay exact whatever the refresh state: on the 0.3 mm vein
-// pressed at 5 mm/s, 4-6 iterations per Newton step with every part fresh, 5-8 with the coarse level 0.1-0.2
-// s old.
+// Applied as one symmetric V-cycle, smooth - coarse - smooth, with a matrix close to the Newton matrix for
+// the two residuals (set_operator: the solver's, in the smoothing form of single_precision_hessian.hpp,
+// without the stabiliser). The cycle is symmetric whatever symmetric matrix it smooths with, so conjugate
+// gradients stay exact whatever the refresh state: on the 0.3 mm vein pressed at 5 mm/s, 4-6 iterations per
+// Newton step with every part fresh, 5-8 with the coarse level 0.1-0.2 s old.
 //
 // Only for walls whose nodes form a lattice (tubes and swept vessels) with one energy point per node; other
 // bodies keep the Cholesky factor (meshless_factor.hpp).

@@ -2,7 +2,8 @@
 // A dense Cholesky factor A = L L^T through LAPACK (dpotrf/dpotrs: OpenBLAS's blocked kernels where OpenBLAS
 // is the LAPACK), for the dense blocks the solvers factor every frame: the wall multigrid's window round a
 // tool (a few hundred nodes, about 570 unknowns on the real-time vein) took 5.4 ms with Eigen's LLT and 1.0
-// ms this way on a 2.3 GHz Xeon (docs/performance.md, "Real time at hand speed"); it factors in float.
+// ms this way on a 2.3 GHz Xeon (docs/performance.md, "Real time at hand speed"). Optionally in float
+// (spotrf/spotrs), as that window does.
 
 #include <Eigen/Core>
 

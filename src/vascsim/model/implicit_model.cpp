@@ -37,6 +37,7 @@ ImplicitSettings read_implicit_settings(JsonReader& b) {
   s.preconditioner = b.string("preconditioner", d.preconditioner, {"auto", "multigrid", "meshless", "tet"});
   s.single_precision = b.boolean("single_precision", d.single_precision);
   s.level_refresh_frames = b.integer("level_refresh_frames", d.level_refresh_frames, 1, 1000000);
+  s.window_each_newton_step = b.boolean("window_each_newton_step", d.window_each_newton_step);
   s.line_search = b.boolean("line_search", d.line_search);
   s.deferred_line_search = b.boolean("deferred_line_search", d.deferred_line_search);
   s.haptic_candidates = b.integer("haptic_candidates", d.haptic_candidates, 0, 24);
@@ -64,6 +65,7 @@ NewtonSettings newton_settings(const ImplicitSettings& s, double spacing_m) {
   n.max_contact_passes = 50;
   n.line_search = s.line_search;
   n.deferred_line_search = s.deferred_line_search;
+  n.follow_state = s.window_each_newton_step;
   // Contacts at the nodes that pull are let go below a residual of 1e-3 (releasing at any residual was
   // measured no better: docs/performance.md section 12).
   n.release_below_residual = 1e-3;
@@ -565,7 +567,14 @@ void ImplicitModel::prepare_frame(double s, const Vec3Array& f_ext) {
   const std::vector<Vec3> after = tools_.points(s);
   for (std::size_t o = 0; o < after.size(); ++o)
     tools_moved_ = tools_moved_ || (after[o] - before[o]).norm() > 1e-2 * spacing_;
-  if (embedded_) embedded_->relinearize_carried(x_);
+  // The window is formed at the contact set the frame's first Newton step solves with: the carried one when
+  // the tools moved and the frame was not warm-started (NewtonEquilibrium::solve), else every sample there.
+  if (embedded_) {
+    if (tools_moved_ && !warm_started_)
+      embedded_->relinearize_carried(x_);
+    else
+      embedded_->linearize(x_);
+  }
   if (multigrid_) multigrid_->prepare_window(x_);
 }
 

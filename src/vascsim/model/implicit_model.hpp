@@ -94,6 +94,10 @@ struct ImplicitSettings {
   /// With the multigrid, the coarse level is rebuilt every this many frames (in the background in a realtime
   /// session).
   int level_refresh_frames = 6;
+  /// With the multigrid and the tools on the wall's surface: a Newton step after a frame's first whose
+  /// contact samples differ from the window's forms the window round the tools again at its own state
+  /// (NewtonSettings::follow_state, WallMultigrid::follow_state). Off only to measure what it saves.
+  bool window_each_newton_step = true;
   bool line_search = true;  ///< Armijo line search in every Newton iteration (off: whole steps)
   /// With line_search and the tools on the wall's surface: each Newton step is taken whole first, and
   /// searched only when the force residual there is no smaller (NewtonSettings::deferred_line_search): the

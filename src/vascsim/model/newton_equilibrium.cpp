@@ -272,6 +272,7 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
   const bool defer = settings_.line_search && settings_.deferred_line_search && contacts_.empty();
   Vec3Array x_before, dx_before, r_before;
   bool unchecked = false;
+  bool moved = false;  // x changed since the preconditioner last followed it (the caller prepared the first)
   for (int it = 0;; ++it) {
     carried_ = carry_contacts && it == 0;
     out.residual = residual(x, s, f_ext, inertia, r);
@@ -295,6 +296,7 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
             break;
           }
           x.swap(trial);
+          moved = true;
           continue;
         }
       }
@@ -357,6 +359,8 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
                : std::clamp(std::max(std::sqrt(out.residual), 0.3 * settings_.rel_tolerance / out.residual),
                             1e-6, settings_.max_forcing);
     double reduction = 1.0;
+    if (moved && preconditioner_ != nullptr && settings_.follow_state) preconditioner_->follow_state(x);
+    moved = false;
     embedded_linearized_ = !carried_;  // residual() above, at this x
     const int cg = conjugate_gradients(x, r, eta, inertia, dx,
                                        timed ? deadline : SteadyClock::time_point::max(), &reduction);
@@ -393,6 +397,7 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
       for (std::size_t i = 0; i < x.size(); ++i) x[i] += dx[i];
       accepted_potential_.reset();
     }
+    moved = true;
     // Nodes the step pushed into a tool join the active set on its surface.
     if (const int added = contacts_.project(x, true); added > 0) {
       accepted_potential_.reset();  // projected nodes moved

@@ -65,6 +65,10 @@ struct NewtonSettings {
   /// at the state the next frame starts from unless it predicts a new one. Off only to check that reusing
   /// changes nothing.
   bool reuse_forces = true;
+  /// Each Newton step after a solve's first lets the preconditioner re-form its state-bound part at the
+  /// step's own state (EquilibriumPreconditioner::follow_state: the multigrid's window round the tools, when
+  /// a step changed the contact samples in it). Off only to measure what it saves.
+  bool follow_state = true;
 };
 
 /// Backward Euler's inertia term: 1/(2 h^2) sum_i m_i |x_i - a_i|^2 over the free nodes.
@@ -98,9 +102,7 @@ class NewtonEquilibrium {
   /// from equilibrium. Default: 1e-8 of E Delta^2 (the force that strains one neighbourhood by 100 % is E
   /// Delta^2), or 10 / rel_tolerance times the rounding of the rest state's forces if that is larger.
   void set_force_floor(double newton) { force_floor_ = newton; }
-  void set_preconditioner(const EquilibriumPreconditioner* preconditioner) {
-    preconditioner_ = preconditioner;
-  }
+  void set_preconditioner(EquilibriumPreconditioner* preconditioner) { preconditioner_ = preconditioner; }
   /// Conjugate gradients (and a multigrid preconditioner's smoothing) on the Hessian product in single
   /// precision (single_precision_hessian.hpp) instead of the energy's double one; null: double. For solves
   /// that need a relative accuracy far above 1e-7 (the real-time model's frames).
@@ -166,7 +168,7 @@ class NewtonEquilibrium {
   const FreeDofs& free_;
   ContactActiveSet& contacts_;
   NewtonSettings settings_;
-  const EquilibriumPreconditioner* preconditioner_ = nullptr;
+  EquilibriumPreconditioner* preconditioner_ = nullptr;
   EmbeddedContact* embedded_ = nullptr;
   SinglePrecisionHessian* single_ = nullptr;
   Vec3Array r_unfiltered_;

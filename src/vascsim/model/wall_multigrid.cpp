@@ -151,7 +151,25 @@ std::unique_ptr<WallMultigrid::Level> WallMultigrid::install(std::unique_ptr<Lev
   return level;
 }
 
+namespace {
+std::vector<Index> samples_in_contact(const EmbeddedContact* contact) {
+  std::vector<Index> samples;
+  if (contact != nullptr)
+    contact->for_each_contact([&](Index v, double, const Vec3&) { samples.push_back(v); });
+  std::sort(samples.begin(), samples.end());
+  return samples;
+}
+}  // namespace
+
+void WallMultigrid::follow_state(const Vec3Array& x) {
+  if (embedded_ != nullptr && samples_in_contact(embedded_) != window_samples_) {
+    prepare_window(x);
+    ++windows_followed_;
+  }
+}
+
 void WallMultigrid::prepare_window(const Vec3Array& x) {
+  window_samples_ = samples_in_contact(embedded_);
   const Stopwatch watch;
   struct Log {
     const Stopwatch& w;
@@ -445,6 +463,7 @@ nlohmann::json WallMultigrid::info() const {
                       {"window_m", window_m_},
                       {"window_nodes", window_.size()},
                       {"levels_built", levels_built_},
+                      {"windows_followed", windows_followed_},
                       {"last_level_build_s", last_level_seconds()}};
   if (level_) j["coarse_nnz_l"] = level_->coarse.stats().nnz_l;
   return j;

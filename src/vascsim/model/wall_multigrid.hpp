@@ -84,6 +84,11 @@ class WallMultigrid final : public EquilibriumPreconditioner {
   bool ready() const { return level_ != nullptr; }
   /// Rebuilds the exact window round the tools at x (after the frame's tools are placed in `contacts`).
   void prepare_window(const Vec3Array& x);
+  /// The window again at a Newton step's own state when the tools on the wall's surface have other samples in
+  /// contact there than when it was formed: a sample's penalty is about a hundred times the wall's stiffness,
+  /// so a window without the samples a step added (or with those it dropped) leaves conjugate gradients that
+  /// error to find (docs/model/24-implicit.md section 24.1). Otherwise the window stands.
+  void follow_state(const Vec3Array& x) override;
   /// Nodes in the window now.
   std::size_t window_nodes() const { return window_.size(); }
   /// Wall time of the last build_level, s.
@@ -136,6 +141,8 @@ class WallMultigrid final : public EquilibriumPreconditioner {
   std::vector<Index> window_;
   std::vector<Index> window_slot_;
   DenseCholesky window_factor_;
+  std::vector<Index> window_samples_;  // the embedded contact's samples in contact when it was formed
+  long long windows_followed_ = 0;     // windows formed again by follow_state
   Mat9Array window_tangents_;
   std::vector<Index> window_energies_;
   // The contacts inside the window and their Woodbury factors: Zc = A_W^{-1} N^T, (N Zc)^{-1}.

@@ -653,6 +653,34 @@ TEST(WallMultigrid, AToolThatJumpsIntoTheWallEndsTheFrameAtThePose) {
   EXPECT_LT((force[0] - force[1]).norm(), 1e-2 * force[1].norm());
 }
 
+// The device-posed piece pressed `depth_m` into the wall in `press` frames and slid `slide_m` along it in
+// `slide` frames, from piece_touch(): each frame's tool force, and the model's info() at the end.
+struct PressAndSlide {
+  std::vector<Vec3> forces;
+  nlohmann::json info;
+};
+PressAndSlide press_and_slide(const json& doc, double depth_m, int press, double slide_m, int slide,
+                              const std::string& label) {
+  const Vec3 touch = piece_touch();
+  const Eigen::Quaterniond q = piece_pointing();
+  std::vector<Vec3> poses;
+  for (int k = 1; k <= press; ++k) poses.push_back(touch - Vec3(0, depth_m * k / press, 0));
+  for (int k = 1; k <= slide; ++k) poses.push_back(poses.back() + Vec3(0, 0, slide_m / slide));
+  Simulation sim(parse_scene(doc, "piece"));
+  auto& model = dynamic_cast<ImplicitModel&>(sim.model());
+  model.set_tool_pose(0, touch, q);
+  model.step();
+  PressAndSlide out;
+  for (const Vec3& p : poses) {
+    model.set_tool_pose(0, p, q);
+    const StepReport r = model.step();
+    EXPECT_TRUE(r.converged) << label << ", pose " << out.forces.size();
+    out.forces.push_back(model.tool_loads().at(0).force_vector_n);
+  }
+  out.info = model.info();
+  return out;
+}
+
 // A press 0.4 mm into the wall and a slide of 0.6 mm along it in 20 um frames through device poses, every
 // frame solved to its tolerance (the tools on the wall's surface). Started from the last frame's motion
 // scaled to the new move (warm_start_residual), the press's frames reach the states of frames started from
@@ -665,35 +693,21 @@ TEST(WallMultigrid, WarmStartedFramesReachTheSameEquilibriaWithLessWork) {
   settings["max_newton_iterations"] = 40;
   settings["max_cg_iterations"] = 200;
   const json doc = device_posed_piece(settings);
-  const Vec3 touch = piece_touch();
-  const Eigen::Quaterniond q = piece_pointing();
-  std::vector<Vec3> poses;
-  for (int k = 1; k <= 20; ++k) poses.push_back(touch - Vec3(0, 0.4e-3 * k / 20, 0));
-  for (int k = 1; k <= 30; ++k) poses.push_back(poses[19] + Vec3(0, 0, 0.6e-3 * k / 30));
   std::vector<Vec3> forces[2];
   long long cg[2] = {0, 0}, newton[2] = {0, 0};
   for (int warm = 0; warm < 2; ++warm) {
     json d = doc;
     d["implicit"]["warm_start_residual"] = warm ? 0.1 : 0.0;
-    Simulation sim(parse_scene(d, "piece"));
-    auto& model = dynamic_cast<ImplicitModel&>(sim.model());
-    model.set_tool_pose(0, touch, q);
-    model.step();
-    for (const Vec3& p : poses) {
-      model.set_tool_pose(0, p, q);
-      const StepReport r = model.step();
-      EXPECT_TRUE(r.converged) << "warm " << warm << ", pose " << forces[warm].size();
-      forces[warm].push_back(model.tool_loads().at(0).force_vector_n);
-    }
-    const nlohmann::json info = model.info();
-    cg[warm] = info["cg_iterations"].get<long long>();
-    newton[warm] = info["newton_iterations"].get<long long>();
-    EXPECT_GE(info["advected_frames"].get<long long>(), 25);
+    const PressAndSlide run = press_and_slide(d, 0.4e-3, 20, 0.6e-3, 30, warm ? "warm" : "cold");
+    forces[warm] = run.forces;
+    cg[warm] = run.info["cg_iterations"].get<long long>();
+    newton[warm] = run.info["newton_iterations"].get<long long>();
+    EXPECT_GE(run.info["advected_frames"].get<long long>(), 25);
     if (warm) {
-      EXPECT_GT(info["warm_started_frames"].get<long long>(), 15);
-      EXPECT_LE(info["warm_started_frames"].get<long long>(), 20);
+      EXPECT_GT(run.info["warm_started_frames"].get<long long>(), 15);
+      EXPECT_LE(run.info["warm_started_frames"].get<long long>(), 20);
     } else {
-      EXPECT_EQ(info["warm_started_frames"].get<long long>(), 0);
+      EXPECT_EQ(run.info["warm_started_frames"].get<long long>(), 0);
     }
   }
   std::printf(
@@ -701,7 +715,7 @@ TEST(WallMultigrid, WarmStartedFramesReachTheSameEquilibriaWithLessWork) {
       "N\n",
       newton[1], cg[1], newton[0], cg[0], forces[1].back().norm());
   ASSERT_GT(forces[0].back().norm(), 1e-3);
-  for (std::size_t k = 0; k < poses.size(); ++k) {
+  for (std::size_t k = 0; k < forces[0].size(); ++k) {
     if (forces[0][k].norm() > 0.1 * forces[0].back().norm()) {
       EXPECT_LT((forces[1][k] - forces[0][k]).norm(), 1e-2 * forces[0][k].norm()) << "pose " << k;
     }
@@ -721,36 +735,23 @@ TEST(WallMultigrid, AWindowAtEachNewtonStepsStateSavesConjugateGradients) {
   settings["max_newton_iterations"] = 40;
   settings["max_cg_iterations"] = 200;
   const json doc = device_posed_piece(settings);
-  const Vec3 touch = piece_touch();
-  const Eigen::Quaterniond q = piece_pointing();
-  std::vector<Vec3> poses;
-  for (int k = 1; k <= 10; ++k) poses.push_back(touch - Vec3(0, 0.4e-3 * k / 10, 0));
-  for (int k = 1; k <= 15; ++k) poses.push_back(poses[9] + Vec3(0, 0, 0.6e-3 * k / 15));
   std::vector<Vec3> forces[2];
   long long cg[2] = {0, 0}, newton[2] = {0, 0};
   for (int follow = 0; follow < 2; ++follow) {
     json d = doc;
     d["implicit"]["window_each_newton_step"] = follow == 1;
-    Simulation sim(parse_scene(d, "piece"));
-    auto& model = dynamic_cast<ImplicitModel&>(sim.model());
-    model.set_tool_pose(0, touch, q);
-    model.step();
-    for (const Vec3& p : poses) {
-      model.set_tool_pose(0, p, q);
-      const StepReport r = model.step();
-      EXPECT_TRUE(r.converged) << "follow " << follow << ", pose " << forces[follow].size();
-      forces[follow].push_back(model.tool_loads().at(0).force_vector_n);
-    }
-    const nlohmann::json info = model.info();
-    cg[follow] = info["cg_iterations"].get<long long>();
-    newton[follow] = info["newton_iterations"].get<long long>();
+    const PressAndSlide run =
+        press_and_slide(d, 0.4e-3, 10, 0.6e-3, 15, follow ? "follow" : "frame's window");
+    forces[follow] = run.forces;
+    cg[follow] = run.info["cg_iterations"].get<long long>();
+    newton[follow] = run.info["newton_iterations"].get<long long>();
   }
   std::printf(
       "[ multigrid ] press and slide: %lld Newton / %lld CG with a window per Newton step, %lld / %lld "
       "with one per frame\n",
       newton[1], cg[1], newton[0], cg[0]);
   ASSERT_GT(forces[0].back().norm(), 1e-3);
-  for (std::size_t k = 0; k < poses.size(); ++k) {
+  for (std::size_t k = 0; k < forces[0].size(); ++k) {
     if (forces[0][k].norm() > 0.1 * forces[0].back().norm()) {
       EXPECT_LT((forces[1][k] - forces[0][k]).norm(), 1e-2 * forces[0][k].norm()) << "pose " << k;
     }

@@ -52,6 +52,7 @@ ImplicitSettings read_implicit_settings(JsonReader& b) {
   s.handoff_surface_residual = b.number("handoff_surface_residual", d.handoff_surface_residual, 1e-14, 1e6);
   s.min_newton_iterations = b.integer("min_newton_iterations", d.min_newton_iterations, 0, 1000);
   s.max_forcing = b.number("max_forcing", d.max_forcing, 1e-6, 0.5);
+  s.carried_forcing = b.number("carried_forcing", d.carried_forcing, 1e-6, 0.5);
   b.finish();
   return s;
 }
@@ -73,6 +74,7 @@ NewtonSettings newton_settings(const ImplicitSettings& s, double spacing_m) {
   n.contact_normal_stiffness_only = true;
   n.min_newton_iterations = s.min_newton_iterations;
   n.max_forcing = s.max_forcing;
+  n.carried_forcing = s.carried_forcing;
   // A frame's Newton step moves no node farther than a node spacing (a carried step: twice the tools' move).
   n.max_step_m = spacing_m;
   return n;

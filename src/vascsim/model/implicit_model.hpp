@@ -51,6 +51,12 @@ struct ImplicitSettings {
   /// s on the benchmark's press and slide (docs/model/24-implicit.md, "The forcing term"), 263 Newton / 889
   /// CG against 406 / 1,161 at 1 mm/s, 148 / 896 against 180 / 823 at 5 mm/s.
   double max_forcing = 0.03;
+  /// With the tools on the wall's surface: the forcing term of a frame's carried first step (and of each
+  /// carried step towards a far pose), NewtonSettings::carried_forcing. The carried step's own linearisation
+  /// of the contact leaves it 0.05-0.3 from the equilibrium, so a tighter solve is wasted: in lockstep frames
+  /// of 1/60 s on the benchmark's press and slide, 0.1 took 1,741 / 797 CG iterations at 1 / 5 mm/s against
+  /// 2,391 / 881 with 0.01 (docs/model/24-implicit.md, "The forcing term").
+  double carried_forcing = 0.1;
   /// Realtime sessions: a frame stops at this wall time, partially converged, and the next one goes on from
   /// there (0: no budget), s.
   double time_budget_s = 0.03;

@@ -355,7 +355,7 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
     // Forcing term: Eisenstat-Walker-style sqrt(res), but no tighter than the step needs to reach the
     // tolerance (the last Newton step would otherwise overshoot it by orders of magnitude).
     const double eta =
-        moving ? 1e-2
+        moving ? settings_.carried_forcing
                : std::clamp(std::max(std::sqrt(out.residual), 0.3 * settings_.rel_tolerance / out.residual),
                             1e-6, settings_.max_forcing);
     double reduction = 1.0;

@@ -54,6 +54,11 @@ struct NewtonSettings {
   /// The largest forcing term: a Newton step's CG reduces its residual at least this much (Eisenstat-Walker
   /// sqrt(residual) below it, and no tighter than the step needs to reach the tolerance).
   double max_forcing = 0.1;
+  /// The forcing term of a solve's carried first step (embedded contact, `carry_contacts`): its CG stops when
+  /// it has reduced the step's residual this much. The carried contact set is itself a linearisation of the
+  /// tools' move, which leaves the step a relative residual of 0.05-0.3 whatever CG does, so solving the
+  /// step's system far below that buys nothing the next step keeps.
+  double carried_forcing = 0.1;
   /// Tools on the wall's surface: the longest a Newton step may move a node, m (0: no limit); a longer step
   /// is scaled down to it, and a carried step to twice the tools' move if that is longer. Where compression
   /// makes the Newton matrix indefinite, CG's iterates can grow without bound before it meets the negative

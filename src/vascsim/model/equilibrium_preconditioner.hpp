@@ -35,8 +35,9 @@ class EquilibriumPreconditioner {
   /// each conjugate-gradient solve (null after it); the others ignore it.
   virtual void set_operator(const NewtonOperator* /*op*/) const {}
   /// A preconditioner with a part formed at one state (the wall multigrid's exact window round the tools)
-  /// forms it again at x. The solver calls it before each Newton step's conjugate gradients whose state a
-  /// step moved since the solve began (the caller prepared the first); the others ignore it.
+  /// forms it again at x where that part no longer fits (the multigrid: other contact samples). The solver
+  /// calls it before each Newton step's conjugate gradients whose state a step moved since the solve began
+  /// (the caller prepared the first); the others ignore it.
   virtual void follow_state(const Vec3Array& /*x*/) {}
   /// True when apply() already respects the contacts' constraints (the solver then adds no contact
   /// correction).

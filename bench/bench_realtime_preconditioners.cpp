@@ -51,6 +51,13 @@ struct RealtimeCase {
   double pairs = 0.0;
 };
 
+// x with every node moved by a micrometre along x: another state for the same costs.
+Vec3Array shifted(const Vec3Array& x) {
+  Vec3Array y = x;
+  for (Vec3& p : y) p.x() += 1e-6;
+  return y;
+}
+
 const RealtimeCase& realtime_case() {
   static std::unique_ptr<RealtimeCase> c;
   if (c) return *c;
@@ -150,17 +157,30 @@ void BM_RealtimePreconditionerRefresh(benchmark::State& state) {
   set_counters(state, c);
 }
 
-// The fixed costs of a frame, besides its CG iterations: the internal forces of a residual (double precision,
-// the stabiliser's 2-hop matrix included, no energy) and the float operator's linearisation at a new state
-// (every node's tangent).
+// The fixed costs of a frame, besides its CG iterations: the internal forces of a residual (variant 0: double
+// precision, the stabiliser's 2-hop matrix included, no energy; variant 1: in float, SinglePrecisionHessian's
+// linearisation at the state and its forces, as a real-time residual takes them) and the float operator's
+// linearisation at a new state (every node's tangent). The float runs alternate between two states: a
+// linearisation at the state of the last one is skipped.
 void BM_RealtimeForces(benchmark::State& state) {
   const RealtimeCase& c = realtime_case();
   omp_set_num_threads(static_cast<int>(state.range(1)));
   const PointPrimitiveEnergy& energy = c.sim->problem().energy();
   Vec3Array f;
-  for (auto _ : state) {
-    energy.forces(c.x, f, false);
-    benchmark::DoNotOptimize(f.data());
+  if (state.range(0) == 0) {
+    for (auto _ : state) {
+      energy.forces(c.x, f, false);
+      benchmark::DoNotOptimize(f.data());
+    }
+  } else {
+    SinglePrecisionHessian single(energy);
+    const Vec3Array x[2] = {c.x, shifted(c.x)};
+    int k = 0;
+    for (auto _ : state) {
+      single.linearize(x[k ^= 1]);
+      single.forces(f);
+      benchmark::DoNotOptimize(f.data());
+    }
   }
   set_counters(state, c);
 }
@@ -169,7 +189,9 @@ void BM_RealtimeLinearize(benchmark::State& state) {
   const RealtimeCase& c = realtime_case();
   omp_set_num_threads(static_cast<int>(state.range(1)));
   SinglePrecisionHessian single(c.sim->problem().energy());
-  for (auto _ : state) single.linearize(c.x);
+  const Vec3Array x[2] = {c.x, shifted(c.x)};
+  int k = 0;
+  for (auto _ : state) single.linearize(x[k ^= 1]);
   set_counters(state, c);
 }
 
@@ -190,7 +212,7 @@ void variants(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_RealtimeHessianProduct)->Apply(variants);
 BENCHMARK(BM_RealtimePreconditionerApply)->Apply(variants);
 BENCHMARK(BM_RealtimePreconditionerRefresh)->Apply(variants)->Iterations(3);
-BENCHMARK(BM_RealtimeForces)->Apply(threads_only);
+BENCHMARK(BM_RealtimeForces)->Apply(variants);
 BENCHMARK(BM_RealtimeLinearize)->Apply(threads_only);
 
 }  // namespace

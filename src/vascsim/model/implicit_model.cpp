@@ -36,6 +36,7 @@ ImplicitSettings read_implicit_settings(JsonReader& b) {
   s.handoff_max_residual = b.number("handoff_max_residual", d.handoff_max_residual, 1e-14, 1e6);
   s.preconditioner = b.string("preconditioner", d.preconditioner, {"auto", "multigrid", "meshless", "tet"});
   s.single_precision = b.boolean("single_precision", d.single_precision);
+  s.single_precision_forces = b.boolean("single_precision_forces", d.single_precision_forces);
   s.level_refresh_frames = b.integer("level_refresh_frames", d.level_refresh_frames, 1, 1000000);
   s.window_each_newton_step = b.boolean("window_each_newton_step", d.window_each_newton_step);
   s.line_search = b.boolean("line_search", d.line_search);
@@ -75,6 +76,9 @@ NewtonSettings newton_settings(const ImplicitSettings& s, double spacing_m) {
   n.min_newton_iterations = s.min_newton_iterations;
   n.max_forcing = s.max_forcing;
   n.carried_forcing = s.carried_forcing;
+  // The residuals' forces in float with the products (a third of the double forces' cost, about 1e-6 of the
+  // forces: docs/model/24-implicit.md), where the tolerance leaves that a hundred times over.
+  n.single_precision_forces = s.single_precision && s.single_precision_forces && s.rel_tolerance >= 1e-4;
   // A frame's Newton step moves no node farther than a node spacing (a carried step: twice the tools' move).
   n.max_step_m = spacing_m;
   return n;
@@ -742,6 +746,7 @@ nlohmann::json ImplicitModel::info() const {
                       {"frames_penalty_and_wall_disagreed", disagreements_},
                       {"force_evaluations", newton_.force_evaluations()},
                       {"force_evaluations_reused", newton_.force_evaluations_reused()},
+                      {"forces_precision", newton_.float_forces() ? "float" : "double"},
                       {"handoff_max_residual", settings_.handoff_max_residual},
                       {"time_budget_s", settings_.time_budget_s},
                       {"duration_s", settings_.duration_s},

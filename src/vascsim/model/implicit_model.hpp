@@ -97,6 +97,10 @@ struct ImplicitSettings {
   /// With the multigrid: conjugate gradients and the smoothing on the Hessian product in single precision
   /// (single_precision_hessian.hpp), where the energy allows it.
   bool single_precision = true;
+  /// With single_precision and a tolerance of 1e-4 or looser: the residuals' internal forces in float too,
+  /// from the linearisation the products use (NewtonSettings::single_precision_forces). Off only to measure
+  /// what it saves.
+  bool single_precision_forces = true;
   /// With the multigrid, the coarse level is rebuilt every this many frames (in the background in a realtime
   /// session).
   int level_refresh_frames = 6;

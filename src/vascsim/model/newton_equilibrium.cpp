@@ -164,7 +164,12 @@ double NewtonEquilibrium::residual(Vec3Array& x, double s, const Vec3Array& f_ex
     f_int = forces_;
     ++force_evaluations_reused_;
   } else {
-    problem_.energy().forces(x, f_int, false);
+    if (float_forces()) {
+      single_->linearize(x);
+      single_->forces(f_int);
+    } else {
+      problem_.energy().forces(x, f_int, false);
+    }
     ++force_evaluations_;
     if (settings_.reuse_forces) {
       forces_x_ = x;

@@ -74,6 +74,10 @@ struct NewtonSettings {
   /// step's own state (EquilibriumPreconditioner::follow_state: the multigrid's window round the tools, when
   /// a step changed the contact samples in it). Off only to measure what it saves.
   bool follow_state = true;
+  /// With single-precision products (set_single_precision): the residuals' internal forces in float too
+  /// (SinglePrecisionHessian::forces, from the linearisation the step's conjugate gradients then use), about
+  /// 1e-6 of the forces in play; for tolerances of 1e-4 and looser.
+  bool single_precision_forces = false;
 };
 
 /// Backward Euler's inertia term: 1/(2 h^2) sum_i m_i |x_i - a_i|^2 over the free nodes.
@@ -156,6 +160,10 @@ class NewtonEquilibrium {
   long long force_evaluations() const { return force_evaluations_; }
   long long force_evaluations_reused() const { return force_evaluations_reused_; }
   const FreeDofs& free() const { return free_; }
+  const NewtonSettings& settings() const { return settings_; }
+  /// Whether the residuals' internal forces are in float (single-precision products and
+  /// NewtonSettings::single_precision_forces).
+  bool float_forces() const { return single_ != nullptr && settings_.single_precision_forces; }
 
  private:
   double residual(Vec3Array& x, double s, const Vec3Array& f_ext, const InertiaTerm& inertia, Vec3Array& r);

@@ -1,5 +1,6 @@
 #include "vascsim/model/single_precision_hessian.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "vascsim/core/parallel.hpp"
@@ -57,6 +58,8 @@ SinglePrecisionHessian::SinglePrecisionHessian(const PointPrimitiveEnergy& energ
     }
   }
   Fc_.resize(static_cast<std::size_t>(n));
+  P_.resize(static_cast<std::size_t>(n));
+  u_.resize(static_cast<std::size_t>(n));
   Ft_.resize(static_cast<std::size_t>(n));
   S_.resize(static_cast<std::size_t>(n));
   S_plus_.resize(static_cast<std::size_t>(n));
@@ -65,20 +68,60 @@ SinglePrecisionHessian::SinglePrecisionHessian(const PointPrimitiveEnergy& energ
 }
 
 void SinglePrecisionHessian::linearize(const Vec3Array& x) {
+  if (x.size() == x_.size() && std::equal(x.begin(), x.end(), x_.begin(), [](const Vec3& a, const Vec3& b) {
+        return a.x() == b.x() && a.y() == b.y() && a.z() == b.z();
+      }))
+    return;
+  x_ = x;
   const Discretization& disc = energy_.discretization();
+  const Vec3Array& X = disc.rest_positions();
   const Index n = disc.num_nodes();
   const Mat3 I = Mat3::Identity();
   const double lambda = energy_.strain_lambda(), mu = energy_.shear_modulus();
 #pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
   for (Index i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
     const Mat3 F = disc.deformation_gradient(i, x);
     const Mat3 E = 0.5 * (F.transpose() * F - I);
     const Mat3 S = lambda * E.trace() * I + 2.0 * mu * E;
-    Fc_[static_cast<std::size_t>(i)] << F.cast<float>(), Eigen::RowVector3f::Zero();
-    Ft_[static_cast<std::size_t>(i)] << F.transpose().cast<float>(), Eigen::RowVector3f::Zero();
-    S_[static_cast<std::size_t>(i)] = S.cast<float>();
-    S_plus_[static_cast<std::size_t>(i)] = positive_part(S).cast<float>();
+    Fc_[k] << F.cast<float>(), Eigen::RowVector3f::Zero();
+    Ft_[k] << F.transpose().cast<float>(), Eigen::RowVector3f::Zero();
+    S_[k] = S.cast<float>();
+    S_plus_[k] = positive_part(S).cast<float>();
+    // (The stress in double, rounded once: its rounding is then relative to the stress, not to F ~ I.)
+    P_[k] << (disc.volumes()[k] * F * S).cast<float>(), Eigen::RowVector3f::Zero();
+    const Vec3 u = x[k] - X[k];
+    u_[k] =
+        Eigen::Vector4f(static_cast<float>(u.x()), static_cast<float>(u.y()), static_cast<float>(u.z()), 0.f);
   }
+}
+
+Eigen::Vector4f SinglePrecisionHessian::gather(Index k, const std::vector<Mat43f>& Q,
+                                               const std::vector<Eigen::Vector4f>* v) const {
+  const auto kk = static_cast<std::size_t>(k);
+  const Eigen::Vector3f& dk = self_d_[kk];
+  Eigen::Vector4f f = Q[kk].col(0) * dk.x() + Q[kk].col(1) * dk.y() + Q[kk].col(2) * dk.z();
+  for (Index e = trow_start_[kk], end = trow_start_[kk + 1]; e < end; ++e) {
+    const Pair& p = transposed_[static_cast<std::size_t>(e)];
+    const Mat43f& Qi = Q[static_cast<std::size_t>(p.node)];
+    f += Qi.col(0) * p.d[0] + Qi.col(1) * p.d[1] + Qi.col(2) * p.d[2];
+  }
+  if (v) {
+    const Eigen::Vector4f vk = (*v)[kk];
+    for (Index e = stab_start_[kk], end = stab_start_[kk + 1]; e < end; ++e)
+      f += stab_value_[static_cast<std::size_t>(e)] *
+           ((*v)[static_cast<std::size_t>(stab_col_[static_cast<std::size_t>(e)])] - vk);
+  }
+  return f;
+}
+
+void SinglePrecisionHessian::forces(Vec3Array& f) const {
+  // f = -(sum of V P_i d_ik over the pairs + K u): the product's second pass with the stress in place of its
+  // variation (docs/model/08-forces.md).
+  const Index n = static_cast<Index>(P_.size());
+  f.resize(static_cast<std::size_t>(n));
+#pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
+  for (Index k = 0; k < n; ++k) f[static_cast<std::size_t>(k)] = -gather(k, P_, &u_).head<3>().cast<double>();
 }
 
 void SinglePrecisionHessian::product(const Vec3Array& v, Vec3Array& out, ProductForm form) const {
@@ -135,25 +178,8 @@ void SinglePrecisionHessian::product(const Vec3Array& v, Vec3Array& out, Product
     }
     // Pass 2: out_k = dP_k d_kk + sum_{i: k in N_i} dP_i d_ik, plus the stabiliser sum_c K_kc (v_c - v_k).
 #pragma omp for schedule(static)
-    for (Index k = 0; k < n; ++k) {
-      const Eigen::Matrix<float, 4, 3>& Qk = Q_[static_cast<std::size_t>(k)];
-      const Eigen::Vector3f& dk = self_d_[static_cast<std::size_t>(k)];
-      Eigen::Vector4f f = Qk.col(0) * dk.x() + Qk.col(1) * dk.y() + Qk.col(2) * dk.z();
-      for (Index e = trow_start_[static_cast<std::size_t>(k)],
-                 end = trow_start_[static_cast<std::size_t>(k) + 1];
-           e < end; ++e) {
-        const Pair& p = transposed_[static_cast<std::size_t>(e)];
-        const Eigen::Matrix<float, 4, 3>& Qi = Q_[static_cast<std::size_t>(p.node)];
-        f += Qi.col(0) * p.d[0] + Qi.col(1) * p.d[1] + Qi.col(2) * p.d[2];
-      }
-      const Eigen::Vector4f vk = v_[static_cast<std::size_t>(k)];
-      for (Index e = stab_start_[static_cast<std::size_t>(k)],
-                 end = stabilised ? stab_start_[static_cast<std::size_t>(k) + 1] : e;
-           e < end; ++e)
-        f += stab_value_[static_cast<std::size_t>(e)] *
-             (v_[static_cast<std::size_t>(stab_col_[static_cast<std::size_t>(e)])] - vk);
-      out[static_cast<std::size_t>(k)] = f.head<3>().cast<double>();
-    }
+    for (Index k = 0; k < n; ++k)
+      out[static_cast<std::size_t>(k)] = gather(k, Q_, stabilised ? &v_ : nullptr).head<3>().cast<double>();
   }
 }
 

@@ -42,8 +42,17 @@ class SinglePrecisionHessian {
   /// !supports(energy).
   explicit SinglePrecisionHessian(const PointPrimitiveEnergy& energy);
 
-  /// F_i and the SVK stress S_i at configuration x (m), for the products that follow.
+  /// F_i and the SVK stress S_i at configuration x (m), for the products and the forces that follow. A call
+  /// at the very state of the last one (bit for bit) does nothing: a Newton step's residual and its conjugate
+  /// gradients linearise at the same state.
   void linearize(const Vec3Array& x);
+  /// The internal forces f = -dU/dx (N, every node) at the last linearize's configuration, in float: the
+  /// products' second pass with the stress V_i F_i S_i (computed in double, rounded once) and the
+  /// stabiliser's matrix on the displacement x - X. Relative accuracy about 1e-6 of the forces in play
+  /// (float's rounding of each term, not of the positions), for residuals judged at a tolerance of 1e-4 or
+  /// looser: the real-time frames' (docs/model/24-implicit.md, "Forces in single precision"). A third of the
+  /// double forces' cost.
+  void forces(Vec3Array& f) const;
   /// out = K(x) v (N for v in m; K the energy's Hessian at the last linearize, stabiliser included), every
   /// node. ProductForm::Positive: the geometric part dF S uses S with its negative eigenvalues set to zero:
   /// K is then positive semi-definite at any state (the material part F dS always is; dF S is where
@@ -56,6 +65,11 @@ class SinglePrecisionHessian {
     Index node;
     float d[3];
   };
+  using Mat43f = Eigen::Matrix<float, 4, 3>;
+  /// Pass 2 at node k: Q_k d_kk + sum_{i: k in N_i} Q_i d_ik, plus the stabiliser's sum_c K_kc (v_c - v_k)
+  /// unless v is null.
+  Eigen::Vector4f gather(Index k, const std::vector<Mat43f>& Q, const std::vector<Eigen::Vector4f>* v) const;
+
   const PointPrimitiveEnergy& energy_;
   float lambda_ = 0.f, mu_ = 0.f;
   std::vector<Index> row_start_, trow_start_;
@@ -67,9 +81,12 @@ class SinglePrecisionHessian {
   std::vector<float> stab_value_;
   // Per node: F_i and S_i (linearize), and the product's intermediate dP_i.
   std::vector<Eigen::Matrix3f> S_, S_plus_;
-  std::vector<Eigen::Matrix<float, 4, 3>> Fc_, Ft_;  // F and F^T padded to four rows, for the product
+  std::vector<Mat43f> Fc_, Ft_;     // F and F^T padded to four rows, for the product
+  std::vector<Mat43f> P_;           // V F S padded, for the forces
+  std::vector<Eigen::Vector4f> u_;  // x - X padded, for the stabiliser's forces
+  Vec3Array x_;                     // the state of the last linearize
   // (padded to four rows: the product's updates are 4-wide).
-  mutable std::vector<Eigen::Matrix<float, 4, 3>> Q_;
+  mutable std::vector<Mat43f> Q_;
   mutable std::vector<Eigen::Vector4f> v_;
 };
 

@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -17,5 +18,13 @@ using Index = std::int32_t;
 
 /// Node positions, displacements, velocities or forces, one 3-vector per node.
 using Vec3Array = std::vector<Vec3>;
+
+/// Whether two node arrays hold the very same state, compared value for value (what a cache of work done at a
+/// state checks before reusing it).
+inline bool same_state(const Vec3Array& a, const Vec3Array& b) {
+  return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](const Vec3& p, const Vec3& q) {
+           return p.x() == q.x() && p.y() == q.y() && p.z() == q.z();
+         });
+}
 
 }  // namespace vascsim

@@ -76,8 +76,9 @@ NewtonSettings newton_settings(const ImplicitSettings& s, double spacing_m) {
   n.min_newton_iterations = s.min_newton_iterations;
   n.max_forcing = s.max_forcing;
   n.carried_forcing = s.carried_forcing;
-  // The residuals' forces in float with the products (a third of the double forces' cost, about 1e-6 of the
-  // forces: docs/model/24-implicit.md), where the tolerance leaves that a hundred times over.
+  // The residuals' forces in float from the products' linearisation (one linearisation a Newton step instead
+  // of two; about 1e-6 of the forces: docs/model/24-implicit.md), where the tolerance leaves that a hundred
+  // times over.
   n.single_precision_forces = s.single_precision && s.single_precision_forces && s.rel_tolerance >= 1e-4;
   // A frame's Newton step moves no node farther than a node spacing (a carried step: twice the tools' move).
   n.max_step_m = spacing_m;

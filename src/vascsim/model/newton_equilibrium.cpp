@@ -157,10 +157,7 @@ double NewtonEquilibrium::residual(Vec3Array& x, double s, const Vec3Array& f_ex
   // applied loads and the inertial forces.
   const Index n = problem_.discretization().num_nodes();
   Vec3Array f_int;
-  if (settings_.reuse_forces && forces_x_.size() == x.size() &&
-      std::equal(x.begin(), x.end(), forces_x_.begin(), [](const Vec3& a, const Vec3& b) {
-        return a.x() == b.x() && a.y() == b.y() && a.z() == b.z();
-      })) {
+  if (settings_.reuse_forces && same_state(x, forces_x_)) {
     f_int = forces_;
     ++force_evaluations_reused_;
   } else {

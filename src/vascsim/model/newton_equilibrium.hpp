@@ -160,7 +160,6 @@ class NewtonEquilibrium {
   long long force_evaluations() const { return force_evaluations_; }
   long long force_evaluations_reused() const { return force_evaluations_reused_; }
   const FreeDofs& free() const { return free_; }
-  const NewtonSettings& settings() const { return settings_; }
   /// Whether the residuals' internal forces are in float (single-precision products and
   /// NewtonSettings::single_precision_forces).
   bool float_forces() const { return single_ != nullptr && settings_.single_precision_forces; }

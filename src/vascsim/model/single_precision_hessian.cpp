@@ -1,6 +1,5 @@
 #include "vascsim/model/single_precision_hessian.hpp"
 
-#include <algorithm>
 #include <stdexcept>
 
 #include "vascsim/core/parallel.hpp"
@@ -68,10 +67,7 @@ SinglePrecisionHessian::SinglePrecisionHessian(const PointPrimitiveEnergy& energ
 }
 
 void SinglePrecisionHessian::linearize(const Vec3Array& x) {
-  if (x.size() == x_.size() && std::equal(x.begin(), x.end(), x_.begin(), [](const Vec3& a, const Vec3& b) {
-        return a.x() == b.x() && a.y() == b.y() && a.z() == b.z();
-      }))
-    return;
+  if (same_state(x, x_)) return;
   x_ = x;
   const Discretization& disc = energy_.discretization();
   const Vec3Array& X = disc.rest_positions();

@@ -50,8 +50,8 @@ class SinglePrecisionHessian {
   /// products' second pass with the stress V_i F_i S_i (computed in double, rounded once) and the
   /// stabiliser's matrix on the displacement x - X. Relative accuracy about 1e-6 of the forces in play
   /// (float's rounding of each term, not of the positions), for residuals judged at a tolerance of 1e-4 or
-  /// looser: the real-time frames' (docs/model/24-implicit.md, "Forces in single precision"). A third of the
-  /// double forces' cost.
+  /// looser: the real-time frames' (docs/model/24-implicit.md, "Forces in single precision"). About the
+  /// double forces' cost; what it saves is the linearisation the products then share.
   void forces(Vec3Array& f) const;
   /// out = K(x) v (N for v in m; K the energy's Hessian at the last linearize, stabiliser included), every
   /// node. ProductForm::Positive: the geometric part dF S uses S with its negative eigenvalues set to zero:

@@ -304,3 +304,35 @@ TEST(ImplicitModel, TheForcingCapChangesTheWorkNotTheEquilibrium) {
   EXPECT_NE(loose["cg_iterations"].get<int>(), tight["cg_iterations"].get<int>()) << "the cap must be read";
   EXPECT_LT((tight_force - loose_force).norm(), 1e-4 * loose_force.norm());
 }
+
+// The cap that follows the residual far from the equilibrium (implicit.far_forcing) is for frames with a time
+// budget only (WallMultigrid.TheFarForcingCapIsForSolvesWithADeadline has the work it changes): the scene's
+// value reaches the Newton solver, an offline press does not change a single CG iteration by it, and a
+// realtime session whose budget of 10 s no frame of this small press reaches holds the press at the same
+// equilibrium, to round-off (1e-4, as above).
+TEST(ImplicitModel, TheFarForcingCapIsForBudgetedFramesAndKeepsTheEquilibrium) {
+  const int blas = blas_threads();  // set_realtime gives the BLAS one thread
+  auto press = [](double far, bool realtime) {
+    json doc = implicit_press_scene("implicit");
+    doc["implicit"]["far_forcing"] = far;
+    doc["implicit"]["time_budget_s"] = 10.0;
+    Simulation sim(parse_scene(doc, "catheter-block"));
+    dynamic_cast<ImplicitModel&>(sim.model()).set_realtime(realtime);
+    const StepRecord last = test::run_to_end(sim);
+    return std::make_pair(last.obstacles.at(0).force_vector_n, sim.model().info());
+  };
+  const auto [offline_far_force, offline_far] = press(0.25, false);
+  const auto [offline_near_force, offline_near] = press(0.0, false);
+  EXPECT_EQ(offline_far["far_forcing"].get<double>(), 0.25)
+      << "the scene's far_forcing must reach the solver";
+  EXPECT_EQ(offline_far["cg_iterations"].get<int>(), offline_near["cg_iterations"].get<int>())
+      << "an offline frame must not use the far cap";
+  EXPECT_EQ(offline_far_force, offline_near_force);
+  const auto [far_force, far] = press(0.25, true);
+  const auto [near_force, near] = press(0.0, true);
+  std::printf("[ implicit ] realtime, far forcing 0.25: %d Newton / %d CG, %.6g N; off: %d / %d, %.6g N\n",
+              far["newton_iterations"].get<int>(), far["cg_iterations"].get<int>(), far_force.norm(),
+              near["newton_iterations"].get<int>(), near["cg_iterations"].get<int>(), near_force.norm());
+  EXPECT_LT((near_force - far_force).norm(), 1e-4 * far_force.norm());
+  set_blas_threads(blas);
+}

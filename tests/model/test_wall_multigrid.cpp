@@ -7,6 +7,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <chrono>
 #include <cmath>
 #include <random>
 
@@ -443,6 +444,23 @@ TEST(WallMultigrid, SmoothingWithoutTheStabiliserKeepsTheVCycleAsStrong) {
   EXPECT_LT(std::sqrt(diff / norm), 1e-4);
 }
 
+// A load that bends the piece by several wall thicknesses in one backward-Euler step from rest: 1e-4 N on
+// every free node, towards the axis.
+Vec3Array bending_load(const MultigridRig& rig) {
+  Vec3Array f_ext(rig.x.size(), Vec3::Zero());
+  for (Index i : rig.free.nodes) f_ext[i] = Vec3(0.0, -1e-4, 0.0);
+  return f_ext;
+}
+
+// Newton solves to 1e-9 of the load, with room for the steps that takes.
+NewtonSettings solved_to_round_off(int max_newton_iterations) {
+  NewtonSettings ns;
+  ns.rel_tolerance = 1e-9;
+  ns.max_newton_iterations = max_newton_iterations;
+  ns.max_cg_iterations = 500;
+  return ns;
+}
+
 // A Newton step taken whole that raises the force residual is searched from the state before it
 // (NewtonSettings::deferred_line_search). Under a load that bends the piece by several wall thicknesses in
 // one backward-Euler step from rest, a whole step overshoots: the deferred search rejects it and reaches the
@@ -451,12 +469,8 @@ TEST(WallMultigrid, SmoothingWithoutTheStabiliserKeepsTheVCycleAsStrong) {
 TEST(WallMultigrid, ADeferredLineSearchSearchesTheStepsThatRaiseTheResidual) {
   MultigridRig rig;
   ContactActiveSet none(rig.P, rig.free, false);
-  NewtonSettings ns;
-  ns.rel_tolerance = 1e-9;
-  ns.max_newton_iterations = 200;
-  ns.max_cg_iterations = 500;
-  Vec3Array f_ext(rig.x.size(), Vec3::Zero());
-  for (Index i : rig.free.nodes) f_ext[i] = Vec3(0.0, -1e-4, 0.0);  // N per node, towards the axis
+  NewtonSettings ns = solved_to_round_off(200);
+  const Vec3Array f_ext = bending_load(rig);
   const Vec3Array rest = rig.P.discretization().rest_positions();
   Vec3Array x[2];
   NewtonResult result[2];
@@ -494,13 +508,9 @@ TEST(WallMultigrid, ANewtonStepIsLimitedToTheLongestStepAllowed) {
   ContactSurface no_samples;
   no_samples.row_start.push_back(0);
   EmbeddedContact surface(no_samples, rig.P.discretization().rest_positions(), 0);
-  NewtonSettings ns;
-  ns.rel_tolerance = 1e-9;
-  ns.max_newton_iterations = 400;
-  ns.max_cg_iterations = 500;
+  NewtonSettings ns = solved_to_round_off(400);
   ns.deferred_line_search = true;
-  Vec3Array f_ext(rig.x.size(), Vec3::Zero());
-  for (Index i : rig.free.nodes) f_ext[i] = Vec3(0.0, -1e-4, 0.0);  // N per node, towards the axis
+  const Vec3Array f_ext = bending_load(rig);
   const Vec3Array& X = rig.P.discretization().rest_positions();
   const Vec3Array rest = X;
   auto longest_move = [&](const Vec3Array& x) {
@@ -536,6 +546,50 @@ TEST(WallMultigrid, ANewtonStepIsLimitedToTheLongestStepAllowed) {
       largest * 1e3, result[0].iterations, result[1].iterations, result[1].limited_steps);
   EXPECT_EQ(result[0].limited_steps, 0);
   EXPECT_GT(result[1].limited_steps, 0);
+  EXPECT_LT(diff, 1e-6 * largest);
+}
+
+// The forcing cap that follows the residual (NewtonSettings::far_forcing) applies to solves with a deadline
+// only. Under the load above (a first step that bends the piece by about 0.7 mm, far from the equilibrium),
+// solved to 1e-9 of the load: without a deadline a far cap of 0.3 changes nothing, bit for bit; with a
+// deadline never reached it changes the work (the early steps stop their CG sooner) and reaches the same
+// equilibrium, to 1e-6 of the largest displacement (both to 1e-9 of the load).
+TEST(WallMultigrid, TheFarForcingCapIsForSolvesWithADeadline) {
+  MultigridRig rig;
+  ContactActiveSet none(rig.P, rig.free, false);
+  NewtonSettings ns = solved_to_round_off(200);
+  ns.max_forcing = 0.03;
+  const Vec3Array f_ext = bending_load(rig);
+  const Vec3Array& X = rig.P.discretization().rest_positions();
+  const Vec3Array rest = X;
+  const auto later = SteadyClock::now() + std::chrono::hours(1);
+  // [0] no far cap, [1] the far cap without a deadline, [2] the far cap with a deadline.
+  Vec3Array x[3];
+  NewtonResult result[3];
+  for (int run = 0; run < 3; ++run) {
+    ns.far_forcing = run == 0 ? 0.0 : 0.3;
+    NewtonEquilibrium newton(rig.P, rig.free, none, ns);
+    newton.set_preconditioner(rig.mg.get());
+    x[run] = X;
+    result[run] = newton.solve(x[run], 1.0, f_ext, InertiaTerm{rig.inv_h2, &rest},
+                               run == 2 ? later : SteadyClock::time_point::max());
+    EXPECT_TRUE(result[run].converged) << "run " << run;
+  }
+  double largest = 0.0, diff = 0.0, without_deadline = 0.0;
+  for (std::size_t i = 0; i < X.size(); ++i) {
+    largest = std::max(largest, (x[0][i] - X[i]).norm());
+    diff = std::max(diff, (x[2][i] - x[0][i]).norm());
+    without_deadline = std::max(without_deadline, (x[1][i] - x[0][i]).norm());
+  }
+  std::printf(
+      "[ multigrid ] deflection %.4g mm: %d Newton / %d CG at max_forcing, %d / %d with the far cap and a "
+      "deadline\n",
+      largest * 1e3, result[0].iterations, result[0].cg_iterations, result[2].iterations,
+      result[2].cg_iterations);
+  EXPECT_EQ(result[1].cg_iterations, result[0].cg_iterations) << "no deadline, no far cap";
+  EXPECT_EQ(without_deadline, 0.0);
+  EXPECT_NE(result[2].cg_iterations, result[0].cg_iterations) << "the far cap must be used under a deadline";
+  EXPECT_GT(largest, 0.5e-3);
   EXPECT_LT(diff, 1e-6 * largest);
 }
 

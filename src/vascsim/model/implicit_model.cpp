@@ -53,6 +53,7 @@ ImplicitSettings read_implicit_settings(JsonReader& b) {
   s.handoff_surface_residual = b.number("handoff_surface_residual", d.handoff_surface_residual, 1e-14, 1e6);
   s.min_newton_iterations = b.integer("min_newton_iterations", d.min_newton_iterations, 0, 1000);
   s.max_forcing = b.number("max_forcing", d.max_forcing, 1e-6, 0.5);
+  s.far_forcing = b.number("far_forcing", d.far_forcing, 0.0, 0.5);
   s.carried_forcing = b.number("carried_forcing", d.carried_forcing, 1e-6, 0.5);
   b.finish();
   return s;
@@ -75,6 +76,7 @@ NewtonSettings newton_settings(const ImplicitSettings& s, double spacing_m) {
   n.contact_normal_stiffness_only = true;
   n.min_newton_iterations = s.min_newton_iterations;
   n.max_forcing = s.max_forcing;
+  n.far_forcing = s.far_forcing;
   n.carried_forcing = s.carried_forcing;
   // The residuals' forces in float from the products' linearisation (one linearisation a Newton step instead
   // of two; about 1e-6 of the forces: docs/model/24-implicit.md), where the tolerance leaves that a hundred
@@ -749,6 +751,8 @@ nlohmann::json ImplicitModel::info() const {
                       {"force_evaluations_reused", newton_.force_evaluations_reused()},
                       {"forces_precision", newton_.float_forces() ? "float" : "double"},
                       {"handoff_max_residual", settings_.handoff_max_residual},
+                      {"max_forcing", newton_.settings().max_forcing},
+                      {"far_forcing", newton_.settings().far_forcing},
                       {"time_budget_s", settings_.time_budget_s},
                       {"duration_s", settings_.duration_s},
                       {"ramp_time_s", settings_.ramp_time_s},

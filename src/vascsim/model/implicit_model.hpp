@@ -51,6 +51,12 @@ struct ImplicitSettings {
   /// s on the benchmark's press and slide (docs/model/24-implicit.md, "The forcing term"), 263 Newton / 889
   /// CG against 406 / 1,161 at 1 mm/s, 148 / 896 against 180 / 823 at 5 mm/s.
   double max_forcing = 0.03;
+  /// In realtime frames with a time budget, far from the equilibrium the cap follows the residual: a Newton
+  /// step at relative residual r may stop its CG at min(10 r, far_forcing) where that exceeds max_forcing
+  /// (NewtonSettings::far_forcing; 0: max_forcing throughout; frames without a budget always use
+  /// max_forcing). Under a hand at 5 mm/s on the real-time vein, realtime frames' felt force 2.5-5.1 % off
+  /// (median tick) against 1.8-100 % with max_forcing alone (docs/performance.md section 12).
+  double far_forcing = 0.3;
   /// With the tools on the wall's surface: the forcing term of a frame's carried first step (and of each
   /// carried step towards a far pose), NewtonSettings::carried_forcing. The carried step's own linearisation
   /// of the contact leaves it 0.05-0.3 from the equilibrium, so a tighter solve is wasted: in lockstep frames

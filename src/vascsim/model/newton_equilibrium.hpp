@@ -54,6 +54,12 @@ struct NewtonSettings {
   /// The largest forcing term: a Newton step's CG reduces its residual at least this much (Eisenstat-Walker
   /// sqrt(residual) below it, and no tighter than the step needs to reach the tolerance).
   double max_forcing = 0.1;
+  /// In a solve with a deadline, far from the equilibrium the cap loosens with the residual: a step at
+  /// relative residual r may stop its CG at a cap of min(10 r, far_forcing) where that exceeds max_forcing
+  /// (0: the cap is max_forcing throughout; a solve without a deadline always uses max_forcing). Where a
+  /// frame ends at its budget and its step's own linearisation (the contact set, above all) leaves it far
+  /// off, CG iterations past that reduction are lost to the next step's relinearisation.
+  double far_forcing = 0.0;
   /// The forcing term of a solve's carried first step (embedded contact, `carry_contacts`): its CG stops when
   /// it has reduced the step's residual this much. The carried contact set is itself a linearisation of the
   /// tools' move, which leaves the step a relative residual of 0.05-0.3 whatever CG does, so solving the
@@ -107,6 +113,7 @@ class NewtonEquilibrium {
  public:
   NewtonEquilibrium(const Problem& problem, const FreeDofs& free, ContactActiveSet& contacts,
                     const NewtonSettings& settings);
+  const NewtonSettings& settings() const { return settings_; }
   /// Residuals below this force (N) count as zero load: an unloaded frame is converged, not "infinitely" far
   /// from equilibrium. Default: 1e-8 of E Delta^2 (the force that strains one neighbourhood by 100 % is E
   /// Delta^2), or 10 / rel_tolerance times the rounding of the rest state's forces if that is larger.

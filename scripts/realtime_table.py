@@ -32,12 +32,12 @@ END = "<!-- realtime-table: end -->"
 
 # The variants of realtime_benchmark.py as a reader knows them.
 LABELS = {
-    "multigrid": "default (wall multigrid, tools at the nodes, the tool waits for an unconverged wall)",
-    "multigrid-at-hand": "the tool at the hand every frame (`--set implicit.realtime_tool_step=0`)",
-    "multigrid-embedded": "tools on the wall's surface (`--set contact.surface=embedded`)",
+    "multigrid-embedded": "default (wall multigrid, tools on the wall's surface)",
+    "multigrid": "tools at the nodes (`--set contact.surface=nodes`), the tool waits for an unconverged wall",
+    "multigrid-at-hand": "tools at the nodes, the tool at the hand every frame (`--set implicit.realtime_tool_step=0`)",
     "multigrid-unbudgeted": "wall multigrid without a frame budget",
     "multigrid-bounded": "wall multigrid, tool in bounded steps",
-    "factor": "before (factor of the Hessian, tool in bounded steps)",
+    "factor": "before (factor of the Hessian, tools at the nodes in bounded steps)",
 }
 # The scenes' tables in the README, in this order (by the published file's name); others follow by name.
 ORDER = ["realtime-hand-dorsal-vein-catheter.json", "realtime-aorta-bent-probe.json",

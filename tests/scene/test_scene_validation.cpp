@@ -818,6 +818,21 @@ TEST(SceneWarnings, ANodeRadiusThatMovesTheContactToTheNodesIsNamed) {
       << scene_warning_lines(parse_scene(s, "tube.json"));
 }
 
+// The real-time scenes choose the surface contact; a model without it (a baseline switched in with --set) is
+// told which models have it and how to keep the tools on the nodes.
+TEST(SceneErrors, ASurfaceContactWithAModelWithoutItNamesTheFix) {
+  json s = tiny_tube();
+  s["obstacles"] = json::parse(R"([{ "name": "probe", "radius_m": 1e-3, "centre_m": [0, 2.6e-3, 0.8e-3],
+                                     "motion_m": [0, -1e-4, 0] }])");
+  s["contact"] = {{"surface", "embedded"}};
+  s["model"] = "xpbd";
+  expect_scene_error(s, "contact.surface",
+                     {"supported by the models quasi_static, implicit", "model is 'xpbd'",
+                      "set contact.surface to \"nodes\""});
+  s["contact"]["surface"] = "nodes";
+  EXPECT_FALSE(parse_scene(s, "tube.json").contact.embedded);
+}
+
 TEST(SceneOverride, SetModelExplicitChangesTheModel) {
   const std::string path = write_scene(test_dir() / "scene.json", tiny_box());
   EXPECT_EQ(load_scene(path).model, "quasi_static");

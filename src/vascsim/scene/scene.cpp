@@ -790,7 +790,8 @@ void check_model_capabilities(JsonReader& root, Scene& sc) {
                       fmt::join(model_names_with(&ModelCapabilities::releases_regions), ", "), sc.model));
   if (sc.contact.embedded && !model.capabilities.embedded_contact)
     root.fail("contact.surface",
-              fmt::format("embedded contact is supported by the models {} (model is '{}')",
+              fmt::format("embedded contact is supported by the models {} (model is '{}'); with this "
+                          "model the tools meet the nodes: set contact.surface to \"nodes\"",
                           fmt::join(model_names_with(&ModelCapabilities::embedded_contact), ", "), sc.model));
   if (fits_curvature(sc.discretization.basis) && !model.capabilities.quadratic_basis)
     root.fail(

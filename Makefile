@@ -139,7 +139,7 @@ catheter-aorta: build
 # (88k nodes: its wall's 3 node layers fix the lattice at 0.5 mm, so a coarser node_spacing_m changes nothing;
 # one equilibrium at full load, about 2.5 min here), and the catheter scene at 1.3 s of its scripted press
 # (implicit, lockstep: 130 frames); its picture with the panel comes from a realtime session instead (the
-# simulation and haptic threads as in a window; 330 drawn frames, about 1.2 s of the press here, depending on
+# simulation and haptic threads as in a window; 110 drawn frames, about 1.1 s of the press here, depending on
 # the machine's speed). About 12 minutes in all.
 VIEW_SHOT = $(BUILD_DIR)/vascsim -q view
 IMAGES ?= docs/images
@@ -156,7 +156,7 @@ screenshots: build
 	$(VIEW_SHOT) scenes/realtime/hand-dorsal-vein-catheter.json --play --frames 130 --size 1024x640 --yaw 60 \
 	  --pitch 20 --lao 60 --screenshot $(IMAGES)/view-vein-catheter.png \
 	  --fluoro-screenshot $(IMAGES)/view-vein-catheter-fluoro.png
-	$(VIEW_SHOT) scenes/realtime/hand-dorsal-vein-catheter.json --play --realtime --frames 330 --size 1024x640 \
+	$(VIEW_SHOT) scenes/realtime/hand-dorsal-vein-catheter.json --play --realtime --frames 110 --size 1024x640 \
 	  --yaw 60 --pitch 20 --hud --screenshot $(IMAGES)/view-vein-catheter-hud.png
 
 # docs/performance.md's viewer table: frames per second with the split (simulation, MLS map, normals, upload,

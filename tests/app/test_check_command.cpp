@@ -241,10 +241,11 @@ TEST(RunWarnings, ARealtimeSoakDoesNotJudgeATrajectoryItDoesNotFollow) {
 // The soak's random hand (up to 1.4 mm deep, +-1 mm across, a waypoint every 0.5 s: up to 9 mm/s) on the
 // real-time vein, with its tools on the wall's surface (the scene's contact) and at the nodes: the wall stays
 // whole and the tissue's force reaches the hand. At the nodes with the tool placed at the device's pose every
-// frame (implicit.realtime_tool_step 0) the frames the budget stopped fell behind it, the nodes it entered were
-// projected through the wall (tetrahedra inverted at the first contacts, within the first second), and no frame
-// handed on a force; on the surface, before a frame that starts from a wall thrown off went back to the last one
-// that handed on, every soak ended in a non-finite residual within its first second of contact (exit 3).
+// frame (implicit.realtime_tool_step 0) the frames the budget stopped fell behind it, the nodes it entered
+// were projected through the wall (tetrahedra inverted at the first contacts, within the first second), and
+// no frame handed on a force; on the surface, before a frame that starts from a wall thrown off went back to
+// the last one that handed on, every soak ended in a non-finite residual within its first second of contact
+// (exit 3).
 TEST(RunWarnings, ARealtimeSoakKeepsTheWallWholeUnderARandomHand) {
   const fs::path dir = test_dir();
   for (const char* surface : {"embedded", "nodes"}) {

@@ -20,7 +20,9 @@ scenes/hand-dorsal-vein-catheter.json (30,552 nodes, within 0.3 % of the Calculi
 equilibria, about half an hour on 2 cores); the aorta's 10 mm probe against validation/scenes/aorta-press.json
 (34,040 nodes, -0.1 to +1.8 % of the CalculiX reference to 2 mm; 37 equilibria); the retinal artery's micro-probe
 against scenes/retinal-artery-twice-bent-probe.json (29,216 nodes, no independent reference; 36 equilibria). The
-reference is cached in the output folder (--reference to reuse a file).
+reference is cached in the output folder, and each scene's is bundled in data/benchmarks/reference-<scene>.csv
+with the key it was computed for (the reference scene's SHA-256, the path, the step): a run takes the bundled one
+when the key matches, else computes it (--fresh-reference always does; --bundle-reference stores what it computed).
 
     /usr/bin/python3 scripts/realtime_benchmark.py --vascsim build/vascsim --out out/realtime-benchmark
     /usr/bin/python3 scripts/realtime_benchmark.py --vascsim build/vascsim --scene scenes/realtime/aorta-bent-probe.json \
@@ -29,6 +31,7 @@ reference is cached in the output folder (--reference to reuse a file).
 Run it on an otherwise idle machine: it records the load average and the machine in benchmark.json.
 """
 import argparse
+import hashlib
 import json
 import math
 import os
@@ -210,13 +213,49 @@ def scene_with_haptics(scene_file, trajectory, mode_settings, case):
     return doc
 
 
+def reference_key(case, step):
+    """What a reference depends on besides the code: the reference scene's text and the path's poses."""
+    scene_text = (ROOT / case["reference_scene"]).read_bytes()
+    path_keys = ("surface", "press_dir", "slide_dir", "lift", "depth", "slide", "quaternion", "coupling")
+    return {"reference_scene": case["reference_scene"], "scene_sha256": hashlib.sha256(scene_text).hexdigest(),
+            "path": {k: case[k] for k in path_keys if k in case}, "reference_step_m": step}
+
+
+def bundled_reference_file(scene):
+    """The reference bundled for a real-time scene (data/benchmarks/reference-<scene>.csv)."""
+    return ROOT / "data" / "benchmarks" / f"reference-{pathlib.Path(scene).stem}.csv"
+
+
+def read_reference(file, key=None):
+    """(l_m, force_n) of a reference.csv; None when `key` is given and the file's key line differs from it."""
+    if key is not None:
+        with open(file) as f:
+            lines = [line for line in f if line.startswith("# key: ")]
+        if not lines or json.loads(lines[0][len("# key: "):]) != key:
+            return None
+    rows = read_csv(file)
+    return [r["l_m"] for r in rows], [r["force_n"] for r in rows]
+
+
 def reference(args, case, path, out):
-    """The fine scene's equilibrium force along the path, one pose every --reference-step (lockstep)."""
-    cache = pathlib.Path(args.reference) if args.reference else out / "reference.csv"
-    if cache.exists():
-        rows = read_csv(cache)
-        return [r["l_m"] for r in rows], [r["force_n"] for r in rows]
+    """The fine scene's equilibrium force along the path, one pose every --reference-step (lockstep).
+
+    Taken from --reference when given, else from the output folder's cache, else from the file bundled in
+    data/benchmarks when it was computed for the same reference scene, path and step (its key line), else
+    computed (13-26 minutes). --fresh-reference computes it whatever is there."""
     step = args.reference_step or case["reference_step"]
+    key = reference_key(case, step)
+    if args.reference:
+        return read_reference(pathlib.Path(args.reference))
+    cache = out / "reference.csv"
+    if not args.fresh_reference:
+        if cache.exists() and (found := read_reference(cache, key)) is not None:
+            return found
+        bundled = bundled_reference_file(args.scene)
+        if bundled.exists() and (found := read_reference(bundled, key)) is not None:
+            print(f"reference: {bundled.relative_to(ROOT)} (bundled; --fresh-reference computes it again)", flush=True)
+            shutil.copyfile(bundled, cache)
+            return found
     n = int(math.ceil(path.length / step))
     frame_s = 0.01  # 10 ticks of 1 ms per pose
     knots = [(k * frame_s, min(k * step, path.length)) for k in range(n + 1)]
@@ -238,13 +277,16 @@ def reference(args, case, path, out):
         ls.append(l)
         fs.append(force_on_tool(f))
     with open(cache, "w") as f:
-        f.write(f"# {case['reference_scene']} (quasi_static) along the benchmark path; {seconds:.0f} s\n")
+        f.write(f"# {case['reference_scene']} (quasi_static) along the benchmark path; {seconds:.0f} s on "
+                f"{machine()}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, vascsim {git_commit()}\n")
+        f.write(f"# key: {json.dumps(key, sort_keys=True)}\n")
         f.write("l_m,force_n\n")
         for l, fo in zip(ls, fs):
             f.write(f"{l:.9g},{fo:.9g}\n")
+    if args.bundle_reference:
+        shutil.copyfile(cache, bundled_reference_file(args.scene))
+        print(f"reference: bundled as {bundled_reference_file(args.scene).relative_to(ROOT)}", flush=True)
     return ls, fs
-
-
 
 
 def resolved(case, force):
@@ -348,6 +390,18 @@ def machine():
     return f"{platform.machine()}, {os.cpu_count()} cores ({cpu})"
 
 
+def git_commit():
+    """The checkout's commit (with "+changes" when its work tree differs), or "unknown" outside git."""
+    try:
+        commit = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"], capture_output=True,
+                                text=True, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "--untracked-files=no"],
+                               capture_output=True, text=True, check=True).stdout.strip()
+        return commit + ("+changes" if dirty else "")
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+
+
 def percent(value, compared):
     """A relative error as a percentage, or a dash where nothing was compared."""
     return f"{100 * value:.1f} %" if compared else "—"
@@ -383,6 +437,12 @@ def main():
                     "retinal artery, whose 32 um press a hand at 1 mm/s makes in 37 ms)")
     ap.add_argument("--out", default="out/realtime-benchmark")
     ap.add_argument("--reference", help="a reference.csv of an earlier run (l_m, force_n) instead of computing it")
+    ap.add_argument("--fresh-reference", action="store_true",
+                    help="compute the reference even when the output folder or data/benchmarks holds one for the "
+                         "same scene, path and step (after a change to the model)")
+    ap.add_argument("--bundle-reference", action="store_true",
+                    help="copy a reference this run computes to data/benchmarks/reference-<scene>.csv, the one "
+                         "later runs take")
     ap.add_argument("--reference-step", type=float, default=None,
                     help="path between reference poses, m (default: the scene's in CASES: 0.1 mm for the vein, "
                          "0.15 mm for the aorta, 4 um for the retinal artery)")

@@ -259,52 +259,6 @@ TEST(SinglePrecisionHessian, MatchesTheDoubleProduct) {
   }
 }
 
-// The positive (clamped) form keeps a node's clamp while its stress moves by at most 1e-4 of the shear
-// modulus (single_precision_hessian.hpp). On the vein piece in pure shear (stretched across, compressed
-// along: most stresses indefinite, so the clamp is an eigendecomposition), a product linearised first there
-// and then at the shear scaled by 1.0001 (stresses move by about 1e-5 of the modulus: every clamp kept) is
-// within 1e-5 of the largest entry of a fresh product at that state (the kept clamps are within 1e-4 of the
-// modulus of the fresh ones, and the geometric part is a tenth of the material one at these strains; float
-// round-off is about 1e-6), and then at the shear scaled by 1.05 (stresses move by about 1e-3 of the modulus:
-// every clamp redone) equal to a fresh product to the bit. A clamp kept beyond its bound fails the second,
-// one never kept neither (the first only bounds the reuse).
-TEST(SinglePrecisionHessian, PositiveFormRedoesTheClampWhereTheStressMoved) {
-  Simulation sim(parse_scene(test::vein_piece_catheter(piece_settings()), "piece"));
-  const PointPrimitiveEnergy& E = sim.problem().energy();
-  const Vec3Array& X = sim.discretization().rest_positions();
-  auto shear = [&](double scale) {
-    Vec3Array x(X.size());
-    for (std::size_t i = 0; i < X.size(); ++i)
-      x[i] = X[i] + scale * Vec3(0.04 * X[i].x(), 0.0, -0.04 * X[i].z());
-    return x;
-  };
-  const Vec3Array v = random_field(X.size(), 7, 1e-6);
-  auto largest_difference = [&](const SinglePrecisionHessian& a, const SinglePrecisionHessian& b) {
-    Vec3Array pa, pb;
-    a.product(v, pa, ProductForm::Positive);
-    b.product(v, pb, ProductForm::Positive);
-    double err = 0.0, scale = 0.0;
-    for (std::size_t i = 0; i < pa.size(); ++i) {
-      err = std::max(err, (pa[i] - pb[i]).cwiseAbs().maxCoeff());
-      scale = std::max(scale, pb[i].cwiseAbs().maxCoeff());
-    }
-    return err / scale;
-  };
-  SinglePrecisionHessian followed(E);
-  followed.linearize(shear(1.0));
-  followed.linearize(shear(1.0001));
-  SinglePrecisionHessian fresh(E);
-  fresh.linearize(shear(1.0001));
-  const double kept = largest_difference(followed, fresh);
-  followed.linearize(shear(1.05));
-  SinglePrecisionHessian fresh_again(E);
-  fresh_again.linearize(shear(1.05));
-  const double redone = largest_difference(followed, fresh_again);
-  std::printf("[ single ] positive form: clamps kept %.3g, redone %.3g of the largest entry\n", kept, redone);
-  EXPECT_LT(kept, 1e-5);
-  EXPECT_EQ(redone, 0.0);
-}
-
 // The float forces (the real-time residuals') against the double ones at a smooth and a rough deformed state
 // and near rest: the
 // stress is rounded once, relative to itself, and its ~100 terms per node sum with float's 6e-8 rounding, so

@@ -1,6 +1,5 @@
 #include "vascsim/model/single_precision_hessian.hpp"
 
-#include <limits>
 #include <stdexcept>
 
 #include "vascsim/core/parallel.hpp"
@@ -63,9 +62,6 @@ SinglePrecisionHessian::SinglePrecisionHessian(const PointPrimitiveEnergy& energ
   Ft_.resize(static_cast<std::size_t>(n));
   S_.resize(static_cast<std::size_t>(n));
   S_plus_.resize(static_cast<std::size_t>(n));
-  S_clamped_.assign(static_cast<std::size_t>(n),
-                    Eigen::Matrix3f::Constant(std::numeric_limits<float>::quiet_NaN()));
-  clamp_reuse_pa_ = static_cast<float>(kClampReuse * energy.shear_modulus());
   Q_.resize(static_cast<std::size_t>(n));
   v_.resize(static_cast<std::size_t>(n));
 }
@@ -87,13 +83,7 @@ void SinglePrecisionHessian::linearize(const Vec3Array& x) {
     Fc_[k] << F.cast<float>(), Eigen::RowVector3f::Zero();
     Ft_[k] << F.transpose().cast<float>(), Eigen::RowVector3f::Zero();
     S_[k] = S.cast<float>();
-    // The clamp (a 3 x 3 eigendecomposition where S is indefinite: most nodes of a wall at rest or far from
-    // a tool) again only where S moved by more than clamp_reuse_pa_ since it was last clamped: the clamp is a
-    // projection onto a convex cone, so the kept S+ is within that distance of the fresh one.
-    if (!((S.cast<float>() - S_clamped_[k]).cwiseAbs().maxCoeff() <= clamp_reuse_pa_)) {
-      S_plus_[k] = positive_part(S).cast<float>();
-      S_clamped_[k] = S.cast<float>();
-    }
+    S_plus_[k] = positive_part(S).cast<float>();
     // (The stress in double, rounded once: its rounding is then relative to the stress, not to F ~ I.)
     P_[k] << (disc.volumes()[k] * F * S).cast<float>(), Eigen::RowVector3f::Zero();
     const Vec3 u = x[k] - X[k];

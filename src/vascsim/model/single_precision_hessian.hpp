@@ -56,9 +56,8 @@ class SinglePrecisionHessian {
   /// out = K(x) v (N for v in m; K the energy's Hessian at the last linearize, stabiliser included), every
   /// node. ProductForm::Positive: the geometric part dF S uses S with its negative eigenvalues set to zero:
   /// K is then positive semi-definite at any state (the material part F dS always is; dF S is where
-  /// compression makes SVK indefinite), as a multigrid's smoothing needs; the clamp is of S as it was at
-  /// an earlier linearize where S has since moved by at most 1e-4 of the shear modulus in every entry (the
-  /// clamp costs most of a linearize). Smoothing: that without the stabiliser.
+  /// compression makes SVK indefinite), as a multigrid's smoothing needs; Smoothing: that without the
+  /// stabiliser.
   void product(const Vec3Array& v, Vec3Array& out, ProductForm form = ProductForm::Exact) const;
 
  private:
@@ -82,12 +81,6 @@ class SinglePrecisionHessian {
   std::vector<float> stab_value_;
   // Per node: F_i and S_i (linearize), and the product's intermediate dP_i.
   std::vector<Eigen::Matrix3f> S_, S_plus_;
-  // Per node the stress S_plus_ was clamped from, and how far S may move before it is clamped again (Pa):
-  // kClampReuse of the shear modulus, a relative change of the smoothing form's geometric part far below what
-  // a preconditioner notices (the form's material part is of the order of the moduli).
-  static constexpr double kClampReuse = 1e-4;
-  std::vector<Eigen::Matrix3f> S_clamped_;
-  float clamp_reuse_pa_ = 0.f;
   std::vector<Mat43f> Fc_, Ft_;     // F and F^T padded to four rows, for the product
   std::vector<Mat43f> P_;           // V F S padded, for the forces
   std::vector<Eigen::Vector4f> u_;  // x - X padded, for the stabiliser's forces

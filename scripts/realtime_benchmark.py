@@ -242,7 +242,7 @@ def reference(args, case, path, out):
 
     Taken from --reference when given, else from the output folder's cache, else from the file bundled in
     data/benchmarks when it was computed for the same reference scene, path and step (its key line), else
-    computed (13-26 minutes). --fresh-reference computes it whatever is there."""
+    computed (8-26 minutes). --fresh-reference computes it whatever is there."""
     step = args.reference_step or case["reference_step"]
     key = reference_key(case, step)
     if args.reference:
@@ -284,8 +284,9 @@ def reference(args, case, path, out):
         for l, fo in zip(ls, fs):
             f.write(f"{l:.9g},{fo:.9g}\n")
     if args.bundle_reference:
-        shutil.copyfile(cache, bundled_reference_file(args.scene))
-        print(f"reference: bundled as {bundled_reference_file(args.scene).relative_to(ROOT)}", flush=True)
+        bundled = bundled_reference_file(args.scene)
+        shutil.copyfile(cache, bundled)
+        print(f"reference: bundled as {bundled.relative_to(ROOT)}", flush=True)
     return ls, fs
 
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The real-time benchmark's bundled references (data/benchmarks/reference-<scene>.csv) are the ones it would compute.
 
-scripts/realtime_benchmark.py takes a scene's bundled reference instead of computing it (13-26 minutes) when the
+scripts/realtime_benchmark.py takes a scene's bundled reference instead of computing it (8-26 minutes) when the
 file's key line matches the reference scene's SHA-256, the press-and-slide path and the step. This check fails when
 a reference scene or a path in the script's CASES changes and the bundled file was not computed again
 (`--fresh-reference --bundle-reference`), when a bundled file has no key or no rows, and when the reader takes a
@@ -40,7 +40,7 @@ def main():
             failures.append(f"{file.name}: {len(ls)} poses, not increasing along the path")
         if max(fs) <= 0.0:
             failures.append(f"{file.name}: no force along the path")
-        # A key for another step must be refused, and one for the same again accepted.
+        # A key for another step must be refused.
         other = dict(key, reference_step_m=key["reference_step_m"] * 2)
         if rb.read_reference(file, other) is not None:
             failures.append(f"{file.name}: read for a key with another step")

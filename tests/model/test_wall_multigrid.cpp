@@ -497,6 +497,38 @@ TEST(WallMultigrid, ADeferredLineSearchSearchesTheStepsThatRaiseTheResidual) {
   EXPECT_LT(diff, 1e-6 * largest);
 }
 
+// A solve whose deadline has passed and whose only step, taken whole, raised the residual still searches
+// along it instead of ending where it began (a realtime frame under a hand held still would otherwise take
+// and reject the very same step at every frame, from the same state with the same matrices). The load above
+// makes the first whole step overshoot (the premise, checked: one rejected step); with the deadline passed
+// when that step is checked (min_newton_iterations 1), the solve must leave a state of lower potential than
+// its start (the Armijo search's own criterion; the relative force residual need not fall, its scale grows
+// with the inertial forces): ending at the start leaves exactly the start's potential.
+TEST(WallMultigrid, AStepRejectedOutOfTimeIsSearchedWhenTheSolveKeptNoStep) {
+  MultigridRig rig;
+  ContactActiveSet none(rig.P, rig.free, false);
+  NewtonSettings ns = solved_to_round_off(200);
+  ns.deferred_line_search = true;
+  ns.min_newton_iterations = 1;
+  const Vec3Array f_ext = bending_load(rig);
+  const Vec3Array rest = rig.P.discretization().rest_positions();
+  const InertiaTerm inertia{rig.inv_h2, &rest};
+  NewtonEquilibrium newton(rig.P, rig.free, none, ns);
+  newton.set_preconditioner(rig.mg.get());
+  Vec3Array x = rest;
+  const double start = newton.potential(x, f_ext, inertia);
+  const NewtonResult r = newton.solve(x, 1.0, f_ext, inertia, SteadyClock::now());
+  const double end = newton.potential(x, f_ext, inertia);
+  double moved = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) moved = std::max(moved, (x[i] - rest[i]).norm());
+  std::printf("[ multigrid ] out of time: potential %.6g -> %.6g J, %d rejected step, moved %.3g mm\n", start,
+              end, r.rejected_whole_steps, moved * 1e3);
+  ASSERT_EQ(r.rejected_whole_steps, 1);
+  EXPECT_TRUE(r.out_of_time);
+  EXPECT_GT(moved, 0.0);
+  EXPECT_LT(end, start);
+}
+
 // With the tools on the wall's surface, a Newton step moves no node farther than NewtonSettings::max_step_m
 // (a longer one is scaled down): under the load above, whose first whole step bends the piece by about
 // 0.7 mm, one Newton step limited to 0.1 mm moves no node farther than that (to round-off, 1e-12 m), and the

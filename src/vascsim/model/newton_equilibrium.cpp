@@ -276,6 +276,7 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
   Vec3Array x_before, dx_before, r_before;
   bool unchecked = false;
   bool moved = false;  // x changed since the preconditioner last followed it (the caller prepared the first)
+  bool progress = false;  // a step of this solve was kept
   for (int it = 0;; ++it) {
     carried_ = carry_contacts && it == 0;
     out.residual = residual(x, s, f_ext, inertia, r);
@@ -289,7 +290,10 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
         x.swap(x_before);
         accepted_potential_.reset();
         ++out.rejected_whole_steps;
-        if (it >= settings_.min_newton_iterations && SteadyClock::now() >= deadline) {
+        // Out of time, a solve ends there only if it kept a step before: otherwise it would end where it
+        // began, and the next frame, from the same state with the same matrices, would take and reject the
+        // very same step (a realtime frame of a hand held still, repeated until the coarse level changed).
+        if (progress && it >= settings_.min_newton_iterations && SteadyClock::now() >= deadline) {
           out.residual = residual(x, s, f_ext, inertia, r);
         } else {
           if (!line_search(x, r_before, f_ext, inertia, dx_before, trial)) {
@@ -300,9 +304,11 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
           }
           x.swap(trial);
           moved = true;
+          progress = true;
           continue;
         }
       }
+      progress = true;  // the whole step lowered the residual, or was searched above
     }
     if (spdlog::should_log(spdlog::level::debug))
       spdlog::debug("equilibrium: s = {:.4g}, Newton {}: relative residual {:.3e}{}", s, it, out.residual,
@@ -403,9 +409,11 @@ NewtonResult NewtonEquilibrium::solve(Vec3Array& x, double s, const Vec3Array& f
         break;
       }
       x.swap(trial);
+      progress = true;
     } else {
       for (std::size_t i = 0; i < x.size(); ++i) x[i] += dx[i];
       accepted_potential_.reset();
+      progress = true;
     }
     moved = true;
     // Nodes the step pushed into a tool join the active set on its surface.
